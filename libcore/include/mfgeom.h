@@ -1,0 +1,108 @@
+/* SPDX-License-Identifier: LGPL-2.1-or-later */
+/* mfgeom.h - the whole public C API of libmfgeom: manufacturing geometry for CAD/CAM. */
+#ifndef MFGEOM_H
+#define MFGEOM_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(_WIN32)
+#define MFG_API __declspec(dllexport)
+#else
+#define MFG_API __attribute__((visibility("default")))
+#endif
+
+/*
+ * Conventions (every capability follows them):
+ *  - Every fallible function returns an mfg_status.  On failure a human-readable
+ *    detail is available from mfg_last_error() (thread-local, valid until the next
+ *    mfg_ call on the same thread).  Output arguments are left untouched on failure,
+ *    and nothing is half-written: either all outputs are produced or none.
+ *  - The library never aborts, exits or prints, and has no global mutable state:
+ *    any number of threads may call it at once on distinct or shared const objects.
+ *  - Inputs are flat arrays of double / int64_t that map one-to-one onto numpy.
+ *  - Results allocated by the library are released with the documented mfg_*_free
+ *    function, never with the caller's free().
+ *  - Coordinates and tolerances must be finite and at most MFG_MAX_COORD in
+ *    magnitude; within that range the exact predicates cannot overflow.
+ */
+
+#define MFG_VERSION_MAJOR 0
+#define MFG_VERSION_MINOR 1
+#define MFG_VERSION_PATCH 0
+
+/* Largest accepted |coordinate| and tolerance (2^200): degree-4 exact predicates
+ * then stay far from overflow. */
+#define MFG_MAX_COORD 1.6069380442589903e+60
+
+typedef enum mfg_status {
+    MFG_OK = 0,
+    MFG_ERR_NULL = 1,         /* a required pointer argument was NULL */
+    MFG_ERR_INVALID = 2,      /* NaN/Inf/out-of-range value, negative tolerance, bad count */
+    MFG_ERR_DEGENERATE = 3,   /* input too small to define the object (e.g. ring < 3 vertices) */
+    MFG_ERR_NOMEM = 4,        /* allocation failed */
+    MFG_ERR_INTERNAL = 5      /* a broken invariant: please report */
+} mfg_status;
+
+/* Static English name of a status code ("ok", "null argument", ...). Never NULL. */
+MFG_API const char *mfg_status_str(mfg_status status);
+
+/* Detail of the last failure on the calling thread ("" if none). Never NULL. */
+MFG_API const char *mfg_last_error(void);
+
+/* Library version as "MAJOR.MINOR.PATCH". */
+MFG_API const char *mfg_version(void);
+
+/* ------------------------------------------------------------------------- */
+/* Tolerance-based point classification (Chung & Park, seed 002)             */
+/* ------------------------------------------------------------------------- */
+
+/* Classification codes. */
+#define MFG_OUT 0
+#define MFG_IN 1
+#define MFG_ON 2
+
+/*
+ * A region is a set of rings given as one flat vertex array and ring offsets:
+ *   xy[2*k], xy[2*k+1]       x and y of vertex k
+ *   ring_offsets[0..nrings]  ring r uses vertices ring_offsets[r] .. ring_offsets[r+1]-1;
+ *                            ring_offsets[0] must be 0 and the sequence non-decreasing.
+ * Each ring is closed implicitly (last vertex to first); a repeated closing vertex is
+ * harmless.  Rings may self-intersect, repeat vertices or contain collinear runs.
+ * Inside is decided by the even-odd rule over all rings.
+ *
+ * A point T is ON when its Euclidean distance to the boundary (the union of all
+ * closed edges) is <= tol, decided exactly (no rounding error) for all inputs in range;
+ * otherwise IN or OUT by parity.  With tol = 0, ON means exactly on an edge.
+ * The answer does not depend on ring start vertices or orientation.
+ */
+
+/* One-shot: classify npoints points pts[2*i], pts[2*i+1] into out[i] (MFG_OUT/IN/ON).
+ * Uses the outcode method of the paper; O(n) per point. */
+MFG_API mfg_status mfg_classify_points(const double *xy, const int64_t *ring_offsets,
+                                       int64_t nrings, const double *pts, int64_t npoints,
+                                       double tol, uint8_t *out);
+
+/* Prepared region: a grid index built once, then many queries.  Gives answers
+ * identical to mfg_classify_points. Immutable after creation: safe to share between
+ * threads. */
+typedef struct mfg_region mfg_region;
+
+MFG_API mfg_status mfg_region_new(const double *xy, const int64_t *ring_offsets,
+                                  int64_t nrings, double tol, mfg_region **out_region);
+MFG_API mfg_status mfg_region_classify(const mfg_region *region, const double *pts,
+                                       int64_t npoints, uint8_t *out);
+/* Grid statistics: columns, rows, number of cells that hold edges, total edge entries. */
+MFG_API mfg_status mfg_region_stats(const mfg_region *region, int64_t stats_out[4]);
+/* Releases a region from mfg_region_new. NULL is allowed. */
+MFG_API void mfg_region_free(mfg_region *region);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MFGEOM_H */

@@ -1,0 +1,274 @@
+/* SPDX-License-Identifier: LGPL-2.1-or-later */
+/* predicates.c - exact 2-D predicates: float filter first, expansion arithmetic when the
+ * filter cannot certify the sign (Shewchuk, "Adaptive Precision Floating-Point Arithmetic
+ * and Fast Robust Geometric Predicates", 1997). Written for mfgeom; no code copied. */
+#include <math.h>
+#include <stddef.h>
+
+#include "predicates.h"
+
+/* Unit roundoff of IEEE double (2^-53). */
+#define U 1.1102230246251565e-16
+
+/* ---- Expansion arithmetic ---------------------------------------------------------
+ * An expansion is a sum of doubles, non-overlapping and ordered by increasing magnitude;
+ * its sign is the sign of its last (largest) non-zero component.  All routines eliminate
+ * zero components so the lengths stay small in practice. */
+
+/* a + b = x + y exactly (Knuth's TwoSum). */
+static inline void two_sum(double a, double b, double *x, double *y)
+{
+    double s = a + b;
+    double bv = s - a;
+    double av = s - bv;
+    *x = s;
+    *y = (a - av) + (b - bv);
+}
+
+/* a * b = x + y exactly (fma gives the rounding error of the product). */
+static inline void two_product(double a, double b, double *x, double *y)
+{
+    double p = a * b;
+    *x = p;
+    *y = fma(a, b, -p);
+}
+
+/* h = e + b; returns the length of h.  h may not alias e.  (Shewchuk's GROW-EXPANSION
+ * with zero elimination: valid for any non-overlapping e.) */
+static int grow_expansion(int elen, const double *e, double b, double *h)
+{
+    double q = b;
+    int hlen = 0;
+    for (int i = 0; i < elen; i++) {
+        double sum, err;
+        two_sum(q, e[i], &sum, &err);
+        q = sum;
+        if (err != 0.0)
+            h[hlen++] = err;
+    }
+    if (q != 0.0 || hlen == 0)
+        h[hlen++] = q;
+    return hlen;
+}
+
+/* h = e + f by repeated growth; h needs elen + flen slots.  tmp is scratch of the same
+ * size.  Quadratic, but only used on the rare exact path with short expansions. */
+static int sum_expansion(int elen, const double *e, int flen, const double *f, double *h,
+                         double *tmp)
+{
+    int hlen = elen;
+    for (int i = 0; i < elen; i++)
+        h[i] = e[i];
+    for (int j = 0; j < flen; j++) {
+        int n = grow_expansion(hlen, h, f[j], tmp);
+        for (int i = 0; i < n; i++)
+            h[i] = tmp[i];
+        hlen = n;
+    }
+    return hlen;
+}
+
+/* h = e * b (Shewchuk's SCALE-EXPANSION with zero elimination); h needs 2*elen slots. */
+static int scale_expansion(int elen, const double *e, double b, double *h)
+{
+    double q, hh, prod, perr, sum;
+    int hlen = 0;
+    two_product(e[0], b, &q, &hh);
+    if (hh != 0.0)
+        h[hlen++] = hh;
+    for (int i = 1; i < elen; i++) {
+        two_product(e[i], b, &prod, &perr);
+        two_sum(q, perr, &sum, &hh);
+        if (hh != 0.0)
+            h[hlen++] = hh;
+        two_sum(prod, sum, &q, &hh);
+        if (hh != 0.0)
+            h[hlen++] = hh;
+    }
+    if (q != 0.0 || hlen == 0)
+        h[hlen++] = q;
+    return hlen;
+}
+
+/* Largest expansion we ever build: cross^2 with cross up to 16 components -> 512, and
+ * the difference against e^2 L^2 (64) -> 576. */
+#define EXP_MAX 1024
+
+/* h = e * f; h needs 2*elen*flen slots (<= EXP_MAX here). */
+static int mul_expansion(int elen, const double *e, int flen, const double *f, double *h)
+{
+    double part[2 * EXP_MAX / 16];
+    double acc[EXP_MAX], tmp[EXP_MAX];
+    int hlen = 0;
+    for (int j = 0; j < flen; j++) {
+        int plen = scale_expansion(elen, e, f[j], part);
+        int n = sum_expansion(hlen, h, plen, part, acc, tmp);
+        for (int i = 0; i < n; i++)
+            h[i] = acc[i];
+        hlen = n;
+    }
+    if (hlen == 0) {
+        h[0] = 0.0;
+        hlen = 1;
+    }
+    return hlen;
+}
+
+static int expansion_sign(int elen, const double *e)
+{
+    for (int i = elen - 1; i >= 0; i--)
+        if (e[i] != 0.0)
+            return e[i] > 0.0 ? 1 : -1;
+    return 0;
+}
+
+static int negate(int elen, const double *e, double *h)
+{
+    for (int i = 0; i < elen; i++)
+        h[i] = -e[i];
+    return elen;
+}
+
+/* a - b as a 2-component expansion (exact). */
+static inline int diff2(double a, double b, double *h)
+{
+    double x, y;
+    two_sum(a, -b, &x, &y);
+    h[0] = y;
+    h[1] = x;
+    return 2;
+}
+
+/* Exact value of p*q + r*s where p, q, r, s are each a difference of two doubles:
+ * (p1-p0)(q1-q0) + sgn * (r1-r0)(s1-s0).  Result up to 16 components. */
+static int sum_of_diff_products(double p1, double p0, double q1, double q0, double r1,
+                                double r0, double s1, double s0, int sgn, double *h)
+{
+    double p[2], q[2], r[2], s[2], pq[8], rs[8], nrs[8], tmp[16];
+    diff2(p1, p0, p);
+    diff2(q1, q0, q);
+    diff2(r1, r0, r);
+    diff2(s1, s0, s);
+    int pqlen = mul_expansion(2, p, 2, q, pq);
+    int rslen = mul_expansion(2, r, 2, s, rs);
+    if (sgn < 0)
+        rslen = negate(rslen, rs, nrs);
+    else
+        for (int i = 0; i < rslen; i++)
+            nrs[i] = rs[i];
+    return sum_expansion(pqlen, pq, rslen, nrs, h, tmp);
+}
+
+/* ---- Predicates ------------------------------------------------------------------- */
+
+static int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy)
+{
+    double h[16];
+    /* (bx-ax)(cy-ay) - (by-ay)(cx-ax) */
+    int n = sum_of_diff_products(bx, ax, cy, ay, by, ay, cx, ax, -1, h);
+    return expansion_sign(n, h);
+}
+
+int mfg_orient2d(double ax, double ay, double bx, double by, double cx, double cy)
+{
+    double l = (bx - ax) * (cy - ay);
+    double r = (by - ay) * (cx - ax);
+    double det = l - r;
+    /* Each product carries <= 3u relative error (two differences, one product), the
+     * subtraction one more: 4u bounds it with room to spare. */
+    double bound = 4.0 * U * (fabs(l) + fabs(r));
+    if (det > bound)
+        return 1;
+    if (-det > bound)
+        return -1;
+    return orient2d_exact(ax, ay, bx, by, cx, cy);
+}
+
+int mfg_dot2d(double ax, double ay, double bx, double by, double cx, double cy)
+{
+    double l = (bx - ax) * (cx - ax);
+    double r = (by - ay) * (cy - ay);
+    double d = l + r;
+    double bound = 4.0 * U * (fabs(l) + fabs(r));
+    if (d > bound)
+        return 1;
+    if (-d > bound)
+        return -1;
+    double h[16];
+    int n = sum_of_diff_products(bx, ax, cx, ax, by, ay, cy, ay, +1, h);
+    return expansion_sign(n, h);
+}
+
+/* Exact sign of |t - a|^2 - tol^2. */
+static int point_dist_sign_exact(double tx, double ty, double ax, double ay, double tol)
+{
+    double d2[16], e2[2], diff[18], tmp[18], ne2[2];
+    int n = sum_of_diff_products(ax, tx, ax, tx, ay, ty, ay, ty, +1, d2);
+    two_product(tol, tol, &e2[1], &e2[0]);
+    int elen = negate(2, e2, ne2);
+    int m = sum_expansion(n, d2, elen, ne2, diff, tmp);
+    return expansion_sign(m, diff);
+}
+
+/* 1 when |t - a| <= tol exactly. */
+static int point_within(double tx, double ty, double ax, double ay, double tol)
+{
+    double dx = ax - tx, dy = ay - ty;
+    double s = dx * dx + dy * dy;
+    double e = tol * tol;
+    /* s carries <= 4u relative error (all terms non-negative), e <= u: 8u covers both.
+     * Tiny magnitudes may be subnormal, where relative bounds fail: go exact. */
+    double bound = 8.0 * U * (s + e);
+    if (s + e > 1e-280) {
+        if (s - e > bound)
+            return 0;
+        if (e - s > bound)
+            return 1;
+    }
+    return point_dist_sign_exact(tx, ty, ax, ay, tol) <= 0;
+}
+
+/* Exact sign of cross^2 - tol^2 * |b - a|^2, cross = (b - a) x (t - a). */
+static int line_dist_sign_exact(double tx, double ty, double ax, double ay, double bx,
+                                double by, double tol)
+{
+    double cross[16], cross2[EXP_MAX / 2], len2[16], e2[2], rhs[64], nrhs[64];
+    double diff[EXP_MAX], tmp[EXP_MAX];
+    int cn = sum_of_diff_products(bx, ax, ty, ay, by, ay, tx, ax, -1, cross);
+    int c2n = mul_expansion(cn, cross, cn, cross, cross2);
+    int ln = sum_of_diff_products(bx, ax, bx, ax, by, ay, by, ay, +1, len2);
+    two_product(tol, tol, &e2[1], &e2[0]);
+    int rn = mul_expansion(ln, len2, 2, e2, rhs);
+    rn = negate(rn, rhs, nrhs);
+    int dn = sum_expansion(c2n, cross2, rn, nrhs, diff, tmp);
+    return expansion_sign(dn, diff);
+}
+
+int mfg_segment_within(double tx, double ty, double ax, double ay, double bx, double by,
+                       double tol)
+{
+    /* The nearest point of the segment is an endpoint unless the foot of the
+     * perpendicular falls strictly inside; the distance is then |cross| / |b - a|. */
+    if (point_within(tx, ty, ax, ay, tol) || point_within(tx, ty, bx, by, tol))
+        return 1;
+    if (ax == bx && ay == by)
+        return 0;
+    if (mfg_dot2d(ax, ay, bx, by, tx, ty) <= 0 || mfg_dot2d(bx, by, ax, ay, tx, ty) <= 0)
+        return 0;
+    double ux = bx - ax, uy = by - ay;
+    double l = ux * (ty - ay), r = uy * (tx - ax);
+    double c = l - r;
+    double cerr = 4.0 * U * (fabs(l) + fabs(r));
+    double len2 = ux * ux + uy * uy; /* <= 4u relative error */
+    double rhs = tol * tol * len2;    /* <= 7u relative error */
+    double ac = fabs(c);
+    if (ac + rhs > 1e-280 && rhs < 1e280) {
+        double lo = ac > cerr ? (ac - cerr) * (ac - cerr) * (1.0 - 4.0 * U) : 0.0;
+        double hi = (ac + cerr) * (ac + cerr) * (1.0 + 4.0 * U);
+        if (lo > rhs * (1.0 + 16.0 * U))
+            return 0;
+        if (hi < rhs * (1.0 - 16.0 * U))
+            return 1;
+    }
+    return line_dist_sign_exact(tx, ty, ax, ay, bx, by, tol) <= 0;
+}

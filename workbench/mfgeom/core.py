@@ -1,0 +1,190 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""ctypes binding to libmfgeom: works in plain python3 with numpy, without FreeCAD."""
+
+import ctypes
+import os
+import sys
+
+import numpy as np
+
+OUT = 0
+IN = 1
+ON = 2
+
+_HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+class MfgError(RuntimeError):
+    """An error reported by libmfgeom; ``status`` is the C status name."""
+
+    def __init__(self, status, message):
+        super().__init__(f"{message} ({status})" if message else status)
+        self.status = status
+        self.detail = message
+
+
+def _candidates():
+    """Where the library may be, in order: $MFGEOM_LIBRARY, next to the package
+    (installed layout), the repository's build trees, then the system loader."""
+    env = os.environ.get("MFGEOM_LIBRARY")
+    if env:
+        yield env
+    repo = os.path.dirname(os.path.dirname(_HERE))
+    yield os.path.join(_HERE, "libmfgeom.so")
+    for build in ("build", "build-release", "build-asan"):
+        yield os.path.join(repo, build, "libmfgeom.so")
+    yield os.path.join(sys.prefix, "lib", "libmfgeom.so")
+    yield "/usr/local/lib/libmfgeom.so"
+    yield "libmfgeom.so"
+
+
+def _load():
+    errors = []
+    for path in _candidates():
+        if os.sep in path and not os.path.exists(path):
+            continue
+        try:
+            return ctypes.CDLL(path), path
+        except OSError as exc:  # try the next location
+            errors.append(f"{path}: {exc}")
+            if path == os.environ.get("MFGEOM_LIBRARY"):
+                break
+    raise ImportError(
+        "libmfgeom.so not found; build it (cmake -S . -B build && cmake --build build) "
+        "or set MFGEOM_LIBRARY. Tried: " + "; ".join(errors or ["no candidate existed"]))
+
+
+_lib, library_path = _load()
+
+_c_double_p = ctypes.POINTER(ctypes.c_double)
+_c_int64_p = ctypes.POINTER(ctypes.c_int64)
+_c_uint8_p = ctypes.POINTER(ctypes.c_uint8)
+
+_lib.mfg_status_str.restype = ctypes.c_char_p
+_lib.mfg_status_str.argtypes = [ctypes.c_int]
+_lib.mfg_last_error.restype = ctypes.c_char_p
+_lib.mfg_last_error.argtypes = []
+_lib.mfg_version.restype = ctypes.c_char_p
+_lib.mfg_version.argtypes = []
+_lib.mfg_classify_points.restype = ctypes.c_int
+_lib.mfg_classify_points.argtypes = [_c_double_p, _c_int64_p, ctypes.c_int64, _c_double_p,
+                                     ctypes.c_int64, ctypes.c_double, _c_uint8_p]
+_lib.mfg_region_new.restype = ctypes.c_int
+_lib.mfg_region_new.argtypes = [_c_double_p, _c_int64_p, ctypes.c_int64, ctypes.c_double,
+                                ctypes.POINTER(ctypes.c_void_p)]
+_lib.mfg_region_classify.restype = ctypes.c_int
+_lib.mfg_region_classify.argtypes = [ctypes.c_void_p, _c_double_p, ctypes.c_int64, _c_uint8_p]
+_lib.mfg_region_stats.restype = ctypes.c_int
+_lib.mfg_region_stats.argtypes = [ctypes.c_void_p, _c_int64_p]
+_lib.mfg_region_free.restype = None
+_lib.mfg_region_free.argtypes = [ctypes.c_void_p]
+
+
+def version():
+    """Version string of the loaded C library."""
+    return _lib.mfg_version().decode()
+
+
+def _check(status):
+    if status != 0:
+        name = _lib.mfg_status_str(status).decode()
+        detail = _lib.mfg_last_error().decode()
+        raise MfgError(name, detail)
+
+
+def _ptr(array, ctype):
+    return array.ctypes.data_as(ctypes.POINTER(ctype))
+
+
+def _as_points(points, what="points"):
+    try:
+        arr = np.ascontiguousarray(points, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{what} must be an (m, 2) array of numbers: {exc}") from None
+    if arr.ndim == 1 and arr.size == 0:
+        arr = arr.reshape(0, 2)
+    if arr.ndim != 2 or arr.shape[1] != 2:
+        raise ValueError(f"{what} must have shape (m, 2), got {arr.shape}")
+    return arr
+
+
+def _flatten_rings(rings):
+    """Rings (sequence of (k, 2) arrays) -> flat xy array and int64 offsets."""
+    if isinstance(rings, np.ndarray) and rings.ndim == 2:
+        rings = [rings]  # a single ring passed directly
+    try:
+        rings = list(rings)
+    except TypeError:
+        raise TypeError("rings must be a sequence of (k, 2) arrays") from None
+    arrays = [_as_points(r, "each ring") for r in rings]
+    offsets = np.zeros(len(arrays) + 1, dtype=np.int64)
+    if arrays:
+        offsets[1:] = np.cumsum([len(a) for a in arrays])
+        xy = np.ascontiguousarray(np.concatenate(arrays), dtype=np.float64)
+    else:
+        xy = np.zeros((0, 2), dtype=np.float64)
+    return xy, offsets
+
+
+def classify_points(rings, points, tol):
+    """Classify points against the region bounded by ``rings`` (even-odd rule).
+
+    Returns a uint8 array of OUT (0), IN (1) or ON (2), one per point; ON means the
+    point's distance to the boundary is <= tol, decided exactly.
+    """
+    xy, offsets = _flatten_rings(rings)
+    pts = _as_points(points)
+    out = np.empty(len(pts), dtype=np.uint8)
+    _check(_lib.mfg_classify_points(_ptr(xy, ctypes.c_double), _ptr(offsets, ctypes.c_int64),
+                                    len(offsets) - 1, _ptr(pts, ctypes.c_double), len(pts),
+                                    float(tol), _ptr(out, ctypes.c_uint8)))
+    return out
+
+
+class Region:
+    """A prepared region: build once (grid index), classify many points.
+
+    Gives answers identical to :func:`classify_points`.  The C object is freed when
+    the Region is garbage-collected or :meth:`close` is called.
+    """
+
+    def __init__(self, rings, tol):
+        xy, offsets = _flatten_rings(rings)
+        handle = ctypes.c_void_p()
+        _check(_lib.mfg_region_new(_ptr(xy, ctypes.c_double), _ptr(offsets, ctypes.c_int64),
+                                   len(offsets) - 1, float(tol), ctypes.byref(handle)))
+        self._handle = handle
+        self.tol = float(tol)
+        self._free = _lib.mfg_region_free  # kept for use during interpreter shutdown
+
+    def classify(self, points):
+        if not self._handle:
+            raise MfgError("invalid argument", "Region is closed")
+        pts = _as_points(points)
+        out = np.empty(len(pts), dtype=np.uint8)
+        _check(_lib.mfg_region_classify(self._handle, _ptr(pts, ctypes.c_double), len(pts),
+                                        _ptr(out, ctypes.c_uint8)))
+        return out
+
+    def stats(self):
+        """Grid statistics: dict with columns, rows, boundary_cells, edge_entries."""
+        buf = np.zeros(4, dtype=np.int64)
+        _check(_lib.mfg_region_stats(self._handle, _ptr(buf, ctypes.c_int64)))
+        return dict(zip(("columns", "rows", "boundary_cells", "edge_entries"), buf.tolist()))
+
+    def close(self):
+        if self._handle:
+            self._free(self._handle)
+            self._handle = ctypes.c_void_p()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:  # interpreter shutdown: nothing sensible left to do
+            pass
