@@ -270,33 +270,28 @@ mfg_status mfg_region_new(const double *xy, const int64_t *ring_offsets, int64_t
     /* About eight cells per edge keeps most queries in empty cells; one byte per cell
      * keeps the table cache-resident up to ~2M cells. */
     double want = fmin(fmax(8.0 * (double)g->rs.nedges, 64.0), 2097152.0);
-    for (int attempt = 0;; attempt++) {
-        double aspect = w / h;
-        int64_t nx = (int64_t)ceil(sqrt(want * aspect));
-        nx = clamp64(nx, 1, 65536);
-        int64_t ny = clamp64((int64_t)ceil(want / (double)nx), 1, 65536);
-        g->nx = nx;
-        g->ny = ny;
-        g->cw = (w + 4.0 * margin) / (double)nx;
-        g->ch = (h + 4.0 * margin) / (double)ny;
-        g->inv_cw = 1.0 / g->cw;
-        g->inv_ch = 1.0 / g->ch;
-        g->gx1 = g->gx0 + (double)nx * g->cw;
-        g->gy1 = g->gy0 + (double)ny * g->ch;
-        st = build_lists(g);
-        /* Long edges (spiky stars) can fill many cells each: trade resolution for size. */
-        if (st == MFG_OK && (uint64_t)g->start[nx * ny] > 64u * (uint64_t)g->rs.nedges + 4096u &&
-            attempt < 6 && want > 64.0)
-            st = MFG_ERR_NOMEM;
-        if (st == MFG_OK || attempt >= 6 || want <= 64.0)
-            break;
-        free(g->cell);
-        free(g->start);
-        free(g->edges);
-        g->cell = NULL;
-        g->start = g->edges = NULL;
-        want = fmax(want / 4.0, 64.0);
-    }
+    double cw = sqrt(w * h / want);
+    /* Long edges (spiky stars) would each fill many cells: an edge enters about
+     * (|dx| + |dy|) / cell + 3 cells, so coarsen the grid until the lists stay within
+     * 64 entries per edge on average. */
+    double sumlen = 0.0;
+    for (int64_t r = 0; r < g->rs.nrings; r++)
+        for (int64_t e = g->rs.ring_first[r]; e < g->rs.ring_first[r] + g->rs.ring_edges[r]; e++)
+            sumlen += fabs(g->rs.x[e + 1] - g->rs.x[e]) + fabs(g->rs.y[e + 1] - g->rs.y[e]);
+    double budget = 61.0 * (double)g->rs.nedges + 4096.0;
+    if (sumlen / cw > budget)
+        cw = sumlen / budget;
+    int64_t nx = clamp64((int64_t)ceil(w / cw), 1, 65536);
+    int64_t ny = clamp64((int64_t)ceil(h / cw), 1, 65536);
+    g->nx = nx;
+    g->ny = ny;
+    g->cw = (w + 4.0 * margin) / (double)nx;
+    g->ch = (h + 4.0 * margin) / (double)ny;
+    g->inv_cw = 1.0 / g->cw;
+    g->inv_ch = 1.0 / g->ch;
+    g->gx1 = g->gx0 + (double)nx * g->cw;
+    g->gy1 = g->gy0 + (double)ny * g->ch;
+    st = build_lists(g);
     if (st == MFG_OK)
         st = choose_refs(g);
     if (st == MFG_OK)

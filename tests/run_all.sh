@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Runs the whole test suite: C unit tests (plain and ASan+UBSan), binding tests,
+# FreeCAD App and GUI tests, and a short fuzz run.  Exits non-zero if any suite fails.
+set -uo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+PY=/usr/bin/python3   # Debian's interpreter: it has numpy, pytest and FreeCAD's modules
+FUZZ_SECONDS=${MFGEOM_FUZZ_SECONDS:-30}
+
+passed=0
+failed=0
+failed_names=()
+suite() {  # suite NAME COMMAND...: runs one suite, records its outcome
+  local name=$1; shift
+  echo "=== $name"
+  if "$@"; then
+    passed=$((passed + 1)); echo "=== $name: ok"
+  else
+    failed=$((failed + 1)); failed_names+=("$name"); echo "=== $name: FAILED"
+  fi
+}
+
+build_release() {
+  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null && cmake --build build -j"$(nproc)" >/dev/null
+}
+build_asan() {
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DMFG_SANITIZE=ON >/dev/null &&
+    cmake --build build-asan -j"$(nproc)" >/dev/null
+}
+ctest_release() { (cd build && ctest --output-on-failure); }
+ctest_asan() {
+  (cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure)
+}
+pytest_binding() {
+  MFGEOM_LIBRARY="$ROOT/build/libmfgeom.so" PYTHONPATH="$ROOT/workbench" \
+    $PY -m pytest -q -p no:cacheprovider tests/python
+}
+
+suite "build (release)" build_release
+suite "build (asan+ubsan)" build_asan
+suite "C unit tests (ctest)" ctest_release
+suite "C unit tests under ASan+UBSan (ctest)" ctest_asan
+suite "binding tests (pytest)" pytest_binding
+suite "FreeCAD App + GUI tests" bash tests/run_freecad_tests.sh
+suite "fuzz ($FUZZ_SECONDS s)" bash tests/fuzz/run_fuzz.sh "$FUZZ_SECONDS"
+
+echo
+if [ "$failed" -gt 0 ]; then echo "failed suites: ${failed_names[*]}"; fi
+echo "suites: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]
