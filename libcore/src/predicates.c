@@ -272,3 +272,69 @@ int mfg_segment_within(double tx, double ty, double ax, double ay, double bx, do
     }
     return line_dist_sign_exact(tx, ty, ax, ay, bx, by, tol) <= 0;
 }
+
+/* ---- Sphere predicates ------------------------------------------------------------ */
+
+/* Exact x*(p*q - r*s) as an expansion (up to 8 components); callers sum three. */
+static int cofactor_term(double x, double p, double q, double r, double s, double *h)
+{
+    double pq[2], rs[2], d[4], tmp[4];
+    two_product(p, q, &pq[1], &pq[0]);
+    two_product(r, s, &rs[1], &rs[0]);
+    rs[0] = -rs[0];
+    rs[1] = -rs[1];
+    int n = sum_expansion(2, pq, 2, rs, d, tmp);
+    return scale_expansion(n, d, x, h);
+}
+
+int mfg_orient3(const double a[3], const double b[3], const double c[3])
+{
+    double m0 = b[1] * c[2] - b[2] * c[1];
+    double m1 = b[2] * c[0] - b[0] * c[2];
+    double m2 = b[0] * c[1] - b[1] * c[0];
+    double det = a[0] * m0 + a[1] * m1 + a[2] * m2;
+    /* Each minor has <= 2u relative error of |b_i c_j| + |b_j c_i|; the products and the
+     * sum add 3u more: 8u on the sum of absolute terms is a safe bound. */
+    double perm = fabs(a[0]) * (fabs(b[1] * c[2]) + fabs(b[2] * c[1])) +
+                  fabs(a[1]) * (fabs(b[2] * c[0]) + fabs(b[0] * c[2])) +
+                  fabs(a[2]) * (fabs(b[0] * c[1]) + fabs(b[1] * c[0]));
+    double bound = 8.0 * U * perm;
+    if (perm > 1e-250) {
+        if (det > bound)
+            return 1;
+        if (-det > bound)
+            return -1;
+    }
+    double t0[8], t1[8], t2[8], s01[16], s[24], tmp[24];
+    int n0 = cofactor_term(a[0], b[1], c[2], b[2], c[1], t0);
+    int n1 = cofactor_term(a[1], b[2], c[0], b[0], c[2], t1);
+    int n2 = cofactor_term(a[2], b[0], c[1], b[1], c[0], t2);
+    int n01 = sum_expansion(n0, t0, n1, t1, s01, tmp);
+    int n = sum_expansion(n01, s01, n2, t2, s, tmp);
+    return expansion_sign(n, s);
+}
+
+int mfg_dot3_sign(const double a[3], const double b[3])
+{
+    double p0 = a[0] * b[0], p1 = a[1] * b[1], p2 = a[2] * b[2];
+    double d = p0 + p1 + p2;
+    double mag = fabs(p0) + fabs(p1) + fabs(p2);
+    double bound = 4.0 * U * mag;
+    if (mag > 1e-250) {
+        if (d > bound)
+            return 1;
+        if (-d > bound)
+            return -1;
+    }
+    double e[6], h[6], tmp[6];
+    two_product(a[0], b[0], &e[1], &e[0]);
+    int n = 2;
+    for (int k = 1; k < 3; k++) {
+        double t[2];
+        two_product(a[k], b[k], &t[1], &t[0]);
+        n = sum_expansion(n, e, 2, t, h, tmp);
+        for (int i = 0; i < n; i++)
+            e[i] = h[i];
+    }
+    return expansion_sign(n, e);
+}

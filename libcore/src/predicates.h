@@ -17,3 +17,13 @@ int mfg_segment_within(double tx, double ty, double ax, double ay, double bx, do
                        double tol);
 
 #endif
+
+/* ---- Sphere (3-D vector) predicates: signs are exact for the doubles given, and do
+ * not depend on the vectors' lengths, so unnormalised normals can be used as they are. */
+
+/* Sign of det[a, b, c] = a . (b x c): +1 when c lies left of the great circle through
+ * a then b (seen from outside the sphere), i.e. a, b, c turn counter-clockwise. */
+int mfg_orient3(const double a[3], const double b[3], const double c[3]);
+
+/* Sign of a . b. */
+int mfg_dot3_sign(const double a[3], const double b[3]);

@@ -98,8 +98,56 @@ static void test_within_boundary(void)
     }
 }
 
+/* det3 and dot3 against int64 arithmetic on small integers, including many zeros. */
+static void test_sphere_integer(void)
+{
+    int bad = 0;
+    for (int k = 0; k < 200000; k++) {
+        long long v[9];
+        double a[3], b[3], c[3];
+        for (int i = 0; i < 9; i++)
+            v[i] = rng_int(-6, 6);
+        for (int i = 0; i < 3; i++) {
+            a[i] = (double)v[i];
+            b[i] = (double)v[3 + i];
+            c[i] = (double)v[6 + i];
+        }
+        long long det = v[0] * (v[4] * v[8] - v[5] * v[7]) + v[1] * (v[5] * v[6] - v[3] * v[8]) +
+                        v[2] * (v[3] * v[7] - v[4] * v[6]);
+        long long dot = v[0] * v[3] + v[1] * v[4] + v[2] * v[5];
+        bad += mfg_orient3(a, b, c) != sgn_ll(det);
+        bad += mfg_dot3_sign(a, b) != sgn_ll(dot);
+    }
+    CHECK_EQ_INT(bad, 0);
+}
+
+/* Three nearly coplanar unit-ish vectors: c = a + b moved by i ulps off the plane.
+ * The exact sign is known from the construction (a, b, e_z orthogonal layout). */
+static void test_sphere_near_coplanar(void)
+{
+    int bad = 0;
+    double a[3] = {0.6, 0.8, 0.0}, b[3] = {-0.8, 0.6, 0.0};
+    for (int i = -64; i <= 64; i++) {
+        /* c in the xy-plane except for a z of i * 2^-80: det[a,b,c] = c_z * det2(a,b) =
+         * c_z * (0.6*0.6 + 0.8*0.8) whose sign is sign(i) (0.36+0.64 rounds to 1). */
+        double c[3] = {0.3 + 1e-17 * i, -0.2, ldexp((double)i, -80)};
+        int want = (i > 0) - (i < 0);
+        bad += mfg_orient3(a, b, c) != want;
+        bad += mfg_orient3(b, c, a) != want; /* cyclic */
+        bad += mfg_orient3(b, a, c) != -want; /* swap */
+    }
+    CHECK_EQ_INT(bad, 0);
+    /* duplicated and antipodal inputs are exactly degenerate */
+    double p[3] = {0.1, 0.2, 0.9747}, q[3] = {-0.1, -0.2, -0.9747}, r[3] = {0.3, -0.5, 0.1};
+    CHECK_EQ_INT(mfg_orient3(p, p, r), 0);
+    CHECK_EQ_INT(mfg_orient3(p, q, r), 0);
+    CHECK_EQ_INT(mfg_dot3_sign(p, q), -1);
+}
+
 int main(void)
 {
+    test_sphere_integer();
+    test_sphere_near_coplanar();
     test_orient_integer();
     test_orient_near_degenerate();
     test_within_integer();
