@@ -101,6 +101,56 @@ MFG_API mfg_status mfg_region_stats(const mfg_region *region, int64_t stats_out[
 /* Releases a region from mfg_region_new. NULL is allowed. */
 MFG_API void mfg_region_free(mfg_region *region);
 
+
+/* ------------------------------------------------------------------------- */
+/* Visibility maps on the unit sphere (Ha 2001, seed 000)                    */
+/* ------------------------------------------------------------------------- */
+
+/* Kinds of a visibility map (or of any spherical convex set handled below). */
+#define MFG_VM_NULL 0    /* empty: the normals lie in no closed hemisphere */
+#define MFG_VM_POINT 1   /* one direction, or two antipodal ones (see below) */
+#define MFG_VM_EDGE 2    /* an arc of one great circle (possibly the whole circle) */
+#define MFG_VM_POLYGON 3 /* a spherical convex polygon with interior */
+
+/*
+ * A spherical convex set, as returned by mfg_visibility_map (owned by the library,
+ * released with mfg_spoly_free).  vertices holds nvertices unit vectors (x, y, z).
+ *  POLYGON: nvertices >= 3, counter-clockwise seen from outside the sphere (the
+ *           interior is on the left of each edge v[i] -> v[i+1]); every edge is the
+ *           minor great arc between consecutive vertices (always shorter than pi).
+ *           A hemisphere has 3 vertices on its great circle; a lune has 4 (its two
+ *           corners and the midpoints of its two half circles).
+ *  EDGE:    nvertices >= 3 along one great circle: the arc from v[0] through v[1] ...
+ *           to v[n-1]; consecutive vertices are less than pi apart (so an arc of
+ *           length pi, whose ends are antipodal, is stored with its midpoint and is
+ *           never ambiguous).  closed = 1 marks a whole great circle, stored as 3
+ *           vertices 120 degrees apart.
+ *  POINT:   nvertices = 1, or 2 antipodal directions when every normal lies on one
+ *           great circle in no half of it (both poles of that circle qualify).
+ *  NULL:    nvertices = 0.
+ */
+typedef struct mfg_spoly {
+    int32_t kind;
+    int32_t closed;
+    int64_t nvertices;
+    double *vertices;
+} mfg_spoly;
+
+/*
+ * Visibility map VM(P) = { d : d . p >= 0 for all p in P } of m normals (3*m doubles,
+ * any non-zero length: only directions matter; duplicates allowed).  Kinds and hull
+ * turns are decided by exact predicates on the given doubles; output vertices are
+ * rounded unit vectors.  The negative map -VM(P) is VM(-P).
+ * draft_angle (radians, 0 <= a < pi/2) shrinks the map to { d : d . p^ >= sin a }; that
+ * set is bounded by small circles, so the result is a polygon inscribed in it with
+ * great arcs: every direction returned satisfies the draft, and no point of the true set
+ * is farther than draft_tol = 1e-4 rad from the polygon.
+ */
+MFG_API mfg_status mfg_visibility_map(const double *normals, int64_t m, double draft_angle,
+                                      mfg_spoly **out_map);
+/* Releases a result of mfg_visibility_map (or any mfg_spoly from this library). */
+MFG_API void mfg_spoly_free(mfg_spoly *poly);
+
 #ifdef __cplusplus
 }
 #endif

@@ -314,6 +314,70 @@ int mfg_orient3(const double a[3], const double b[3], const double c[3])
     return expansion_sign(n, s);
 }
 
+/* Exact a . b as an expansion of up to 6 components. */
+static int dot3_expansion(const double a[3], const double b[3], double *e)
+{
+    double h[6], tmp[6], t[2];
+    two_product(a[0], b[0], &e[1], &e[0]);
+    int n = 2;
+    for (int k = 1; k < 3; k++) {
+        two_product(a[k], b[k], &t[1], &t[0]);
+        n = sum_expansion(n, e, 2, t, h, tmp);
+        for (int i = 0; i < n; i++)
+            e[i] = h[i];
+    }
+    return n;
+}
+
+int mfg_cross_dot_sign(const double a[3], const double b[3], const double c[3],
+                       const double d[3])
+{
+    double ac = a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
+    double bd = b[0] * d[0] + b[1] * d[1] + b[2] * d[2];
+    double ad = a[0] * d[0] + a[1] * d[1] + a[2] * d[2];
+    double bc = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
+    double acm = fabs(a[0] * c[0]) + fabs(a[1] * c[1]) + fabs(a[2] * c[2]);
+    double bdm = fabs(b[0] * d[0]) + fabs(b[1] * d[1]) + fabs(b[2] * d[2]);
+    double adm = fabs(a[0] * d[0]) + fabs(a[1] * d[1]) + fabs(a[2] * d[2]);
+    double bcm = fabs(b[0] * c[0]) + fabs(b[1] * c[1]) + fabs(b[2] * c[2]);
+    double v = ac * bd - ad * bc;
+    double mag = acm * bdm + adm * bcm;
+    /* Each dot carries <= 3u of its absolute sum, each product 7u, the difference 1u
+     * more: 16u on the sum of absolute products bounds the error. */
+    double bound = 16.0 * U * mag;
+    if (mag > 1e-250 && mag < 1e250) {
+        if (v > bound)
+            return 1;
+        if (-v > bound)
+            return -1;
+    }
+    double eac[6], ebd[6], ead[6], ebc[6], p[72], q[72], nq[72], s[144], tmp[144];
+    int nac = dot3_expansion(a, c, eac), nbd = dot3_expansion(b, d, ebd);
+    int nad = dot3_expansion(a, d, ead), nbc = dot3_expansion(b, c, ebc);
+    int np = mul_expansion(nac, eac, nbd, ebd, p);
+    int nqq = mul_expansion(nad, ead, nbc, ebc, q);
+    negate(nqq, q, nq);
+    int ns = sum_expansion(np, p, nqq, nq, s, tmp);
+    return expansion_sign(ns, s);
+}
+
+/* Exact test p*q == r*s: the (rounded product, error) pair of a product is unique. */
+static int products_equal(double p, double q, double r, double s)
+{
+    double h1, l1, h2, l2;
+    two_product(p, q, &h1, &l1);
+    two_product(r, s, &h2, &l2);
+    return h1 == h2 && l1 == l2;
+}
+
+int mfg_parallel3(const double a[3], const double b[3])
+{
+    if (!products_equal(a[1], b[2], a[2], b[1]) || !products_equal(a[2], b[0], a[0], b[2]) ||
+        !products_equal(a[0], b[1], a[1], b[0]))
+        return 0;
+    return mfg_dot3_sign(a, b);
+}
+
 int mfg_dot3_sign(const double a[3], const double b[3])
 {
     double p0 = a[0] * b[0], p1 = a[1] * b[1], p2 = a[2] * b[2];
@@ -326,15 +390,7 @@ int mfg_dot3_sign(const double a[3], const double b[3])
         if (-d > bound)
             return -1;
     }
-    double e[6], h[6], tmp[6];
-    two_product(a[0], b[0], &e[1], &e[0]);
-    int n = 2;
-    for (int k = 1; k < 3; k++) {
-        double t[2];
-        two_product(a[k], b[k], &t[1], &t[0]);
-        n = sum_expansion(n, e, 2, t, h, tmp);
-        for (int i = 0; i < n; i++)
-            e[i] = h[i];
-    }
+    double e[6];
+    int n = dot3_expansion(a, b, e);
     return expansion_sign(n, e);
 }

@@ -27,3 +27,12 @@ int mfg_orient3(const double a[3], const double b[3], const double c[3]);
 
 /* Sign of a . b. */
 int mfg_dot3_sign(const double a[3], const double b[3]);
+
+/* Sign of (a x b) . (c x d) = (a.c)(b.d) - (a.d)(b.c).  With a = c = q it compares
+ * directions in the plane orthogonal to q without projecting anything. */
+int mfg_cross_dot_sign(const double a[3], const double b[3], const double c[3],
+                       const double d[3]);
+
+/* +1 when b is a positive multiple of a, -1 when a negative multiple, 0 otherwise
+ * (exact; a and b must be non-zero). */
+int mfg_parallel3(const double a[3], const double b[3]);

@@ -80,6 +80,20 @@ _lib.mfg_region_free.restype = None
 _lib.mfg_region_free.argtypes = [ctypes.c_void_p]
 
 
+class _SPoly(ctypes.Structure):
+    _fields_ = [("kind", ctypes.c_int32), ("closed", ctypes.c_int32),
+                ("nvertices", ctypes.c_int64), ("vertices", _c_double_p)]
+
+
+_lib.mfg_visibility_map.restype = ctypes.c_int
+_lib.mfg_visibility_map.argtypes = [_c_double_p, ctypes.c_int64, ctypes.c_double,
+                                    ctypes.POINTER(ctypes.POINTER(_SPoly))]
+_lib.mfg_spoly_free.restype = None
+_lib.mfg_spoly_free.argtypes = [ctypes.POINTER(_SPoly)]
+
+KINDS = {0: "null", 1: "point", 2: "edge", 3: "polygon"}
+
+
 def version():
     """Version string of the loaded C library."""
     return _lib.mfg_version().decode()
@@ -188,3 +202,66 @@ class Region:
             self.close()
         except Exception:  # interpreter shutdown: nothing sensible left to do
             pass
+
+
+class VisibilityMap:
+    """A spherical convex set: ``kind`` ("null", "point", "edge", "polygon"),
+    ``vertices`` ((k, 3) unit vectors, counter-clockwise seen from outside for a polygon;
+    the arc's points in order for an edge; one or two antipodal directions for a point)
+    and ``closed`` (an edge that is a whole great circle).  See mfgeom.h for the rules."""
+
+    def __init__(self, kind, vertices, closed=False):
+        self.kind = kind
+        self.vertices = np.asarray(vertices, dtype=np.float64).reshape(-1, 3)
+        self.closed = bool(closed)
+
+    def __repr__(self):
+        return f"VisibilityMap(kind={self.kind!r}, {len(self.vertices)} vertices)"
+
+    def contains(self, directions, tol=1e-12):
+        """Floating-point membership test of unit directions (m, 3) -> bool array; a
+        direction within ``tol`` (radians, roughly) of the set counts as inside."""
+        d = np.asarray(directions, dtype=np.float64).reshape(-1, 3)
+        v = self.vertices
+        if self.kind == "null":
+            return np.zeros(len(d), dtype=bool)
+        if self.kind == "point":
+            return np.any(np.linalg.norm(d[:, None, :] - v[None, :, :], axis=2) <= tol, axis=1)
+        if self.kind == "polygon":
+            inside = np.ones(len(d), dtype=bool)
+            for i in range(len(v)):
+                n = np.cross(v[i], v[(i + 1) % len(v)])
+                n /= np.linalg.norm(n)
+                inside &= d @ n >= -tol
+            return inside
+        # edge: on the great circle and within the arc's consecutive pieces
+        n = np.cross(v[0], v[1])
+        n /= np.linalg.norm(n)
+        on = np.abs(d @ n) <= tol
+        pieces = len(v) if self.closed else len(v) - 1
+        within = np.zeros(len(d), dtype=bool)
+        for i in range(pieces):
+            a, b = v[i], v[(i + 1) % len(v)]
+            within |= (np.cross(a, d) @ n >= -tol) & (np.cross(d, b) @ n >= -tol)
+        return on & within
+
+
+def visibility_map(normals, draft_angle=0.0, negative=False):
+    """Visibility map VM(P) = {d : d.p >= 0 for all p} of unit (or any non-zero)
+    normals ``(m, 3)``; ``negative=True`` gives -VM(P).  ``draft_angle`` (radians)
+    shrinks it to {d : d.p^ >= sin(draft_angle)} (a conservative inscribed polygon)."""
+    p = np.ascontiguousarray(normals, dtype=np.float64)
+    if p.ndim != 2 or p.shape[1] != 3:
+        raise ValueError(f"normals must have shape (m, 3), got {p.shape}")
+    if negative:
+        p = np.ascontiguousarray(-p)
+    res = ctypes.POINTER(_SPoly)()
+    _check(_lib.mfg_visibility_map(_ptr(p, ctypes.c_double), len(p), float(draft_angle),
+                                   ctypes.byref(res)))
+    try:
+        sp = res.contents
+        n = sp.nvertices
+        verts = np.ctypeslib.as_array(sp.vertices, shape=(n * 3,)).copy() if n else np.zeros(0)
+        return VisibilityMap(KINDS[sp.kind], verts.reshape(-1, 3), sp.closed)
+    finally:
+        _lib.mfg_spoly_free(res)

@@ -1,0 +1,653 @@
+/* SPDX-License-Identifier: LGPL-2.1-or-later */
+/* visibility.c - visibility maps VM(P) = { d : d.p >= 0 } of a Gaussian map P on the unit
+ * sphere (Ha 2001, seed 000 section 3), with every combinatorial decision exact. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mfg_internal.h"
+#include "predicates.h"
+#include "sphere.h"
+
+/*
+ * VM(P) is the dual of the cone C spanned by P.  The paper decides its kind with two
+ * 2-variable LPs and a smallest enclosing sphere, then runs a Graham scan on the sphere;
+ * those steps are floating-point and need tolerances for the degenerate kinds.  Here the
+ * cone itself is grown incrementally (points in a fixed pseudo-random order) and every
+ * test is an exact sign on the input doubles (orient3, cross_dot, parallel3), so:
+ *  - C stays pointed (inside an open hemisphere) as long as no new normal p has -p in
+ *    the current cone; its hull is a ray (VM = hemisphere), a wedge (VM = lune) or a
+ *    convex polygon u_0..u_k-1 (VM vertices v_i = u_i x u_i+1, the paper's duality);
+ *  - once p and -p are both in C, VM lies on the great circle GC(p), and the same
+ *    incremental game is played in the plane orthogonal to p (the paper's 2-D LP on
+ *    g^c): the projected cone is a ray (VM = half circle), a wedge (shorter arc), a
+ *    line (two antipodal points), a half-plane (one point) or everything (NULL).
+ * A point inside a cap inscribed in the current hull is skipped after one dot product;
+ * the others cost O(h) exact orientation tests.
+ */
+
+typedef const double *vref; /* a normal: points into the caller's array */
+
+enum cone_state { CONE_EMPTY, CONE_RAY, CONE_WEDGE, CONE_HULL, CONE_LINE };
+
+typedef struct cone3 {
+    enum cone_state state;
+    vref a, b;   /* ray: a; wedge: from a counter-clockwise to b (about a x b) */
+    vref *h;     /* hull vertices, counter-clockwise seen from outside */
+    int *o;      /* scratch: orientation of p against each hull edge */
+    vref *tmp;   /* scratch for rebuilding the hull */
+    int64_t nh, cap;
+    vref q;      /* CONE_LINE: q and -q both lie in the cone */
+    double c[3], cos_in; /* inscribed cap (floating point, only to skip inside points) */
+    int have_cap;
+} cone3;
+
+static mfg_status hull_reserve(cone3 *k, int64_t n)
+{
+    if (n <= k->cap)
+        return MFG_OK;
+    int64_t cap = k->cap ? 2 * k->cap : 64;
+    while (cap < n)
+        cap *= 2;
+    vref *h = realloc(k->h, (size_t)cap * sizeof(vref));
+    if (h)
+        k->h = h;
+    int *o = realloc(k->o, (size_t)cap * sizeof(int));
+    if (o)
+        k->o = o;
+    vref *t = realloc(k->tmp, (size_t)(cap + 1) * sizeof(vref));
+    if (t)
+        k->tmp = t;
+    if (!h || !o || !t)
+        return mfg_fail(MFG_ERR_NOMEM, "cannot grow the hull to %lld vertices", (long long)cap);
+    k->cap = cap;
+    return MFG_OK;
+}
+
+/* Inscribed cap: centre = normalised sum of the unit hull vertices (strictly inside a
+ * pointed hull), radius = the smallest angular distance to an edge's great circle,
+ * shrunk by a relative 1e-6 and 1e-9 rad so rounding can never admit an outside point. */
+static void update_cap(cone3 *k)
+{
+    double c[3] = {0, 0, 0};
+    k->have_cap = 0;
+    for (int64_t i = 0; i < k->nh; i++) {
+        double u[3];
+        mfg_unit3(k->h[i], u);
+        c[0] += u[0];
+        c[1] += u[1];
+        c[2] += u[2];
+    }
+    if (!mfg_unit3(c, k->c))
+        return;
+    double min_sin = 1.0;
+    for (int64_t i = 0; i < k->nh; i++) {
+        double n[3], nu[3];
+        mfg_cross3(k->h[i], k->h[(i + 1) % k->nh], n);
+        if (!mfg_unit3(n, nu))
+            return;
+        min_sin = fmin(min_sin, mfg_dot3(nu, k->c));
+    }
+    double r = asin(fmin(fmax(min_sin, 0.0), 1.0)) * (1.0 - 1e-6) - 1e-9;
+    if (r > 0.0) {
+        k->cos_in = cos(r);
+        k->have_cap = 1;
+    }
+}
+
+/* Adds p to a pointed polygonal hull, or moves to CONE_LINE when -p is in the cone. */
+static mfg_status hull_add(cone3 *k, vref p)
+{
+    if (k->have_cap) {
+        double u[3];
+        if (mfg_unit3(p, u) && mfg_dot3(u, k->c) > k->cos_in)
+            return MFG_OK;
+    }
+    int64_t n = k->nh, neg = 0, pos = 0;
+    for (int64_t i = 0; i < n; i++) {
+        int o = mfg_orient3(k->h[i], k->h[(i + 1) % n], p);
+        k->o[i] = o;
+        neg += o < 0;
+        pos += o > 0;
+    }
+    if (neg == 0)
+        return MFG_OK; /* inside or on the hull */
+    if (pos == 0) {    /* right of or on every edge: -p is in the closed hull */
+        k->state = CONE_LINE;
+        k->q = p;
+        return MFG_OK;
+    }
+    /* The edges p sees (strictly right of them) form one cyclic run. */
+    int64_t start = -1, starts = 0;
+    for (int64_t i = 0; i < n; i++)
+        if (k->o[i] < 0 && k->o[(i + n - 1) % n] >= 0) {
+            start = i;
+            starts++;
+        }
+    if (starts != 1)
+        return mfg_fail(MFG_ERR_INTERNAL, "visible hull edges are not contiguous");
+    /* Keep h[start+neg] .. h[start] and put p after h[start]. */
+    vref *t = k->tmp;
+    int64_t m = 0;
+    for (int64_t j = (start + neg) % n;; j = (j + 1) % n) {
+        t[m++] = k->h[j];
+        if (j == start)
+            break;
+    }
+    t[m++] = p;
+    /* p on the great circle of an edge next to the run (beyond its end) makes the
+     * vertex between collinear: drop it so the hull stays strictly convex. */
+    while (m > 3 && mfg_orient3(t[m - 3], t[m - 2], t[m - 1]) == 0) {
+        t[m - 2] = t[m - 1];
+        m--;
+    }
+    while (m > 3 && mfg_orient3(t[m - 1], t[0], t[1]) == 0) {
+        memmove(t, t + 1, (size_t)(m - 1) * sizeof(vref));
+        m--;
+    }
+    memcpy(k->h, t, (size_t)m * sizeof(vref));
+    k->nh = m;
+    update_cap(k);
+    return MFG_OK;
+}
+
+/* Adds p to a cone in state EMPTY, RAY or WEDGE. */
+static mfg_status low_add(cone3 *k, vref p)
+{
+    switch (k->state) {
+    case CONE_EMPTY:
+        k->a = p;
+        k->state = CONE_RAY;
+        return MFG_OK;
+    case CONE_RAY: {
+        int par = mfg_parallel3(k->a, p);
+        if (par < 0) {
+            k->state = CONE_LINE;
+            k->q = p;
+        } else if (par == 0) {
+            k->b = p;
+            k->state = CONE_WEDGE;
+        }
+        return MFG_OK;
+    }
+    case CONE_WEDGE: {
+        int o = mfg_orient3(k->a, k->b, p);
+        if (o != 0) { /* leaves the plane: a triangle, ordered counter-clockwise */
+            mfg_status st = hull_reserve(k, 3);
+            if (st != MFG_OK)
+                return st;
+            k->h[0] = o > 0 ? k->a : k->b;
+            k->h[1] = o > 0 ? k->b : k->a;
+            k->h[2] = p;
+            k->nh = 3;
+            k->state = CONE_HULL;
+            update_cap(k);
+            return MFG_OK;
+        }
+        /* In the plane of the wedge: orientation about n = a x b, exactly, as
+         * sign((a x b).(x x y)). */
+        int s1 = mfg_cross_dot_sign(k->a, k->b, k->a, p);
+        int s2 = mfg_cross_dot_sign(k->a, k->b, p, k->b);
+        if (s1 >= 0 && s2 >= 0)
+            return MFG_OK; /* inside the wedge */
+        if (s1 <= 0 && s2 <= 0) {
+            k->state = CONE_LINE; /* -p is in the wedge */
+            k->q = p;
+        } else if (s1 < 0) {
+            k->a = p; /* p before a: wedge p .. b */
+        } else {
+            k->b = p; /* p after b: wedge a .. p */
+        }
+        return MFG_OK;
+    }
+    default:
+        return mfg_fail(MFG_ERR_INTERNAL, "bad cone state");
+    }
+}
+
+/* ---- The degenerate case: VM on the great circle GC(q) ---------------------------- */
+
+enum flat_state { FLAT_EMPTY, FLAT_RAY, FLAT_WEDGE, FLAT_LINE, FLAT_HALF, FLAT_PLANE };
+
+typedef struct flat_cone {
+    enum flat_state state;
+    vref a, b; /* ray a; wedge a .. b counter-clockwise about q; line / half-plane a */
+    int side;  /* FLAT_HALF: the side (sign of det[q, a, p]) that the cone occupies */
+} flat_cone;
+
+/* Adds p (not parallel to q) to the cone of projections onto the plane orthogonal to q.
+ * det[q, x, y] is the exact 2-D orientation of the projections of x and y, and
+ * (q x x).(q x y) the sign of their dot product. */
+static void flat_add(flat_cone *f, vref q, vref p)
+{
+    switch (f->state) {
+    case FLAT_EMPTY:
+        f->a = p;
+        f->state = FLAT_RAY;
+        break;
+    case FLAT_RAY: {
+        int o = mfg_orient3(q, f->a, p);
+        if (o == 0) {
+            if (mfg_cross_dot_sign(q, f->a, q, p) < 0)
+                f->state = FLAT_LINE;
+        } else {
+            f->b = o > 0 ? p : f->a;
+            f->a = o > 0 ? f->a : p;
+            f->state = FLAT_WEDGE;
+        }
+        break;
+    }
+    case FLAT_WEDGE: {
+        int s1 = mfg_orient3(q, f->a, p), s2 = mfg_orient3(q, p, f->b);
+        if (s1 >= 0 && s2 >= 0)
+            break;
+        if (s1 <= 0 && s2 <= 0) { /* -p in the wedge: the cone holds the line of p */
+            int sa = mfg_orient3(q, p, f->a), sb = mfg_orient3(q, p, f->b);
+            if (sa >= 0 && sb >= 0) {
+                f->side = 1;
+            } else if (sa <= 0 && sb <= 0) {
+                f->side = -1;
+            } else {
+                f->state = FLAT_PLANE;
+                break;
+            }
+            f->a = p;
+            f->state = FLAT_HALF;
+        } else if (s1 < 0) {
+            f->a = p;
+        } else {
+            f->b = p;
+        }
+        break;
+    }
+    case FLAT_LINE: {
+        int o = mfg_orient3(q, f->a, p);
+        if (o != 0) {
+            f->side = o;
+            f->state = FLAT_HALF;
+        }
+        break;
+    }
+    case FLAT_HALF: {
+        int o = mfg_orient3(q, f->a, p);
+        if (o != 0 && o != f->side)
+            f->state = FLAT_PLANE;
+        break;
+    }
+    case FLAT_PLANE:
+        break;
+    }
+}
+
+/* ---- Output ------------------------------------------------------------------------ */
+
+static mfg_status spoly_new(int kind, int64_t n, mfg_spoly **out)
+{
+    mfg_spoly *s = calloc(1, sizeof *s);
+    if (!s)
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate a result");
+    s->kind = kind;
+    s->nvertices = n;
+    if (n > 0) {
+        s->vertices = malloc((size_t)n * 3 * sizeof(double));
+        if (!s->vertices) {
+            free(s);
+            return mfg_fail(MFG_ERR_NOMEM, "cannot allocate %lld vertices", (long long)n);
+        }
+    }
+    *out = s;
+    return MFG_OK;
+}
+
+void mfg_spoly_free(mfg_spoly *poly)
+{
+    if (!poly)
+        return;
+    free(poly->vertices);
+    free(poly);
+}
+
+static void set_vertex(mfg_spoly *s, int64_t i, const double v[3])
+{
+    s->vertices[3 * i] = v[0];
+    s->vertices[3 * i + 1] = v[1];
+    s->vertices[3 * i + 2] = v[2];
+}
+
+/* A unit vector orthogonal to unit a (the larger of two candidate crosses). */
+static void any_orthogonal(const double a[3], double out[3])
+{
+    double ex[3] = {1, 0, 0}, ey[3] = {0, 1, 0}, t[3];
+    mfg_cross3(a, fabs(a[0]) < fabs(a[1]) ? ex : ey, t);
+    mfg_unit3(t, out);
+}
+
+/* Three points 120 degrees apart on GC(a), counter-clockwise about a. */
+static void great_circle_triangle(const double a[3], double w[3][3])
+{
+    double au[3], e1[3], e2[3];
+    mfg_unit3(a, au);
+    any_orthogonal(au, e1);
+    mfg_cross3(au, e1, e2);
+    for (int k = 0; k < 3; k++) {
+        double c = cos(2.0 * MFG_PI * k / 3.0), s = sin(2.0 * MFG_PI * k / 3.0);
+        for (int i = 0; i < 3; i++)
+            w[k][i] = c * e1[i] + s * e2[i];
+    }
+}
+
+/* The map of a pointed cone (ray, wedge or hull): always a POLYGON. */
+static mfg_status polygon_from_cone(const cone3 *k, mfg_spoly **out)
+{
+    mfg_status st;
+    if (k->state == CONE_RAY) { /* a hemisphere */
+        double w[3][3];
+        great_circle_triangle(k->a, w);
+        if ((st = spoly_new(MFG_VM_POLYGON, 3, out)) != MFG_OK)
+            return st;
+        for (int i = 0; i < 3; i++)
+            set_vertex(*out, i, w[i]);
+        return MFG_OK;
+    }
+    if (k->state == CONE_WEDGE) { /* a lune: HS(a) and HS(b) */
+        double au[3], bu[3], n[3], c1[3], c2[3], ma[3], mb[3];
+        mfg_unit3(k->a, au);
+        mfg_unit3(k->b, bu);
+        mfg_cross3(au, bu, n);
+        if (!mfg_unit3(n, c1))
+            return mfg_fail(MFG_ERR_INTERNAL, "wedge of parallel normals");
+        c2[0] = -c1[0], c2[1] = -c1[1], c2[2] = -c1[2];
+        /* midpoint of the half circle on GC(a) lies towards b, and vice versa:
+         * c1 x a is on GC(a) and (c1 x a).b = det[c1, a, b] > 0 for c1 = a x b. */
+        double t[3];
+        mfg_cross3(c1, au, t);
+        mfg_unit3(t, ma);
+        mfg_cross3(bu, c1, t);
+        mfg_unit3(t, mb);
+        if ((st = spoly_new(MFG_VM_POLYGON, 4, out)) != MFG_OK)
+            return st;
+        /* Counter-clockwise: c1 -> mb -> c2 -> ma keeps a+b on the left (checked in
+         * the tests against the definition). */
+        set_vertex(*out, 0, c1);
+        set_vertex(*out, 1, mb);
+        set_vertex(*out, 2, c2);
+        set_vertex(*out, 3, ma);
+        return MFG_OK;
+    }
+    /* Hull u_0..u_k-1: VM vertex between GC(u_i) and GC(u_i+1) is u_i x u_i+1. */
+    if ((st = spoly_new(MFG_VM_POLYGON, k->nh, out)) != MFG_OK)
+        return st;
+    for (int64_t i = 0; i < k->nh; i++) {
+        double ui[3], uj[3], v[3], vu[3];
+        mfg_unit3(k->h[i], ui);
+        mfg_unit3(k->h[(i + 1) % k->nh], uj);
+        mfg_cross3(ui, uj, v);
+        if (!mfg_unit3(v, vu)) {
+            mfg_spoly_free(*out);
+            *out = NULL;
+            return mfg_fail(MFG_ERR_INTERNAL, "coincident hull vertices");
+        }
+        set_vertex(*out, i, vu);
+    }
+    return MFG_OK;
+}
+
+/* The map when q and -q are in the cone: a subset of GC(q). */
+static mfg_status map_on_great_circle(const double *normals, int64_t m, vref q,
+                                      mfg_spoly **out)
+{
+    flat_cone f = {FLAT_EMPTY, NULL, NULL, 0};
+    for (int64_t i = 0; i < m && f.state != FLAT_PLANE; i++) {
+        vref p = normals + 3 * i;
+        if (mfg_parallel3(q, p) == 0)
+            flat_add(&f, q, p);
+    }
+    double qu[3], t[3], s[3], e[3], mid[3];
+    mfg_unit3(q, qu);
+    mfg_status st;
+    switch (f.state) {
+    case FLAT_EMPTY: { /* every normal is +-q: the whole great circle */
+        double w[3][3];
+        great_circle_triangle(qu, w);
+        if ((st = spoly_new(MFG_VM_EDGE, 3, out)) != MFG_OK)
+            return st;
+        (*out)->closed = 1;
+        for (int i = 0; i < 3; i++)
+            set_vertex(*out, i, w[i]);
+        return MFG_OK;
+    }
+    case FLAT_RAY:   /* half circle centred on the projection of a */
+    case FLAT_WEDGE: /* arc from b' turned -90 degrees to a' turned +90 degrees */
+    {
+        vref lo = f.state == FLAT_RAY ? f.a : f.b; /* start = -(q x lo) */
+        vref hi = f.a;                             /* end = q x hi */
+        double au[3], bu[3];
+        mfg_cross3(qu, lo, t);
+        mfg_unit3(t, s);
+        s[0] = -s[0], s[1] = -s[1], s[2] = -s[2];
+        mfg_cross3(qu, hi, t);
+        mfg_unit3(t, e);
+        /* The arc's midpoint is the bisector of the projections of a and b. */
+        mfg_cross3(t, qu, au); /* (q x a) x q: projection of a, up to scale */
+        mfg_unit3(au, au);
+        mfg_cross3(qu, lo, t);
+        mfg_cross3(t, qu, bu);
+        mfg_unit3(bu, bu);
+        double sum[3] = {au[0] + bu[0], au[1] + bu[1], au[2] + bu[2]};
+        if (!mfg_unit3(sum, mid))
+            return mfg_fail(MFG_ERR_INTERNAL, "degenerate arc");
+        if ((st = spoly_new(MFG_VM_EDGE, 3, out)) != MFG_OK)
+            return st;
+        set_vertex(*out, 0, s);
+        set_vertex(*out, 1, mid);
+        set_vertex(*out, 2, e);
+        return MFG_OK;
+    }
+    case FLAT_LINE: /* all projections on one line: both poles of that plane */
+    case FLAT_HALF: /* a half-plane: the pole on its side */
+    {
+        mfg_cross3(qu, f.a, t);
+        mfg_unit3(t, s);
+        int sign = f.state == FLAT_HALF ? f.side : 1;
+        s[0] *= sign, s[1] *= sign, s[2] *= sign;
+        int64_t n = f.state == FLAT_LINE ? 2 : 1;
+        if ((st = spoly_new(MFG_VM_POINT, n, out)) != MFG_OK)
+            return st;
+        set_vertex(*out, 0, s);
+        if (n == 2) {
+            double ns[3] = {-s[0], -s[1], -s[2]};
+            set_vertex(*out, 1, ns);
+        }
+        return MFG_OK;
+    }
+    case FLAT_PLANE:
+        break;
+    }
+    return spoly_new(MFG_VM_NULL, 0, out);
+}
+
+/* ---- Draft angle -------------------------------------------------------------------- */
+
+/* Clips convex spherical polygon (n unit vertices in poly, room for n+1 in out) by the
+ * hemisphere { d : d.nrm >= 0 }; returns the new vertex count. */
+static int64_t clip_hemisphere(const double *poly, int64_t n, const double nrm[3], double *out)
+{
+    int64_t m = 0;
+    for (int64_t i = 0; i < n; i++) {
+        const double *a = poly + 3 * i, *b = poly + 3 * ((i + 1) % n);
+        double sa = mfg_dot3(a, nrm), sb = mfg_dot3(b, nrm);
+        if (sa >= 0) {
+            memcpy(out + 3 * m, a, 3 * sizeof(double));
+            m++;
+        }
+        if ((sa >= 0) != (sb >= 0)) {
+            double x[3] = {sa * b[0] - sb * a[0], sa * b[1] - sb * a[1], sa * b[2] - sb * a[2]};
+            if (sa < 0)
+                x[0] = -x[0], x[1] = -x[1], x[2] = -x[2];
+            if (mfg_unit3(x, out + 3 * m))
+                m++;
+        }
+    }
+    return m;
+}
+
+#define DRAFT_TOL 1e-4
+
+/* Shrinks a POLYGON map to the directions at least draft_angle away from every
+ * hemisphere boundary: clipped by, for each hull normal u, a polygon inscribed in the
+ * small circle d.u^ = sin(draft) (every chord lies inside that cap, so the result is
+ * conservative; the chords' sagitta is below DRAFT_TOL). */
+static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
+{
+    vref single[2];
+    const vref *us;
+    int64_t nu;
+    if (k->state == CONE_RAY) {
+        single[0] = k->a;
+        us = single;
+        nu = 1;
+    } else if (k->state == CONE_WEDGE) {
+        single[0] = k->a;
+        single[1] = k->b;
+        us = single;
+        nu = 2;
+    } else {
+        us = k->h;
+        nu = k->nh;
+    }
+    double rho = MFG_PI / 2 - draft - 1e-12; /* cap radius, a hair inside */
+    double sr = sin(rho), cr = cos(rho);
+    int64_t steps = (int64_t)ceil(2.0 * MFG_PI / sqrt(8.0 * DRAFT_TOL / fmax(sr, 1e-12)));
+    if (steps < 8)
+        steps = 8;
+    int64_t cap = (*map)->nvertices + nu * steps + 8;
+    double *a = malloc((size_t)cap * 3 * sizeof(double));
+    double *b = malloc((size_t)cap * 3 * sizeof(double));
+    if (!a || !b) {
+        free(a);
+        free(b);
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the draft polygon");
+    }
+    int64_t n = (*map)->nvertices;
+    memcpy(a, (*map)->vertices, (size_t)n * 3 * sizeof(double));
+    for (int64_t j = 0; j < nu && n >= 3; j++) {
+        double u[3], e1[3], e2[3];
+        mfg_unit3(us[j], u);
+        any_orthogonal(u, e1);
+        mfg_cross3(u, e1, e2);
+        double prev[3] = {0, 0, 0}, first[3] = {0, 0, 0};
+        for (int64_t s = 0; s <= steps && n >= 3; s++) {
+            double th = 2.0 * MFG_PI * (double)(s % steps) / (double)steps;
+            double w[3];
+            for (int i = 0; i < 3; i++)
+                w[i] = cr * u[i] + sr * (cos(th) * e1[i] + sin(th) * e2[i]);
+            if (s == 0) {
+                memcpy(first, w, sizeof w);
+            } else {
+                double nrm[3];
+                mfg_cross3(prev, s == steps ? first : w, nrm); /* interior on the left */
+                n = clip_hemisphere(a, n, nrm, b);
+                double *sw = a;
+                a = b;
+                b = sw;
+            }
+            memcpy(prev, w, sizeof w);
+        }
+    }
+    mfg_spoly *res = NULL;
+    mfg_status st = spoly_new(n >= 3 ? MFG_VM_POLYGON : MFG_VM_NULL, n >= 3 ? n : 0, &res);
+    if (st == MFG_OK && n >= 3)
+        memcpy(res->vertices, a, (size_t)n * 3 * sizeof(double));
+    free(a);
+    free(b);
+    if (st != MFG_OK)
+        return st;
+    mfg_spoly_free(*map);
+    *map = res;
+    return MFG_OK;
+}
+
+/* ---- Entry point ---------------------------------------------------------------------- */
+
+/* A fixed stride coprime to m visits every index once in a scrambled order: incremental
+ * hulls then see extreme points early, as with a random permutation, with no memory. */
+static int64_t scramble_stride(int64_t m)
+{
+    int64_t s = (int64_t)((double)m * 0.6180339887498949) | 1;
+    while (s > 1) {
+        int64_t x = s, y = m;
+        while (y) {
+            int64_t r = x % y;
+            x = y;
+            y = r;
+        }
+        if (x == 1)
+            break;
+        s += 2;
+        if (s >= m)
+            s = 1;
+    }
+    return s < 1 ? 1 : s;
+}
+
+mfg_status mfg_visibility_map(const double *normals, int64_t m, double draft_angle,
+                              mfg_spoly **out_map)
+{
+    if (!out_map)
+        return mfg_fail(MFG_ERR_NULL, "out_map is NULL");
+    if (m <= 0)
+        return mfg_fail(MFG_ERR_DEGENERATE, "no normals (m = %lld)", (long long)m);
+    if (!normals)
+        return mfg_fail(MFG_ERR_NULL, "normals is NULL");
+    if (!(draft_angle >= 0.0 && draft_angle < MFG_PI / 2))
+        return mfg_fail(MFG_ERR_INVALID, "draft angle must be in [0, pi/2) radians (got %g)",
+                        draft_angle);
+    for (int64_t i = 0; i < m; i++) {
+        const double *p = normals + 3 * i;
+        for (int c = 0; c < 3; c++)
+            if (!mfg_coord_ok(p[c]))
+                return mfg_fail(MFG_ERR_INVALID,
+                                "normal %lld has a NaN, infinite or out-of-range component (%g)",
+                                (long long)i, p[c]);
+        if (p[0] == 0.0 && p[1] == 0.0 && p[2] == 0.0)
+            return mfg_fail(MFG_ERR_INVALID, "normal %lld is the zero vector", (long long)i);
+    }
+
+    cone3 k;
+    memset(&k, 0, sizeof k);
+    mfg_status st = MFG_OK;
+    int64_t stride = scramble_stride(m), idx = 0;
+    for (int64_t step = 0; step < m && st == MFG_OK && k.state != CONE_LINE; step++) {
+        vref p = normals + 3 * idx;
+        idx += stride;
+        if (idx >= m)
+            idx -= m;
+        st = k.state == CONE_HULL ? hull_add(&k, p) : low_add(&k, p);
+    }
+    mfg_spoly *map = NULL;
+    if (st == MFG_OK) {
+        if (k.state == CONE_LINE)
+            st = map_on_great_circle(normals, m, k.q, &map);
+        else
+            st = polygon_from_cone(&k, &map);
+    }
+    if (st == MFG_OK && draft_angle > 0.0) {
+        if (map->kind == MFG_VM_POLYGON) {
+            st = apply_draft(&k, draft_angle, &map);
+        } else { /* a degenerate map has no direction strictly inside every hemisphere */
+            mfg_spoly_free(map);
+            map = NULL;
+            st = spoly_new(MFG_VM_NULL, 0, &map);
+        }
+    }
+    free(k.h);
+    free(k.o);
+    free(k.tmp);
+    if (st != MFG_OK) {
+        mfg_spoly_free(map);
+        return st;
+    }
+    *out_map = map;
+    mfg_clear_error();
+    return MFG_OK;
+}
