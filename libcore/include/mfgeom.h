@@ -151,6 +151,75 @@ MFG_API mfg_status mfg_visibility_map(const double *normals, int64_t m, double d
 /* Releases a result of mfg_visibility_map (or any mfg_spoly from this library). */
 MFG_API void mfg_spoly_free(mfg_spoly *poly);
 
+/* ------------------------------------------------------------------------- */
+/* Maximum intersection of spherical convex polygons (Ha 2001, seed 000 s.4) */
+/* ------------------------------------------------------------------------- */
+
+/*
+ * Input: npolys spherical convex sets in the mfg_spoly layout, flattened:
+ *   vertices[3*k ..]           all vertices, polygon after polygon
+ *   offsets[0..npolys]         polygon i uses vertices offsets[i] .. offsets[i+1]-1
+ *   kinds[i]                   MFG_VM_* (NULL polygons are ignored)
+ *   closed[i]                  1 for an EDGE that is a whole great circle (may be NULL)
+ *   weights[i]                 >= 0 (NULL: all 1)
+ * Sets are closed.  Coverage is decided with an angular tolerance of MFG_SPHERE_TOL:
+ * boundaries closer than that count as touching, so two maps sharing a boundary circle
+ * (common for faces with a common normal) overlap along it.
+ *
+ * Output (mfg_regions, released with mfg_regions_free):
+ *   weight          the maximum covered weight (or the level asked for)
+ *   nregions        number of regions; for region r:
+ *   kinds[r]        MFG_VM_POLYGON, MFG_VM_EDGE or MFG_VM_POINT
+ *   vertex_offsets, vertices   its vertices as in mfg_spoly (polygons counter-clockwise)
+ *   cover_offsets, cover       indices of the input sets that cover it
+ *   centres[3r..]   a representative direction: the centre of the largest circle inscribed
+ *                   in the region (the smallest enclosing circle of the poles of its edges,
+ *                   as in the paper); an arc's midpoint; the point itself
+ *   margins[r]      that circle's angular radius: how far the direction may move and stay
+ *                   in the region (0 for arcs and points)
+ * Regions are sorted by decreasing margin (ties: by centre coordinates), so region 0 is
+ * the recommended one; the result does not depend on the order of the input sets.
+ */
+#define MFG_SPHERE_TOL 1e-10
+
+typedef struct mfg_regions {
+    double weight;
+    int64_t nregions;
+    int32_t *kinds;
+    int64_t *vertex_offsets;
+    double *vertices;
+    int64_t *cover_offsets;
+    int64_t *cover;
+    double *centres;
+    double *margins;
+} mfg_regions;
+
+/* All regions of maximum covered weight. */
+MFG_API mfg_status mfg_max_intersection(const double *vertices, const int64_t *offsets,
+                                        const int32_t *kinds, const int32_t *closed,
+                                        int64_t npolys, const double *weights,
+                                        mfg_regions **out);
+
+/* Level k: every region whose cover set is locally maximal (adding any other set would
+ * leave the region) and whose weight is >= level.  With level = the maximum this is
+ * mfg_max_intersection; lower levels also return the runner-up local maxima. */
+MFG_API mfg_status mfg_level_regions(const double *vertices, const int64_t *offsets,
+                                     const int32_t *kinds, const int32_t *closed,
+                                     int64_t npolys, const double *weights, double level,
+                                     mfg_regions **out);
+
+/* Minimum intersection: the least covered weight over the sphere and, per region of
+ * that coverage (a face of the arrangement, not convex in general), its cover set and a
+ * representative direction inside it; vertices are not reported (vertex_offsets all 0)
+ * and margins are 0. */
+MFG_API mfg_status mfg_min_intersection(const double *vertices, const int64_t *offsets,
+                                        const int32_t *kinds, const int32_t *closed,
+                                        int64_t npolys, const double *weights,
+                                        mfg_regions **out);
+
+/* Releases a result of the three functions above. NULL is allowed. */
+MFG_API void mfg_regions_free(mfg_regions *regions);
+
 #ifdef __cplusplus
 }
 #endif

@@ -92,6 +92,26 @@ _lib.mfg_spoly_free.restype = None
 _lib.mfg_spoly_free.argtypes = [ctypes.POINTER(_SPoly)]
 
 KINDS = {0: "null", 1: "point", 2: "edge", 3: "polygon"}
+KIND_CODES = {v: k for k, v in KINDS.items()}
+
+
+class _Regions(ctypes.Structure):
+    _fields_ = [("weight", ctypes.c_double), ("nregions", ctypes.c_int64),
+                ("kinds", ctypes.POINTER(ctypes.c_int32)),
+                ("vertex_offsets", _c_int64_p), ("vertices", _c_double_p),
+                ("cover_offsets", _c_int64_p), ("cover", _c_int64_p),
+                ("centres", _c_double_p), ("margins", _c_double_p)]
+
+
+_REGION_ARGS = [_c_double_p, _c_int64_p, ctypes.POINTER(ctypes.c_int32),
+                ctypes.POINTER(ctypes.c_int32), ctypes.c_int64, _c_double_p]
+_lib.mfg_max_intersection.restype = ctypes.c_int
+_lib.mfg_max_intersection.argtypes = _REGION_ARGS + [ctypes.POINTER(ctypes.POINTER(_Regions))]
+_lib.mfg_level_regions.restype = ctypes.c_int
+_lib.mfg_level_regions.argtypes = _REGION_ARGS + [ctypes.c_double,
+                                                  ctypes.POINTER(ctypes.POINTER(_Regions))]
+_lib.mfg_regions_free.restype = None
+_lib.mfg_regions_free.argtypes = [ctypes.POINTER(_Regions)]
 
 
 def version():
@@ -265,3 +285,96 @@ def visibility_map(normals, draft_angle=0.0, negative=False):
         return VisibilityMap(KINDS[sp.kind], verts.reshape(-1, 3), sp.closed)
     finally:
         _lib.mfg_spoly_free(res)
+
+
+class Intersection:
+    """Result of :func:`max_intersection` / :func:`level_regions`.
+
+    ``count``: the covered weight; ``regions``: list of (k, 3) vertex arrays (best
+    first); ``kinds``: "polygon" / "edge" / "point" per region; ``covers``: per region,
+    the indices of the input maps covering it; ``centres`` (r, 3) and ``margins`` (r,):
+    the representative direction of each region and how far (radians) it may move and
+    stay inside; ``direction`` and ``margin``: those of the best region."""
+
+    def __init__(self, count, regions, kinds, covers, centres, margins):
+        self.count = count
+        self.regions = regions
+        self.kinds = kinds
+        self.covers = covers
+        self.centres = centres
+        self.margins = margins
+        self.direction = centres[0] if len(centres) else None
+        self.margin = float(margins[0]) if len(margins) else 0.0
+
+    def __repr__(self):
+        return (f"Intersection(count={self.count}, {len(self.regions)} regions, "
+                f"direction={self.direction}, margin={self.margin:.6g})")
+
+
+def _flatten_maps(maps, weights):
+    verts, offsets, kinds, closed = [], [0], [], []
+    for k, m in enumerate(maps):
+        if isinstance(m, VisibilityMap):
+            v, kind, cl = m.vertices, m.kind, m.closed
+        else:
+            v, kind, cl = np.asarray(m, dtype=np.float64), "polygon", False
+            if v.ndim != 2 or v.shape[1] != 3:
+                raise ValueError(f"map {k} must be a VisibilityMap or a (k, 3) array")
+            if len(v) == 0:
+                kind = "null"
+        if kind not in KIND_CODES:
+            raise ValueError(f"map {k} has unknown kind {kind!r}")
+        verts.append(np.asarray(v, dtype=np.float64).reshape(-1, 3))
+        offsets.append(offsets[-1] + len(verts[-1]))
+        kinds.append(KIND_CODES[kind])
+        closed.append(1 if cl else 0)
+    if not verts:
+        raise MfgError("degenerate input", "no maps given")
+    xyz = np.ascontiguousarray(np.concatenate(verts), dtype=np.float64)
+    w = None
+    if weights is not None:
+        w = np.ascontiguousarray(weights, dtype=np.float64)
+        if w.shape != (len(kinds),):
+            raise ValueError(f"weights must have shape ({len(kinds)},), got {w.shape}")
+    return (xyz, np.asarray(offsets, dtype=np.int64), np.asarray(kinds, dtype=np.int32),
+            np.asarray(closed, dtype=np.int32), w)
+
+
+def _call_regions(fn, maps, weights, *extra):
+    xyz, off, kinds, closed, w = _flatten_maps(maps, weights)
+    res = ctypes.POINTER(_Regions)()
+    _check(fn(_ptr(xyz, ctypes.c_double), _ptr(off, ctypes.c_int64),
+              _ptr(kinds, ctypes.c_int32), _ptr(closed, ctypes.c_int32), len(kinds),
+              _ptr(w, ctypes.c_double) if w is not None else None, *extra,
+              ctypes.byref(res)))
+    try:
+        r = res.contents
+        n = r.nregions
+        voff = np.ctypeslib.as_array(r.vertex_offsets, shape=(n + 1,)).copy()
+        coff = np.ctypeslib.as_array(r.cover_offsets, shape=(n + 1,)).copy()
+        verts = (np.ctypeslib.as_array(r.vertices, shape=(int(voff[-1]) * 3,)).reshape(-1, 3).copy()
+                 if voff[-1] else np.zeros((0, 3)))
+        cover = (np.ctypeslib.as_array(r.cover, shape=(int(coff[-1]),)).copy()
+                 if coff[-1] else np.zeros(0, dtype=np.int64))
+        kinds_out = [KINDS[int(r.kinds[i])] for i in range(n)]
+        centres = (np.ctypeslib.as_array(r.centres, shape=(n * 3,)).reshape(-1, 3).copy()
+                   if n else np.zeros((0, 3)))
+        margins = np.ctypeslib.as_array(r.margins, shape=(n,)).copy() if n else np.zeros(0)
+        weight = float(r.weight)
+    finally:
+        _lib.mfg_regions_free(res)
+    regions = [verts[voff[i]:voff[i + 1]] for i in range(n)]
+    covers = [cover[coff[i]:coff[i + 1]] for i in range(n)]
+    count = int(weight) if weights is None and weight == int(weight) else weight
+    return Intersection(count, regions, kinds_out, covers, centres, margins)
+
+
+def max_intersection(maps, weights=None):
+    """All regions of the sphere covered by the greatest total weight of ``maps``
+    (VisibilityMap objects or (k, 3) arrays of counter-clockwise convex polygons)."""
+    return _call_regions(_lib.mfg_max_intersection, maps, weights)
+
+
+def level_regions(maps, level, weights=None):
+    """Every locally maximal region whose covered weight is at least ``level``."""
+    return _call_regions(_lib.mfg_level_regions, maps, weights, ctypes.c_double(float(level)))

@@ -1,0 +1,1091 @@
+/* SPDX-License-Identifier: LGPL-2.1-or-later */
+/* maxisect.c - maximum (and level-k, minimum) intersection of spherical convex polygons
+ * by edge-based partition (Ha 2001, seed 000 section 4). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mfg_internal.h"
+#include "sphere.h"
+
+/*
+ * Edge-based partition, as in the paper: every boundary edge of every set is split by
+ * the other sets and each piece gets its ownership (the weight of the sets containing
+ * it); the pieces of greatest ownership bound the maximum regions, and a region of
+ * maximum weight D is exactly the intersection of the sets covering it (any point of that
+ * intersection covered by one more set would beat D), hence convex.
+ * How it is done here:
+ *  - an edge a->b is parametrised by s in [0, 1] through x(s) = a + s (b - a) (a central
+ *    projection of the arc, so every half-space constraint x.n >= -tol is linear in s):
+ *    the part of the edge inside another convex set is one interval, found in O(v);
+ *  - the intervals are swept (closed sets: a start sorts before an end at equal s), which
+ *    gives the ownership of every point and piece of the edge and its cover set;
+ *  - pairs whose bounding caps are apart are skipped, and edges whose ownership bound
+ *    (own weight + every set meeting the edge) cannot reach the best weight found so far
+ *    are never swept, edges being visited from the highest bound down;
+ *  - each distinct cover set S of maximum weight becomes one region: the intersection of
+ *    S by clipping, its centre the centre of the smallest circle enclosing the poles of its
+ *    edges (= the largest inscribed circle, the paper's dual construction), computed with
+ *    Welzl's algorithm on the sphere.
+ * Coverage is decided with the angular tolerance MFG_SPHERE_TOL (a set contains the
+ * directions within that distance), so the outcome does not depend on rounding in the
+ * inputs' vertices; the order of the input sets does not enter any decision.
+ */
+
+#define TOL MFG_SPHERE_TOL
+
+/* One input set, prepared. */
+typedef struct sset {
+    int kind, closed;
+    int64_t id, nv;
+    double w;
+    double *v;     /* nv unit vertices */
+    double *n;     /* POLYGON: inward unit normal of edge k (v[k] -> v[k+1]) */
+    double cc[3];  /* bounding cap: centre and angular radius (cos, sin kept) */
+    double cr, cos_cr, sin_cr;
+} sset;
+
+/* An edge (or arc piece, or single point when a == b) of some set to be swept. */
+typedef struct sedge {
+    int64_t set;   /* index into the prepared sets */
+    const double *a, *b;
+    double bound;  /* own weight + weight of every set meeting the edge */
+} sedge;
+
+typedef struct interval {
+    double lo, hi;
+    int64_t set;
+} interval;
+
+typedef struct event {
+    double s;
+    int start; /* 1 = start, 0 = end */
+    int64_t set;
+} event;
+
+/* A candidate region: its cover set (sorted set indices) and a sample direction. */
+typedef struct cand {
+    double weight;
+    int64_t off, len;  /* into the candidate pool of set indices */
+    double x[3];
+    int degenerate;    /* found only at an isolated point of an edge */
+} cand;
+
+typedef struct work {
+    sset *sets;
+    int64_t nsets;
+    interval *iv;
+    event *ev;
+    int64_t cap_iv;
+    /* candidate pool */
+    cand *cands;
+    int64_t ncands, cap_cands;
+    int64_t *pool;
+    int64_t npool, cap_pool;
+    double best;
+} work;
+
+static inline double angle_between(const double a[3], const double b[3])
+{
+    double c[3];
+    mfg_cross3(a, b, c);
+    return atan2(sqrt(mfg_dot3(c, c)), mfg_dot3(a, b));
+}
+
+/* ---- Smallest enclosing cap on the sphere (Welzl, iterative with move-to-front) --- */
+
+static void cap2(const double *a, const double *b, double c[3], double *cosr)
+{
+    double s[3] = {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+    if (!mfg_unit3(s, c)) { /* antipodal: any point of the bisecting circle */
+        double t[3] = {a[1], -a[0], 0};
+        if (!mfg_unit3(t, c)) {
+            t[0] = 0, t[1] = a[2], t[2] = -a[1];
+            mfg_unit3(t, c);
+        }
+    }
+    *cosr = fmin(mfg_dot3(c, a), mfg_dot3(c, b));
+}
+
+static void cap3(const double *a, const double *b, const double *p, double c[3], double *cosr)
+{
+    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double v[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]}, n[3];
+    mfg_cross3(u, v, n);
+    if (!mfg_unit3(n, c)) {
+        cap2(a, b, c, cosr);
+        return;
+    }
+    if (mfg_dot3(c, a) < 0)
+        c[0] = -c[0], c[1] = -c[1], c[2] = -c[2];
+    *cosr = fmin(mfg_dot3(c, a), fmin(mfg_dot3(c, b), mfg_dot3(c, p)));
+}
+
+/* Smallest cap containing the k unit points pts (k >= 1): centre c and cos(radius). */
+static void enclosing_cap(const double *pts, int64_t k, double c[3], double *cosr)
+{
+    const double eps = 1e-14;
+    memcpy(c, pts, 3 * sizeof(double));
+    *cosr = 1.0;
+    for (int64_t i = 1; i < k; i++) {
+        const double *pi = pts + 3 * i;
+        if (mfg_dot3(c, pi) >= *cosr - eps)
+            continue;
+        memcpy(c, pi, 3 * sizeof(double));
+        *cosr = 1.0;
+        for (int64_t j = 0; j < i; j++) {
+            const double *pj = pts + 3 * j;
+            if (mfg_dot3(c, pj) >= *cosr - eps)
+                continue;
+            cap2(pi, pj, c, cosr);
+            for (int64_t l = 0; l < j; l++) {
+                const double *pl = pts + 3 * l;
+                if (mfg_dot3(c, pl) >= *cosr - eps)
+                    continue;
+                cap3(pi, pj, pl, c, cosr);
+            }
+        }
+    }
+}
+
+/* ---- Membership and edge intervals ---------------------------------------------- */
+
+/* Parameter s of direction y (on the great circle of a->b) along x(s) = a + s (b - a);
+ * returns 0 when y is outside the arc (beyond the tolerance). */
+static int param_on_edge(const double *a, const double *b, const double *y, double *s)
+{
+    /* In the plane of the arc: y = alpha a + beta b (solve with the Gram matrix). */
+    double ab = mfg_dot3(a, b), ya = mfg_dot3(y, a), yb = mfg_dot3(y, b);
+    double det = 1.0 - ab * ab;
+    if (det <= 1e-30) { /* a == b: a point */
+        double d[3] = {y[0] - a[0], y[1] - a[1], y[2] - a[2]};
+        *s = 0.0;
+        return sqrt(mfg_dot3(d, d)) <= TOL;
+    }
+    double alpha = (ya - ab * yb) / det, beta = (yb - ab * ya) / det;
+    /* x(s) is proportional to (1 - s) a + s b: s = beta / (alpha + beta). */
+    if (alpha + beta <= 0.0)
+        return 0;
+    double t = beta / (alpha + beta);
+    double len = angle_between(a, b);
+    double slack = TOL / fmax(len, TOL); /* tolerance as a fraction of the edge */
+    if (t < -slack || t > 1.0 + slack)
+        return 0;
+    *s = fmin(fmax(t, 0.0), 1.0);
+    return 1;
+}
+
+static int set_contains(const sset *S, const double *y)
+{
+    if (mfg_dot3(S->cc, y) < S->cos_cr - 1e-12)
+        return 0;
+    if (S->kind == MFG_VM_POLYGON) {
+        for (int64_t k = 0; k < S->nv; k++)
+            if (mfg_dot3(y, S->n + 3 * k) < -TOL)
+                return 0;
+        return 1;
+    }
+    if (S->kind == MFG_VM_POINT) {
+        for (int64_t k = 0; k < S->nv; k++) {
+            const double *p = S->v + 3 * k;
+            double d[3] = {y[0] - p[0], y[1] - p[1], y[2] - p[2]};
+            if (sqrt(mfg_dot3(d, d)) <= TOL)
+                return 1;
+        }
+        return 0;
+    }
+    /* EDGE: within tolerance of one of its pieces */
+    int64_t pieces = S->closed ? S->nv : S->nv - 1;
+    for (int64_t k = 0; k < pieces; k++) {
+        const double *a = S->v + 3 * k, *b = S->v + 3 * ((k + 1) % S->nv);
+        double n[3], nu[3], s;
+        mfg_cross3(a, b, n);
+        if (!mfg_unit3(n, nu))
+            continue;
+        if (fabs(mfg_dot3(y, nu)) <= TOL) {
+            double proj[3] = {y[0] - mfg_dot3(y, nu) * nu[0], y[1] - mfg_dot3(y, nu) * nu[1],
+                              y[2] - mfg_dot3(y, nu) * nu[2]}, pu[3];
+            if (mfg_unit3(proj, pu) && param_on_edge(a, b, pu, &s))
+                return 1;
+        }
+    }
+    return 0;
+}
+
+/* Interval of edge a->b (s in [0,1]) inside polygon S; 0 when empty. */
+static int polygon_interval(const sset *S, const double *a, const double *b, double *lo,
+                            double *hi)
+{
+    double l = 0.0, h = 1.0;
+    for (int64_t k = 0; k < S->nv; k++) {
+        const double *n = S->n + 3 * k;
+        double fa = mfg_dot3(a, n) + TOL, fb = mfg_dot3(b, n) + TOL;
+        if (fa >= 0.0 && fb >= 0.0)
+            continue;
+        if (fa < 0.0 && fb < 0.0)
+            return 0;
+        double s = fa / (fa - fb);
+        if (fa < 0.0)
+            l = s > l ? s : l;
+        else
+            h = s < h ? s : h;
+        if (l > h)
+            return 0;
+    }
+    *lo = l;
+    *hi = h;
+    return 1;
+}
+
+/* Intervals of edge a->b inside an EDGE or POINT set: appended to iv, returns count. */
+static int64_t thin_intervals(const sset *S, int64_t sid, const double *a, const double *b,
+                              interval *iv)
+{
+    int64_t m = 0;
+    double ne[3], neu[3];
+    mfg_cross3(a, b, ne);
+    int edge_has_circle = mfg_unit3(ne, neu);
+    if (S->kind == MFG_VM_POINT) {
+        for (int64_t k = 0; k < S->nv; k++) {
+            double s;
+            const double *p = S->v + 3 * k;
+            if (edge_has_circle && fabs(mfg_dot3(p, neu)) > TOL)
+                continue;
+            if (param_on_edge(a, b, p, &s))
+                iv[m++] = (interval){s, s, sid};
+        }
+        return m;
+    }
+    int64_t pieces = S->closed ? S->nv : S->nv - 1;
+    for (int64_t k = 0; k < pieces; k++) {
+        const double *c = S->v + 3 * k, *d = S->v + 3 * ((k + 1) % S->nv);
+        if (!edge_has_circle) { /* the swept "edge" is a point */
+            if (set_contains(S, a))
+                iv[m++] = (interval){0.0, 0.0, sid};
+            return m;
+        }
+        if (fabs(mfg_dot3(c, neu)) <= TOL && fabs(mfg_dot3(d, neu)) <= TOL) {
+            /* same great circle: overlap of the two arcs */
+            double sc, sd, lo = 2.0, hi = -1.0;
+            if (param_on_edge(a, b, c, &sc))
+                lo = fmin(lo, sc), hi = fmax(hi, sc);
+            if (param_on_edge(a, b, d, &sd))
+                lo = fmin(lo, sd), hi = fmax(hi, sd);
+            double nc[3], ncu[3], s;
+            mfg_cross3(c, d, nc);
+            mfg_unit3(nc, ncu);
+            /* the edge's ends inside the piece also bound the overlap */
+            if (param_on_edge(c, d, a, &s))
+                lo = fmin(lo, 0.0), hi = fmax(hi, 0.0);
+            if (param_on_edge(c, d, b, &s))
+                lo = fmin(lo, 1.0), hi = fmax(hi, 1.0);
+            if (lo <= hi)
+                iv[m++] = (interval){lo, hi, sid};
+        } else {
+            double nc[3], x[3], xu[3], s, t;
+            mfg_cross3(c, d, nc);
+            mfg_cross3(ne, nc, x);
+            if (!mfg_unit3(x, xu))
+                continue;
+            for (int sign = 0; sign < 2; sign++) {
+                if (sign)
+                    xu[0] = -xu[0], xu[1] = -xu[1], xu[2] = -xu[2];
+                if (param_on_edge(a, b, xu, &s) && param_on_edge(c, d, xu, &t))
+                    iv[m++] = (interval){s, s, sid};
+            }
+        }
+    }
+    /* merge the pieces' intervals so the set counts once at shared piece ends */
+    for (int64_t i = 1; i < m; i++)
+        for (int64_t j = i; j > 0 && iv[j].lo < iv[j - 1].lo; j--) {
+            interval t = iv[j];
+            iv[j] = iv[j - 1];
+            iv[j - 1] = t;
+        }
+    int64_t out = 0;
+    for (int64_t i = 0; i < m; i++) {
+        if (out > 0 && iv[i].lo <= iv[out - 1].hi + 1e-12)
+            iv[out - 1].hi = fmax(iv[out - 1].hi, iv[i].hi);
+        else
+            iv[out++] = iv[i];
+    }
+    return out;
+}
+
+/* ---- Preparation --------------------------------------------------------------------- */
+
+static void free_work(work *W)
+{
+    for (int64_t i = 0; i < W->nsets; i++) {
+        free(W->sets[i].v);
+        free(W->sets[i].n);
+    }
+    free(W->sets);
+    free(W->iv);
+    free(W->ev);
+    free(W->cands);
+    free(W->pool);
+    memset(W, 0, sizeof *W);
+}
+
+static mfg_status prepare(const double *vertices, const int64_t *offsets, const int32_t *kinds,
+                          const int32_t *closed, int64_t npolys, const double *weights,
+                          work *W)
+{
+    memset(W, 0, sizeof *W);
+    if (npolys <= 0)
+        return mfg_fail(MFG_ERR_DEGENERATE, "no polygons (npolys = %lld)", (long long)npolys);
+    if (!offsets || !kinds)
+        return mfg_fail(MFG_ERR_NULL, "offsets or kinds is NULL");
+    if (offsets[0] != 0)
+        return mfg_fail(MFG_ERR_INVALID, "offsets[0] must be 0");
+    for (int64_t i = 0; i < npolys; i++) {
+        int64_t nv = offsets[i + 1] - offsets[i];
+        int k = kinds[i], cl = closed ? closed[i] : 0;
+        if (nv < 0)
+            return mfg_fail(MFG_ERR_INVALID, "offsets must be non-decreasing (polygon %lld)", (long long)i);
+        if (k < MFG_VM_NULL || k > MFG_VM_POLYGON)
+            return mfg_fail(MFG_ERR_INVALID, "polygon %lld has unknown kind %d", (long long)i, k);
+        int ok = k == MFG_VM_NULL || (k == MFG_VM_POINT && (nv == 1 || nv == 2)) ||
+                 (k == MFG_VM_EDGE && nv >= (cl ? 3 : 2)) || (k == MFG_VM_POLYGON && nv >= 3);
+        if (!ok)
+            return mfg_fail(MFG_ERR_DEGENERATE, "polygon %lld: %lld vertices do not make a %s", (long long)i,
+                            (long long)nv, k == MFG_VM_POINT ? "point" : k == MFG_VM_EDGE ? "edge" : "polygon");
+        if (weights && !(weights[i] >= 0.0 && weights[i] < 1e300))
+            return mfg_fail(MFG_ERR_INVALID, "weight %lld must be finite and >= 0 (got %g)", (long long)i, weights[i]);
+    }
+    if (offsets[npolys] > 0 && !vertices)
+        return mfg_fail(MFG_ERR_NULL, "vertices is NULL");
+    for (int64_t k = 0; k < 3 * offsets[npolys]; k++)
+        if (!mfg_coord_ok(vertices[k]))
+            return mfg_fail(MFG_ERR_INVALID, "vertex %lld has a NaN or infinite coordinate", (long long)(k / 3));
+
+    W->sets = calloc((size_t)npolys, sizeof(sset));
+    if (!W->sets)
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate %lld sets", (long long)npolys);
+    for (int64_t i = 0; i < npolys; i++) {
+        double w = weights ? weights[i] : 1.0;
+        int64_t nv = offsets[i + 1] - offsets[i];
+        if (kinds[i] == MFG_VM_NULL || w <= 0.0)
+            continue; /* contributes nothing anywhere */
+        sset *S = &W->sets[W->nsets++];
+        S->kind = kinds[i];
+        S->closed = kinds[i] == MFG_VM_EDGE && closed && closed[i];
+        S->id = i;
+        S->nv = nv;
+        S->w = w;
+        S->v = malloc((size_t)nv * 3 * sizeof(double));
+        if (S->kind == MFG_VM_POLYGON)
+            S->n = malloc((size_t)nv * 3 * sizeof(double));
+        if (!S->v || (S->kind == MFG_VM_POLYGON && !S->n))
+            return mfg_fail(MFG_ERR_NOMEM, "cannot allocate polygon %lld", (long long)i);
+        for (int64_t k = 0; k < nv; k++)
+            if (!mfg_unit3(vertices + 3 * (offsets[i] + k), S->v + 3 * k))
+                return mfg_fail(MFG_ERR_INVALID, "polygon %lld has a zero vertex", (long long)i);
+        if (S->kind == MFG_VM_POLYGON) {
+            for (int64_t k = 0; k < nv; k++) {
+                double c[3];
+                mfg_cross3(S->v + 3 * k, S->v + 3 * ((k + 1) % nv), c);
+                if (!mfg_unit3(c, S->n + 3 * k))
+                    return mfg_fail(MFG_ERR_DEGENERATE,
+                                    "polygon %lld has coincident or antipodal consecutive vertices (%lld)",
+                                    (long long)i, (long long)k);
+            }
+            /* Convex and counter-clockwise: every vertex on the inner side of every edge. */
+            for (int64_t k = 0; k < nv; k++)
+                for (int64_t j = 0; j < nv; j++)
+                    if (mfg_dot3(S->v + 3 * j, S->n + 3 * k) < -1e-9)
+                        return mfg_fail(MFG_ERR_INVALID,
+                                        "polygon %lld is not convex and counter-clockwise (vertex %lld is right of edge %lld)",
+                                        (long long)i, (long long)j, (long long)k);
+        }
+        double cosr;
+        enclosing_cap(S->v, nv, S->cc, &cosr);
+        S->cr = acos(fmin(fmax(cosr, -1.0), 1.0));
+        for (int64_t k = 0; k < nv; k++) /* Welzl's tolerance: make sure all are in */
+            S->cr = fmax(S->cr, angle_between(S->cc, S->v + 3 * k));
+        if (S->kind == MFG_VM_POLYGON && S->cr >= MFG_PI / 2 - 1e-12) {
+            /* Vertices on a great circle (a hemisphere): the pole on the inner side. */
+            if (mfg_dot3(S->cc, S->n) < 0)
+                S->cc[0] = -S->cc[0], S->cc[1] = -S->cc[1], S->cc[2] = -S->cc[2];
+            int inside = 1;
+            for (int64_t k = 0; k < nv; k++)
+                inside &= mfg_dot3(S->cc, S->n + 3 * k) > 0;
+            S->cr = inside ? MFG_PI / 2 + 1e-9 : MFG_PI;
+        }
+    }
+    if (W->nsets == 0)
+        return mfg_fail(MFG_ERR_DEGENERATE, "every set is empty or has zero weight");
+    for (int64_t i = 0; i < W->nsets; i++) {
+        W->sets[i].cr = fmin(W->sets[i].cr + 1e-9, MFG_PI);
+        W->sets[i].cos_cr = cos(W->sets[i].cr);
+        W->sets[i].sin_cr = sin(W->sets[i].cr);
+    }
+    W->cap_iv = 2 * W->nsets + 16;
+    for (int64_t i = 0; i < W->nsets; i++)
+        if (W->sets[i].kind != MFG_VM_POLYGON)
+            W->cap_iv += W->sets[i].nv * 2;
+    W->iv = malloc((size_t)W->cap_iv * sizeof(interval));
+    W->ev = malloc((size_t)W->cap_iv * 2 * sizeof(event));
+    if (!W->iv || !W->ev)
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the sweep");
+    return MFG_OK;
+}
+
+/* The edge's bounding cap: centre and cos/sin of its half length. */
+static void edge_cap(const double *a, const double *b, double mc[3], double *half, double *ch,
+                     double *sh)
+{
+    double mid[3] = {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+    *half = 0.5 * angle_between(a, b);
+    *ch = cos(*half);
+    *sh = sin(*half);
+    if (!mfg_unit3(mid, mc))
+        memcpy(mc, a, 3 * sizeof(double));
+}
+
+/* Caps apart: angle(mc, cc) > half + cr, compared through cosines. */
+static inline int caps_apart(const double mc[3], double half, double ch, double sh,
+                             const sset *S)
+{
+    return half + S->cr < MFG_PI && mfg_dot3(mc, S->cc) < ch * S->cos_cr - sh * S->sin_cr - 1e-12;
+}
+
+/* Weight of the sets whose caps meet the edge's: a cheap ownership bound. */
+static double edge_cap_bound(const work *W, int64_t own, const double *a, const double *b)
+{
+    double mc[3], half, ch, sh, w = W->sets[own].w;
+    edge_cap(a, b, mc, &half, &ch, &sh);
+    for (int64_t j = 0; j < W->nsets; j++)
+        if (j != own && !caps_apart(mc, half, ch, sh, &W->sets[j]))
+            w += W->sets[j].w;
+    return w;
+}
+
+/* All intervals of edge a->b (of set own) inside the other sets. */
+static int64_t edge_intervals(work *W, int64_t own, const double *a, const double *b)
+{
+    double mc[3], half, ch, sh;
+    edge_cap(a, b, mc, &half, &ch, &sh);
+    int64_t m = 0;
+    for (int64_t j = 0; j < W->nsets; j++) {
+        if (j == own)
+            continue;
+        const sset *S = &W->sets[j];
+        if (caps_apart(mc, half, ch, sh, S))
+            continue;
+        if (S->kind == MFG_VM_POLYGON) {
+            double lo, hi;
+            if (polygon_interval(S, a, b, &lo, &hi))
+                W->iv[m++] = (interval){lo, hi, j};
+        } else {
+            m += thin_intervals(S, j, a, b, W->iv + m);
+        }
+    }
+    return m;
+}
+
+static int cmp_event(const void *x, const void *y)
+{
+    const event *a = x, *b = y;
+    if (a->s != b->s)
+        return a->s < b->s ? -1 : 1;
+    return b->start - a->start; /* starts first: closed sets touch */
+}
+
+static int cmp_i64(const void *x, const void *y)
+{
+    int64_t a = *(const int64_t *)x, b = *(const int64_t *)y;
+    return (a > b) - (a < b);
+}
+
+static mfg_status add_candidate(work *W, double weight, int64_t own, int64_t niv, double s_lo,
+                                double s_hi, const double *a, const double *b, int degenerate)
+{
+    if (W->ncands == W->cap_cands) {
+        int64_t cap = W->cap_cands ? 2 * W->cap_cands : 64;
+        cand *c = realloc(W->cands, (size_t)cap * sizeof(cand));
+        if (!c)
+            return mfg_fail(MFG_ERR_NOMEM, "cannot store candidates");
+        W->cands = c;
+        W->cap_cands = cap;
+    }
+    if (W->npool + niv + 1 > W->cap_pool) {
+        int64_t cap = W->cap_pool ? 2 * W->cap_pool : 1024;
+        while (cap < W->npool + niv + 1)
+            cap *= 2;
+        int64_t *p = realloc(W->pool, (size_t)cap * sizeof(int64_t));
+        if (!p)
+            return mfg_fail(MFG_ERR_NOMEM, "cannot store candidates");
+        W->pool = p;
+        W->cap_pool = cap;
+    }
+    cand *c = &W->cands[W->ncands++];
+    c->weight = weight;
+    c->off = W->npool;
+    c->degenerate = degenerate;
+    int64_t *set = W->pool + W->npool;
+    int64_t len = 0;
+    set[len++] = own;
+    for (int64_t k = 0; k < niv; k++)
+        if (W->iv[k].lo <= s_lo && W->iv[k].hi >= s_hi)
+            set[len++] = W->iv[k].set;
+    qsort(set, (size_t)len, sizeof(int64_t), cmp_i64);
+    /* a thin set may give two touching intervals on one edge: count it once */
+    int64_t u = 0;
+    for (int64_t k = 0; k < len; k++)
+        if (u == 0 || set[u - 1] != set[k])
+            set[u++] = set[k];
+    c->len = u;
+    W->npool += u;
+    double s = 0.5 * (s_lo + s_hi);
+    double x[3] = {a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]), a[2] + s * (b[2] - a[2])};
+    mfg_unit3(x, c->x);
+    return MFG_OK;
+}
+
+/* Exact sweep of the events inside [s0, s1] of an edge, entering with ownership depth. */
+static mfg_status sweep_range(work *W, const sedge *E, int64_t niv, int64_t ne, double s0,
+                              double s1, double depth, double threshold, int keep_best,
+                              double eps, int first_range)
+{
+    const double *a = E->a, *b = E->b;
+    double prev = s0;
+    int point_edge = a == b;
+    int64_t i = 0;
+    qsort(W->ev, (size_t)ne, sizeof(event), cmp_event);
+#define CONSIDER(wt, lo, hi, deg)                                                            \
+    do {                                                                                     \
+        double wt_ = (wt), lim_ = keep_best ? W->best : threshold;                           \
+        if (keep_best && wt_ > W->best + eps) {                                              \
+            W->best = wt_;                                                                   \
+            W->ncands = 0;                                                                   \
+            W->npool = 0;                                                                    \
+            lim_ = wt_;                                                                      \
+        }                                                                                    \
+        if (wt_ >= lim_ - eps) {                                                             \
+            mfg_status st_ = add_candidate(W, wt_, E->set, niv, (lo), (hi), a, b, (deg));    \
+            if (st_ != MFG_OK)                                                               \
+                return st_;                                                                  \
+        }                                                                                    \
+    } while (0)
+    if (first_range && (ne == 0 || W->ev[0].s > s0))
+        CONSIDER(depth, s0, s0, 1);
+    while (i < ne) {
+        double s = W->ev[i].s, starts = 0.0, ends = 0.0;
+        if (s > prev && !point_edge)
+            CONSIDER(depth, prev, s, 0);
+        int64_t j = i;
+        for (; j < ne && W->ev[j].s == s; j++) {
+            if (W->ev[j].start)
+                starts += W->sets[W->ev[j].set].w;
+            else
+                ends += W->sets[W->ev[j].set].w;
+        }
+        CONSIDER(depth + starts, s, s, 1);
+        depth = depth + starts - ends;
+        prev = s;
+        i = j;
+    }
+    if (prev < s1 && !point_edge)
+        CONSIDER(depth, prev, s1, 0);
+#undef CONSIDER
+    return MFG_OK;
+}
+
+#define NBUCKET 64
+
+/* Sweeps one edge; records pieces and points whose ownership is >= threshold (the
+ * running best when keep_best, so lower candidates are dropped as the best rises).
+ * The edge is cut into NBUCKET ranges first: a range whose ownership bound (depth on
+ * entry + everything starting inside it) cannot reach the limit is never sorted, which
+ * spares almost all of the sorting once a good best is known. */
+static mfg_status sweep_edge(work *W, const sedge *E, double threshold, int keep_best, double eps)
+{
+    const double *a = E->a, *b = E->b;
+    if (edge_cap_bound(W, E->set, a, b) < (keep_best ? W->best : threshold) - eps)
+        return MFG_OK;
+    int64_t niv = edge_intervals(W, E->set, a, b);
+    double own = W->sets[E->set].w;
+    double ebound = own; /* no point of the edge can beat own + every set meeting it */
+    for (int64_t k = 0; k < niv; k++)
+        ebound += W->sets[W->iv[k].set].w;
+    if (ebound < (keep_best ? W->best : threshold) - eps)
+        return MFG_OK;
+    int nb = a == b ? 1 : NBUCKET;
+    double bstart[NBUCKET], bend[NBUCKET];
+    for (int k = 0; k < nb; k++)
+        bstart[k] = bend[k] = 0.0;
+#define BUCKET(s) ((int)fmin(fmax(floor((s) * nb), 0.0), (double)(nb - 1)))
+    for (int64_t k = 0; k < niv; k++) {
+        double w = W->sets[W->iv[k].set].w;
+        bstart[BUCKET(W->iv[k].lo)] += w;
+        bend[BUCKET(W->iv[k].hi)] += w;
+    }
+    double depth = own;
+    for (int bk = 0; bk < nb; bk++) {
+        double lim = keep_best ? W->best : threshold;
+        if (depth + bstart[bk] >= lim - eps) {
+            int64_t ne = 0;
+            for (int64_t k = 0; k < niv; k++) {
+                if (BUCKET(W->iv[k].lo) == bk)
+                    W->ev[ne++] = (event){W->iv[k].lo, 1, W->iv[k].set};
+                if (BUCKET(W->iv[k].hi) == bk)
+                    W->ev[ne++] = (event){W->iv[k].hi, 0, W->iv[k].set};
+            }
+            double s0 = (double)bk / nb, s1 = bk == nb - 1 ? 1.0 : (double)(bk + 1) / nb;
+            mfg_status st = sweep_range(W, E, niv, ne, s0, s1, depth, threshold, keep_best, eps, bk == 0);
+            if (st != MFG_OK)
+                return st;
+        }
+        depth += bstart[bk] - bend[bk];
+    }
+#undef BUCKET
+    return MFG_OK;
+}
+
+/* ---- Regions ------------------------------------------------------------------------- */
+
+/* A built region before output. */
+typedef struct region {
+    int kind;
+    int64_t nv;
+    double *v;
+    double c[3], margin;
+    int64_t cand;
+} region;
+
+/* Clips (v, n) — vertices and the inward normal of the edge leaving each vertex — by
+ * { x : x.m >= -TOL }; out arrays need nv + 1 slots.  Returns the new count. */
+static int64_t clip_tracked(const double *v, const double *n, int64_t nv, const double *m,
+                            double *ov, double *on)
+{
+    int64_t k = 0;
+    for (int64_t i = 0; i < nv; i++) {
+        const double *cur = v + 3 * i, *nxt = v + 3 * ((i + 1) % nv);
+        double fc = mfg_dot3(cur, m) + TOL, fn = mfg_dot3(nxt, m) + TOL;
+        if (fc >= 0.0) {
+            memcpy(ov + 3 * k, cur, 3 * sizeof(double));
+            memcpy(on + 3 * k, n + 3 * i, 3 * sizeof(double));
+            k++;
+        }
+        if ((fc >= 0.0) != (fn >= 0.0)) {
+            double s = fc / (fc - fn);
+            double x[3] = {cur[0] + s * (nxt[0] - cur[0]), cur[1] + s * (nxt[1] - cur[1]),
+                           cur[2] + s * (nxt[2] - cur[2])};
+            if (!mfg_unit3(x, ov + 3 * k))
+                continue;
+            /* leaving: the next edge runs along the clipping circle; entering: along
+             * the rest of edge i */
+            memcpy(on + 3 * k, fc >= 0.0 ? m : n + 3 * i, 3 * sizeof(double));
+            k++;
+        }
+    }
+    return k;
+}
+
+static void arc_region(region *R, const double *p, const double *q)
+{
+    double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+    if (sqrt(mfg_dot3(d, d)) <= 10 * TOL) {
+        double m[3] = {p[0] + q[0], p[1] + q[1], p[2] + q[2]};
+        R->kind = MFG_VM_POINT;
+        R->nv = 1;
+        mfg_unit3(m, R->v);
+        memcpy(R->c, R->v, sizeof R->c);
+    } else {
+        double m[3] = {p[0] + q[0], p[1] + q[1], p[2] + q[2]};
+        R->kind = MFG_VM_EDGE;
+        R->nv = 3;
+        memcpy(R->v, p, 3 * sizeof(double));
+        mfg_unit3(m, R->v + 3);
+        memcpy(R->v + 6, q, 3 * sizeof(double));
+        memcpy(R->c, R->v + 3, sizeof R->c);
+    }
+    R->margin = 0.0;
+}
+
+/* Builds the region of candidate c: the intersection of its cover set. */
+static mfg_status build_region(work *W, int64_t ci, region *R)
+{
+    const cand *C = &W->cands[ci];
+    const int64_t *set = W->pool + C->off;
+    memset(R, 0, sizeof *R);
+    R->cand = ci;
+    int64_t thin = -1, cap = 0;
+    for (int64_t k = 0; k < C->len; k++) {
+        const sset *S = &W->sets[set[k]];
+        if (S->kind != MFG_VM_POLYGON && (thin < 0 || S->kind < W->sets[thin].kind))
+            thin = set[k]; /* a point beats an arc */
+        cap += S->nv + 1;
+    }
+    R->v = malloc((size_t)(cap + 8) * 3 * sizeof(double));
+    if (!R->v)
+        return mfg_fail(MFG_ERR_NOMEM, "cannot build a region");
+    if (thin >= 0) {
+        const sset *T = &W->sets[thin];
+        if (T->kind == MFG_VM_POINT) { /* the point of it nearest the sample */
+            int64_t best = 0;
+            for (int64_t k = 1; k < T->nv; k++)
+                if (mfg_dot3(T->v + 3 * k, C->x) > mfg_dot3(T->v + 3 * best, C->x))
+                    best = k;
+            arc_region(R, T->v + 3 * best, T->v + 3 * best);
+            return MFG_OK;
+        }
+        /* An arc: clip the piece holding the sample by the other sets; extending over
+         * neighbouring pieces is left out (pieces of a map are at most 90 degrees). */
+        int64_t pieces = T->closed ? T->nv : T->nv - 1, piece = 0;
+        double bestd = -2.0;
+        for (int64_t k = 0; k < pieces; k++) {
+            const double *a = T->v + 3 * k, *b = T->v + 3 * ((k + 1) % T->nv);
+            double s;
+            double mid[3] = {a[0] + b[0], a[1] + b[1], a[2] + b[2]}, mu[3];
+            mfg_unit3(mid, mu);
+            if (param_on_edge(a, b, C->x, &s) && mfg_dot3(mu, C->x) > bestd) {
+                bestd = mfg_dot3(mu, C->x);
+                piece = k;
+            }
+        }
+        const double *a = T->v + 3 * piece, *b = T->v + 3 * ((piece + 1) % T->nv);
+        double lo = 0.0, hi = 1.0;
+        for (int64_t k = 0; k < C->len; k++) {
+            if (set[k] == thin)
+                continue;
+            const sset *S = &W->sets[set[k]];
+            interval iv[64];
+            double l = 2.0, h = -1.0;
+            if (S->kind == MFG_VM_POLYGON) {
+                if (!polygon_interval(S, a, b, &l, &h))
+                    l = 2.0, h = -1.0;
+            } else if (S->nv <= 16) {
+                int64_t m = thin_intervals(S, set[k], a, b, iv);
+                for (int64_t t = 0; t < m; t++)
+                    l = fmin(l, iv[t].lo), h = fmax(h, iv[t].hi);
+            }
+            if (l <= h) {
+                lo = fmax(lo, l);
+                hi = fmin(hi, h);
+            }
+        }
+        if (lo > hi) /* rounding disagreed with the sweep: keep the sample itself */
+            arc_region(R, C->x, C->x);
+        else {
+            double p[3], q[3];
+            double xp[3] = {a[0] + lo * (b[0] - a[0]), a[1] + lo * (b[1] - a[1]), a[2] + lo * (b[2] - a[2])};
+            double xq[3] = {a[0] + hi * (b[0] - a[0]), a[1] + hi * (b[1] - a[1]), a[2] + hi * (b[2] - a[2])};
+            mfg_unit3(xp, p);
+            mfg_unit3(xq, q);
+            arc_region(R, p, q);
+        }
+        return MFG_OK;
+    }
+    /* All polygons: start from the one with the smallest cap and clip by the others. */
+    int64_t first = set[0];
+    for (int64_t k = 1; k < C->len; k++)
+        if (W->sets[set[k]].cr < W->sets[first].cr)
+            first = set[k];
+    double *va = malloc((size_t)(cap + 8) * 3 * sizeof(double));
+    double *na = malloc((size_t)(cap + 8) * 3 * sizeof(double));
+    double *vb = malloc((size_t)(cap + 8) * 3 * sizeof(double));
+    double *nb = malloc((size_t)(cap + 8) * 3 * sizeof(double));
+    if (!va || !na || !vb || !nb) {
+        free(va), free(na), free(vb), free(nb);
+        return mfg_fail(MFG_ERR_NOMEM, "cannot build a region");
+    }
+    const sset *F = &W->sets[first];
+    int64_t nv = F->nv;
+    memcpy(va, F->v, (size_t)nv * 3 * sizeof(double));
+    memcpy(na, F->n, (size_t)nv * 3 * sizeof(double));
+    for (int64_t k = 0; k < C->len && nv >= 3; k++) {
+        if (set[k] == first)
+            continue;
+        const sset *S = &W->sets[set[k]];
+        for (int64_t e = 0; e < S->nv && nv >= 3; e++) {
+            nv = clip_tracked(va, na, nv, S->n + 3 * e, vb, nb);
+            double *t = va;
+            va = vb, vb = t;
+            t = na, na = nb, nb = t;
+        }
+    }
+    if (nv < 3) {
+        arc_region(R, C->x, C->x);
+    } else {
+        /* centre of the largest inscribed circle = centre of the smallest circle
+         * enclosing the poles of the edges (the dual polygon) */
+        double cosr;
+        enclosing_cap(na, nv, R->c, &cosr);
+        double mind = 1.0;
+        for (int64_t k = 0; k < nv; k++)
+            mind = fmin(mind, mfg_dot3(R->c, na + 3 * k));
+        R->margin = asin(fmin(fmax(mind, -1.0), 1.0));
+        if (R->margin > 10 * TOL) {
+            R->kind = MFG_VM_POLYGON;
+            R->nv = nv;
+            memcpy(R->v, va, (size_t)nv * 3 * sizeof(double));
+        } else { /* a sliver of the tolerance: the arc (or point) it thickens */
+            int64_t bi = 0, bj = 0;
+            double bd = -1.0;
+            for (int64_t i = 0; i < nv; i++)
+                for (int64_t j = i + 1; j < nv; j++) {
+                    double d[3] = {va[3 * i] - va[3 * j], va[3 * i + 1] - va[3 * j + 1],
+                                   va[3 * i + 2] - va[3 * j + 2]};
+                    if (mfg_dot3(d, d) > bd)
+                        bd = mfg_dot3(d, d), bi = i, bj = j;
+                }
+            arc_region(R, va + 3 * bi, va + 3 * bj);
+        }
+    }
+    free(va), free(na), free(vb), free(nb);
+    return MFG_OK;
+}
+
+/* ---- Drivers ----------------------------------------------------------------------- */
+
+/* Sweeps the sets' edges, the sets with the highest ownership bound first. */
+static mfg_status sweep_all(work *W, int keep_best, double threshold, double eps)
+{
+    size_t n = W->nsets > 0 ? (size_t)W->nsets : 1; /* >= 1 after prepare() */
+    double *bound = calloc(n, sizeof(double));
+    int64_t *order = malloc(n * sizeof(int64_t));
+    if (!bound || !order) {
+        free(bound), free(order);
+        return mfg_fail(MFG_ERR_NOMEM, "cannot order the sets");
+    }
+    for (size_t i = 0; i < n; i++) {
+        const sset *A = &W->sets[i];
+        bound[i] += A->w;
+        for (size_t j = i + 1; j < n; j++) {
+            const sset *B = &W->sets[j];
+            if (A->cr + B->cr < MFG_PI &&
+                mfg_dot3(A->cc, B->cc) < A->cos_cr * B->cos_cr - A->sin_cr * B->sin_cr - 1e-12)
+                continue;
+            bound[i] += B->w;
+            bound[j] += A->w;
+        }
+        order[i] = (int64_t)i;
+    }
+    /* highest bound first (Shell sort of indices by bound, ties by index) */
+    for (size_t gap = n / 2; gap > 0; gap /= 2)
+        for (size_t i = gap; i < n; i++)
+            for (size_t j = i; j >= gap; j -= gap) {
+                int64_t x = order[j - gap], y = order[j];
+                if (bound[x] > bound[y] || (bound[x] == bound[y] && x < y))
+                    break;
+                order[j - gap] = y, order[j] = x;
+            }
+    W->best = -INFINITY;
+    mfg_status st = MFG_OK;
+    for (size_t r = 0; r < n && st == MFG_OK; r++) {
+        const sset *S = &W->sets[order[r]];
+        double lim = keep_best ? W->best : threshold;
+        if (bound[order[r]] < lim - eps)
+            break;
+        int64_t pieces = S->kind == MFG_VM_POLYGON ? S->nv
+                         : S->kind == MFG_VM_EDGE  ? (S->closed ? S->nv : S->nv - 1)
+                                                   : S->nv;
+        for (int64_t k = 0; k < pieces && st == MFG_OK; k++) {
+            sedge E;
+            E.set = order[r];
+            E.a = S->v + 3 * k;
+            E.b = S->kind == MFG_VM_POINT ? E.a : S->v + 3 * ((k + 1) % S->nv);
+            E.bound = bound[order[r]];
+            st = sweep_edge(W, &E, threshold, keep_best, eps);
+        }
+    }
+    free(bound);
+    free(order);
+    return st;
+}
+
+static int cmp_cand_set(const work *W, int64_t x, int64_t y)
+{
+    const cand *a = &W->cands[x], *b = &W->cands[y];
+    if (a->len != b->len)
+        return a->len < b->len ? -1 : 1;
+    for (int64_t k = 0; k < a->len; k++) {
+        int64_t p = W->pool[a->off + k], q = W->pool[b->off + k];
+        if (p != q)
+            return p < q ? -1 : 1;
+    }
+    return 0;
+}
+
+/* Keeps one candidate per distinct cover set (preferring a piece over an isolated
+ * point) and, for levels, only inclusion-maximal sets.  Returns kept indices. */
+static int64_t distinct_sets(work *W, int64_t *keep, int maximal_only)
+{
+    int64_t n = W->ncands, m = 0;
+    for (int64_t i = 0; i < n; i++) {
+        int64_t dup = -1;
+        for (int64_t j = 0; j < m; j++)
+            if (cmp_cand_set(W, keep[j], i) == 0) {
+                dup = j;
+                break;
+            }
+        if (dup < 0)
+            keep[m++] = i;
+        else if (W->cands[keep[dup]].degenerate && !W->cands[i].degenerate)
+            keep[dup] = i;
+    }
+    if (!maximal_only)
+        return m;
+    int64_t out = 0;
+    for (int64_t i = 0; i < m; i++) {
+        const cand *a = &W->cands[keep[i]];
+        int dominated = 0;
+        for (int64_t j = 0; j < m && !dominated; j++) {
+            const cand *b = &W->cands[keep[j]];
+            if (j == i || b->len <= a->len)
+                continue;
+            int64_t p = 0, q = 0; /* is a's set inside b's? (both sorted) */
+            while (p < a->len && q < b->len) {
+                int64_t x = W->pool[a->off + p], y = W->pool[b->off + q];
+                if (x == y)
+                    p++, q++;
+                else if (x > y)
+                    q++;
+                else
+                    break;
+            }
+            dominated = p == a->len;
+        }
+        if (!dominated)
+            keep[out++] = keep[i];
+    }
+    return out;
+}
+
+static int cmp_region(const void *x, const void *y)
+{
+    const region *a = x, *b = y;
+    if (a->margin != b->margin)
+        return a->margin > b->margin ? -1 : 1;
+    for (int k = 0; k < 3; k++)
+        if (a->c[k] != b->c[k])
+            return a->c[k] < b->c[k] ? -1 : 1;
+    return 0;
+}
+
+static mfg_status emit(work *W, region *R, int64_t nr, double weight, mfg_regions **out)
+{
+    qsort(R, (size_t)nr, sizeof(region), cmp_region);
+    mfg_regions *res = calloc(1, sizeof *res);
+    int64_t tv = 0, tc = 0;
+    for (int64_t r = 0; r < nr; r++) {
+        tv += R[r].nv;
+        tc += W->cands[R[r].cand].len;
+    }
+    if (res) {
+        res->kinds = malloc((size_t)(nr + 1) * sizeof(int32_t));
+        res->vertex_offsets = malloc((size_t)(nr + 1) * sizeof(int64_t));
+        res->vertices = malloc((size_t)(tv + 1) * 3 * sizeof(double));
+        res->cover_offsets = malloc((size_t)(nr + 1) * sizeof(int64_t));
+        res->cover = malloc((size_t)(tc + 1) * sizeof(int64_t));
+        res->centres = malloc((size_t)(nr + 1) * 3 * sizeof(double));
+        res->margins = malloc((size_t)(nr + 1) * sizeof(double));
+    }
+    if (!res || !res->kinds || !res->vertex_offsets || !res->vertices || !res->cover_offsets ||
+        !res->cover || !res->centres || !res->margins) {
+        mfg_regions_free(res);
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the result");
+    }
+    res->weight = weight;
+    res->nregions = nr;
+    res->vertex_offsets[0] = res->cover_offsets[0] = 0;
+    for (int64_t r = 0; r < nr; r++) {
+        const cand *C = &W->cands[R[r].cand];
+        res->kinds[r] = R[r].kind;
+        memcpy(res->vertices + 3 * res->vertex_offsets[r], R[r].v, (size_t)R[r].nv * 3 * sizeof(double));
+        res->vertex_offsets[r + 1] = res->vertex_offsets[r] + R[r].nv;
+        int64_t *cv = res->cover + res->cover_offsets[r];
+        for (int64_t k = 0; k < C->len; k++)
+            cv[k] = W->sets[W->pool[C->off + k]].id;
+        qsort(cv, (size_t)C->len, sizeof(int64_t), cmp_i64);
+        res->cover_offsets[r + 1] = res->cover_offsets[r] + C->len;
+        memcpy(res->centres + 3 * r, R[r].c, 3 * sizeof(double));
+        res->margins[r] = R[r].margin;
+    }
+    *out = res;
+    return MFG_OK;
+}
+
+static mfg_status regions_of(work *W, int maximal_only, double weight, mfg_regions **out)
+{
+    int64_t *keep = malloc((size_t)(W->ncands + 1) * sizeof(int64_t));
+    if (!keep)
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate regions");
+    int64_t nk = distinct_sets(W, keep, maximal_only);
+    region *R = calloc((size_t)(nk + 1), sizeof(region));
+    mfg_status st = R ? MFG_OK : mfg_fail(MFG_ERR_NOMEM, "cannot allocate regions");
+    for (int64_t i = 0; i < nk && st == MFG_OK; i++)
+        st = build_region(W, keep[i], &R[i]);
+    if (st == MFG_OK)
+        st = emit(W, R, nk, weight, out);
+    for (int64_t i = 0; R && i < nk; i++)
+        free(R[i].v);
+    free(R);
+    free(keep);
+    return st;
+}
+
+static double weight_eps(const work *W)
+{
+    double total = 0.0;
+    for (int64_t i = 0; i < W->nsets; i++)
+        total += W->sets[i].w;
+    return 1e-9 * fmax(total, 1.0);
+}
+
+mfg_status mfg_max_intersection(const double *vertices, const int64_t *offsets,
+                                const int32_t *kinds, const int32_t *closed, int64_t npolys,
+                                const double *weights, mfg_regions **out)
+{
+    if (!out)
+        return mfg_fail(MFG_ERR_NULL, "out is NULL");
+    work W;
+    mfg_status st = prepare(vertices, offsets, kinds, closed, npolys, weights, &W);
+    double eps = st == MFG_OK ? weight_eps(&W) : 0.0;
+    if (st == MFG_OK)
+        st = sweep_all(&W, 1, 0.0, eps);
+    if (st == MFG_OK)
+        st = regions_of(&W, 0, W.best, out);
+    free_work(&W);
+    if (st == MFG_OK)
+        mfg_clear_error();
+    return st;
+}
+
+mfg_status mfg_level_regions(const double *vertices, const int64_t *offsets,
+                             const int32_t *kinds, const int32_t *closed, int64_t npolys,
+                             const double *weights, double level, mfg_regions **out)
+{
+    if (!out)
+        return mfg_fail(MFG_ERR_NULL, "out is NULL");
+    if (!(level > -1e300 && level < 1e300))
+        return mfg_fail(MFG_ERR_INVALID, "level must be finite (got %g)", level);
+    work W;
+    mfg_status st = prepare(vertices, offsets, kinds, closed, npolys, weights, &W);
+    double eps = st == MFG_OK ? weight_eps(&W) : 0.0;
+    if (st == MFG_OK)
+        st = sweep_all(&W, 0, level, eps);
+    if (st == MFG_OK)
+        st = regions_of(&W, 1, level, out);
+    free_work(&W);
+    if (st == MFG_OK)
+        mfg_clear_error();
+    return st;
+}
+
+void mfg_regions_free(mfg_regions *r)
+{
+    if (!r)
+        return;
+    free(r->kinds);
+    free(r->vertex_offsets);
+    free(r->vertices);
+    free(r->cover_offsets);
+    free(r->cover);
+    free(r->centres);
+    free(r->margins);
+    free(r);
+}
