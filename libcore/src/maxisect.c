@@ -45,13 +45,6 @@ typedef struct sset {
     double cr, cos_cr, sin_cr;
 } sset;
 
-/* An edge (or arc piece, or single point when a == b) of some set to be swept. */
-typedef struct sedge {
-    int64_t set;   /* index into the prepared sets */
-    const double *a, *b;
-    double bound;  /* own weight + weight of every set meeting the edge */
-} sedge;
-
 typedef struct interval {
     double lo, hi;
     int64_t set;
@@ -212,14 +205,19 @@ static int set_contains(const sset *S, const double *y)
     return 0;
 }
 
-/* Interval of edge a->b (s in [0,1]) inside polygon S; 0 when empty. */
+/* Interval of edge a->b (s in [0,1]) inside polygon S; 0 when empty.  The constraint
+ * x(s).n >= -tol is linear in s, but x(s) is shorter than a unit vector (down to
+ * cos(L/2) mid-edge), so the slack is scaled by that: every point of the interval then
+ * passes set_contains(), and boundaries within TOL cos(L/2) count as touching. */
 static int polygon_interval(const sset *S, const double *a, const double *b, double *lo,
                             double *hi)
 {
     double l = 0.0, h = 1.0;
+    double m[3] = {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+    double tol = TOL * 0.5 * sqrt(mfg_dot3(m, m));
     for (int64_t k = 0; k < S->nv; k++) {
         const double *n = S->n + 3 * k;
-        double fa = mfg_dot3(a, n) + TOL, fb = mfg_dot3(b, n) + TOL;
+        double fa = mfg_dot3(a, n) + tol, fb = mfg_dot3(b, n) + tol;
         if (fa >= 0.0 && fb >= 0.0)
             continue;
         if (fa < 0.0 && fb < 0.0)
@@ -451,24 +449,15 @@ static inline int caps_apart(const double mc[3], double half, double ch, double 
     return half + S->cr < MFG_PI && mfg_dot3(mc, S->cc) < ch * S->cos_cr - sh * S->sin_cr - 1e-12;
 }
 
-/* Weight of the sets whose caps meet the edge's: a cheap ownership bound. */
-static double edge_cap_bound(const work *W, int64_t own, const double *a, const double *b)
-{
-    double mc[3], half, ch, sh, w = W->sets[own].w;
-    edge_cap(a, b, mc, &half, &ch, &sh);
-    for (int64_t j = 0; j < W->nsets; j++)
-        if (j != own && !caps_apart(mc, half, ch, sh, &W->sets[j]))
-            w += W->sets[j].w;
-    return w;
-}
-
-/* All intervals of edge a->b (of set own) inside the other sets. */
-static int64_t edge_intervals(work *W, int64_t own, const double *a, const double *b)
+/* Intervals of edge a->b inside the listed sets (own excluded). */
+static int64_t edge_intervals(work *W, int64_t own, const double *a, const double *b,
+                              const int64_t *list, int64_t nlist)
 {
     double mc[3], half, ch, sh;
     edge_cap(a, b, mc, &half, &ch, &sh);
     int64_t m = 0;
-    for (int64_t j = 0; j < W->nsets; j++) {
+    for (int64_t t = 0; t < nlist; t++) {
+        int64_t j = list[t];
         if (j == own)
             continue;
         const sset *S = &W->sets[j];
@@ -499,8 +488,8 @@ static int cmp_i64(const void *x, const void *y)
     return (a > b) - (a < b);
 }
 
-static mfg_status add_candidate(work *W, double weight, int64_t own, int64_t niv, double s_lo,
-                                double s_hi, const double *a, const double *b, int degenerate)
+/* Records a candidate at direction x: its cover set is every set containing x. */
+static mfg_status add_candidate(work *W, double weight, const double x[3], int degenerate)
 {
     if (W->ncands == W->cap_cands) {
         int64_t cap = W->cap_cands ? 2 * W->cap_cands : 64;
@@ -510,9 +499,9 @@ static mfg_status add_candidate(work *W, double weight, int64_t own, int64_t niv
         W->cands = c;
         W->cap_cands = cap;
     }
-    if (W->npool + niv + 1 > W->cap_pool) {
+    if (W->npool + W->nsets + 1 > W->cap_pool) {
         int64_t cap = W->cap_pool ? 2 * W->cap_pool : 1024;
-        while (cap < W->npool + niv + 1)
+        while (cap < W->npool + W->nsets + 1)
             cap *= 2;
         int64_t *p = realloc(W->pool, (size_t)cap * sizeof(int64_t));
         if (!p)
@@ -524,35 +513,24 @@ static mfg_status add_candidate(work *W, double weight, int64_t own, int64_t niv
     c->weight = weight;
     c->off = W->npool;
     c->degenerate = degenerate;
-    int64_t *set = W->pool + W->npool;
+    memcpy(c->x, x, sizeof c->x);
     int64_t len = 0;
-    set[len++] = own;
-    for (int64_t k = 0; k < niv; k++)
-        if (W->iv[k].lo <= s_lo && W->iv[k].hi >= s_hi)
-            set[len++] = W->iv[k].set;
-    qsort(set, (size_t)len, sizeof(int64_t), cmp_i64);
-    /* a thin set may give two touching intervals on one edge: count it once */
-    int64_t u = 0;
-    for (int64_t k = 0; k < len; k++)
-        if (u == 0 || set[u - 1] != set[k])
-            set[u++] = set[k];
-    c->len = u;
-    W->npool += u;
-    double s = 0.5 * (s_lo + s_hi);
-    double x[3] = {a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]), a[2] + s * (b[2] - a[2])};
-    mfg_unit3(x, c->x);
+    for (int64_t j = 0; j < W->nsets; j++)
+        if (set_contains(&W->sets[j], x))
+            W->pool[W->npool + len++] = j;
+    c->len = len;
+    W->npool += len;
     return MFG_OK;
 }
 
-/* Exact sweep of the events inside [s0, s1] of an edge, entering with ownership depth. */
-static mfg_status sweep_range(work *W, const sedge *E, int64_t niv, int64_t ne, double s0,
+/* Exact sweep of the events (already in W->ev) inside [s0, s1] of edge a->b, entering
+ * with ownership depth. */
+static mfg_status sweep_range(work *W, const double *a, const double *b, int64_t ne, double s0,
                               double s1, double depth, double threshold, int keep_best,
                               double eps, int first_range)
 {
-    const double *a = E->a, *b = E->b;
     double prev = s0;
     int point_edge = a == b;
-    int64_t i = 0;
     qsort(W->ev, (size_t)ne, sizeof(event), cmp_event);
 #define CONSIDER(wt, lo, hi, deg)                                                            \
     do {                                                                                     \
@@ -564,14 +542,19 @@ static mfg_status sweep_range(work *W, const sedge *E, int64_t niv, int64_t ne, 
             lim_ = wt_;                                                                      \
         }                                                                                    \
         if (wt_ >= lim_ - eps) {                                                             \
-            mfg_status st_ = add_candidate(W, wt_, E->set, niv, (lo), (hi), a, b, (deg));    \
+            double sm_ = 0.5 * ((lo) + (hi)), x_[3], xu_[3];                                 \
+            x_[0] = a[0] + sm_ * (b[0] - a[0]);                                              \
+            x_[1] = a[1] + sm_ * (b[1] - a[1]);                                              \
+            x_[2] = a[2] + sm_ * (b[2] - a[2]);                                              \
+            mfg_unit3(x_, xu_);                                                              \
+            mfg_status st_ = add_candidate(W, wt_, xu_, (deg));                              \
             if (st_ != MFG_OK)                                                               \
                 return st_;                                                                  \
         }                                                                                    \
     } while (0)
     if (first_range && (ne == 0 || W->ev[0].s > s0))
         CONSIDER(depth, s0, s0, 1);
-    while (i < ne) {
+    for (int64_t i = 0; i < ne;) {
         double s = W->ev[i].s, starts = 0.0, ends = 0.0;
         if (s > prev && !point_edge)
             CONSIDER(depth, prev, s, 0);
@@ -593,36 +576,44 @@ static mfg_status sweep_range(work *W, const sedge *E, int64_t niv, int64_t ne, 
     return MFG_OK;
 }
 
-#define NBUCKET 64
+#define NBUCKET 16
 
-/* Sweeps one edge; records pieces and points whose ownership is >= threshold (the
- * running best when keep_best, so lower candidates are dropped as the best rises).
- * The edge is cut into NBUCKET ranges first: a range whose ownership bound (depth on
- * entry + everything starting inside it) cannot reach the limit is never sorted, which
- * spares almost all of the sorting once a good best is known. */
-static mfg_status sweep_edge(work *W, const sedge *E, double threshold, int keep_best, double eps)
+/* Sweeps the part [r0, r1] of edge a->b: base is the ownership every point there has
+ * anyway (the sets containing the whole cell, and the edge's own set); the listed sets
+ * add their intervals.  Records pieces and points whose ownership reaches the limit
+ * (the running best when keep_best).  The range is cut into buckets first, and a bucket
+ * whose bound (depth on entry + everything starting inside it) cannot reach the limit
+ * is never sorted. */
+static mfg_status sweep_edge(work *W, int64_t own, const double *a, const double *b, double r0,
+                             double r1, double base, const int64_t *list, int64_t nlist,
+                             double threshold, int keep_best, double eps)
 {
-    const double *a = E->a, *b = E->b;
-    if (edge_cap_bound(W, E->set, a, b) < (keep_best ? W->best : threshold) - eps)
-        return MFG_OK;
-    int64_t niv = edge_intervals(W, E->set, a, b);
-    double own = W->sets[E->set].w;
-    double ebound = own; /* no point of the edge can beat own + every set meeting it */
-    for (int64_t k = 0; k < niv; k++)
+    int64_t niv = edge_intervals(W, own, a, b, list, nlist);
+    double ebound = base;
+    int64_t kept = 0;
+    for (int64_t k = 0; k < niv; k++) { /* keep the intervals meeting [r0, r1] */
+        if (W->iv[k].hi < r0 || W->iv[k].lo > r1)
+            continue;
+        W->iv[kept] = W->iv[k];
+        W->iv[kept].lo = W->iv[k].lo > r0 ? W->iv[k].lo : r0;
+        W->iv[kept].hi = W->iv[k].hi < r1 ? W->iv[k].hi : r1;
         ebound += W->sets[W->iv[k].set].w;
+        kept++;
+    }
+    niv = kept;
     if (ebound < (keep_best ? W->best : threshold) - eps)
         return MFG_OK;
-    int nb = a == b ? 1 : NBUCKET;
-    double bstart[NBUCKET], bend[NBUCKET];
+    int nb = (a == b || r1 <= r0) ? 1 : NBUCKET;
+    double bstart[NBUCKET], bend[NBUCKET], width = r1 > r0 ? r1 - r0 : 1.0;
     for (int k = 0; k < nb; k++)
         bstart[k] = bend[k] = 0.0;
-#define BUCKET(s) ((int)fmin(fmax(floor((s) * nb), 0.0), (double)(nb - 1)))
+#define BUCKET(s) ((int)fmin(fmax(floor(((s) - r0) / width * nb), 0.0), (double)(nb - 1)))
     for (int64_t k = 0; k < niv; k++) {
         double w = W->sets[W->iv[k].set].w;
         bstart[BUCKET(W->iv[k].lo)] += w;
         bend[BUCKET(W->iv[k].hi)] += w;
     }
-    double depth = own;
+    double depth = base;
     for (int bk = 0; bk < nb; bk++) {
         double lim = keep_best ? W->best : threshold;
         if (depth + bstart[bk] >= lim - eps) {
@@ -633,8 +624,8 @@ static mfg_status sweep_edge(work *W, const sedge *E, double threshold, int keep
                 if (BUCKET(W->iv[k].hi) == bk)
                     W->ev[ne++] = (event){W->iv[k].hi, 0, W->iv[k].set};
             }
-            double s0 = (double)bk / nb, s1 = bk == nb - 1 ? 1.0 : (double)(bk + 1) / nb;
-            mfg_status st = sweep_range(W, E, niv, ne, s0, s1, depth, threshold, keep_best, eps, bk == 0);
+            double s0 = r0 + width * bk / nb, s1 = bk == nb - 1 ? r1 : r0 + width * (bk + 1) / nb;
+            mfg_status st = sweep_range(W, a, b, ne, s0, s1, depth, threshold, keep_best, eps, bk == 0);
             if (st != MFG_OK)
                 return st;
         }
@@ -841,59 +832,278 @@ static mfg_status build_region(work *W, int64_t ci, region *R)
 
 /* ---- Drivers ----------------------------------------------------------------------- */
 
-/* Sweeps the sets' edges, the sets with the highest ownership bound first. */
-static mfg_status sweep_all(work *W, int keep_best, double threshold, double eps)
+/* ---- Branch and bound over cells of the sphere ------------------------------------ */
+
+/* A cell: a spherical quadrilateral bounded by great circles (a cube face, quartered
+ * again and again), kept as an sset so the interval code clips edges to it. */
+typedef struct cell {
+    sset q;             /* kind POLYGON, 4 vertices, inward normals, bounding cap */
+    double vbuf[12], nbuf[12];
+    double full;        /* weight of the sets containing the whole cell */
+    int64_t *part;      /* sets meeting it only partly */
+    int64_t npart;
+    double ub;          /* full + weight of the partial sets */
+    int depth;
+} cell;
+
+static void cell_init(cell *c, const double q[4][3])
 {
-    size_t n = W->nsets > 0 ? (size_t)W->nsets : 1; /* >= 1 after prepare() */
-    double *bound = calloc(n, sizeof(double));
-    int64_t *order = malloc(n * sizeof(int64_t));
-    if (!bound || !order) {
-        free(bound), free(order);
-        return mfg_fail(MFG_ERR_NOMEM, "cannot order the sets");
+    c->q.kind = MFG_VM_POLYGON;
+    c->q.nv = 4;
+    c->q.v = c->vbuf;
+    c->q.n = c->nbuf;
+    for (int k = 0; k < 4; k++)
+        mfg_unit3(q[k], c->vbuf + 3 * k);
+    for (int k = 0; k < 4; k++) {
+        double n[3];
+        mfg_cross3(c->vbuf + 3 * k, c->vbuf + 3 * ((k + 1) % 4), n);
+        mfg_unit3(n, c->nbuf + 3 * k);
     }
-    for (size_t i = 0; i < n; i++) {
-        const sset *A = &W->sets[i];
-        bound[i] += A->w;
-        for (size_t j = i + 1; j < n; j++) {
-            const sset *B = &W->sets[j];
-            if (A->cr + B->cr < MFG_PI &&
-                mfg_dot3(A->cc, B->cc) < A->cos_cr * B->cos_cr - A->sin_cr * B->sin_cr - 1e-12)
-                continue;
-            bound[i] += B->w;
-            bound[j] += A->w;
+    double s[3] = {0, 0, 0};
+    for (int k = 0; k < 4; k++)
+        for (int i = 0; i < 3; i++)
+            s[i] += c->vbuf[3 * k + i];
+    mfg_unit3(s, c->q.cc);
+    c->q.cr = 0.0;
+    for (int k = 0; k < 4; k++)
+        c->q.cr = fmax(c->q.cr, angle_between(c->q.cc, c->vbuf + 3 * k));
+    c->q.cr += 1e-9;
+    c->q.cos_cr = cos(c->q.cr);
+    c->q.sin_cr = sin(c->q.cr);
+}
+
+/* 0: the set misses the cell, 1: meets it partly, 2: contains it (with the tolerance). */
+static int classify_cell(const sset *S, const cell *c)
+{
+    const double *q = c->q.v, *m = c->q.n;
+    if (caps_apart(c->q.cc, c->q.cr, c->q.cos_cr, c->q.sin_cr, S))
+        return 0;
+    if (S->kind == MFG_VM_POLYGON) {
+        int full = 1;
+        for (int64_t e = 0; e < S->nv; e++) {
+            const double *n = S->n + 3 * e;
+            int out = 0;
+            for (int k = 0; k < 4; k++)
+                out += mfg_dot3(q + 3 * k, n) < -TOL;
+            if (out == 4)
+                return 0; /* an edge of S separates */
+            if (out)
+                full = 0;
         }
-        order[i] = (int64_t)i;
+        if (full)
+            return 2;
     }
-    /* highest bound first (Shell sort of indices by bound, ties by index) */
-    for (size_t gap = n / 2; gap > 0; gap /= 2)
-        for (size_t i = gap; i < n; i++)
-            for (size_t j = i; j >= gap; j -= gap) {
-                int64_t x = order[j - gap], y = order[j];
-                if (bound[x] > bound[y] || (bound[x] == bound[y] && x < y))
-                    break;
-                order[j - gap] = y, order[j] = x;
-            }
-    W->best = -INFINITY;
-    mfg_status st = MFG_OK;
-    for (size_t r = 0; r < n && st == MFG_OK; r++) {
-        const sset *S = &W->sets[order[r]];
-        double lim = keep_best ? W->best : threshold;
-        if (bound[order[r]] < lim - eps)
+    for (int k = 0; k < 4; k++) { /* an edge of the cell separates */
+        int out = 1;
+        for (int64_t i = 0; i < S->nv && out; i++)
+            out = mfg_dot3(S->v + 3 * i, m + 3 * k) < -TOL;
+        if (out)
+            return 0;
+    }
+    return 1;
+}
+
+/* Max-heap of cells by upper bound. */
+typedef struct heap {
+    cell **a;
+    int64_t n, cap;
+} heap;
+
+static mfg_status heap_push(heap *h, cell *c)
+{
+    if (h->n == h->cap) {
+        int64_t cap = h->cap ? 2 * h->cap : 64;
+        cell **a = realloc(h->a, (size_t)cap * sizeof(cell *));
+        if (!a)
+            return mfg_fail(MFG_ERR_NOMEM, "cannot grow the cell queue");
+        h->a = a;
+        h->cap = cap;
+    }
+    int64_t i = h->n++;
+    while (i > 0 && h->a[(i - 1) / 2]->ub < c->ub) {
+        h->a[i] = h->a[(i - 1) / 2];
+        i = (i - 1) / 2;
+    }
+    h->a[i] = c;
+    return MFG_OK;
+}
+
+static cell *heap_pop(heap *h)
+{
+    cell *top = h->a[0], *last = h->a[--h->n];
+    int64_t i = 0;
+    for (;;) {
+        int64_t l = 2 * i + 1, r = l + 1, big = i;
+        double bu = last->ub;
+        if (l < h->n && h->a[l]->ub > bu)
+            big = l, bu = h->a[l]->ub;
+        if (r < h->n && h->a[r]->ub > bu)
+            big = r;
+        if (big == i)
             break;
+        h->a[i] = h->a[big];
+        i = big;
+    }
+    if (h->n > 0)
+        h->a[i] = last;
+    return top;
+}
+
+static void cell_free(cell *c)
+{
+    if (c) {
+        free(c->part);
+        free(c);
+    }
+}
+
+/* A child cell of parent p with corners q, classifying the parent's partial sets. */
+static mfg_status make_child(work *W, const cell *p, const double q[4][3], cell **out)
+{
+    cell *c = calloc(1, sizeof *c);
+    int64_t *part = malloc((size_t)(p->npart + 1) * sizeof(int64_t));
+    if (!c || !part) {
+        free(c), free(part);
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate a cell");
+    }
+    cell_init(c, q);
+    c->part = part;
+    c->full = p->full;
+    c->depth = p->depth + 1;
+    double partial_w = 0.0;
+    for (int64_t t = 0; t < p->npart; t++) {
+        const sset *S = &W->sets[p->part[t]];
+        int k = classify_cell(S, c);
+        if (k == 2)
+            c->full += S->w;
+        else if (k == 1) {
+            c->part[c->npart++] = p->part[t];
+            partial_w += S->w;
+        }
+    }
+    c->ub = c->full + partial_w;
+    *out = c;
+    return MFG_OK;
+}
+
+/* The exact work in a small cell: sweep the partial sets' edges clipped to the cell, and
+ * the cell's own edges (a face of the arrangement may have no other boundary here). */
+static mfg_status leaf(work *W, const cell *c, double threshold, int keep_best, double eps)
+{
+    mfg_status st = MFG_OK;
+    for (int k = 0; k < 4 && st == MFG_OK; k++)
+        st = sweep_edge(W, -1, c->q.v + 3 * k, c->q.v + 3 * ((k + 1) % 4), 0.0, 1.0, c->full,
+                        c->part, c->npart, threshold, keep_best, eps);
+    for (int64_t t = 0; t < c->npart && st == MFG_OK; t++) {
+        int64_t j = c->part[t];
+        const sset *S = &W->sets[j];
         int64_t pieces = S->kind == MFG_VM_POLYGON ? S->nv
                          : S->kind == MFG_VM_EDGE  ? (S->closed ? S->nv : S->nv - 1)
                                                    : S->nv;
         for (int64_t k = 0; k < pieces && st == MFG_OK; k++) {
-            sedge E;
-            E.set = order[r];
-            E.a = S->v + 3 * k;
-            E.b = S->kind == MFG_VM_POINT ? E.a : S->v + 3 * ((k + 1) % S->nv);
-            E.bound = bound[order[r]];
-            st = sweep_edge(W, &E, threshold, keep_best, eps);
+            const double *a = S->v + 3 * k;
+            const double *b = S->kind == MFG_VM_POINT ? a : S->v + 3 * ((k + 1) % S->nv);
+            double r0 = 0.0, r1 = 1.0;
+            if (!polygon_interval(&c->q, a, b, &r0, &r1))
+                continue;
+            st = sweep_edge(W, j, a, b, r0, r1, c->full + S->w, c->part, c->npart, threshold,
+                            keep_best, eps);
         }
     }
-    free(bound);
-    free(order);
+    return st;
+}
+
+#define LEAF_SETS 12
+#define MAX_DEPTH 16
+
+static mfg_status search(work *W, int keep_best, double threshold, double eps)
+{
+    heap h = {NULL, 0, 0};
+    mfg_status st = MFG_OK;
+    W->best = -INFINITY;
+    /* The six cube faces, each counter-clockwise seen from outside. */
+    int64_t *all = malloc((size_t)W->nsets * sizeof(int64_t));
+    if (!all)
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the search");
+    for (int64_t j = 0; j < W->nsets; j++)
+        all[j] = j;
+    cell root;
+    memset(&root, 0, sizeof root);
+    root.part = all;
+    root.npart = W->nsets;
+    root.depth = -1;
+    for (int axis = 0; axis < 3 && st == MFG_OK; axis++)
+        for (int sgn = -1; sgn <= 1 && st == MFG_OK; sgn += 2) {
+            double u[3] = {0, 0, 0}, v[3] = {0, 0, 0}, w[3] = {0, 0, 0}, q[4][3];
+            w[axis] = sgn;
+            u[(axis + 1) % 3] = 1;
+            v[(axis + 2) % 3] = 1;
+            if (sgn < 0) { /* keep u x v = w */
+                double t[3];
+                memcpy(t, u, sizeof t), memcpy(u, v, sizeof u), memcpy(v, t, sizeof v);
+            }
+            const double cu[4] = {-1, 1, 1, -1}, cv[4] = {-1, -1, 1, 1};
+            for (int k = 0; k < 4; k++)
+                for (int i = 0; i < 3; i++)
+                    q[k][i] = w[i] + cu[k] * u[i] + cv[k] * v[i];
+            cell *c = NULL;
+            st = make_child(W, &root, q, &c);
+            if (st == MFG_OK && (st = heap_push(&h, c)) != MFG_OK)
+                cell_free(c);
+        }
+    free(all);
+    while (st == MFG_OK && h.n > 0) {
+        cell *c = heap_pop(&h);
+        double lim = keep_best ? W->best : threshold;
+        if (c->ub < lim - eps) { /* nothing left can reach the limit */
+            cell_free(c);
+            break;
+        }
+        if (keep_best) { /* a lower bound from the cell's centre sharpens the pruning */
+            double d = c->full;
+            for (int64_t t = 0; t < c->npart; t++)
+                if (set_contains(&W->sets[c->part[t]], c->q.cc))
+                    d += W->sets[c->part[t]].w;
+            if (d > W->best + eps) {
+                W->best = d;
+                W->ncands = 0;
+                W->npool = 0;
+            }
+        }
+        if (c->npart <= LEAF_SETS || c->depth >= MAX_DEPTH) {
+            st = leaf(W, c, threshold, keep_best, eps);
+        } else {
+            const double *p = c->q.v;
+            double m[4][3], ctr[3], kids[4][4][3];
+            for (int k = 0; k < 4; k++) {
+                const double *a = p + 3 * k, *b = p + 3 * ((k + 1) % 4);
+                double s[3] = {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+                mfg_unit3(s, m[k]);
+            }
+            memcpy(ctr, c->q.cc, sizeof ctr);
+            /* corners: p0 p1 p2 p3, edge midpoints m0 (p0p1) .. m3 (p3p0) */
+            for (int k = 0; k < 4; k++) {
+                memcpy(kids[k][0], p + 3 * k, sizeof ctr);
+                memcpy(kids[k][1], m[k], sizeof ctr);
+                memcpy(kids[k][2], ctr, sizeof ctr);
+                memcpy(kids[k][3], m[(k + 3) % 4], sizeof ctr);
+            }
+            for (int k = 0; k < 4 && st == MFG_OK; k++) {
+                cell *kid = NULL;
+                st = make_child(W, c, kids[k], &kid);
+                if (st == MFG_OK && kid->ub >= (keep_best ? W->best : threshold) - eps) {
+                    if ((st = heap_push(&h, kid)) != MFG_OK)
+                        cell_free(kid);
+                } else {
+                    cell_free(kid);
+                }
+            }
+        }
+        cell_free(c);
+    }
+    while (h.n > 0)
+        cell_free(heap_pop(&h));
+    free(h.a);
     return st;
 }
 
@@ -1009,18 +1219,38 @@ static mfg_status emit(work *W, region *R, int64_t nr, double weight, mfg_region
     return MFG_OK;
 }
 
-static mfg_status regions_of(work *W, int maximal_only, double weight, mfg_regions **out)
+static double cover_weight(const work *W, const cand *c)
+{
+    double w = 0.0;
+    for (int64_t k = 0; k < c->len; k++)
+        w += W->sets[W->pool[c->off + k]].w;
+    return w;
+}
+
+/* Builds the regions of the distinct candidate cover sets.  The reported weight is
+ * recomputed from the cover sets themselves, so count and covers always agree. */
+static mfg_status regions_of(work *W, int maximal_only, double level, double eps,
+                             mfg_regions **out)
 {
     int64_t *keep = malloc((size_t)(W->ncands + 1) * sizeof(int64_t));
     if (!keep)
         return mfg_fail(MFG_ERR_NOMEM, "cannot allocate regions");
     int64_t nk = distinct_sets(W, keep, maximal_only);
+    double top = -INFINITY;
+    for (int64_t i = 0; i < nk; i++)
+        top = fmax(top, cover_weight(W, &W->cands[keep[i]]));
+    double lim = maximal_only ? level : top;
+    int64_t m = 0;
+    for (int64_t i = 0; i < nk; i++)
+        if (cover_weight(W, &W->cands[keep[i]]) >= lim - eps)
+            keep[m++] = keep[i];
+    nk = m;
     region *R = calloc((size_t)(nk + 1), sizeof(region));
     mfg_status st = R ? MFG_OK : mfg_fail(MFG_ERR_NOMEM, "cannot allocate regions");
     for (int64_t i = 0; i < nk && st == MFG_OK; i++)
         st = build_region(W, keep[i], &R[i]);
     if (st == MFG_OK)
-        st = emit(W, R, nk, weight, out);
+        st = emit(W, R, nk, maximal_only ? level : (nk ? top : 0.0), out);
     for (int64_t i = 0; R && i < nk; i++)
         free(R[i].v);
     free(R);
@@ -1046,9 +1276,9 @@ mfg_status mfg_max_intersection(const double *vertices, const int64_t *offsets,
     mfg_status st = prepare(vertices, offsets, kinds, closed, npolys, weights, &W);
     double eps = st == MFG_OK ? weight_eps(&W) : 0.0;
     if (st == MFG_OK)
-        st = sweep_all(&W, 1, 0.0, eps);
+        st = search(&W, 1, 0.0, eps);
     if (st == MFG_OK)
-        st = regions_of(&W, 0, W.best, out);
+        st = regions_of(&W, 0, W.best, eps, out);
     free_work(&W);
     if (st == MFG_OK)
         mfg_clear_error();
@@ -1067,9 +1297,9 @@ mfg_status mfg_level_regions(const double *vertices, const int64_t *offsets,
     mfg_status st = prepare(vertices, offsets, kinds, closed, npolys, weights, &W);
     double eps = st == MFG_OK ? weight_eps(&W) : 0.0;
     if (st == MFG_OK)
-        st = sweep_all(&W, 0, level, eps);
+        st = search(&W, 0, level, eps);
     if (st == MFG_OK)
-        st = regions_of(&W, 1, level, out);
+        st = regions_of(&W, 1, level, eps, out);
     free_work(&W);
     if (st == MFG_OK)
         mfg_clear_error();
