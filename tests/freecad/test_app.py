@@ -1,0 +1,471 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""FreeCAD App tests of the point-classification feature, run by ``freecadcmd`` (no GUI).
+
+Run through tests/run_freecad_tests.sh, or directly:
+``MFGEOM_LIBRARY=build/libmfgeom.so freecadcmd tests/freecad/test_app.py``.
+Prints ``freecad-app: N passed, M failed`` last and exits non-zero on any failure.
+"""
+
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+
+import FreeCAD as App
+import Part
+import Points
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+for _path in (os.path.join(REPO, "examples"), os.path.join(REPO, "workbench")):
+    if _path not in sys.path:
+        sys.path.append(_path)
+
+import bracket  # noqa: E402
+import mfgeom  # noqa: E402
+from mfgeom import core, face_domain, refs  # noqa: E402
+from mfgeom.pointclass_feature import VERSION  # noqa: E402
+
+RNG = np.random.default_rng(12345)
+
+
+# ------------------------------------------------------------------ helpers
+def vec(p):
+    return App.Vector(*[float(c) for c in p])
+
+
+def add_cloud(doc, name, pts):
+    obj = doc.addObject("Points::Feature", name)
+    obj.Points = Points.Points([vec(p) for p in pts])
+    return obj
+
+
+def add_shape(doc, name, shape):
+    obj = doc.addObject("Part::Feature", name)
+    obj.Shape = shape
+    return obj
+
+
+def real_edges(face):
+    """Boundary edges in 3-D: not degenerated, not used twice by the face (a seam)."""
+    used = [e for w in face.Wires for e in w.OrderedEdges]
+    return [e for e in face.Edges
+            if not e.Degenerated and sum(1 for o in used if o.isSame(e)) == 1]
+
+
+def surface_samples(face, n, margin=0.05):
+    """n points on the face's surface, uniform in its parameter range grown by margin."""
+    u0, u1, v0, v1 = face.ParameterRange
+    du, dv = (u1 - u0) * margin, (v1 - v0) * margin
+    uv = np.column_stack([RNG.uniform(u0 - du, u1 + du, n), RNG.uniform(v0 - dv, v1 + dv, n)])
+    s = face.Surface
+    out = []
+    for u, v in uv:
+        p = s.value(float(u), float(v))
+        out.append((p.x, p.y, p.z))
+    return np.array(out)
+
+
+def occt_compare(test, face, pts, classes, tol):
+    """Cross-check against OCCT: for every point whose projection is farther than
+    2 * tol from the boundary, ours == Face.isInside (BRepClass); and ON agrees with the
+    3-D distance to the boundary (<= 0.9 tol -> ON, >= 1.1 tol -> not ON)."""
+    edges = Part.Compound(real_edges(face))
+    s = face.Surface
+    far = 0
+    for p, c in zip(pts, classes):
+        u, v = s.parameter(vec(p))
+        foot = s.value(u, v)
+        d = Part.Vertex(foot).distToShape(edges)[0] if edges.Edges else math.inf
+        if d > 2 * tol:
+            far += 1
+            want = core.IN if face.isInside(foot, 1e-7, True) else core.OUT
+            test.assertEqual(int(c), want, f"point {tuple(p)} at {d:.4f} mm from the boundary")
+        elif d <= 0.9 * tol:
+            test.assertEqual(int(c), core.ON, f"point {tuple(p)} at {d:.4f} mm is not ON")
+        elif d >= 1.1 * tol:
+            test.assertNotEqual(int(c), core.ON, f"point {tuple(p)} at {d:.4f} mm is ON")
+    return far
+
+
+class DocTestCase(unittest.TestCase):
+    def setUp(self):
+        self.doc = App.newDocument(f"mfgeom_{self.id().split('.')[-1]}")
+
+    def tearDown(self):
+        App.closeDocument(self.doc.Name)
+
+    def assertDocClean(self, names_before):
+        self.assertEqual([o.Name for o in self.doc.Objects], names_before,
+                         "a failed make left objects behind")
+        for o in self.doc.Objects:
+            self.assertTrue(o.isValid(), f"{o.Name} is invalid")
+
+    def classify(self, face_ref, points_ref, tol, name="PC"):
+        obj = mfgeom.make_point_classification(self.doc, face_ref, points_ref, tol, name=name)
+        self.assertTrue(obj.isValid(), obj.getStatusString())
+        self.assertEqual(obj.CountIn + obj.CountOn + obj.CountOut, len(obj.Classes))
+        self.assertEqual(len(obj.Shape.Vertexes), len(obj.Classes))
+        return obj
+
+
+# ------------------------------------------------------------------ planar faces
+class PlanarFaceTests(DocTestCase):
+    def setUp(self):
+        super().setUp()
+        self.part = bracket.make_bracket(self.doc)
+        self.top = (self.part, bracket.top_face_name(self.part))
+
+    def test_known_points_on_plate_with_holes(self):
+        tol = 0.1
+        hx, hy = bracket.HOLES[0]
+        z = bracket.PLATE[2] + 0.5  # above the face: projected onto it
+        pts = [
+            (hx, hy, z),                                  # hole centre: OUT
+            (hx + bracket.HOLE_R + 0.05, hy, z),          # 0.05 from the hole: ON
+            (hx + bracket.HOLE_R + 0.3, hy, z),           # 0.3 into the material: IN
+            (0.0, 30.0, z),                               # on the plate's outer edge: ON
+            (-0.2, 30.0, z),                              # outside the plate: OUT
+            (93.0, 30.0, z),                              # in the pocket: OUT
+            (bracket.POCKET[0] - 0.08, 30.0, z),          # 0.08 from the pocket: ON
+            (60.0, 30.0, z),                              # under the boss: OUT
+            (100.0, 5.0, z),                              # plain material: IN
+        ]
+        want = [0, 2, 1, 2, 0, 0, 2, 0, 1]
+        cloud = add_cloud(self.doc, "Known", np.array(pts))
+        obj = self.classify(self.top, cloud, tol)
+        self.assertEqual(list(obj.Classes), want)
+        self.assertEqual((obj.CountIn, obj.CountOn, obj.CountOut), (2, 3, 4))
+        self.assertEqual(obj.Method, "plane")
+        self.assertAlmostEqual(obj.MaxDistanceToSurface.Value, 0.5, places=5)
+        self.assertAlmostEqual(obj.ParameterTolerance, tol)
+
+    def test_grid_agrees_with_occt(self):
+        lx, ly, lz = bracket.PLATE
+        pts = np.column_stack([RNG.uniform(-2, lx + 2, 1500), RNG.uniform(-2, ly + 2, 1500),
+                               np.full(1500, lz)])
+        obj = self.classify(self.top, add_cloud(self.doc, "Grid", pts), 0.2)
+        face = self.part.Shape.getElement(self.top[1])
+        got = np.array([(v.X, v.Y, v.Z) for v in obj.Shape.Vertexes])
+        far = occt_compare(self, face, got, obj.Classes, 0.2)
+        self.assertGreater(far, 1200)
+        self.assertGreater(obj.CountOn, 0)
+
+    def test_placed_rotated_face(self):
+        # A box turned 30 deg about X and moved: the plane frame must follow the placement.
+        box = self.doc.addObject("Part::Box", "Tilted")
+        box.Length, box.Width, box.Height = 20, 10, 5
+        box.Placement = App.Placement(App.Vector(100, -50, 7),
+                                      App.Rotation(App.Vector(1, 0, 0), 30))
+        self.doc.recompute()
+        up = box.Placement.Rotation.multVec(App.Vector(0, 0, 1))
+        names = [f"Face{i + 1}" for i, f in enumerate(box.Shape.Faces)
+                 if f.normalAt(0, 0).isEqual(up, 1e-9)]
+        self.assertEqual(len(names), 1)
+        local = [(10, 5, 5), (0.02, 5, 5), (-1, 5, 5), (19.5, 9.5, 5)]
+        pts = np.array([tuple(box.Placement.multVec(vec(p))) for p in local])
+        obj = self.classify((box, names[0]), add_cloud(self.doc, "P", pts), 0.05)
+        self.assertEqual(list(obj.Classes), [1, 2, 0, 1])
+
+    def test_zero_tolerance(self):
+        pts = np.array([(0.0, 30.0, 10.0), (1e-6, 30.0, 10.0), (50.0 + 1e-6, 1.0, 10.0)])
+        obj = self.classify(self.top, add_cloud(self.doc, "Z", pts), 0.0)
+        self.assertEqual(list(obj.Classes), [2, 1, 1])
+
+
+# ------------------------------------------------------------------ curved faces
+class CurvedFaceTests(DocTestCase):
+    def check_face(self, shape, pick, tol, n=700, min_far=300):
+        obj_shape = add_shape(self.doc, "Solid", shape)
+        names = [f"Face{i + 1}" for i, f in enumerate(shape.Faces) if pick(f)]
+        self.assertTrue(names, "no face picked")
+        face = obj_shape.Shape.getElement(names[0])
+        pts = surface_samples(face, n)
+        obj = self.classify((obj_shape, names[0]), add_cloud(self.doc, "Cloud", pts), tol)
+        self.assertEqual(obj.Method, "uv")
+        got = np.array([(v.X, v.Y, v.Z) for v in obj.Shape.Vertexes])
+        far = occt_compare(self, face, got, obj.Classes, tol)
+        self.assertGreater(far, min_far)
+        return obj
+
+    def test_bracket_boss_cylinder(self):
+        part = bracket.make_bracket(self.doc)
+        name = bracket.boss_face_name(part)
+        face = part.Shape.getElement(name)
+        pts = surface_samples(face, 700)
+        obj = self.classify((part, name), add_cloud(self.doc, "Cloud", pts), 0.2)
+        self.assertGreater(occt_compare(self, face, pts, obj.Classes, 0.2), 300)
+        self.assertAlmostEqual(obj.Distortion, 1.0, places=6)  # the cylinder is developable
+        self.assertGreater(obj.CountIn, 0)
+        self.assertGreater(obj.CountOut, 0)
+
+    def test_full_cylinder_hole_through_seam(self):
+        cyl = Part.makeCylinder(10, 30)
+        hole = Part.makeCylinder(3, 40, App.Vector(-20, 0, 15), App.Vector(1, 0, 0))
+        obj = self.check_face(cyl.cut(hole), lambda f: f.Surface.TypeId == "Part::GeomCylinder"
+                              and abs(f.Surface.Radius - 10) < 1e-9, 0.2)
+        self.assertGreater(obj.CountOut, 0)
+
+    def test_sphere_with_hole(self):
+        shape = Part.makeSphere(10).cut(Part.makeCylinder(3, 40, App.Vector(0, -20, 2),
+                                                          App.Vector(0, 1, 0)))
+        obj = self.check_face(shape, lambda f: f.Surface.TypeId == "Part::GeomSphere", 0.2)
+        self.assertGreater(obj.Distortion, 1.0)
+
+    def test_torus_doubly_periodic(self):
+        shape = Part.makeTorus(20, 5).cut(Part.makeCylinder(2, 40, App.Vector(-20, 0, -20)))
+        self.check_face(shape, lambda f: f.Surface.TypeId == "Part::GeomToroid", 0.3)
+
+    def test_cone_segment_with_hole(self):
+        cone = Part.makeCone(10, 3, 20, App.Vector(), App.Vector(0, 0, 1), 200)
+        shape = cone.cut(Part.makeCylinder(2, 40, App.Vector(-20, 0, 10), App.Vector(1, 0, 0)))
+        self.check_face(shape, lambda f: f.Surface.TypeId == "Part::GeomCone", 0.25)
+
+    def test_bspline_face_with_hole(self):
+        grid = [[App.Vector(i * 10, j * 10, 3 * math.sin(i) * math.cos(j)) for j in range(5)]
+                for i in range(5)]
+        surf = Part.BSplineSurface()
+        surf.interpolate(grid)
+        face = Part.Face(surf).cut(Part.makeCylinder(6, 40, App.Vector(20, 20, -20)))
+        self.check_face(face, lambda f: True, 0.3, n=300, min_far=150)
+
+
+# ------------------------------------------------------------------ parametric behaviour
+class ParametricTests(DocTestCase):
+    def setUp(self):
+        super().setUp()
+        self.part = bracket.make_bracket(self.doc)
+        self.top = (self.part, bracket.top_face_name(self.part))
+        lx, ly, lz = bracket.PLATE
+        gx, gy = np.meshgrid(np.arange(0.25, lx, 1.0), np.arange(0.25, ly, 1.0))
+        self.pts = np.column_stack([gx.ravel(), gy.ravel(), np.full(gx.size, lz)])
+        self.cloud = add_cloud(self.doc, "Cloud", self.pts)
+        self.obj = self.classify(self.top, self.cloud, 0.1)
+
+    def test_tolerance_change_recomputes(self):
+        before = (self.obj.CountIn, self.obj.CountOn, self.obj.CountOut)
+        self.obj.Tolerance = 0.6
+        self.doc.recompute()
+        self.assertTrue(self.obj.isValid())
+        self.assertGreater(self.obj.CountOn, before[1])
+        self.assertLess(self.obj.CountIn, before[0])
+
+    def test_moving_points_recomputes(self):
+        out_before = self.obj.CountOut
+        self.cloud.Placement = App.Placement(App.Vector(60, 0, 0), App.Rotation())
+        self.doc.recompute()
+        self.assertTrue(self.obj.isValid())
+        self.assertGreater(self.obj.CountOut, out_before)  # half the cloud is off the plate
+        self.assertAlmostEqual(self.obj.Shape.BoundBox.XMin, 60.25, places=4)
+
+    def test_changing_the_part_recomputes(self):
+        hole = self.doc.getObject("Hole1")
+        out_before = self.obj.CountOut
+        hole.Radius = 6.0
+        self.doc.recompute()
+        self.assertTrue(self.obj.isValid(), self.obj.getStatusString())
+        self.assertGreater(self.obj.CountOut, out_before)
+
+    def test_save_and_reload(self):
+        classes = list(self.obj.Classes)
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "saved.FCStd")
+            self.doc.saveAs(path)
+            name = self.doc.Name
+            App.closeDocument(name)
+            self.doc = App.openDocument(path)
+            obj = self.doc.getObject("PC")
+            self.assertEqual(type(obj.Proxy).__module__, "mfgeom.pointclass_feature")
+            self.assertEqual(list(obj.Classes), classes)
+            self.assertEqual(obj.Version, VERSION)
+            obj.touch()
+            self.doc.recompute()
+            self.assertTrue(obj.isValid())
+            self.assertEqual(list(obj.Classes), classes)
+            obj.Tolerance = 0.5  # still parametric after the reload
+            self.doc.recompute()
+            self.assertNotEqual(list(obj.Classes), classes)
+
+    def test_old_version_migrates(self):
+        self.obj.Version = 0
+        self.obj.touch()
+        self.doc.recompute()
+        self.assertEqual(self.obj.Version, VERSION)
+        self.assertTrue(self.obj.isValid())
+
+
+# ------------------------------------------------------------------ point sources
+class PointSourceTests(DocTestCase):
+    def setUp(self):
+        super().setUp()
+        box = self.doc.addObject("Part::Box", "Box")
+        box.Length, box.Width, box.Height = 20, 10, 5
+        self.box = box
+        self.doc.recompute()
+        self.top = (box, "Face6")  # Part::Box: Face6 is the top (z = Height)
+
+    def test_vertices_of_a_shape(self):
+        obj = self.classify(self.top, (self.box, ["Vertex2", "Vertex1"]), 0.01)
+        # Vertex1 (0,0,0) and Vertex2 (0,0,5) project to the top face's corner: ON
+        self.assertEqual(list(obj.Classes), [2, 2])
+
+    def test_whole_part_object(self):
+        obj = self.classify(self.top, self.box, 0.01)
+        self.assertEqual(len(obj.Classes), 8)
+        self.assertEqual(obj.CountOn, 8)
+
+    def test_sketch_vertices(self):
+        sk = self.doc.addObject("Sketcher::SketchObject", "Sketch")
+        sk.Placement = App.Placement(App.Vector(0, 0, 5), App.Rotation())
+        sk.addGeometry(Part.LineSegment(App.Vector(5, 5, 0), App.Vector(30, 5, 0)))
+        sk.addGeometry(Part.LineSegment(App.Vector(30, 5, 0), App.Vector(20, 10.005, 0)))
+        self.doc.recompute()
+        obj = self.classify(self.top, sk, 0.01)
+        self.assertEqual(sorted(obj.Classes), [0, 1, 2])
+
+    def test_mesh_points(self):
+        import Mesh
+        mesh = self.doc.addObject("Mesh::Feature", "Mesh")
+        m = Mesh.Mesh()
+        m.addFacet(App.Vector(5, 5, 1), App.Vector(25, 5, 1), App.Vector(10, 10.001, 1))
+        mesh.Mesh = m
+        self.doc.recompute()
+        obj = self.classify(self.top, mesh, 0.01)
+        self.assertEqual(list(obj.Classes), [1, 0, 2])
+
+    def test_points_in_other_types(self):
+        pts = np.array([(10.0, 5.0, 5.0)])
+        obj = self.classify(self.top, add_cloud(self.doc, "One", pts), 0.01)
+        self.assertEqual(list(obj.Classes), [1])
+
+
+# ------------------------------------------------------------------ bad input
+class BadInputTests(DocTestCase):
+    def setUp(self):
+        super().setUp()
+        self.box = self.doc.addObject("Part::Box", "Box")
+        self.doc.recompute()
+        self.cloud = add_cloud(self.doc, "Cloud", np.array([(5.0, 5.0, 10.0)]))
+        self.doc.recompute()
+        self.names = [o.Name for o in self.doc.Objects]
+
+    def assertRejected(self, face_ref, points_ref, tol=0.01, match=None):
+        with self.assertRaises((ValueError, TypeError)) as ctx:
+            mfgeom.make_point_classification(self.doc, face_ref, points_ref, tol)
+        if match:
+            self.assertIn(match, str(ctx.exception))
+        self.assertDocClean(self.names)
+
+    def test_edge_instead_of_face(self):
+        self.assertRejected((self.box, "Edge1"), self.cloud, match="not a face")
+
+    def test_missing_face(self):
+        self.assertRejected((self.box, "Face42"), self.cloud, match="no Face42")
+
+    def test_face_not_a_tuple(self):
+        self.assertRejected(self.box, self.cloud, match="(object, \"FaceN\")")
+
+    def test_points_from_an_edge(self):
+        self.assertRejected((self.box, "Face6"), (self.box, ["Edge1"]), match="not a vertex")
+
+    def test_empty_cloud(self):
+        empty = self.doc.addObject("Points::Feature", "Empty")
+        self.names.append("Empty")
+        self.assertRejected((self.box, "Face6"), empty, match="no points")
+
+    def test_not_a_point_source(self):
+        group = self.doc.addObject("App::DocumentObjectGroup", "Group")
+        self.names.append("Group")
+        self.assertRejected((self.box, "Face6"), group, match="not a point source")
+
+    def test_bad_tolerances(self):
+        for tol in (-0.1, float("nan"), float("inf"), "abc"):
+            self.assertRejected((self.box, "Face6"), self.cloud, tol=tol, match="tolerance")
+
+    def test_object_from_another_document(self):
+        other = App.newDocument("mfgeom_other")
+        try:
+            cloud = add_cloud(other, "Cloud", np.array([(1.0, 1.0, 1.0)]))
+            self.assertRejected((self.box, "Face6"), cloud, match="document")
+        finally:
+            App.closeDocument(other.Name)
+
+    def test_selection_rules(self):
+        box, cloud = self.box, self.cloud
+        ok = refs.refs_from_selection([(box, ["Face6"]), (cloud, [])])
+        self.assertEqual(ok, ((box, "Face6"), (cloud, [])))
+        ok = refs.refs_from_selection([(box, ["Face6", "Vertex1", "Vertex3"])])
+        self.assertEqual(ok, ((box, "Face6"), (box, ["Vertex1", "Vertex3"])))
+        bad = [
+            ([(cloud, [])], "exactly one face"),
+            ([(box, ["Face6"])], "points to classify"),
+            ([(box, ["Face1", "Face2"]), (cloud, [])], "exactly one face"),
+            ([(box, ["Face6", "Edge2"])], "cannot be used"),
+            ([(box, ["Face6", "Vertex1"]), (cloud, [])], "one object only"),
+        ]
+        for selection, message in bad:
+            with self.assertRaises(refs.InputError) as ctx:
+                refs.refs_from_selection(selection)
+            self.assertIn(message, str(ctx.exception))
+        self.assertDocClean(self.names)
+
+
+# ------------------------------------------------------------------ packaging
+class PackagingTests(unittest.TestCase):
+    def test_package_xml(self):
+        meta = App.Metadata(os.path.join(REPO, "package.xml"))
+        self.assertEqual(meta.Name, "mfgeom")
+        self.assertEqual(meta.Version, "0.1.0")
+        self.assertTrue(meta.supportsCurrentFreeCAD())
+        self.assertTrue(os.path.isfile(os.path.join(REPO, meta.Icon)))
+        wb = meta.Content["workbench"][0]
+        self.assertEqual(wb.Classname, "MfgeomWorkbench")
+        sub = os.path.join(REPO, wb.Subdirectory)
+        self.assertTrue(os.path.isfile(os.path.join(sub, "InitGui.py")))
+        # FreeCAD 0.20 resolves a content item's icon relative to its subdirectory
+        self.assertTrue(os.path.isfile(os.path.normpath(os.path.join(sub, wb.Icon))))
+        with open(os.path.join(sub, "InitGui.py"), encoding="utf-8") as f:
+            self.assertIn(f"class {wb.Classname}(", f.read())
+
+    def test_icons_and_resources_exist(self):
+        from mfgeom import paths
+        for name in ("mfgeom_workbench.svg", "mfgeom_classify_points.svg"):
+            self.assertTrue(os.path.isfile(paths.icon(name)), name)
+        self.assertTrue(os.path.isfile(paths.resource("preferences.ui")))
+
+    def test_package_imports_without_freecad(self):
+        code = ("import sys; import mfgeom, mfgeom.core as c; "
+                "assert 'FreeCAD' not in sys.modules, 'mfgeom imported FreeCAD'; "
+                "assert callable(mfgeom.make_point_classification); print(c.version())")
+        env = dict(os.environ, PYTHONPATH=os.path.join(REPO, "workbench"))
+        run = subprocess.run(["/usr/bin/python3", "-c", code], env=env, capture_output=True,
+                             text=True, timeout=60)
+        self.assertEqual(run.returncode, 0, run.stderr)
+
+    def test_face_domain_rejects_non_faces(self):
+        with self.assertRaises(TypeError):
+            face_domain.FaceDomain(Part.makeBox(1, 1, 1), 0.1)
+        with self.assertRaises(ValueError):
+            face_domain.FaceDomain(Part.makeBox(1, 1, 1).Faces[0], -1.0)
+
+
+def main():
+    # freecadcmd runs this file with exec(): it is not in sys.modules, so collect by hand
+    loader = unittest.defaultTestLoader
+    suite = unittest.TestSuite(
+        loader.loadTestsFromTestCase(cls) for cls in list(globals().values())
+        if isinstance(cls, type) and issubclass(cls, unittest.TestCase)
+        and cls is not DocTestCase)
+    result = unittest.TextTestRunner(stream=sys.stdout, verbosity=2).run(suite)
+    failed = len(result.failures) + len(result.errors)
+    passed = result.testsRun - failed - len(result.skipped)
+    sys.stdout.write(f"freecad-app: {passed} passed, {failed} failed\n")
+    sys.stdout.flush()
+    return 0 if failed == 0 and result.testsRun > 0 else 1
+
+
+sys.exit(main())

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Runs the GUI tests (tests/gui/test_gui.py) in FreeCAD under a virtual X server and
+# fails on a failed test, a missing summary line or any Python traceback in the log.
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+ROOT=$(pwd)
+export MFGEOM_LIBRARY=${MFGEOM_LIBRARY:-$ROOT/build/libmfgeom.so}
+export QTWEBENGINE_DISABLE_SANDBOX=1  # as root the Start page's web engine needs it
+
+own_home=
+if [ -z "${FREECAD_USER_HOME:-}" ]; then
+  # A throw-away user directory whose Mod/ links this checkout (see run_freecad_tests.sh)
+  FREECAD_USER_HOME=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-fchome.XXXXXX")
+  mkdir -p "$FREECAD_USER_HOME/Mod"
+  ln -s "$ROOT" "$FREECAD_USER_HOME/Mod/mfgeom"
+  export FREECAD_USER_HOME
+  own_home=$FREECAD_USER_HOME
+fi
+export MFGEOM_GUI_OUT=${MFGEOM_GUI_OUT:-$ROOT/out/gui-tests}  # screenshot and log stay for a look
+mkdir -p "$MFGEOM_GUI_OUT"
+log="$MFGEOM_GUI_OUT/gui.log"
+
+timeout 300 xvfb-run -a freecad tests/gui/test_gui.py > "$log" 2>&1
+rc=$?
+[ -n "$own_home" ] && rm -rf "$own_home"
+grep -E "^(PASS|FAIL): |^screenshot: |^freecad-gui: " "$log"
+if [ $rc -ne 0 ]; then echo "gui tests: freecad exited with $rc (log: $log)"; tail -40 "$log"; exit 1; fi
+if grep -q "Traceback" "$log"; then echo "gui tests: traceback in the log:"; grep -n -A12 "Traceback" "$log"; exit 1; fi
+grep -qE "^freecad-gui: [0-9]+ passed, 0 failed$" "$log" || { echo "gui tests: no clean summary (log: $log)"; exit 1; }

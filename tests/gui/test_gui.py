@@ -1,0 +1,249 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""FreeCAD GUI tests of the workbench, run as a macro: ``xvfb-run -a freecad test_gui.py``.
+
+Use tests/gui/run_gui_tests.sh (it sets up the user Mod folder and the environment).
+Activates the workbench, checks its toolbar, menu, command and preferences page, runs
+"Classify points" on a GUI selection, checks undo and the message on a bad selection,
+and renders the view to PNG, checking that the IN/ON/OUT colours are on screen.
+Prints ``freecad-gui: N passed, M failed`` and leaves with os._exit(rc).
+"""
+
+import os
+import sys
+import tempfile
+import traceback
+
+import FreeCAD as App
+import FreeCADGui as Gui
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+sys.path.append(os.path.join(REPO, "examples"))
+
+OUT = os.environ.get("MFGEOM_GUI_OUT") or tempfile.mkdtemp(prefix="mfgeom-gui-")
+os.makedirs(OUT, exist_ok=True)
+WORKBENCH = "MfgeomWorkbench"
+COMMAND = "Mfgeom_ClassifyPoints"
+PARAMS = "User parameter:BaseApp/Preferences/Mod/mfgeom"
+
+results = []  # (name, ok, detail)
+state = {}
+
+
+def check(name):
+    """Decorator: run a test function now, record pass/fail with the reason."""
+    def run(fn):
+        try:
+            fn()
+        except Exception:  # any failure of a test is reported, then the next one runs
+            results.append((name, False, traceback.format_exc()))
+        else:
+            results.append((name, True, ""))
+        return fn
+    return run
+
+
+def bracket_top(part):
+    import bracket
+    return bracket.top_face_name(part)
+
+
+def qt():
+    from PySide import QtCore, QtGui
+    return QtCore, QtGui
+
+
+class DialogCloser:
+    """Closes every modal dialog (the command's message boxes) shortly after it opens and
+    keeps its text: a bad selection can be tested without a human, and an unexpected
+    dialog fails a test instead of hanging the run."""
+
+    def __init__(self):
+        QtCore, _QtGui = qt()
+        self.texts = []
+        self.timer = QtCore.QTimer()
+        self.timer.timeout.connect(self._tick)
+        self.timer.start(100)
+
+    def _tick(self):
+        _QtCore, QtGui = qt()
+        box = QtGui.QApplication.activeModalWidget()
+        if box is not None:
+            self.texts.append(box.text() if hasattr(box, "text") else box.windowTitle())
+            box.done(0)
+
+    def take(self):
+        texts, self.texts = self.texts, []
+        return texts
+
+
+dialogs = DialogCloser()
+
+
+@check("workbench is registered and activates")
+def _():
+    assert WORKBENCH in Gui.listWorkbenches(), sorted(Gui.listWorkbenches())
+    Gui.activateWorkbench(WORKBENCH)
+    assert Gui.activeWorkbench().name() == WORKBENCH, Gui.activeWorkbench().name()
+    wb = Gui.getWorkbench(WORKBENCH)
+    assert wb.MenuText == "Manufacturing Geometry"
+    assert os.path.isfile(wb.Icon), wb.Icon
+
+
+@check("command, toolbar and menu exist")
+def _():
+    QtCore, QtGui = qt()
+    assert COMMAND in Gui.listCommands()
+    mw = Gui.getMainWindow()
+    bars = [b for b in mw.findChildren(QtGui.QToolBar)
+            if b.windowTitle() == "Manufacturing Geometry"]
+    assert bars, "no toolbar 'Manufacturing Geometry'"
+    texts = [a.text() for a in bars[0].actions()]
+    assert "Classify points" in texts, texts
+    menus = [m.title() for m in mw.menuBar().findChildren(QtGui.QMenu)]
+    assert "&Manufacturing Geometry" in menus, menus
+    res = Gui.Command.get(COMMAND).getInfo()
+    assert os.path.isfile(res["pixmap"]), res
+
+
+@check("preferences page loads and is bound to the parameter")
+def _():
+    from mfgeom import paths
+    form = Gui.PySideUic.loadUi(paths.resource("preferences.ui"))
+    spin = [w for w in form.children() if w.objectName() == "groupClassify"][0]
+    names = {w.objectName(): w for w in spin.children()}
+    tol = names["spinTolerance"]
+    assert bytes(tol.property("prefEntry")).decode() == "DefaultTolerance"
+    assert bytes(tol.property("prefPath")).decode() == "Mod/mfgeom"
+    assert abs(tol.value() - 0.01) < 1e-12, tol.value()
+
+
+@check("classify points from a GUI selection")
+def _():
+    import numpy as np
+    import Points
+    import bracket
+    App.ParamGet(PARAMS).SetFloat("DefaultTolerance", 0.3)
+    doc = App.newDocument("GuiTest")
+    part = bracket.make_bracket(doc)
+    lx, ly, lz = bracket.PLATE
+    gx, gy = np.meshgrid(np.arange(-3.0, lx + 3.0, 1.0), np.arange(-3.0, ly + 3.0, 1.0))
+    cloud = doc.addObject("Points::Feature", "Cloud")
+    cloud.Points = Points.Points([App.Vector(x, y, lz + 0.02)
+                                  for x, y in zip(gx.ravel(), gy.ravel())])
+    doc.recompute()
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(part, bracket.top_face_name(part))
+    Gui.Selection.addSelection(cloud)
+    before = len(doc.Objects)
+    dialogs.take()
+    Gui.runCommand(COMMAND)
+    Gui.updateGui()
+    assert not dialogs.take(), "the command complained"
+    new = [o for o in doc.Objects if o.Name.startswith("PointClassification")]
+    assert len(doc.Objects) == before + 1 and len(new) == 1, [o.Name for o in doc.Objects]
+    obj = new[0]
+    assert obj.isValid(), obj.getStatusString()
+    assert abs(obj.Tolerance.Value - 0.3) < 1e-12, obj.Tolerance  # from the preference
+    n = len(cloud.Points.Points)
+    assert obj.CountIn + obj.CountOn + obj.CountOut == n
+    assert min(obj.CountIn, obj.CountOn, obj.CountOut) > 0, (obj.CountIn, obj.CountOn, obj.CountOut)
+    colors = obj.ViewObject.PointColorArray
+    assert len(colors) == n, (len(colors), n)
+    assert obj.ViewObject.Proxy is not None
+    assert not cloud.ViewObject.Visibility  # the coloured copy replaces it on screen
+    state.update(doc=doc, part=part, cloud=cloud, obj=obj)
+
+
+@check("the view shows the IN / ON / OUT colours")
+def _():
+    QtCore, QtGui = qt()
+    view = Gui.ActiveDocument.ActiveView
+    view.viewTop()
+    view.fitAll()
+    Gui.updateGui()
+    path = os.path.join(OUT, "gui_classify.png")
+    view.saveImage(path, 800, 600, "White")
+    img = QtGui.QImage(path)
+    assert not img.isNull() and img.width() == 800, path
+    found = {"in": 0, "on": 0, "out": 0}
+    distinct = set()
+    for y in range(0, img.height(), 3):
+        for x in range(0, img.width(), 3):
+            c = QtGui.QColor(img.pixel(x, y))
+            r, g, b = c.red(), c.green(), c.blue()
+            distinct.add((r // 16, g // 16, b // 16))
+            if g > 140 and r < 90 and b < 90:
+                found["in"] += 1
+            elif r > 200 and 120 < g < 200 and b < 60:
+                found["on"] += 1
+            elif r > 180 and g < 60 and b < 60:
+                found["out"] += 1
+    assert len(distinct) >= 4, f"image looks blank: {len(distinct)} colours"
+    assert all(v > 20 for v in found.values()), found
+    state["image"] = path
+
+
+@check("undo removes the feature")
+def _():
+    doc, obj = state["doc"], state["obj"]
+    name = obj.Name
+    assert doc.UndoCount > 0
+    doc.undo()
+    assert doc.getObject(name) is None, "undo kept the feature"
+    doc.redo()
+    assert doc.getObject(name) is not None and doc.getObject(name).isValid()
+
+
+@check("bad selection shows a message and creates nothing")
+def _():
+    doc, part = state["doc"], state["part"]
+    before = [o.Name for o in doc.Objects]
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(part, bracket_top(part))  # a face, but no points
+    dialogs.take()
+    Gui.runCommand(COMMAND)
+    Gui.updateGui()
+    texts = dialogs.take()
+    assert len(texts) == 1 and "points" in texts[0], texts
+    assert [o.Name for o in doc.Objects] == before
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(part, "Edge1")
+    Gui.Selection.addSelection(state["cloud"])
+    Gui.runCommand(COMMAND)
+    Gui.updateGui()
+    texts = dialogs.take()
+    assert len(texts) == 1 and "Edge1" in texts[0], texts
+    assert [o.Name for o in doc.Objects] == before
+    assert all(o.isValid() for o in doc.Objects)
+
+
+@check("a saved document reopens with its coloured points")
+def _():
+    doc = state["doc"]
+    path = os.path.join(OUT, "gui_roundtrip.FCStd")
+    doc.saveAs(path)
+    name = doc.Name
+    App.closeDocument(name)
+    doc = App.openDocument(path)
+    obj = [o for o in doc.Objects if o.Name.startswith("PointClassification")][0]
+    assert obj.isValid()
+    assert len(obj.ViewObject.PointColorArray) == len(obj.Classes)
+    App.closeDocument(doc.Name)
+
+
+def finish():
+    failed = [r for r in results if not r[1]]
+    for name, ok, detail in results:
+        sys.stdout.write(f"{'PASS' if ok else 'FAIL'}: {name}\n")
+        if not ok:
+            sys.stdout.write(detail + "\n")
+    if "image" in state:
+        sys.stdout.write(f"screenshot: {state['image']}\n")
+    sys.stdout.write(f"freecad-gui: {len(results) - len(failed)} passed, {len(failed)} failed\n")
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(1 if failed or not results else 0)
+
+
+finish()

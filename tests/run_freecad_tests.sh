@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Runs the FreeCAD App tests (freecadcmd) and GUI tests (freecad under xvfb) of the
+# workbench; exits non-zero if either fails, prints a summary line or logs a traceback.
+set -uo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+
+export MFGEOM_LIBRARY=${MFGEOM_LIBRARY:-$ROOT/build/libmfgeom.so}
+if [ ! -f "$MFGEOM_LIBRARY" ]; then
+  echo "freecad tests: $MFGEOM_LIBRARY missing, building it"
+  { cmake -S . -B build >/dev/null && cmake --build build -j2 >/dev/null; } ||
+    { echo "freecad tests: build failed"; exit 1; }
+fi
+
+# FreeCAD 0.20 reads add-ons from <user dir>/Mod; FREECAD_USER_HOME points the user dir
+# at a throw-away directory whose Mod/mfgeom links this checkout (FreeCAD then follows
+# package.xml to workbench/), so the real ~/.local/share/FreeCAD, ~/.FreeCAD and their
+# user.cfg are never touched and an installed copy of mfgeom cannot shadow this one.
+FREECAD_USER_HOME=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-fchome.XXXXXX")
+trap 'rm -rf "$FREECAD_USER_HOME"' EXIT
+mkdir -p "$FREECAD_USER_HOME/Mod"
+ln -s "$ROOT" "$FREECAD_USER_HOME/Mod/mfgeom"
+export FREECAD_USER_HOME
+export QTWEBENGINE_DISABLE_SANDBOX=1
+
+failed=0
+
+echo "--- FreeCAD App tests (freecadcmd)"
+app_log="$FREECAD_USER_HOME/app.log"
+freecadcmd tests/freecad/test_app.py > "$app_log" 2>&1
+app_rc=$?
+grep -E "^(FAIL|ERROR): |^freecad-app: " "$app_log"
+if [ $app_rc -ne 0 ] || ! grep -qE "^freecad-app: [0-9]+ passed, 0 failed$" "$app_log"; then
+  echo "app tests: FAILED (exit $app_rc)"
+  sed -n '/^=\{20,\}/,/^-\{20,\}$/p' "$app_log" | head -120
+  failed=1
+elif grep -q "Traceback" "$app_log"; then
+  echo "app tests: traceback in the log:"; grep -n -A12 "Traceback" "$app_log"; failed=1
+fi
+
+echo "--- FreeCAD GUI tests (freecad under xvfb)"
+bash tests/gui/run_gui_tests.sh || failed=1
+
+if [ $failed -ne 0 ]; then echo "freecad tests: FAILED"; exit 1; fi
+echo "freecad tests: all passed"

@@ -1,0 +1,38 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# GUI start-up of the Manufacturing Geometry workbench: registers the workbench only.
+#
+# Commands, the preferences page and the C library are loaded in Initialize(), i.e. when
+# the workbench is first activated, so FreeCAD's start-up stays fast and a missing
+# libmfgeom.so cannot break it.  __file__ is not defined here: paths come from mfgeom.paths.
+
+import FreeCADGui
+
+
+class MfgeomWorkbench(FreeCADGui.Workbench):
+    """Manufacturing Geometry: tolerance-aware geometry for CAD/CAM (libmfgeom)."""
+
+    MenuText = "Manufacturing Geometry"
+    ToolTip = "Tolerance-aware manufacturing geometry: point classification against faces"
+
+    def __init__(self):
+        from mfgeom import paths
+        self.__class__.Icon = paths.icon("mfgeom_workbench.svg")
+
+    def Initialize(self):
+        from mfgeom import commands, paths
+        FreeCADGui.addIconPath(paths.icons_dir())
+        self.appendToolbar("Manufacturing Geometry", commands.COMMAND_NAMES)
+        self.appendMenu("&Manufacturing Geometry", commands.COMMAND_NAMES)
+        FreeCADGui.addPreferencePage(paths.resource("preferences.ui"), "Manufacturing Geometry")
+
+    def Activated(self):
+        pass
+
+    def Deactivated(self):
+        pass
+
+    def GetClassName(self):
+        return "Gui::PythonWorkbench"
+
+
+FreeCADGui.addWorkbench(MfgeomWorkbench())

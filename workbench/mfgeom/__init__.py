@@ -1,0 +1,23 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The mfgeom package: the ctypes binding (core) and the FreeCAD workbench code.
+
+Importing the package must work in plain python3 without FreeCAD (users of
+``mfgeom.core`` do that), so nothing here imports FreeCAD or loads the C library;
+the FreeCAD-facing entry points import their modules when called.
+"""
+
+__version__ = "0.1.0"
+
+
+def make_point_classification(doc, face_ref, points_ref, tolerance=None,
+                              name="PointClassification"):
+    """Create a parametric point classification of points against a face in ``doc``.
+
+    ``face_ref`` is ``(obj, "FaceN")``; ``points_ref`` is an object (Points, Mesh,
+    Sketch or any Part shape: its vertices) or ``(obj, ["Vertex1", ...])``.
+    ``tolerance`` is in mm (default: the preference DefaultTolerance).
+    Raises ValueError/TypeError on bad input and creates nothing in that case.
+    See :func:`mfgeom.pointclass_feature.make_point_classification`.
+    """
+    from mfgeom.pointclass_feature import make_point_classification as _make
+    return _make(doc, face_ref, points_ref, tolerance=tolerance, name=name)
