@@ -210,8 +210,8 @@ MFG_API mfg_status mfg_level_regions(const double *vertices, const int64_t *offs
 
 /* Minimum intersection: the least covered weight over the sphere and, per region of
  * that coverage (a face of the arrangement, not convex in general), its cover set and a
- * representative direction inside it; vertices are not reported (vertex_offsets all 0)
- * and margins are 0. */
+ * representative direction inside it.  Such a region is reported with kind
+ * MFG_VM_POLYGON but no vertices (its shape is not computed) and margin 0. */
 MFG_API mfg_status mfg_min_intersection(const double *vertices, const int64_t *offsets,
                                         const int32_t *kinds, const int32_t *closed,
                                         int64_t npolys, const double *weights,

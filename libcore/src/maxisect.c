@@ -76,7 +76,10 @@ typedef struct work {
     int64_t *pool;
     int64_t npool, cap_pool;
     double best;
+    int mode; /* MODE_MAX, MODE_LEVEL or MODE_MIN */
 } work;
+
+enum { MODE_MAX, MODE_LEVEL, MODE_MIN };
 
 static inline double angle_between(const double a[3], const double b[3])
 {
@@ -843,6 +846,7 @@ typedef struct cell {
     int64_t *part;      /* sets meeting it only partly */
     int64_t npart;
     double ub;          /* full + weight of the partial sets */
+    double key;         /* heap priority: ub (max, level) or -full (min) */
     int depth;
 } cell;
 
@@ -920,7 +924,7 @@ static mfg_status heap_push(heap *h, cell *c)
         h->cap = cap;
     }
     int64_t i = h->n++;
-    while (i > 0 && h->a[(i - 1) / 2]->ub < c->ub) {
+    while (i > 0 && h->a[(i - 1) / 2]->key < c->key) {
         h->a[i] = h->a[(i - 1) / 2];
         i = (i - 1) / 2;
     }
@@ -934,10 +938,10 @@ static cell *heap_pop(heap *h)
     int64_t i = 0;
     for (;;) {
         int64_t l = 2 * i + 1, r = l + 1, big = i;
-        double bu = last->ub;
-        if (l < h->n && h->a[l]->ub > bu)
-            big = l, bu = h->a[l]->ub;
-        if (r < h->n && h->a[r]->ub > bu)
+        double bu = last->key;
+        if (l < h->n && h->a[l]->key > bu)
+            big = l, bu = h->a[l]->key;
+        if (r < h->n && h->a[r]->key > bu)
             big = r;
         if (big == i)
             break;
@@ -982,6 +986,7 @@ static mfg_status make_child(work *W, const cell *p, const double q[4][3], cell 
         }
     }
     c->ub = c->full + partial_w;
+    c->key = W->mode == MODE_MIN ? -c->full : c->ub;
     *out = c;
     return MFG_OK;
 }
@@ -1013,14 +1018,93 @@ static mfg_status leaf(work *W, const cell *c, double threshold, int keep_best, 
     return st;
 }
 
+static mfg_status consider_min(work *W, double wt, const double x[3], double eps)
+{
+    if (wt < W->best - eps) {
+        W->best = wt;
+        W->ncands = 0;
+        W->npool = 0;
+    }
+    return wt <= W->best + eps ? add_candidate(W, wt, x, 0) : MFG_OK;
+}
+
+/* Minimum in a small cell: every face of the arrangement here borders the cell's edges
+ * or an edge of a partial set from outside; sample the pieces of those edges (pushed
+ * 1e-7 rad off a set's edge, to its outer side). */
+static mfg_status leaf_min(work *W, const cell *c, double eps)
+{
+    mfg_status st = MFG_OK;
+    int64_t total = 4;
+    for (int64_t t = 0; t < c->npart; t++)
+        if (W->sets[c->part[t]].kind == MFG_VM_POLYGON)
+            total += W->sets[c->part[t]].nv;
+    for (int64_t e = 0; e < total && st == MFG_OK; e++) {
+        int64_t own = -1, k = e;
+        const double *a, *b, *n = NULL;
+        if (e < 4) {
+            a = c->q.v + 3 * e;
+            b = c->q.v + 3 * ((e + 1) % 4);
+        } else {
+            k = e - 4;
+            int64_t t = 0;
+            for (;; t++) {
+                const sset *S = &W->sets[c->part[t]];
+                if (S->kind != MFG_VM_POLYGON)
+                    continue;
+                if (k < S->nv)
+                    break;
+                k -= S->nv;
+            }
+            own = c->part[t];
+            const sset *S = &W->sets[own];
+            a = S->v + 3 * k;
+            b = S->v + 3 * ((k + 1) % S->nv);
+            n = S->n + 3 * k;
+        }
+        double r0 = 0.0, r1 = 1.0;
+        if (own >= 0 && !polygon_interval(&c->q, a, b, &r0, &r1))
+            continue;
+        int64_t niv = edge_intervals(W, own, a, b, c->part, c->npart), ne = 0;
+        for (int64_t i = 0; i < niv; i++) {
+            if (W->iv[i].hi < r0 || W->iv[i].lo > r1)
+                continue;
+            W->ev[ne++] = (event){fmax(W->iv[i].lo, r0), 1, W->iv[i].set};
+            W->ev[ne++] = (event){fmin(W->iv[i].hi, r1), 0, W->iv[i].set};
+        }
+        qsort(W->ev, (size_t)ne, sizeof(event), cmp_event);
+        double depth = c->full, prev = r0;
+        for (int64_t i = 0; i <= ne && st == MFG_OK; i++) {
+            double s = i < ne ? W->ev[i].s : r1;
+            if (s > prev) { /* an open piece: one face on each side */
+                double sm = 0.5 * (prev + s), x[3], xu[3];
+                for (int d = 0; d < 3; d++)
+                    x[d] = a[d] + sm * (b[d] - a[d]);
+                mfg_unit3(x, xu);
+                if (n) {
+                    for (int d = 0; d < 3; d++)
+                        x[d] = xu[d] - 1e-7 * n[d];
+                    mfg_unit3(x, xu);
+                }
+                st = consider_min(W, depth, xu, eps);
+            }
+            if (i < ne)
+                depth += (W->ev[i].start ? 1.0 : -1.0) * W->sets[W->ev[i].set].w;
+            prev = s;
+        }
+    }
+    return st;
+}
+
 #define LEAF_SETS 12
 #define MAX_DEPTH 16
 
-static mfg_status search(work *W, int keep_best, double threshold, double eps)
+static mfg_status search(work *W, int mode, double threshold, double eps)
 {
     heap h = {NULL, 0, 0};
     mfg_status st = MFG_OK;
-    W->best = -INFINITY;
+    int keep_best = mode == MODE_MAX;
+    W->mode = mode;
+    W->best = mode == MODE_MIN ? INFINITY : -INFINITY;
     /* The six cube faces, each counter-clockwise seen from outside. */
     int64_t *all = malloc((size_t)W->nsets * sizeof(int64_t));
     if (!all)
@@ -1055,23 +1139,29 @@ static mfg_status search(work *W, int keep_best, double threshold, double eps)
     while (st == MFG_OK && h.n > 0) {
         cell *c = heap_pop(&h);
         double lim = keep_best ? W->best : threshold;
-        if (c->ub < lim - eps) { /* nothing left can reach the limit */
-            cell_free(c);
+        if (mode == MODE_MIN ? c->full > W->best + eps : c->ub < lim - eps) {
+            cell_free(c); /* nothing left can reach the limit */
             break;
         }
-        if (keep_best) { /* a lower bound from the cell's centre sharpens the pruning */
+        if (mode != MODE_LEVEL) { /* the cell's centre: a bound that sharpens pruning */
             double d = c->full;
             for (int64_t t = 0; t < c->npart; t++)
                 if (set_contains(&W->sets[c->part[t]], c->q.cc))
                     d += W->sets[c->part[t]].w;
-            if (d > W->best + eps) {
+            if (mode == MODE_MIN) {
+                st = consider_min(W, d, c->q.cc, eps);
+            } else if (d > W->best + eps) {
                 W->best = d;
                 W->ncands = 0;
                 W->npool = 0;
             }
         }
+        if (st != MFG_OK) {
+            cell_free(c);
+            break;
+        }
         if (c->npart <= LEAF_SETS || c->depth >= MAX_DEPTH) {
-            st = leaf(W, c, threshold, keep_best, eps);
+            st = mode == MODE_MIN ? leaf_min(W, c, eps) : leaf(W, c, threshold, keep_best, eps);
         } else {
             const double *p = c->q.v;
             double m[4][3], ctr[3], kids[4][4][3];
@@ -1091,7 +1181,9 @@ static mfg_status search(work *W, int keep_best, double threshold, double eps)
             for (int k = 0; k < 4 && st == MFG_OK; k++) {
                 cell *kid = NULL;
                 st = make_child(W, c, kids[k], &kid);
-                if (st == MFG_OK && kid->ub >= (keep_best ? W->best : threshold) - eps) {
+                int useful = mode == MODE_MIN ? kid->full <= W->best + eps
+                                              : kid->ub >= (keep_best ? W->best : threshold) - eps;
+                if (st == MFG_OK && useful) {
                     if ((st = heap_push(&h, kid)) != MFG_OK)
                         cell_free(kid);
                 } else {
@@ -1239,18 +1331,31 @@ static mfg_status regions_of(work *W, int maximal_only, double level, double eps
     double top = -INFINITY;
     for (int64_t i = 0; i < nk; i++)
         top = fmax(top, cover_weight(W, &W->cands[keep[i]]));
+    double bottom = INFINITY;
+    for (int64_t i = 0; i < nk; i++)
+        bottom = fmin(bottom, cover_weight(W, &W->cands[keep[i]]));
     double lim = maximal_only ? level : top;
     int64_t m = 0;
-    for (int64_t i = 0; i < nk; i++)
-        if (cover_weight(W, &W->cands[keep[i]]) >= lim - eps)
+    for (int64_t i = 0; i < nk; i++) {
+        double cw = cover_weight(W, &W->cands[keep[i]]);
+        if (W->mode == MODE_MIN ? cw <= bottom + eps : cw >= lim - eps)
             keep[m++] = keep[i];
+    }
     nk = m;
     region *R = calloc((size_t)(nk + 1), sizeof(region));
     mfg_status st = R ? MFG_OK : mfg_fail(MFG_ERR_NOMEM, "cannot allocate regions");
-    for (int64_t i = 0; i < nk && st == MFG_OK; i++)
-        st = build_region(W, keep[i], &R[i]);
+    for (int64_t i = 0; i < nk && st == MFG_OK; i++) {
+        if (W->mode == MODE_MIN) { /* a face, not convex: only its sample direction */
+            R[i].kind = MFG_VM_POLYGON;
+            R[i].cand = keep[i];
+            memcpy(R[i].c, W->cands[keep[i]].x, sizeof R[i].c);
+        } else {
+            st = build_region(W, keep[i], &R[i]);
+        }
+    }
+    double weight = W->mode == MODE_MIN ? bottom : maximal_only ? level : top;
     if (st == MFG_OK)
-        st = emit(W, R, nk, maximal_only ? level : (nk ? top : 0.0), out);
+        st = emit(W, R, nk, nk ? weight : 0.0, out);
     for (int64_t i = 0; R && i < nk; i++)
         free(R[i].v);
     free(R);
@@ -1276,7 +1381,7 @@ mfg_status mfg_max_intersection(const double *vertices, const int64_t *offsets,
     mfg_status st = prepare(vertices, offsets, kinds, closed, npolys, weights, &W);
     double eps = st == MFG_OK ? weight_eps(&W) : 0.0;
     if (st == MFG_OK)
-        st = search(&W, 1, 0.0, eps);
+        st = search(&W, MODE_MAX, 0.0, eps);
     if (st == MFG_OK)
         st = regions_of(&W, 0, W.best, eps, out);
     free_work(&W);
@@ -1297,9 +1402,28 @@ mfg_status mfg_level_regions(const double *vertices, const int64_t *offsets,
     mfg_status st = prepare(vertices, offsets, kinds, closed, npolys, weights, &W);
     double eps = st == MFG_OK ? weight_eps(&W) : 0.0;
     if (st == MFG_OK)
-        st = search(&W, 0, level, eps);
+        st = search(&W, MODE_LEVEL, level, eps);
     if (st == MFG_OK)
         st = regions_of(&W, 1, level, eps, out);
+    free_work(&W);
+    if (st == MFG_OK)
+        mfg_clear_error();
+    return st;
+}
+
+mfg_status mfg_min_intersection(const double *vertices, const int64_t *offsets,
+                                const int32_t *kinds, const int32_t *closed, int64_t npolys,
+                                const double *weights, mfg_regions **out)
+{
+    if (!out)
+        return mfg_fail(MFG_ERR_NULL, "out is NULL");
+    work W;
+    mfg_status st = prepare(vertices, offsets, kinds, closed, npolys, weights, &W);
+    double eps = st == MFG_OK ? weight_eps(&W) : 0.0;
+    if (st == MFG_OK)
+        st = search(&W, MODE_MIN, 0.0, eps);
+    if (st == MFG_OK)
+        st = regions_of(&W, 0, 0.0, eps, out);
     free_work(&W);
     if (st == MFG_OK)
         mfg_clear_error();

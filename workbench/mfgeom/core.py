@@ -110,6 +110,8 @@ _lib.mfg_max_intersection.argtypes = _REGION_ARGS + [ctypes.POINTER(ctypes.POINT
 _lib.mfg_level_regions.restype = ctypes.c_int
 _lib.mfg_level_regions.argtypes = _REGION_ARGS + [ctypes.c_double,
                                                   ctypes.POINTER(ctypes.POINTER(_Regions))]
+_lib.mfg_min_intersection.restype = ctypes.c_int
+_lib.mfg_min_intersection.argtypes = _REGION_ARGS + [ctypes.POINTER(ctypes.POINTER(_Regions))]
 _lib.mfg_regions_free.restype = None
 _lib.mfg_regions_free.argtypes = [ctypes.POINTER(_Regions)]
 
@@ -378,3 +380,9 @@ def max_intersection(maps, weights=None):
 def level_regions(maps, level, weights=None):
     """Every locally maximal region whose covered weight is at least ``level``."""
     return _call_regions(_lib.mfg_level_regions, maps, weights, ctypes.c_double(float(level)))
+
+
+def min_intersection(maps, weights=None):
+    """The least covered weight over the sphere; per least-covered face its cover set
+    and a direction inside it (``regions`` are empty arrays: faces are not convex)."""
+    return _call_regions(_lib.mfg_min_intersection, maps, weights)
