@@ -257,8 +257,8 @@ mfg_status mfg_region_new(const double *xy, const int64_t *ring_offsets, int64_t
     double y0 = g->rs.miny - tol, y1 = g->rs.maxy + tol;
     double w = x1 - x0, h = y1 - y0;
     double ext = fmax(w, h);
-    if (ext == 0.0)
-        ext = fmax(fmax(fabs(x0), fabs(y0)) * 0x1p-30, 0x1p-900);
+    if (ext == 0.0) /* one point: any cell size works; keep reference points far from it */
+        ext = fmax(fmax(fabs(x0), fabs(y0)), 1.0) * 0x1p-20;
     w = fmax(w, ext * 1e-3);
     h = fmax(h, ext * 1e-3);
     double margin = 128.0 * 0x1p-53 * (fabs(x0) + fabs(x1) + fabs(y0) + fabs(y1) + w + h);

@@ -394,3 +394,22 @@ int mfg_dot3_sign(const double a[3], const double b[3])
     int n = dot3_expansion(a, b, e);
     return expansion_sign(n, e);
 }
+
+/* p*q - r*s accurately: the rounding errors of both products are carried along. */
+static double diff_of_products(double p, double q, double r, double s)
+{
+    double h1, l1, h2, l2;
+    two_product(p, q, &h1, &l1);
+    two_product(r, s, &h2, &l2);
+    return (h1 - h2) + (l1 - l2);
+}
+
+void mfg_cross3_accurate(const double a[3], const double b[3], double out[3])
+{
+    double x = diff_of_products(a[1], b[2], a[2], b[1]);
+    double y = diff_of_products(a[2], b[0], a[0], b[2]);
+    double z = diff_of_products(a[0], b[1], a[1], b[0]);
+    out[0] = x;
+    out[1] = y;
+    out[2] = z;
+}

@@ -36,3 +36,7 @@ int mfg_cross_dot_sign(const double a[3], const double b[3], const double c[3],
 /* +1 when b is a positive multiple of a, -1 when a negative multiple, 0 otherwise
  * (exact; a and b must be non-zero). */
 int mfg_parallel3(const double a[3], const double b[3]);
+
+/* a x b with each component computed from exact products (Kahan's trick): nearly
+ * parallel vectors still give an accurate direction instead of rounding noise or 0. */
+void mfg_cross3_accurate(const double a[3], const double b[3], double out[3]);

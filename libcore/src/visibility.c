@@ -104,6 +104,9 @@ static mfg_status hull_add(cone3 *k, vref p)
             return MFG_OK;
     }
     int64_t n = k->nh, neg = 0, pos = 0;
+    mfg_status st = hull_reserve(k, n + 2);
+    if (st != MFG_OK)
+        return st;
     for (int64_t i = 0; i < n; i++) {
         int o = mfg_orient3(k->h[i], k->h[(i + 1) % n], p);
         k->o[i] = o;
@@ -353,7 +356,7 @@ static mfg_status polygon_from_cone(const cone3 *k, mfg_spoly **out)
         double au[3], bu[3], n[3], c1[3], c2[3], ma[3], mb[3];
         mfg_unit3(k->a, au);
         mfg_unit3(k->b, bu);
-        mfg_cross3(au, bu, n);
+        mfg_cross3_accurate(k->a, k->b, n);
         if (!mfg_unit3(n, c1))
             return mfg_fail(MFG_ERR_INTERNAL, "wedge of parallel normals");
         c2[0] = -c1[0], c2[1] = -c1[1], c2[2] = -c1[2];
@@ -378,10 +381,8 @@ static mfg_status polygon_from_cone(const cone3 *k, mfg_spoly **out)
     if ((st = spoly_new(MFG_VM_POLYGON, k->nh, out)) != MFG_OK)
         return st;
     for (int64_t i = 0; i < k->nh; i++) {
-        double ui[3], uj[3], v[3], vu[3];
-        mfg_unit3(k->h[i], ui);
-        mfg_unit3(k->h[(i + 1) % k->nh], uj);
-        mfg_cross3(ui, uj, v);
+        double v[3], vu[3];
+        mfg_cross3_accurate(k->h[i], k->h[(i + 1) % k->nh], v);
         if (!mfg_unit3(v, vu)) {
             mfg_spoly_free(*out);
             *out = NULL;
@@ -422,15 +423,15 @@ static mfg_status map_on_great_circle(const double *normals, int64_t m, vref q,
         vref lo = f.state == FLAT_RAY ? f.a : f.b; /* start = -(q x lo) */
         vref hi = f.a;                             /* end = q x hi */
         double au[3], bu[3];
-        mfg_cross3(qu, lo, t);
+        mfg_cross3_accurate(q, lo, t);
         mfg_unit3(t, s);
         s[0] = -s[0], s[1] = -s[1], s[2] = -s[2];
-        mfg_cross3(qu, hi, t);
+        mfg_cross3_accurate(q, hi, t);
         mfg_unit3(t, e);
         /* The arc's midpoint is the bisector of the projections of a and b. */
         mfg_cross3(t, qu, au); /* (q x a) x q: projection of a, up to scale */
         mfg_unit3(au, au);
-        mfg_cross3(qu, lo, t);
+        mfg_cross3_accurate(q, lo, t);
         mfg_cross3(t, qu, bu);
         mfg_unit3(bu, bu);
         double sum[3] = {au[0] + bu[0], au[1] + bu[1], au[2] + bu[2]};
@@ -446,7 +447,7 @@ static mfg_status map_on_great_circle(const double *normals, int64_t m, vref q,
     case FLAT_LINE: /* all projections on one line: both poles of that plane */
     case FLAT_HALF: /* a half-plane: the pole on its side */
     {
-        mfg_cross3(qu, f.a, t);
+        mfg_cross3_accurate(q, f.a, t);
         mfg_unit3(t, s);
         int sign = f.state == FLAT_HALF ? f.side : 1;
         s[0] *= sign, s[1] *= sign, s[2] *= sign;
@@ -520,7 +521,7 @@ static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
     int64_t steps = (int64_t)ceil(2.0 * MFG_PI / sqrt(8.0 * DRAFT_TOL / fmax(sr, 1e-12)));
     if (steps < 8)
         steps = 8;
-    int64_t cap = (*map)->nvertices + nu * steps + 8;
+    int64_t cap = nu * steps + 8;
     double *a = malloc((size_t)cap * 3 * sizeof(double));
     double *b = malloc((size_t)cap * 3 * sizeof(double));
     if (!a || !b) {
@@ -528,19 +529,26 @@ static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
         free(b);
         return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the draft polygon");
     }
-    int64_t n = (*map)->nvertices;
-    memcpy(a, (*map)->vertices, (size_t)n * 3 * sizeof(double));
-    for (int64_t j = 0; j < nu && n >= 3; j++) {
+    /* Start from the first cap's inscribed polygon (not from the map: a hemisphere
+     * clipped by one great circle has antipodal corners, an ambiguous edge), then clip
+     * by the other caps' chords. */
+    int64_t n = 0;
+    for (int64_t j = 0; j < nu && (j == 0 || n >= 3); j++) {
         double u[3], e1[3], e2[3];
         mfg_unit3(us[j], u);
         any_orthogonal(u, e1);
         mfg_cross3(u, e1, e2);
         double prev[3] = {0, 0, 0}, first[3] = {0, 0, 0};
-        for (int64_t s = 0; s <= steps && n >= 3; s++) {
+        for (int64_t s = 0; s <= steps && (j == 0 || n >= 3); s++) {
             double th = 2.0 * MFG_PI * (double)(s % steps) / (double)steps;
             double w[3];
             for (int i = 0; i < 3; i++)
                 w[i] = cr * u[i] + sr * (cos(th) * e1[i] + sin(th) * e2[i]);
+            if (j == 0) {
+                if (s < steps)
+                    memcpy(a + 3 * n++, w, sizeof w);
+                continue;
+            }
             if (s == 0) {
                 memcpy(first, w, sizeof w);
             } else {
@@ -565,6 +573,45 @@ static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
     mfg_spoly_free(*map);
     *map = res;
     return MFG_OK;
+}
+
+/* Directions closer than this are one vertex of the output polygon. */
+#define MERGE_ANGLE 1e-13
+
+static int nearly_same(vref a, vref b)
+{
+    double c[3], au[3], bu[3];
+    mfg_unit3(a, au);
+    mfg_unit3(b, bu);
+    mfg_cross3_accurate(au, bu, c);
+    return sqrt(mfg_dot3(c, c)) < MERGE_ANGLE && mfg_dot3(au, bu) > 0;
+}
+
+/* Normals that differ by rounding only (p and 3.0*p, say) are distinct for the exact
+ * hull, and the map vertex between them lies where two all-but-identical great circles
+ * cross, anywhere along them.  For the output, such hull neighbours are merged (the map
+ * moves by less than MERGE_ANGLE); the kind was decided exactly before. */
+static void merge_near_duplicates(cone3 *k)
+{
+    if (k->state == CONE_HULL) {
+        int64_t m = 0;
+        for (int64_t i = 0; i < k->nh; i++)
+            if (m == 0 || !nearly_same(k->h[m - 1], k->h[i]))
+                k->h[m++] = k->h[i];
+        while (m > 1 && nearly_same(k->h[m - 1], k->h[0]))
+            m--;
+        k->nh = m;
+        if (m == 2) {
+            k->a = k->h[0];
+            k->b = k->h[1];
+            k->state = CONE_WEDGE;
+        } else if (m == 1) {
+            k->a = k->h[0];
+            k->state = CONE_RAY;
+        }
+    }
+    if (k->state == CONE_WEDGE && nearly_same(k->a, k->b))
+        k->state = CONE_RAY;
 }
 
 /* ---- Entry point ---------------------------------------------------------------------- */
@@ -625,6 +672,8 @@ mfg_status mfg_visibility_map(const double *normals, int64_t m, double draft_ang
         st = k.state == CONE_HULL ? hull_add(&k, p) : low_add(&k, p);
     }
     mfg_spoly *map = NULL;
+    if (st == MFG_OK && k.state != CONE_LINE)
+        merge_near_duplicates(&k);
     if (st == MFG_OK) {
         if (k.state == CONE_LINE)
             st = map_on_great_circle(normals, m, k.q, &map);
