@@ -405,14 +405,20 @@ static mfg_status prepare(const double *vertices, const int64_t *offsets, const 
         S->cr = acos(fmin(fmax(cosr, -1.0), 1.0));
         for (int64_t k = 0; k < nv; k++) /* Welzl's tolerance: make sure all are in */
             S->cr = fmax(S->cr, angle_between(S->cc, S->v + 3 * k));
-        if (S->kind == MFG_VM_POLYGON && S->cr >= MFG_PI / 2 - 1e-12) {
-            /* Vertices on a great circle (a hemisphere): the pole on the inner side. */
-            if (mfg_dot3(S->cc, S->n) < 0)
-                S->cc[0] = -S->cc[0], S->cc[1] = -S->cc[1], S->cc[2] = -S->cc[2];
-            int inside = 1;
-            for (int64_t k = 0; k < nv; k++)
-                inside &= mfg_dot3(S->cc, S->n + 3 * k) > 0;
-            S->cr = inside ? MFG_PI / 2 + 1e-9 : MFG_PI;
+        /* A cap of radius >= pi/2 is not convex: containing the vertices no longer
+         * means containing the set.  A polygon lies in the hemisphere around the sum
+         * of its inward edge normals (x.n_k >= 0 for all k gives x.sum >= 0); an arc
+         * this large gets no cap at all. */
+        if (S->cr >= MFG_PI / 2 - 1e-9) {
+            double sum[3] = {0, 0, 0};
+            S->cr = MFG_PI;
+            if (S->kind == MFG_VM_POLYGON) {
+                for (int64_t k = 0; k < nv; k++)
+                    for (int d = 0; d < 3; d++)
+                        sum[d] += S->n[3 * k + d];
+                if (mfg_unit3(sum, S->cc))
+                    S->cr = MFG_PI / 2 + 1e-9;
+            }
         }
     }
     if (W->nsets == 0)
@@ -678,6 +684,50 @@ static int64_t clip_tracked(const double *v, const double *n, int64_t nv, const 
     return k;
 }
 
+/* Tidies a clipped polygon in place: drops a vertex that repeats its predecessor (the
+ * zero-length edge's normal would be noise) and splits edges longer than 150 degrees at
+ * their midpoint, so no edge comes near pi, where its two ends would not say which way
+ * it runs (a hemisphere clipped by one great circle is a lune with antipodal corners).
+ * v and n need room for 2 nv entries. */
+static int64_t tidy_polygon(double *v, double *n, int64_t nv)
+{
+    int64_t m = 0;
+    for (int64_t i = 0; i < nv; i++) {
+        if (m > 0) {
+            double d[3] = {v[3 * i] - v[3 * (m - 1)], v[3 * i + 1] - v[3 * (m - 1) + 1],
+                           v[3 * i + 2] - v[3 * (m - 1) + 2]};
+            if (mfg_dot3(d, d) < 1e-24) { /* same point: keep the later edge's circle */
+                memcpy(n + 3 * (m - 1), n + 3 * i, 3 * sizeof(double));
+                continue;
+            }
+        }
+        memmove(v + 3 * m, v + 3 * i, 3 * sizeof(double));
+        memmove(n + 3 * m, n + 3 * i, 3 * sizeof(double));
+        m++;
+    }
+    while (m > 1) {
+        double d[3] = {v[0] - v[3 * (m - 1)], v[1] - v[3 * (m - 1) + 1], v[2] - v[3 * (m - 1) + 2]};
+        if (mfg_dot3(d, d) >= 1e-24)
+            break;
+        m--; /* the last repeats the first: its edge had zero length */
+    }
+    for (int64_t i = m - 1; i >= 0 && m >= 2; i--) {
+        const double *a = v + 3 * i, *b = v + 3 * ((i + 1) % m);
+        if (mfg_dot3(a, b) >= -0.866) /* up to 150 degrees is left alone */
+            continue;
+        double mid[3] = {a[0] + b[0], a[1] + b[1], a[2] + b[2]}, mu[3];
+        if (sqrt(mfg_dot3(mid, mid)) < 1e-3) /* nearly antipodal: go 90 degrees along */
+            mfg_cross3(n + 3 * i, a, mid);
+        mfg_unit3(mid, mu);
+        memmove(v + 3 * (i + 2), v + 3 * (i + 1), (size_t)(m - i - 1) * 3 * sizeof(double));
+        memmove(n + 3 * (i + 2), n + 3 * (i + 1), (size_t)(m - i - 1) * 3 * sizeof(double));
+        memcpy(v + 3 * (i + 1), mu, sizeof mu);
+        memcpy(n + 3 * (i + 1), n + 3 * i, 3 * sizeof(double));
+        m++;
+    }
+    return m;
+}
+
 static void arc_region(region *R, const double *p, const double *q)
 {
     double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
@@ -713,7 +763,7 @@ static mfg_status build_region(work *W, int64_t ci, region *R)
             thin = set[k]; /* a point beats an arc */
         cap += S->nv + 1;
     }
-    R->v = malloc((size_t)(cap + 8) * 3 * sizeof(double));
+    R->v = malloc((size_t)(2 * cap + 24) * 3 * sizeof(double));
     if (!R->v)
         return mfg_fail(MFG_ERR_NOMEM, "cannot build a region");
     if (thin >= 0) {
@@ -778,10 +828,11 @@ static mfg_status build_region(work *W, int64_t ci, region *R)
     for (int64_t k = 1; k < C->len; k++)
         if (W->sets[set[k]].cr < W->sets[first].cr)
             first = set[k];
-    double *va = malloc((size_t)(cap + 8) * 3 * sizeof(double));
-    double *na = malloc((size_t)(cap + 8) * 3 * sizeof(double));
-    double *vb = malloc((size_t)(cap + 8) * 3 * sizeof(double));
-    double *nb = malloc((size_t)(cap + 8) * 3 * sizeof(double));
+    cap = 2 * cap + 16; /* clipping adds a vertex per cut, tidying may double them */
+    double *va = malloc((size_t)cap * 3 * sizeof(double));
+    double *na = malloc((size_t)cap * 3 * sizeof(double));
+    double *vb = malloc((size_t)cap * 3 * sizeof(double));
+    double *nb = malloc((size_t)cap * 3 * sizeof(double));
     if (!va || !na || !vb || !nb) {
         free(va), free(na), free(vb), free(nb);
         return mfg_fail(MFG_ERR_NOMEM, "cannot build a region");
@@ -790,12 +841,14 @@ static mfg_status build_region(work *W, int64_t ci, region *R)
     int64_t nv = F->nv;
     memcpy(va, F->v, (size_t)nv * 3 * sizeof(double));
     memcpy(na, F->n, (size_t)nv * 3 * sizeof(double));
+    nv = tidy_polygon(va, na, nv);
     for (int64_t k = 0; k < C->len && nv >= 3; k++) {
         if (set[k] == first)
             continue;
         const sset *S = &W->sets[set[k]];
         for (int64_t e = 0; e < S->nv && nv >= 3; e++) {
             nv = clip_tracked(va, na, nv, S->n + 3 * e, vb, nb);
+            nv = tidy_polygon(vb, nb, nv);
             double *t = va;
             va = vb, vb = t;
             t = na, na = nb, nb = t;
