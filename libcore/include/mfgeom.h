@@ -27,16 +27,18 @@ extern "C" {
  *  - Inputs are flat arrays of double / int64_t that map one-to-one onto numpy.
  *  - Results allocated by the library are released with the documented mfg_*_free
  *    function, never with the caller's free().
- *  - Coordinates and tolerances must be finite and at most MFG_MAX_COORD in
- *    magnitude; within that range the exact predicates cannot overflow.
+ *  - Coordinates and tolerances must be 0 or between MFG_MIN_COORD and MFG_MAX_COORD
+ *    in magnitude (2^-200 .. 2^200); within that range the exact predicates can neither
+ *    overflow nor underflow, so they are exact for every input accepted.  Other values
+ *    (NaN, Inf, 1e-300, 1e300) are rejected with MFG_ERR_INVALID.
  */
 
 #define MFG_VERSION_MAJOR 0
 #define MFG_VERSION_MINOR 1
 #define MFG_VERSION_PATCH 0
 
-/* Largest accepted |coordinate| and tolerance (2^200): degree-4 exact predicates
- * then stay far from overflow. */
+/* Accepted magnitudes of non-zero coordinates and tolerances (2^-200 and 2^200). */
+#define MFG_MIN_COORD 6.2230152778611417e-61
 #define MFG_MAX_COORD 1.6069380442589903e+60
 
 typedef enum mfg_status {

@@ -359,7 +359,7 @@ static mfg_status prepare(const double *vertices, const int64_t *offsets, const 
         return mfg_fail(MFG_ERR_NULL, "vertices is NULL");
     for (int64_t k = 0; k < 3 * offsets[npolys]; k++)
         if (!mfg_coord_ok(vertices[k]))
-            return mfg_fail(MFG_ERR_INVALID, "vertex %lld has a NaN or infinite coordinate", (long long)(k / 3));
+            return mfg_fail(MFG_ERR_INVALID, "vertex %lld has a NaN, infinite or out-of-range coordinate (allowed: 0 or 2^-200 <= |x| <= 2^200)", (long long)(k / 3));
 
     W->sets = calloc((size_t)npolys, sizeof(sset));
     if (!W->sets)

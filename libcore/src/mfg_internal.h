@@ -16,10 +16,14 @@ mfg_status mfg_fail(mfg_status status, const char *fmt, ...)
 /* Clears the thread's detail text (called on success paths of public entry points). */
 void mfg_clear_error(void);
 
-/* True when v is finite and |v| <= MFG_MAX_COORD. */
+/* True when v is 0 or MFG_MIN_COORD <= |v| <= MFG_MAX_COORD (false for NaN and Inf).
+ * Inside that range every coordinate is a multiple of 2^-252, so every exact
+ * intermediate of a degree-4 predicate is a multiple of 2^-1008: representable, never
+ * flushed to zero, and below 2^810: the expansion arithmetic stays exact. */
 static inline int mfg_coord_ok(double v)
 {
-    return v >= -MFG_MAX_COORD && v <= MFG_MAX_COORD; /* false for NaN */
+    double a = v < 0 ? -v : v;
+    return v == 0.0 || (a >= MFG_MIN_COORD && a <= MFG_MAX_COORD);
 }
 
 #endif

@@ -61,7 +61,7 @@ mfg_status mfg_ringset_build(mfg_ringset *rs, const double *xy, const int64_t *r
         return mfg_fail(MFG_ERR_DEGENERATE, "no rings: a region needs at least one ring (nrings = %lld)",
                         (long long)nrings);
     if (!(tol >= 0.0) || !mfg_coord_ok(tol))
-        return mfg_fail(MFG_ERR_INVALID, "tolerance must be finite, >= 0 and <= 2^200 (got %g)", tol);
+        return mfg_fail(MFG_ERR_INVALID, "tolerance must be 0 or between 2^-200 and 2^200 (got %g)", tol);
     if (ring_offsets[0] != 0)
         return mfg_fail(MFG_ERR_INVALID, "ring_offsets[0] must be 0 (got %lld)",
                         (long long)ring_offsets[0]);
@@ -83,7 +83,7 @@ mfg_status mfg_ringset_build(mfg_ringset *rs, const double *xy, const int64_t *r
     for (int64_t k = 0; k < 2 * total; k++)
         if (!mfg_coord_ok(xy[k]))
             return mfg_fail(MFG_ERR_INVALID,
-                            "vertex %lld has a NaN, infinite or out-of-range coordinate (%g)",
+                            "vertex %lld has a NaN, infinite or out-of-range coordinate (allowed: 0 or 2^-200 <= |x| <= 2^200) (%g)",
                             (long long)(k / 2), xy[k]);
 
     int64_t nslots = total + nrings;
@@ -186,7 +186,7 @@ mfg_status mfg_check_points(const double *pts, int64_t npoints, const void *out)
     for (int64_t k = 0; k < 2 * npoints; k++)
         if (!mfg_coord_ok(pts[k]))
             return mfg_fail(MFG_ERR_INVALID,
-                            "point %lld has a NaN, infinite or out-of-range coordinate (%g)",
+                            "point %lld has a NaN, infinite or out-of-range coordinate (allowed: 0 or 2^-200 <= |x| <= 2^200) (%g)",
                             (long long)(k / 2), pts[k]);
     return MFG_OK;
 }
@@ -372,7 +372,10 @@ mfg_status mfg_classify_points(const double *xy, const int64_t *ring_offsets, in
             out[k] = MFG_OUT;
             continue;
         }
-        if (scan(&rs, float_down(p.box.xlo), float_up(p.box.xhi), &p))
+        /* Clamped to finite floats: the closing slots' empty extents (+inf, -inf) must
+         * fail the test even for a box reaching beyond the float range. */
+        float lo = fmaxf(float_down(p.box.xlo), -FLT_MAX), hi = fminf(float_up(p.box.xhi), FLT_MAX);
+        if (scan(&rs, lo, hi, &p))
             out[k] = MFG_ON;
         else
             out[k] = (p.crossings & 1) ? MFG_IN : MFG_OUT;

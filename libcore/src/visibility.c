@@ -654,7 +654,7 @@ mfg_status mfg_visibility_map(const double *normals, int64_t m, double draft_ang
         for (int c = 0; c < 3; c++)
             if (!mfg_coord_ok(p[c]))
                 return mfg_fail(MFG_ERR_INVALID,
-                                "normal %lld has a NaN, infinite or out-of-range component (%g)",
+                                "normal %lld has a NaN, infinite or out-of-range component (%g; allowed: 0 or 2^-200 <= |x| <= 2^200)",
                                 (long long)i, p[c]);
         if (p[0] == 0.0 && p[1] == 0.0 && p[2] == 0.0)
             return mfg_fail(MFG_ERR_INVALID, "normal %lld is the zero vector", (long long)i);

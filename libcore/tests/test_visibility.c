@@ -1,0 +1,603 @@
+/* SPDX-License-Identifier: LGPL-2.1-or-later */
+/* test_visibility.c - unit tests of mfg_visibility_map against the definition
+ * VM(P) = { d : d.p >= 0 for all p in P }: constructed kinds, error statuses, dense
+ * sampling on random caps, permutation invariance, near-duplicates and 10^6 normals. */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "mfg_test.h"
+#include "mfgeom.h"
+
+/* ---- small vector helpers ------------------------------------------------------------ */
+
+static double dot3(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void cross3(const double *a, const double *b, double *o)
+{
+    double x = a[1] * b[2] - a[2] * b[1], y = a[2] * b[0] - a[0] * b[2],
+           z = a[0] * b[1] - a[1] * b[0];
+    o[0] = x, o[1] = y, o[2] = z;
+}
+
+static void unit3(double *a)
+{
+    double r = sqrt(dot3(a, a));
+    a[0] /= r, a[1] /= r, a[2] /= r;
+}
+
+/* Fibonacci lattice: n nearly uniform directions. */
+static double *fibonacci(int64_t n)
+{
+    double *d = malloc((size_t)n * 3 * sizeof(double));
+    const double ga = M_PI * (3.0 - sqrt(5.0));
+    for (int64_t i = 0; i < n; i++) {
+        double z = 1.0 - 2.0 * ((double)i + 0.5) / (double)n, r = sqrt(fmax(0.0, 1 - z * z));
+        d[3 * i] = r * cos(ga * (double)i);
+        d[3 * i + 1] = r * sin(ga * (double)i);
+        d[3 * i + 2] = z;
+    }
+    return d;
+}
+
+/* A right-handed orthonormal frame (e1, e2) completing unit c. */
+static void frame(const double *c, double *e1, double *e2)
+{
+    double a[3] = {1, 0, 0};
+    if (fabs(c[0]) > 0.9)
+        a[0] = 0, a[1] = 1;
+    cross3(c, a, e1);
+    unit3(e1);
+    cross3(c, e1, e2);
+}
+
+/* A uniform random direction in the cap of angular radius rad about unit c. */
+static void cap_sample(const double *c, double rad, double *out)
+{
+    double e1[3], e2[3];
+    frame(c, e1, e2);
+    double z = rng_uniform(cos(rad), 1.0), r = sqrt(fmax(0.0, 1 - z * z));
+    double phi = rng_uniform(0, 2 * M_PI);
+    for (int i = 0; i < 3; i++)
+        out[i] = z * c[i] + r * (cos(phi) * e1[i] + sin(phi) * e2[i]);
+}
+
+static void random_dir(double *out)
+{
+    do {
+        for (int i = 0; i < 3; i++)
+            out[i] = rng_uniform(-1, 1);
+    } while (dot3(out, out) > 1 || dot3(out, out) < 1e-6);
+    unit3(out);
+}
+
+/* min over the normals of d . p^ (the definition of VM). */
+static double min_dot(const double *d, const double *pn, int64_t m)
+{
+    double best = 2;
+    for (int64_t j = 0; j < m; j++)
+        best = fmin(best, dot3(d, pn + 3 * j));
+    return best;
+}
+
+static double *normalised(const double *p, int64_t m)
+{
+    double *pn = malloc((size_t)m * 3 * sizeof(double));
+    memcpy(pn, p, (size_t)m * 3 * sizeof(double));
+    for (int64_t i = 0; i < m; i++)
+        unit3(pn + 3 * i);
+    return pn;
+}
+
+/* Our containment test for a CCW convex polygon: d.(v_i x v_i+1) >= -tol on every edge. */
+static int in_polygon(const double *d, const mfg_spoly *s, double tol)
+{
+    for (int64_t i = 0; i < s->nvertices; i++) {
+        double n[3];
+        cross3(s->vertices + 3 * i, s->vertices + 3 * ((i + 1) % s->nvertices), n);
+        if (dot3(d, n) < -tol)
+            return 0;
+    }
+    return 1;
+}
+
+/* Checks a map against the definition.  Every vertex in VM; for a polygon: every edge on
+ * a great circle GC(p) of one normal, convex and CCW, and dense samples (nsamp global +
+ * nsamp near the map) strictly in VM are inside, strictly outside are outside.  Returns
+ * the number of failed sub-checks (also counted by CHECK). */
+static int check_vm(const double *p, int64_t m, const mfg_spoly *s, int64_t nsamp)
+{
+    int before = mfg_test_failures;
+    double *pn = normalised(p, m);
+    for (int64_t i = 0; i < s->nvertices; i++) {
+        const double *v = s->vertices + 3 * i;
+        CHECK(fabs(dot3(v, v) - 1) < 1e-14);
+        CHECK(min_dot(v, pn, m) >= -1e-12);
+    }
+    double *fib = fibonacci(nsamp);
+    int64_t strict_in = 0, bad_in = 0, bad_out = 0;
+    double centre[3] = {0, 0, 0}, rad = M_PI;
+    if (s->kind == MFG_VM_POLYGON) {
+        for (int64_t i = 0; i < s->nvertices; i++)
+            for (int c = 0; c < 3; c++)
+                centre[c] += s->vertices[3 * i + c];
+        if (dot3(centre, centre) > 1e-12) {
+            unit3(centre);
+            rad = 0;
+            for (int64_t i = 0; i < s->nvertices; i++)
+                rad = fmax(rad, acos(fmin(1, dot3(centre, s->vertices + 3 * i))));
+            rad = fmin(M_PI, 1.5 * rad + 1e-3);
+        } else {
+            centre[2] = 1;
+        }
+    }
+    double best = -2, best_d[3] = {0, 0, 1};
+    for (int64_t k = 0; k < 2 * nsamp; k++) {
+        double d[3];
+        if (k < nsamp)
+            memcpy(d, fib + 3 * k, sizeof d);
+        else if (s->kind == MFG_VM_POLYGON)
+            cap_sample(centre, rad, d);
+        else
+            break;
+        double md = min_dot(d, pn, m);
+        if (md > best) {
+            best = md;
+            memcpy(best_d, d, sizeof d);
+        }
+        if (md > 1e-9) {
+            strict_in++;
+            if (s->kind != MFG_VM_POLYGON || !in_polygon(d, s, 1e-12))
+                bad_in++;
+        } else if (md < -1e-9 && s->kind == MFG_VM_POLYGON && in_polygon(d, s, 1e-12)) {
+            bad_out++;
+        }
+    }
+    CHECK_EQ_INT(bad_in, 0);
+    CHECK_EQ_INT(bad_out, 0);
+    if (s->kind == MFG_VM_POLYGON) {
+        int64_t n = s->nvertices;
+        CHECK(n >= 3);
+        for (int64_t i = 0; i < n; i++) {
+            const double *a = s->vertices + 3 * i, *b = s->vertices + 3 * ((i + 1) % n);
+            int on_gc = 0;
+            for (int64_t j = 0; j < m && !on_gc; j++)
+                on_gc = fabs(dot3(a, pn + 3 * j)) < 1e-12 && fabs(dot3(b, pn + 3 * j)) < 1e-12;
+            CHECK(on_gc);
+            double cr[3];
+            cross3(a, b, cr);
+            CHECK(dot3(cr, cr) > 1e-28 && (dot3(a, b) > 0 || dot3(cr, cr) > 1e-18));
+            for (int64_t k = 0; k < n; k++) /* convex, interior on the left */
+                CHECK(dot3(s->vertices + 3 * k, cr) >= -1e-12);
+        }
+        if (strict_in > 0)
+            CHECK(in_polygon(best_d, s, -1e-15)); /* deepest sample strictly left */
+    }
+    free(fib);
+    free(pn);
+    return mfg_test_failures - before;
+}
+
+static mfg_spoly *vm(const double *p, int64_t m, double draft)
+{
+    mfg_spoly *s = NULL;
+    mfg_status st = mfg_visibility_map(p, m, draft, &s);
+    CHECK_EQ_INT(st, MFG_OK);
+    if (st != MFG_OK) {
+        fprintf(stderr, "  mfg_visibility_map: %s\n", mfg_last_error());
+        return NULL;
+    }
+    return s;
+}
+
+/* ---- constructed kinds ---------------------------------------------------------------- */
+
+static void test_kinds(void)
+{
+    mfg_spoly *s;
+    double one[3] = {0.3, -0.4, 0.8};
+    if ((s = vm(one, 1, 0))) {
+        CHECK_EQ_INT(s->kind, MFG_VM_POLYGON);
+        CHECK_EQ_INT(s->nvertices, 3);
+        check_vm(one, 1, s, 20000);
+        mfg_spoly_free(s);
+    }
+    double two[6] = {0, 0, 1, 1, 0.2, 0.1};
+    if ((s = vm(two, 2, 0))) {
+        CHECK_EQ_INT(s->kind, MFG_VM_POLYGON);
+        CHECK_EQ_INT(s->nvertices, 4);
+        check_vm(two, 2, s, 20000);
+        mfg_spoly_free(s);
+    }
+    double anti[6] = {0, 0.6, 0.8, 0, -0.6, -0.8};
+    if ((s = vm(anti, 2, 0))) {
+        CHECK_EQ_INT(s->kind, MFG_VM_EDGE);
+        CHECK_EQ_INT(s->closed, 1);
+        CHECK_EQ_INT(s->nvertices, 3);
+        for (int i = 0; i < 3 && s->nvertices == 3; i++) {
+            CHECK(fabs(dot3(s->vertices + 3 * i, anti)) < 1e-15);
+            CHECK(fabs(dot3(s->vertices + 3 * i, s->vertices + 3 * ((i + 1) % 3)) + 0.5) < 1e-14);
+        }
+        check_vm(anti, 2, s, 20000);
+        mfg_spoly_free(s);
+    }
+    double half[9] = {0, 0, 1, 0, 0, -1, 1, 1, 0.5};
+    if ((s = vm(half, 3, 0))) {
+        CHECK_EQ_INT(s->kind, MFG_VM_EDGE);
+        CHECK_EQ_INT(s->closed, 0);
+        CHECK_EQ_INT(s->nvertices, 3);
+        if (s->nvertices == 3) {
+            const double *v = s->vertices;
+            CHECK(fabs(v[0] + v[6]) < 1e-14 && fabs(v[1] + v[7]) < 1e-14 && fabs(v[8]) < 1e-15);
+            CHECK(fabs(v[3] - sqrt(0.5)) < 1e-14 && fabs(v[4] - sqrt(0.5)) < 1e-14);
+        }
+        check_vm(half, 3, s, 20000);
+        mfg_spoly_free(s);
+    }
+    /* three normals on the equator in no half of it: both poles */
+    double ring[12] = {1, 0, 0, cos(2.3), sin(2.3), 0, cos(4.0), sin(4.0), 0, 0.2, 0.3, -0.5};
+    if ((s = vm(ring, 3, 0))) {
+        CHECK_EQ_INT(s->kind, MFG_VM_POINT);
+        CHECK_EQ_INT(s->nvertices, 2);
+        if (s->nvertices == 2)
+            CHECK(fabs(fabs(s->vertices[2]) - 1) < 1e-15 && s->vertices[2] == -s->vertices[5]);
+        check_vm(ring, 3, s, 20000);
+        mfg_spoly_free(s);
+    }
+    if ((s = vm(ring, 4, 0))) { /* plus one below the equator: the south pole */
+        CHECK_EQ_INT(s->kind, MFG_VM_POINT);
+        CHECK_EQ_INT(s->nvertices, 1);
+        if (s->nvertices == 1)
+            CHECK(fabs(s->vertices[2] + 1) < 1e-15);
+        check_vm(ring, 4, s, 20000);
+        mfg_spoly_free(s);
+    }
+    double tetra[12] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
+    if ((s = vm(tetra, 4, 0))) {
+        CHECK_EQ_INT(s->kind, MFG_VM_NULL);
+        CHECK_EQ_INT(s->nvertices, 0);
+        check_vm(tetra, 4, s, 20000);
+        mfg_spoly_free(s);
+    }
+    double box[18] = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
+    if ((s = vm(box, 6, 0))) {
+        CHECK_EQ_INT(s->kind, MFG_VM_NULL);
+        mfg_spoly_free(s);
+    }
+    double pocket[15] = {0, 0, 1, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0};
+    if ((s = vm(pocket, 5, 0))) {
+        CHECK_EQ_INT(s->kind, MFG_VM_POINT);
+        CHECK_EQ_INT(s->nvertices, 1);
+        if (s->nvertices == 1)
+            CHECK(fabs(s->vertices[2] - 1) < 1e-15);
+        mfg_spoly_free(s);
+    }
+}
+
+/* ---- error statuses ------------------------------------------------------------------- */
+
+static void expect_error(const double *p, int64_t m, double draft, int with_out,
+                         mfg_status want)
+{
+    mfg_spoly sentinel_obj, *sentinel = &sentinel_obj, *out = sentinel;
+    mfg_status st = mfg_visibility_map(p, m, draft, with_out ? &out : NULL);
+    CHECK_EQ_INT(st, want);
+    CHECK(mfg_last_error()[0] != '\0');
+    CHECK(out == sentinel); /* output untouched */
+}
+
+static void test_errors(void)
+{
+    double ok[6] = {0, 0, 1, 1, 0, 0};
+    double nan_[6] = {0, 0, 1, NAN, 0, 0};
+    double inf_[6] = {0, 0, 1, 0, INFINITY, 0};
+    double zero[6] = {0, 0, 1, 0, 0, 0};
+    double huge[6] = {0, 0, 1, 1e300, 0, 0};
+    expect_error(ok, 2, 0, 0, MFG_ERR_NULL);
+    expect_error(NULL, 2, 0, 1, MFG_ERR_NULL);
+    expect_error(ok, 0, 0, 1, MFG_ERR_DEGENERATE);
+    {
+        mfg_spoly *out = (mfg_spoly *)ok;
+        mfg_status st = mfg_visibility_map(ok, -3, 0, &out);
+        CHECK(st == MFG_ERR_DEGENERATE || st == MFG_ERR_INVALID);
+        CHECK(out == (mfg_spoly *)ok);
+    }
+    expect_error(nan_, 2, 0, 1, MFG_ERR_INVALID);
+    expect_error(inf_, 2, 0, 1, MFG_ERR_INVALID);
+    expect_error(zero, 2, 0, 1, MFG_ERR_INVALID);
+    expect_error(huge, 2, 0, 1, MFG_ERR_INVALID);
+    expect_error(ok, 2, M_PI / 2, 1, MFG_ERR_INVALID);
+    expect_error(ok, 2, 2.0, 1, MFG_ERR_INVALID);
+    expect_error(ok, 2, -0.1, 1, MFG_ERR_INVALID);
+    expect_error(ok, 2, NAN, 1, MFG_ERR_INVALID);
+    expect_error(ok, 2, INFINITY, 1, MFG_ERR_INVALID);
+    /* a failure leaves nothing behind: the next call succeeds */
+    mfg_spoly *s = vm(ok, 2, 0);
+    mfg_spoly_free(s);
+    mfg_spoly_free(NULL);
+}
+
+/* ---- random caps, permutations, duplicates -------------------------------------------- */
+
+static double *cap_normals(int64_t m, const double *c, double rad)
+{
+    double *p = malloc((size_t)m * 3 * sizeof(double));
+    for (int64_t i = 0; i < m; i++) {
+        cap_sample(c, rad, p + 3 * i);
+        double len = rng_uniform(0.1, 10); /* lengths do not matter */
+        for (int k = 0; k < 3; k++)
+            p[3 * i + k] *= len;
+    }
+    return p;
+}
+
+static void test_random_caps(void)
+{
+    for (int trial = 0; trial < 12; trial++) {
+        int64_t m = (int64_t[]){3, 5, 10, 40, 200, 1000}[trial % 6];
+        double c[3];
+        random_dir(c);
+        double rad = rng_uniform(0.05, 89.0 * M_PI / 180);
+        double *p = cap_normals(m, c, rad);
+        mfg_spoly *s = vm(p, m, 0);
+        if (s) {
+            CHECK_EQ_INT(s->kind, MFG_VM_POLYGON);
+            if (check_vm(p, m, s, 30000))
+                fprintf(stderr, "  random cap trial %d (m = %lld) failed\n", trial, (long long)m);
+            CHECK(in_polygon(c, s, -1e-15)); /* the cap's centre is strictly inside */
+            mfg_spoly_free(s);
+        }
+        free(p);
+    }
+}
+
+/* Same set of vertices (as points, 1e-12), whatever the order. */
+static int same_vertex_set(const mfg_spoly *a, const mfg_spoly *b)
+{
+    if (a->kind != b->kind || a->nvertices != b->nvertices)
+        return 0;
+    for (int pass = 0; pass < 2; pass++) {
+        const mfg_spoly *x = pass ? b : a, *y = pass ? a : b;
+        for (int64_t i = 0; i < x->nvertices; i++) {
+            int found = 0;
+            for (int64_t j = 0; j < y->nvertices && !found; j++) {
+                double dx = x->vertices[3 * i] - y->vertices[3 * j],
+                       dy = x->vertices[3 * i + 1] - y->vertices[3 * j + 1],
+                       dz = x->vertices[3 * i + 2] - y->vertices[3 * j + 2];
+                found = sqrt(dx * dx + dy * dy + dz * dz) <= 1e-12;
+            }
+            if (!found)
+                return 0;
+        }
+    }
+    return 1;
+}
+
+static void shuffle(double *p, int64_t m)
+{
+    for (int64_t i = m - 1; i > 0; i--) {
+        int64_t j = rng_int(0, i);
+        double t[3];
+        memcpy(t, p + 3 * i, sizeof t);
+        memcpy(p + 3 * i, p + 3 * j, sizeof t);
+        memcpy(p + 3 * j, t, sizeof t);
+    }
+}
+
+static void test_permutation_invariance(void)
+{
+    for (int trial = 0; trial < 6; trial++) {
+        int64_t m = 30 + 40 * trial;
+        double c[3];
+        random_dir(c);
+        double *p = cap_normals(m, c, rng_uniform(0.2, 1.4));
+        mfg_spoly *s = vm(p, m, 0);
+        for (int k = 0; k < 4 && s; k++) {
+            shuffle(p, m);
+            mfg_spoly *t = vm(p, m, 0);
+            if (t) {
+                CHECK(same_vertex_set(s, t));
+                mfg_spoly_free(t);
+            }
+        }
+        mfg_spoly_free(s);
+        free(p);
+    }
+    /* degenerate kinds too: the whole circle's three points may be anywhere on it, but
+     * an arc and the points are unique */
+    double half[12] = {0, 0, 1, 0, 0, -1, 1, 1, 0.5, 0.5, 1, -0.25};
+    mfg_spoly *s = vm(half, 4, 0);
+    for (int k = 0; k < 6 && s; k++) {
+        shuffle(half, 4);
+        mfg_spoly *t = vm(half, 4, 0);
+        if (t) {
+            CHECK_EQ_INT(t->kind, MFG_VM_EDGE);
+            CHECK(same_vertex_set(s, t));
+            mfg_spoly_free(t);
+        }
+    }
+    mfg_spoly_free(s);
+}
+
+static void test_duplicates(void)
+{
+    /* exact duplicates and power-of-two multiples are the same directions */
+    double c[3] = {0.1, 0.2, 1};
+    unit3(c);
+    double *p = cap_normals(12, c, 0.8);
+    double *q = malloc(36 * 3 * sizeof(double));
+    for (int i = 0; i < 12; i++)
+        for (int k = 0; k < 3; k++) {
+            q[3 * i + k] = p[3 * i + k];
+            q[36 + 3 * i + k] = p[3 * i + k];
+            q[72 + 3 * i + k] = 4.0 * p[3 * i + k];
+        }
+    mfg_spoly *a = vm(p, 12, 0), *b = vm(q, 36, 0);
+    if (a && b)
+        CHECK(same_vertex_set(a, b));
+    mfg_spoly_free(a);
+    mfg_spoly_free(b);
+    free(q);
+    /* p and the rounded 3p: almost, but not exactly, parallel */
+    double pr[6] = {0.09420654213039938, 0.7572164061532809, 0.6463346205118081,
+                    0.28261962639119814, 2.2716492184598427, 1.9390038615354244};
+    mfg_spoly *s = vm(pr, 2, 0);
+    if (s) {
+        CHECK_EQ_INT(s->kind, MFG_VM_POLYGON);
+        check_vm(pr, 2, s, 20000);
+        mfg_spoly_free(s);
+    }
+    /* near-duplicates: copies perturbed by a few ulps */
+    for (int trial = 0; trial < 6; trial++) {
+        int64_t m = 8;
+        double cc[3];
+        random_dir(cc);
+        double *base = cap_normals(m, cc, rng_uniform(0.2, 1.3));
+        double *nd = malloc((size_t)(4 * m) * 3 * sizeof(double));
+        for (int64_t i = 0; i < 4 * m; i++)
+            for (int k = 0; k < 3; k++) {
+                double x = base[3 * (i % m) + k];
+                int steps = i < m ? 0 : (int)rng_int(-4, 4);
+                for (int st = 0; st < abs(steps); st++)
+                    x = nextafter(x, steps > 0 ? INFINITY : -INFINITY);
+                nd[3 * i + k] = x;
+            }
+        s = vm(nd, 4 * m, 0);
+        if (s) {
+            CHECK_EQ_INT(s->kind, MFG_VM_POLYGON);
+            if (check_vm(nd, 4 * m, s, 20000))
+                fprintf(stderr, "  near-duplicate trial %d failed\n", trial);
+            mfg_spoly_free(s);
+        }
+        free(nd);
+        free(base);
+    }
+    free(p);
+}
+
+/* ---- many hull vertices, draft, large inputs ---------------------------------------- */
+
+static void test_many_hull_vertices(void)
+{
+    int64_t ks[] = {64, 65, 100, 1000};
+    for (int t = 0; t < 4; t++) {
+        int64_t k = ks[t];
+        double *p = malloc((size_t)k * 3 * sizeof(double));
+        for (int64_t i = 0; i < k; i++) {
+            double a = 2 * M_PI * (double)i / (double)k;
+            p[3 * i] = 0.5 * cos(a);
+            p[3 * i + 1] = 0.5 * sin(a);
+            p[3 * i + 2] = sqrt(0.75);
+        }
+        mfg_spoly *s = vm(p, k, 0);
+        if (s) {
+            CHECK_EQ_INT(s->kind, MFG_VM_POLYGON);
+            CHECK_EQ_INT(s->nvertices, k);
+            double c = cos(M_PI / (double)k), z = c / sqrt(c * c + 3);
+            for (int64_t i = 0; i < s->nvertices; i++)
+                CHECK(fabs(s->vertices[3 * i + 2] - z) < 1e-12);
+            check_vm(p, k, s, 20000);
+            mfg_spoly_free(s);
+        }
+        free(p);
+    }
+}
+
+static void test_draft(void)
+{
+    for (int trial = 0; trial < 8; trial++) {
+        int64_t m = (int64_t[]){1, 2, 3, 6, 30, 1, 2, 100}[trial];
+        double c[3];
+        random_dir(c);
+        double *p = cap_normals(m, c, rng_uniform(0.05, 0.9));
+        double alpha = rng_uniform(0.01, 0.4), sa = sin(alpha);
+        mfg_spoly *s = vm(p, m, alpha);
+        if (s) {
+            CHECK_EQ_INT(s->kind, MFG_VM_POLYGON);
+            double *pn = normalised(p, m);
+            for (int64_t i = 0; i < s->nvertices; i++)
+                CHECK(min_dot(s->vertices + 3 * i, pn, m) >= sa - 1e-12);
+            /* directions deeper than 2e-4 in the drafted set are inside the polygon */
+            int64_t deep = 0, missed = 0;
+            for (int k = 0; k < 100000; k++) {
+                double d[3];
+                cap_sample(c, M_PI / 2, d);
+                if (min_dot(d, pn, m) >= sa + 2e-4) {
+                    deep++;
+                    missed += !in_polygon(d, s, 1e-12);
+                }
+            }
+            CHECK(deep > 0);
+            CHECK_EQ_INT(missed, 0);
+            if (missed)
+                fprintf(stderr, "  draft trial %d (m = %lld, alpha = %.17g): %lld of %lld "
+                                "deep directions missed\n",
+                        trial, (long long)m, alpha, (long long)missed, (long long)deep);
+            free(pn);
+            mfg_spoly_free(s);
+        }
+        free(p);
+    }
+    /* a degenerate map has no direction strictly inside: drafted, it is empty */
+    double anti[6] = {0, 0, 1, 0, 0, -1};
+    mfg_spoly *s = vm(anti, 2, 0.1);
+    if (s) {
+        CHECK_EQ_INT(s->kind, MFG_VM_NULL);
+        mfg_spoly_free(s);
+    }
+}
+
+static void test_million_normals(void)
+{
+    const int64_t m = 1000000;
+    double c[3] = {0.3, -0.2, 1};
+    unit3(c);
+    double *p = cap_normals(m, c, 1.2);
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    mfg_spoly *s = vm(p, m, 0);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    double secs = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    if (s) {
+        printf("  10^6 normals: %lld vertices in %.3f s\n", (long long)s->nvertices, secs);
+        CHECK_EQ_INT(s->kind, MFG_VM_POLYGON);
+        double *pn = normalised(p, m);
+        /* every vertex satisfies all 10^6 constraints and is tight on two of them */
+        for (int64_t i = 0; i < s->nvertices; i++) {
+            const double *v = s->vertices + 3 * i;
+            int64_t tight = 0;
+            double lo = 2;
+            for (int64_t j = 0; j < m; j++) {
+                double x = dot3(v, pn + 3 * j);
+                lo = fmin(lo, x);
+                tight += fabs(x) < 1e-12;
+            }
+            CHECK(lo >= -1e-12);
+            CHECK(tight >= 2);
+        }
+        CHECK(in_polygon(c, s, -1e-15));
+        free(pn);
+        mfg_spoly_free(s);
+    }
+    free(p);
+}
+
+int main(void)
+{
+    test_kinds();
+    test_errors();
+    test_random_caps();
+    test_permutation_invariance();
+    test_duplicates();
+    test_many_hull_vertices();
+    test_draft();
+    test_million_normals();
+    return mfg_test_report("test_visibility");
+}
