@@ -1350,7 +1350,8 @@ static mfg_status emit(work *W, region *R, int64_t nr, double weight, mfg_region
     for (int64_t r = 0; r < nr; r++) {
         const cand *C = &W->cands[R[r].cand];
         res->kinds[r] = R[r].kind;
-        memcpy(res->vertices + 3 * res->vertex_offsets[r], R[r].v, (size_t)R[r].nv * 3 * sizeof(double));
+        if (R[r].nv > 0)
+            memcpy(res->vertices + 3 * res->vertex_offsets[r], R[r].v, (size_t)R[r].nv * 3 * sizeof(double));
         res->vertex_offsets[r + 1] = res->vertex_offsets[r] + R[r].nv;
         int64_t *cv = res->cover + res->cover_offsets[r];
         for (int64_t k = 0; k < C->len; k++)
