@@ -59,7 +59,8 @@ typedef struct event {
 /* A candidate region: its cover set (sorted set indices) and a sample direction. */
 typedef struct cand {
     double weight;
-    int64_t off, len;  /* into the candidate pool of set indices */
+    int64_t off, len;  /* cover set in the pool of set indices; len < 0: not computed */
+    uint64_t hash;     /* of the cover set, once computed */
     double x[3];
     int degenerate;    /* found only at an isolated point of an edge */
 } cand;
@@ -497,7 +498,36 @@ static int cmp_i64(const void *x, const void *y)
     return (a > b) - (a < b);
 }
 
-/* Records a candidate at direction x: its cover set is every set containing x. */
+/* Computes candidate ci's cover set (every set containing its direction) into the pool. */
+static mfg_status compute_cover(work *W, int64_t ci)
+{
+    if (W->npool + W->nsets + 1 > W->cap_pool) {
+        int64_t cap = W->cap_pool ? 2 * W->cap_pool : 1024;
+        while (cap < W->npool + W->nsets + 1)
+            cap *= 2;
+        int64_t *p = realloc(W->pool, (size_t)cap * sizeof(int64_t));
+        if (!p)
+            return mfg_fail(MFG_ERR_NOMEM, "cannot store cover sets");
+        W->pool = p;
+        W->cap_pool = cap;
+    }
+    cand *c = &W->cands[ci];
+    int64_t len = 0;
+    uint64_t h = 1469598103934665603ULL; /* FNV-1a over the sorted indices */
+    for (int64_t j = 0; j < W->nsets; j++)
+        if (set_contains(&W->sets[j], c->x)) {
+            W->pool[W->npool + len++] = j;
+            h = (h ^ (uint64_t)j) * 1099511628211ULL;
+        }
+    c->off = W->npool;
+    c->len = len;
+    c->hash = h;
+    W->npool += len;
+    return MFG_OK;
+}
+
+/* Records a candidate direction.  Its cover set is computed later, and only for the
+ * few candidates that are not inside a region already built (minimum: at once). */
 static mfg_status add_candidate(work *W, double weight, const double x[3], int degenerate)
 {
     if (W->ncands == W->cap_cands) {
@@ -508,28 +538,14 @@ static mfg_status add_candidate(work *W, double weight, const double x[3], int d
         W->cands = c;
         W->cap_cands = cap;
     }
-    if (W->npool + W->nsets + 1 > W->cap_pool) {
-        int64_t cap = W->cap_pool ? 2 * W->cap_pool : 1024;
-        while (cap < W->npool + W->nsets + 1)
-            cap *= 2;
-        int64_t *p = realloc(W->pool, (size_t)cap * sizeof(int64_t));
-        if (!p)
-            return mfg_fail(MFG_ERR_NOMEM, "cannot store candidates");
-        W->pool = p;
-        W->cap_pool = cap;
-    }
     cand *c = &W->cands[W->ncands++];
     c->weight = weight;
-    c->off = W->npool;
+    c->off = 0;
+    c->len = -1;
+    c->hash = 0;
     c->degenerate = degenerate;
     memcpy(c->x, x, sizeof c->x);
-    int64_t len = 0;
-    for (int64_t j = 0; j < W->nsets; j++)
-        if (set_contains(&W->sets[j], x))
-            W->pool[W->npool + len++] = j;
-    c->len = len;
-    W->npool += len;
-    return MFG_OK;
+    return W->mode == MODE_MIN ? compute_cover(W, W->ncands - 1) : MFG_OK;
 }
 
 /* Exact sweep of the events (already in W->ev) inside [s0, s1] of edge a->b, entering
@@ -1252,62 +1268,62 @@ static mfg_status search(work *W, int mode, double threshold, double eps)
     return st;
 }
 
-static int cmp_cand_set(const work *W, int64_t x, int64_t y)
+static int same_set(const work *W, const cand *a, const cand *b)
 {
-    const cand *a = &W->cands[x], *b = &W->cands[y];
-    if (a->len != b->len)
-        return a->len < b->len ? -1 : 1;
-    for (int64_t k = 0; k < a->len; k++) {
-        int64_t p = W->pool[a->off + k], q = W->pool[b->off + k];
-        if (p != q)
-            return p < q ? -1 : 1;
-    }
-    return 0;
+    if (a->len != b->len || a->hash != b->hash)
+        return 0;
+    for (int64_t k = 0; k < a->len; k++)
+        if (W->pool[a->off + k] != W->pool[b->off + k])
+            return 0;
+    return 1;
 }
 
-/* Keeps one candidate per distinct cover set (preferring a piece over an isolated
- * point) and, for levels, only inclusion-maximal sets.  Returns kept indices. */
-static int64_t distinct_sets(work *W, int64_t *keep, int maximal_only)
+/* Is a's cover set inside b's?  (Both sorted.) */
+static int subset_of(const work *W, const cand *a, const cand *b)
 {
-    int64_t n = W->ncands, m = 0;
-    for (int64_t i = 0; i < n; i++) {
-        int64_t dup = -1;
-        for (int64_t j = 0; j < m; j++)
-            if (cmp_cand_set(W, keep[j], i) == 0) {
-                dup = j;
-                break;
-            }
-        if (dup < 0)
-            keep[m++] = i;
-        else if (W->cands[keep[dup]].degenerate && !W->cands[i].degenerate)
-            keep[dup] = i;
+    int64_t p = 0, q = 0;
+    while (p < a->len && q < b->len) {
+        int64_t x = W->pool[a->off + p], y = W->pool[b->off + q];
+        if (x == y)
+            p++, q++;
+        else if (x > y)
+            q++;
+        else
+            return 0;
     }
-    if (!maximal_only)
-        return m;
-    int64_t out = 0;
-    for (int64_t i = 0; i < m; i++) {
-        const cand *a = &W->cands[keep[i]];
-        int dominated = 0;
-        for (int64_t j = 0; j < m && !dominated; j++) {
-            const cand *b = &W->cands[keep[j]];
-            if (j == i || b->len <= a->len)
-                continue;
-            int64_t p = 0, q = 0; /* is a's set inside b's? (both sorted) */
-            while (p < a->len && q < b->len) {
-                int64_t x = W->pool[a->off + p], y = W->pool[b->off + q];
-                if (x == y)
-                    p++, q++;
-                else if (x > y)
-                    q++;
-                else
-                    break;
-            }
-            dominated = p == a->len;
+    return p == a->len;
+}
+
+/* Within reach (10 TOL) of a built region? */
+static int region_holds(const region *R, const double x[3])
+{
+    const double reach = 10 * TOL;
+    if (R->kind == MFG_VM_POLYGON) {
+        for (int64_t i = 0; i < R->nv; i++) {
+            double n[3], nu[3];
+            mfg_cross3(R->v + 3 * i, R->v + 3 * ((i + 1) % R->nv), n);
+            if (mfg_unit3(n, nu) && mfg_dot3(x, nu) < -reach)
+                return 0;
         }
-        if (!dominated)
-            keep[out++] = keep[i];
+        return 1;
     }
-    return out;
+    const double *p = R->v, *q = R->v + 3 * (R->nv - 1);
+    if (R->kind == MFG_VM_POINT) {
+        double d[3] = {x[0] - p[0], x[1] - p[1], x[2] - p[2]};
+        return sqrt(mfg_dot3(d, d)) <= reach;
+    }
+    double n[3], nu[3], s;
+    mfg_cross3(p, q, n);
+    if (!mfg_unit3(n, nu)) { /* a half circle: use its midpoint to get the circle */
+        mfg_cross3(p, R->v + 3, n);
+        mfg_unit3(n, nu);
+    }
+    if (fabs(mfg_dot3(x, nu)) > reach)
+        return 0;
+    for (int64_t i = 0; i + 1 < R->nv; i++)
+        if (param_on_edge(R->v + 3 * i, R->v + 3 * (i + 1), x, &s))
+            return 1;
+    return 0;
 }
 
 static int cmp_region(const void *x, const void *y)
@@ -1365,6 +1381,37 @@ static mfg_status emit(work *W, region *R, int64_t nr, double weight, mfg_region
     return MFG_OK;
 }
 
+/* Candidate order for building regions: heavier first, pieces before isolated points,
+ * then by direction, so the result does not depend on the search order. */
+static int cand_before(const cand *a, const cand *b)
+{
+    if (a->weight != b->weight)
+        return a->weight > b->weight;
+    if (a->degenerate != b->degenerate)
+        return a->degenerate < b->degenerate;
+    for (int k = 0; k < 3; k++)
+        if (a->x[k] != b->x[k])
+            return a->x[k] < b->x[k];
+    return 0;
+}
+
+static void sort_candidates(const work *W, int64_t *idx, int64_t n, int64_t *tmp)
+{
+    if (n < 2)
+        return;
+    int64_t h = n / 2;
+    sort_candidates(W, idx, h, tmp);
+    sort_candidates(W, idx + h, n - h, tmp);
+    int64_t i = 0, j = h, k = 0;
+    while (i < h && j < n)
+        tmp[k++] = cand_before(&W->cands[idx[j]], &W->cands[idx[i]]) ? idx[j++] : idx[i++];
+    while (i < h)
+        tmp[k++] = idx[i++];
+    while (j < n)
+        tmp[k++] = idx[j++];
+    memcpy(idx, tmp, (size_t)n * sizeof(int64_t));
+}
+
 static double cover_weight(const work *W, const cand *c)
 {
     double w = 0.0;
@@ -1373,47 +1420,89 @@ static double cover_weight(const work *W, const cand *c)
     return w;
 }
 
-/* Builds the regions of the distinct candidate cover sets.  The reported weight is
- * recomputed from the cover sets themselves, so count and covers always agree. */
+/* Turns candidates into regions.  Maximum and levels: candidates are visited heaviest
+ * first; one inside a region already built adds nothing, any other gets its cover set
+ * computed and, if its weight qualifies and (levels) its set is not inside a kept one,
+ * becomes a region: the intersection of that set.  Minimum: one region per distinct cover
+ * set of least weight, represented by its sample direction.  The reported weight is
+ * recomputed from the cover sets, so count and covers always agree. */
 static mfg_status regions_of(work *W, int maximal_only, double level, double eps,
                              mfg_regions **out)
 {
-    int64_t *keep = malloc((size_t)(W->ncands + 1) * sizeof(int64_t));
-    if (!keep)
+    int64_t n = W->ncands;
+    int64_t *idx = malloc((size_t)(n + 1) * sizeof(int64_t));
+    int64_t *tmp = malloc((size_t)(n + 1) * sizeof(int64_t));
+    region *R = calloc((size_t)(n + 1), sizeof(region));
+    if (!idx || !tmp || !R) {
+        free(idx), free(tmp), free(R);
         return mfg_fail(MFG_ERR_NOMEM, "cannot allocate regions");
-    int64_t nk = distinct_sets(W, keep, maximal_only);
-    double top = -INFINITY;
-    for (int64_t i = 0; i < nk; i++)
-        top = fmax(top, cover_weight(W, &W->cands[keep[i]]));
-    double bottom = INFINITY;
-    for (int64_t i = 0; i < nk; i++)
-        bottom = fmin(bottom, cover_weight(W, &W->cands[keep[i]]));
-    double lim = maximal_only ? level : top;
-    int64_t m = 0;
-    for (int64_t i = 0; i < nk; i++) {
-        double cw = cover_weight(W, &W->cands[keep[i]]);
-        if (W->mode == MODE_MIN ? cw <= bottom + eps : cw >= lim - eps)
-            keep[m++] = keep[i];
     }
-    nk = m;
-    region *R = calloc((size_t)(nk + 1), sizeof(region));
-    mfg_status st = R ? MFG_OK : mfg_fail(MFG_ERR_NOMEM, "cannot allocate regions");
-    for (int64_t i = 0; i < nk && st == MFG_OK; i++) {
-        if (W->mode == MODE_MIN) { /* a face, not convex: only its sample direction */
-            R[i].kind = MFG_VM_POLYGON;
-            R[i].cand = keep[i];
-            memcpy(R[i].c, W->cands[keep[i]].x, sizeof R[i].c);
-        } else {
-            st = build_region(W, keep[i], &R[i]);
+    for (int64_t i = 0; i < n; i++)
+        idx[i] = i;
+    sort_candidates(W, idx, n, tmp);
+    mfg_status st = MFG_OK;
+    int64_t nr = 0;
+    double weight = 0.0;
+    if (W->mode == MODE_MIN) {
+        double bottom = INFINITY;
+        for (int64_t i = 0; i < n; i++)
+            bottom = fmin(bottom, cover_weight(W, &W->cands[i]));
+        for (int64_t t = n - 1; t >= 0; t--) { /* lightest first */
+            const cand *c = &W->cands[idx[t]];
+            if (cover_weight(W, c) > bottom + eps)
+                continue;
+            int dup = 0;
+            for (int64_t r = 0; r < nr && !dup; r++)
+                dup = same_set(W, &W->cands[R[r].cand], c);
+            if (dup)
+                continue;
+            R[nr].kind = MFG_VM_POLYGON; /* a face, not convex: only its direction */
+            R[nr].cand = idx[t];
+            memcpy(R[nr].c, c->x, sizeof R[nr].c);
+            nr++;
         }
+        weight = bottom;
+    } else {
+        double top = -INFINITY;
+        for (int64_t t = 0; t < n && st == MFG_OK; t++) {
+            cand *c = &W->cands[idx[t]];
+            if (c->weight < (maximal_only ? level : top) - eps)
+                break;
+            int held = 0;
+            for (int64_t r = 0; r < nr && !held; r++)
+                held = region_holds(&R[r], c->x);
+            if (held)
+                continue;
+            if ((st = compute_cover(W, idx[t])) != MFG_OK)
+                break;
+            c = &W->cands[idx[t]];
+            double cw = cover_weight(W, c);
+            if (!maximal_only && cw > top + eps) { /* a heavier set: start again */
+                for (int64_t r = 0; r < nr; r++)
+                    free(R[r].v);
+                nr = 0;
+                top = cw;
+            }
+            if (cw < (maximal_only ? level : top) - eps)
+                continue;
+            int dominated = 0;
+            for (int64_t r = 0; r < nr && !dominated; r++)
+                dominated = subset_of(W, c, &W->cands[R[r].cand]);
+            if (dominated)
+                continue;
+            st = build_region(W, idx[t], &R[nr]);
+            if (st == MFG_OK)
+                nr++;
+        }
+        weight = maximal_only ? level : (nr ? top : 0.0);
     }
-    double weight = W->mode == MODE_MIN ? bottom : maximal_only ? level : top;
     if (st == MFG_OK)
-        st = emit(W, R, nk, nk ? weight : 0.0, out);
-    for (int64_t i = 0; R && i < nk; i++)
-        free(R[i].v);
+        st = emit(W, R, nr, weight, out);
+    for (int64_t r = 0; r < nr; r++)
+        free(R[r].v);
     free(R);
-    free(keep);
+    free(idx);
+    free(tmp);
     return st;
 }
 
