@@ -23,17 +23,11 @@
  * Every decision goes through the exact predicates, so answers equal the one-shot ones.
  */
 
-/* Fixed positions (fractions of the cell) tried in turn for the reference point. */
-static const double ref_fx[8] = {0.5, 0.3819660112501051, 0.6180339887498949, 0.2360679774997897,
-                                 0.7639320225002103, 0.1458980337503155, 0.8541019662496845, 0.4142135623730950};
-static const double ref_fy[8] = {0.5, 0.6180339887498949, 0.3819660112501051, 0.8541019662496845,
-                                 0.1458980337503155, 0.7639320225002103, 0.2360679774997897, 0.2679491924311227};
-
-/* Per-cell byte: bit 0 parity of the reference point, bit 1 list not empty,
- * bits 2-4 which reference position. One byte a cell keeps the hot table in cache. */
+/* Per-cell byte: bit 0 parity of the reference point, bit 1 list not empty.  One byte
+ * a cell keeps the hot table in cache; the reference position of busy cells is a
+ * separate uint16 (which point of the sequence below). */
 #define CELL_IN 1u
 #define CELL_BUSY 2u
-#define CELL_REF_SHIFT 2
 
 struct mfg_region {
     mfg_ringset rs;
@@ -43,6 +37,7 @@ struct mfg_region {
     double reach;              /* tol + rounding margin: how far a cell list looks */
     int64_t nx, ny;
     uint8_t *cell;             /* nx*ny bytes, see CELL_* */
+    uint16_t *refk;            /* nx*ny: reference point index of each cell */
     uint32_t *start;           /* nx*ny + 1 offsets into edges[] */
     uint32_t *edges;           /* edge (slot) ids, ascending within a cell */
 };
@@ -105,11 +100,17 @@ static void rasterize_edge(const mfg_region *g, int64_t e, uint32_t *count, uint
     }
 }
 
+/* Reference point k of cell (i, j): the centre, then the R2 low-discrepancy sequence
+ * (no three of its points are collinear in practice, so E edges can hide at most 2E of
+ * them: trying 2E + 16 always finds one off the boundary). */
 static inline void ref_point(const mfg_region *g, int64_t i, int64_t j, unsigned k, double *rx,
                              double *ry)
 {
-    *rx = g->gx0 + ((double)i + ref_fx[k]) * g->cw;
-    *ry = g->gy0 + ((double)j + ref_fy[k]) * g->ch;
+    double fx = 0.5 + (double)k * 0.7548776662466927, fy = 0.5 + (double)k * 0.5698402909980532;
+    fx -= floor(fx);
+    fy -= floor(fy);
+    *rx = g->gx0 + ((double)i + fx) * g->cw;
+    *ry = g->gy0 + ((double)j + fy) * g->ch;
 }
 
 /* Parity change along r -> t over the union of two sorted cell lists (each edge once). */
@@ -140,7 +141,8 @@ static mfg_status build_lists(mfg_region *g)
     int64_t ncells = g->nx * g->ny;
     g->start = calloc((size_t)ncells + 1, sizeof(uint32_t));
     g->cell = calloc((size_t)ncells, 1);
-    if (!g->start || !g->cell)
+    g->refk = calloc((size_t)ncells, sizeof(uint16_t));
+    if (!g->start || !g->cell || !g->refk)
         return mfg_fail(MFG_ERR_NOMEM, "cannot allocate a grid of %lld cells", (long long)ncells);
     for (int64_t r = 0; r < g->rs.nrings; r++)
         for (int64_t e = g->rs.ring_first[r]; e < g->rs.ring_first[r] + g->rs.ring_edges[r]; e++)
@@ -175,8 +177,10 @@ static mfg_status choose_refs(mfg_region *g)
             int64_t c = j * g->nx + i;
             if (g->start[c] == g->start[c + 1])
                 continue;
+            uint32_t len = g->start[c + 1] - g->start[c];
+            uint32_t limit = len < 30000 ? 2 * len + 16 : 65535;
             unsigned k = 0;
-            for (; k < 8; k++) {
+            for (; k < limit; k++) {
                 double rx, ry;
                 ref_point(g, i, j, k, &rx, &ry);
                 uint32_t p = g->start[c];
@@ -188,9 +192,10 @@ static mfg_status choose_refs(mfg_region *g)
                 if (p == g->start[c + 1])
                     break;
             }
-            if (k == 8)
+            if (k == limit)
                 return mfg_fail(MFG_ERR_INTERNAL, "no reference point off the boundary in cell %lld", (long long)c);
-            g->cell[c] = (uint8_t)(CELL_BUSY | (k << CELL_REF_SHIFT));
+            g->cell[c] = (uint8_t)CELL_BUSY;
+            g->refk[c] = (uint16_t)k;
         }
     return MFG_OK;
 }
@@ -198,23 +203,23 @@ static mfg_status choose_refs(mfg_region *g)
 static mfg_status propagate_parity(mfg_region *g)
 {
     double rx, ry, sx, sy;
-    ref_point(g, 0, 0, g->cell[0] >> CELL_REF_SHIFT, &rx, &ry);
+    ref_point(g, 0, 0, g->refk[0], &rx, &ry);
     uint8_t first = mfg_classify_one(&g->rs, rx, ry, 0.0);
     if (first == MFG_ON)
         return mfg_fail(MFG_ERR_INTERNAL, "reference point on the boundary");
     unsigned par = first == MFG_IN;
     g->cell[0] |= (uint8_t)par;
     for (int64_t i = 1; i < g->nx; i++) {
-        ref_point(g, i - 1, 0, g->cell[i - 1] >> CELL_REF_SHIFT, &rx, &ry);
-        ref_point(g, i, 0, g->cell[i] >> CELL_REF_SHIFT, &sx, &sy);
+        ref_point(g, i - 1, 0, g->refk[i - 1], &rx, &ry);
+        ref_point(g, i, 0, g->refk[i], &sx, &sy);
         par = (g->cell[i - 1] & CELL_IN) ^ crossings_between(g, i - 1, i, rx, ry, sx, sy);
         g->cell[i] |= (uint8_t)par;
     }
     for (int64_t i = 0; i < g->nx; i++)
         for (int64_t j = 1; j < g->ny; j++) {
             int64_t c0 = (j - 1) * g->nx + i, c1 = j * g->nx + i;
-            ref_point(g, i, j - 1, g->cell[c0] >> CELL_REF_SHIFT, &rx, &ry);
-            ref_point(g, i, j, g->cell[c1] >> CELL_REF_SHIFT, &sx, &sy);
+            ref_point(g, i, j - 1, g->refk[c0], &rx, &ry);
+            ref_point(g, i, j, g->refk[c1], &sx, &sy);
             par = (g->cell[c0] & CELL_IN) ^ crossings_between(g, c0, c1, rx, ry, sx, sy);
             g->cell[c1] |= (uint8_t)par;
         }
@@ -227,6 +232,7 @@ void mfg_region_free(mfg_region *g)
         return;
     mfg_ringset_free(&g->rs);
     free(g->cell);
+    free(g->refk);
     free(g->start);
     free(g->edges);
     free(g);
@@ -314,7 +320,7 @@ static uint8_t classify_in_cell(const mfg_region *g, int64_t i, int64_t j, doubl
     const double *X = g->rs.x, *Y = g->rs.y;
     mfg_tolbox box = mfg_tolbox_make(tx, ty, g->tol);
     double rx, ry;
-    ref_point(g, i, j, info >> CELL_REF_SHIFT, &rx, &ry);
+    ref_point(g, i, j, g->refk[c], &rx, &ry);
     unsigned par = info & CELL_IN;
     for (uint32_t p = g->start[c]; p < g->start[c + 1]; p++) {
         uint32_t e = g->edges[p];
