@@ -172,6 +172,7 @@ MFG_API void mfg_spoly_free(mfg_spoly *poly);
  *   weight          the maximum covered weight (or the level asked for)
  *   nregions        number of regions; for region r:
  *   kinds[r]        MFG_VM_POLYGON, MFG_VM_EDGE or MFG_VM_POINT
+ *   closed[r]       1 for an EDGE region that is a whole great circle (as in mfg_spoly)
  *   vertex_offsets, vertices   its vertices as in mfg_spoly (polygons counter-clockwise)
  *   cover_offsets, cover       indices of the input sets that cover it
  *   centres[3r..]   a representative direction: the centre of the largest circle inscribed
@@ -188,6 +189,7 @@ typedef struct mfg_regions {
     double weight;
     int64_t nregions;
     int32_t *kinds;
+    int32_t *closed;
     int64_t *vertex_offsets;
     double *vertices;
     int64_t *cover_offsets;

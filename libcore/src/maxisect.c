@@ -664,84 +664,50 @@ static mfg_status sweep_edge(work *W, int64_t own, const double *a, const double
 
 /* A built region before output. */
 typedef struct region {
-    int kind;
+    int kind, closed;
     int64_t nv;
     double *v;
     double c[3], margin;
     int64_t cand;
 } region;
 
-/* Clips (v, n) — vertices and the inward normal of the edge leaving each vertex — by
- * { x : x.m >= -TOL }; out arrays need nv + 1 slots.  Returns the new count. */
-static int64_t clip_tracked(const double *v, const double *n, int64_t nv, const double *m,
-                            double *ov, double *on)
+/* Makes normals that are equal or opposite within the tolerance exactly so (sorted by
+ * x, a partner can only be among the neighbours in x).  ord is scratch of nn entries. */
+static void snap_normals(double *n, int64_t nn, int64_t *ord)
 {
-    int64_t k = 0;
-    for (int64_t i = 0; i < nv; i++) {
-        const double *cur = v + 3 * i, *nxt = v + 3 * ((i + 1) % nv);
-        double fc = mfg_dot3(cur, m) + TOL, fn = mfg_dot3(nxt, m) + TOL;
-        if (fc >= 0.0) {
-            memcpy(ov + 3 * k, cur, 3 * sizeof(double));
-            memcpy(on + 3 * k, n + 3 * i, 3 * sizeof(double));
-            k++;
-        }
-        if ((fc >= 0.0) != (fn >= 0.0)) {
-            double s = fc / (fc - fn);
-            double x[3] = {cur[0] + s * (nxt[0] - cur[0]), cur[1] + s * (nxt[1] - cur[1]),
-                           cur[2] + s * (nxt[2] - cur[2])};
-            if (!mfg_unit3(x, ov + 3 * k))
-                continue;
-            /* leaving: the next edge runs along the clipping circle; entering: along
-             * the rest of edge i */
-            memcpy(on + 3 * k, fc >= 0.0 ? m : n + 3 * i, 3 * sizeof(double));
-            k++;
-        }
-    }
-    return k;
-}
-
-/* Tidies a clipped polygon in place: drops a vertex that repeats its predecessor (the
- * zero-length edge's normal would be noise) and splits edges longer than 150 degrees at
- * their midpoint, so no edge comes near pi, where its two ends would not say which way
- * it runs (a hemisphere clipped by one great circle is a lune with antipodal corners).
- * v and n need room for 2 nv entries. */
-static int64_t tidy_polygon(double *v, double *n, int64_t nv)
-{
-    int64_t m = 0;
-    for (int64_t i = 0; i < nv; i++) {
-        if (m > 0) {
-            double d[3] = {v[3 * i] - v[3 * (m - 1)], v[3 * i + 1] - v[3 * (m - 1) + 1],
-                           v[3 * i + 2] - v[3 * (m - 1) + 2]};
-            if (mfg_dot3(d, d) < 1e-24) { /* same point: keep the later edge's circle */
-                memcpy(n + 3 * (m - 1), n + 3 * i, 3 * sizeof(double));
-                continue;
+    const double snap = 1e-9;
+    for (int64_t i = 0; i < nn; i++)
+        ord[i] = i;
+    for (int64_t gap = nn / 2; gap > 0; gap /= 2) /* Shell sort by x */
+        for (int64_t i = gap; i < nn; i++)
+            for (int64_t j = i; j >= gap && n[3 * ord[j - gap]] > n[3 * ord[j]]; j -= gap) {
+                int64_t t = ord[j - gap];
+                ord[j - gap] = ord[j];
+                ord[j] = t;
             }
+    for (int64_t i = 0; i < nn; i++) {
+        double *a = n + 3 * ord[i];
+        /* same direction: neighbours above in x */
+        for (int64_t j = i + 1; j < nn && n[3 * ord[j]] - a[0] <= snap; j++) {
+            double *b = n + 3 * ord[j];
+            if (fabs(b[1] - a[1]) <= snap && fabs(b[2] - a[2]) <= snap)
+                memcpy(b, a, 3 * sizeof(double));
         }
-        memmove(v + 3 * m, v + 3 * i, 3 * sizeof(double));
-        memmove(n + 3 * m, n + 3 * i, 3 * sizeof(double));
-        m++;
+        /* opposite direction: binary search for x near -a[0] */
+        int64_t lo = 0, hi = nn;
+        while (lo < hi) {
+            int64_t mid = (lo + hi) / 2;
+            if (n[3 * ord[mid]] < -a[0] - snap)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        for (int64_t j = lo; j < nn && n[3 * ord[j]] <= -a[0] + snap; j++) {
+            double *b = n + 3 * ord[j];
+            if (b != a && fabs(b[1] + a[1]) <= snap && fabs(b[2] + a[2]) <= snap)
+                b[0] = -a[0], b[1] = -a[1], b[2] = -a[2];
+        }
     }
-    while (m > 1) {
-        double d[3] = {v[0] - v[3 * (m - 1)], v[1] - v[3 * (m - 1) + 1], v[2] - v[3 * (m - 1) + 2]};
-        if (mfg_dot3(d, d) >= 1e-24)
-            break;
-        m--; /* the last repeats the first: its edge had zero length */
-    }
-    for (int64_t i = m - 1; i >= 0 && m >= 2; i--) {
-        const double *a = v + 3 * i, *b = v + 3 * ((i + 1) % m);
-        if (mfg_dot3(a, b) >= -0.866) /* up to 150 degrees is left alone */
-            continue;
-        double mid[3] = {a[0] + b[0], a[1] + b[1], a[2] + b[2]}, mu[3];
-        if (sqrt(mfg_dot3(mid, mid)) < 1e-3) /* nearly antipodal: go 90 degrees along */
-            mfg_cross3(n + 3 * i, a, mid);
-        mfg_unit3(mid, mu);
-        memmove(v + 3 * (i + 2), v + 3 * (i + 1), (size_t)(m - i - 1) * 3 * sizeof(double));
-        memmove(n + 3 * (i + 2), n + 3 * (i + 1), (size_t)(m - i - 1) * 3 * sizeof(double));
-        memcpy(v + 3 * (i + 1), mu, sizeof mu);
-        memcpy(n + 3 * (i + 1), n + 3 * i, 3 * sizeof(double));
-        m++;
-    }
-    return m;
 }
 
 static void arc_region(region *R, const double *p, const double *q)
@@ -839,57 +805,65 @@ static mfg_status build_region(work *W, int64_t ci, region *R)
         }
         return MFG_OK;
     }
-    /* All polygons: start from the one with the smallest cap and clip by the others. */
-    int64_t first = set[0];
-    for (int64_t k = 1; k < C->len; k++)
-        if (W->sets[set[k]].cr < W->sets[first].cr)
-            first = set[k];
-    cap = 2 * cap + 16; /* clipping adds a vertex per cut, tidying may double them */
-    double *va = malloc((size_t)cap * 3 * sizeof(double));
-    double *na = malloc((size_t)cap * 3 * sizeof(double));
-    double *vb = malloc((size_t)cap * 3 * sizeof(double));
-    double *nb = malloc((size_t)cap * 3 * sizeof(double));
-    if (!va || !na || !vb || !nb) {
-        free(va), free(na), free(vb), free(nb);
+    /* All polygons: every member is { x : x.n >= 0 } over its inward edge normals, so
+     * their intersection is the visibility map of all those normals (visibility.c:
+     * exact kinds, so two maps meeting along a circle with opposite sides give an EDGE,
+     * and hemispheres, whose vertices do not span them, need no special case).  Normals
+     * that are equal or opposite within the tolerance are made exactly so first: that
+     * is the tolerance's "boundaries this close touch". */
+    int64_t nn = 0;
+    for (int64_t k = 0; k < C->len; k++)
+        nn += W->sets[set[k]].nv;
+    double *nrm = malloc((size_t)(nn + 1) * 3 * sizeof(double));
+    int64_t *ord = malloc((size_t)(nn + 1) * sizeof(int64_t));
+    if (!nrm || !ord) {
+        free(nrm), free(ord);
         return mfg_fail(MFG_ERR_NOMEM, "cannot build a region");
     }
-    const sset *F = &W->sets[first];
-    int64_t nv = F->nv;
-    memcpy(va, F->v, (size_t)nv * 3 * sizeof(double));
-    memcpy(na, F->n, (size_t)nv * 3 * sizeof(double));
-    nv = tidy_polygon(va, na, nv);
-    for (int64_t k = 0; k < C->len && nv >= 3; k++) {
-        if (set[k] == first)
-            continue;
+    nn = 0;
+    for (int64_t k = 0; k < C->len; k++) {
         const sset *S = &W->sets[set[k]];
-        for (int64_t e = 0; e < S->nv && nv >= 3; e++) {
-            nv = clip_tracked(va, na, nv, S->n + 3 * e, vb, nb);
-            nv = tidy_polygon(vb, nb, nv);
-            double *t = va;
-            va = vb, vb = t;
-            t = na, na = nb, nb = t;
-        }
+        memcpy(nrm + 3 * nn, S->n, (size_t)S->nv * 3 * sizeof(double));
+        nn += S->nv;
     }
-    if (nv < 3) {
-        arc_region(R, C->x, C->x);
-    } else {
+    snap_normals(nrm, nn, ord);
+    mfg_spoly *vm = NULL;
+    mfg_status st = mfg_visibility_map(nrm, nn, 0.0, &vm);
+    if (st != MFG_OK) {
+        free(nrm), free(ord);
+        return st;
+    }
+    if (vm->kind == MFG_VM_POLYGON) {
         /* centre of the largest inscribed circle = centre of the smallest circle
-         * enclosing the poles of the edges (the dual polygon) */
-        double cosr;
-        enclosing_cap(na, nv, R->c, &cosr);
-        double mind = 1.0;
-        for (int64_t k = 0; k < nv; k++)
-            mind = fmin(mind, mfg_dot3(R->c, na + 3 * k));
+         * enclosing the poles of the edges (the dual polygon); taking every normal is
+         * the same, as inner ones never bound that circle.  Scrambled order keeps
+         * Welzl's algorithm linear. */
+        int64_t stride = nn > 2 ? (int64_t)((double)nn * 0.6180339887498949) | 1 : 1;
+        while (stride > 1 && nn % stride == 0)
+            stride += 2;
+        double *sh = malloc((size_t)(nn + 1) * 3 * sizeof(double));
+        if (!sh) {
+            mfg_spoly_free(vm), free(nrm), free(ord);
+            return mfg_fail(MFG_ERR_NOMEM, "cannot build a region");
+        }
+        for (int64_t i = 0, j = 0; i < nn; i++, j = (j + stride) % nn)
+            memcpy(sh + 3 * i, nrm + 3 * j, 3 * sizeof(double));
+        double cosr, mind = 1.0;
+        enclosing_cap(sh, nn, R->c, &cosr);
+        for (int64_t k = 0; k < nn; k++)
+            mind = fmin(mind, mfg_dot3(R->c, nrm + 3 * k));
+        free(sh);
         R->margin = asin(fmin(fmax(mind, -1.0), 1.0));
         if (R->margin > 10 * TOL) {
             R->kind = MFG_VM_POLYGON;
-            R->nv = nv;
-            memcpy(R->v, va, (size_t)nv * 3 * sizeof(double));
+            R->nv = vm->nvertices;
+            memcpy(R->v, vm->vertices, (size_t)R->nv * 3 * sizeof(double));
         } else { /* a sliver of the tolerance: the arc (or point) it thickens */
+            const double *va = vm->vertices;
             int64_t bi = 0, bj = 0;
             double bd = -1.0;
-            for (int64_t i = 0; i < nv; i++)
-                for (int64_t j = i + 1; j < nv; j++) {
+            for (int64_t i = 0; i < vm->nvertices; i++)
+                for (int64_t j = i + 1; j < vm->nvertices; j++) {
                     double d[3] = {va[3 * i] - va[3 * j], va[3 * i + 1] - va[3 * j + 1],
                                    va[3 * i + 2] - va[3 * j + 2]};
                     if (mfg_dot3(d, d) > bd)
@@ -897,8 +871,24 @@ static mfg_status build_region(work *W, int64_t ci, region *R)
                 }
             arc_region(R, va + 3 * bi, va + 3 * bj);
         }
+    } else if (vm->kind == MFG_VM_EDGE) {
+        R->kind = MFG_VM_EDGE;
+        R->closed = vm->closed;
+        R->nv = vm->nvertices;
+        memcpy(R->v, vm->vertices, (size_t)R->nv * 3 * sizeof(double));
+        memcpy(R->c, vm->vertices + 3 * (vm->closed ? 0 : vm->nvertices / 2), sizeof R->c);
+        R->margin = 0.0;
+    } else if (vm->kind == MFG_VM_POINT) {
+        const double *p = vm->vertices; /* of two antipodal points, the sampled one */
+        if (vm->nvertices == 2 && mfg_dot3(vm->vertices + 3, C->x) > mfg_dot3(p, C->x))
+            p = vm->vertices + 3;
+        arc_region(R, p, p);
+    } else { /* touching within the tolerance only at the sample: keep the sample */
+        arc_region(R, C->x, C->x);
     }
-    free(va), free(na), free(vb), free(nb);
+    mfg_spoly_free(vm);
+    free(nrm);
+    free(ord);
     return MFG_OK;
 }
 
@@ -1348,6 +1338,7 @@ static mfg_status emit(work *W, region *R, int64_t nr, double weight, mfg_region
     }
     if (res) {
         res->kinds = malloc((size_t)(nr + 1) * sizeof(int32_t));
+        res->closed = malloc((size_t)(nr + 1) * sizeof(int32_t));
         res->vertex_offsets = malloc((size_t)(nr + 1) * sizeof(int64_t));
         res->vertices = malloc((size_t)(tv + 1) * 3 * sizeof(double));
         res->cover_offsets = malloc((size_t)(nr + 1) * sizeof(int64_t));
@@ -1355,7 +1346,7 @@ static mfg_status emit(work *W, region *R, int64_t nr, double weight, mfg_region
         res->centres = malloc((size_t)(nr + 1) * 3 * sizeof(double));
         res->margins = malloc((size_t)(nr + 1) * sizeof(double));
     }
-    if (!res || !res->kinds || !res->vertex_offsets || !res->vertices || !res->cover_offsets ||
+    if (!res || !res->kinds || !res->closed || !res->vertex_offsets || !res->vertices || !res->cover_offsets ||
         !res->cover || !res->centres || !res->margins) {
         mfg_regions_free(res);
         return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the result");
@@ -1366,6 +1357,7 @@ static mfg_status emit(work *W, region *R, int64_t nr, double weight, mfg_region
     for (int64_t r = 0; r < nr; r++) {
         const cand *C = &W->cands[R[r].cand];
         res->kinds[r] = R[r].kind;
+        res->closed[r] = R[r].closed;
         if (R[r].nv > 0)
             memcpy(res->vertices + 3 * res->vertex_offsets[r], R[r].v, (size_t)R[r].nv * 3 * sizeof(double));
         res->vertex_offsets[r + 1] = res->vertex_offsets[r] + R[r].nv;
@@ -1578,6 +1570,7 @@ void mfg_regions_free(mfg_regions *r)
     if (!r)
         return;
     free(r->kinds);
+    free(r->closed);
     free(r->vertex_offsets);
     free(r->vertices);
     free(r->cover_offsets);

@@ -98,6 +98,7 @@ KIND_CODES = {v: k for k, v in KINDS.items()}
 class _Regions(ctypes.Structure):
     _fields_ = [("weight", ctypes.c_double), ("nregions", ctypes.c_int64),
                 ("kinds", ctypes.POINTER(ctypes.c_int32)),
+                ("closed", ctypes.POINTER(ctypes.c_int32)),
                 ("vertex_offsets", _c_int64_p), ("vertices", _c_double_p),
                 ("cover_offsets", _c_int64_p), ("cover", _c_int64_p),
                 ("centres", _c_double_p), ("margins", _c_double_p)]
@@ -296,10 +297,12 @@ class Intersection:
     first); ``kinds``: "polygon" / "edge" / "point" per region; ``covers``: per region,
     the indices of the input maps covering it; ``centres`` (r, 3) and ``margins`` (r,):
     the representative direction of each region and how far (radians) it may move and
-    stay inside; ``direction`` and ``margin``: those of the best region."""
+    stay inside; ``direction`` and ``margin``: those of the best region; ``closed``: per
+    region, True for an edge that is a whole great circle."""
 
-    def __init__(self, count, regions, kinds, covers, centres, margins):
+    def __init__(self, count, regions, kinds, covers, centres, margins, closed=None):
         self.count = count
+        self.closed = closed if closed is not None else [False] * len(regions)
         self.regions = regions
         self.kinds = kinds
         self.covers = covers
@@ -359,6 +362,7 @@ def _call_regions(fn, maps, weights, *extra):
         cover = (np.ctypeslib.as_array(r.cover, shape=(int(coff[-1]),)).copy()
                  if coff[-1] else np.zeros(0, dtype=np.int64))
         kinds_out = [KINDS[int(r.kinds[i])] for i in range(n)]
+        closed_out = [bool(r.closed[i]) for i in range(n)]
         centres = (np.ctypeslib.as_array(r.centres, shape=(n * 3,)).reshape(-1, 3).copy()
                    if n else np.zeros((0, 3)))
         margins = np.ctypeslib.as_array(r.margins, shape=(n,)).copy() if n else np.zeros(0)
@@ -368,7 +372,7 @@ def _call_regions(fn, maps, weights, *extra):
     regions = [verts[voff[i]:voff[i + 1]] for i in range(n)]
     covers = [cover[coff[i]:coff[i + 1]] for i in range(n)]
     count = int(weight) if weights is None and weight == int(weight) else weight
-    return Intersection(count, regions, kinds_out, covers, centres, margins)
+    return Intersection(count, regions, kinds_out, covers, centres, margins, closed_out)
 
 
 def max_intersection(maps, weights=None):
