@@ -1,0 +1,276 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The ``mfgeom`` command-line tool: libmfgeom's visibility maps, maximum/level/minimum intersections and point classification on JSON, for scripting outside FreeCAD.
+
+Every subcommand reads one JSON document from a file (or stdin when the file is omitted
+or ``-``) and prints one JSON document on stdout.  Errors are printed on stderr as
+``{"error": "..."}`` and the exit code is 2.
+
+    mfgeom visibility-map   [FILE] [--draft-angle RAD] [--negative]
+        in:  {"normals": [[x, y, z], ...], "draft_angle": 0, "negative": false}
+             or a bare list of normals
+        out: {"kind": "polygon", "vertices": [[x, y, z], ...], "closed": false}
+    mfgeom max-intersection [FILE]
+    mfgeom level-regions    [FILE] --level K
+    mfgeom min-intersection [FILE]
+        in:  {"maps": [MAP, ...], "weights": [w, ...]} or a bare list of maps; a MAP is a
+             list of vertices (a counter-clockwise convex polygon) or an object
+             {"kind": ..., "vertices": [...], "closed": false} as visibility-map prints it
+        out: {"count": c, "direction": [x, y, z], "margin": rad,
+              "regions": [{"kind", "vertices", "cover", "centre", "margin"}, ...]}
+    mfgeom classify-points  [FILE] [--names]
+        in:  {"rings": [[[x, y], ...], ...], "points": [[x, y], ...], "tol": e}
+        out: {"codes": [0 | 1 | 2, ...]}   (0 OUT, 1 IN, 2 ON; --names adds "names")
+"""
+
+import argparse
+import json
+import sys
+
+EXIT_ERROR = 2
+CODE_NAMES = {0: "OUT", 1: "IN", 2: "ON"}
+
+
+class CliError(Exception):
+    """A user-facing error: reported as {"error": message} with exit code 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports usage errors as JSON too."""
+
+    def error(self, message):
+        raise CliError(f"{self.prog}: {message}")
+
+
+# --------------------------------------------------------------------------- #
+# Input helpers                                                               #
+# --------------------------------------------------------------------------- #
+
+def _read_json(path):
+    try:
+        if path in (None, "-"):
+            text = sys.stdin.read()
+            where = "stdin"
+        else:
+            with open(path, encoding="utf-8") as f:
+                text = f.read()
+            where = path
+    except OSError as exc:
+        raise CliError(f"cannot read {path}: {exc.strerror or exc}") from None
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise CliError(f"invalid JSON in {where}: {exc}") from None
+
+
+def _field(doc, key, default=None, required=False):
+    if isinstance(doc, dict):
+        if key in doc and doc[key] is not None:
+            return doc[key]
+        if required:
+            raise CliError(f"missing key {key!r}")
+        return default
+    raise CliError(f"expected a JSON object with key {key!r}")
+
+
+def _number(value, what):
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise CliError(f"{what} must be a number, got {json.dumps(value)}")
+    return float(value)
+
+
+def _vectors(value, dim, what):
+    """A list of dim-vectors of numbers (an empty list is allowed)."""
+    if not isinstance(value, list):
+        raise CliError(f"{what} must be a list of [{', '.join('xyz'[:dim])}] lists")
+    out = []
+    for i, v in enumerate(value):
+        if not isinstance(v, list) or len(v) != dim:
+            raise CliError(f"{what}[{i}] must be a list of {dim} numbers")
+        out.append([_number(x, f"{what}[{i}]") for x in v])
+    return out
+
+
+def _maps(doc):
+    """The maps and weights of a max/level/min-intersection input."""
+    from mfgeom import core
+    maps_in = doc if isinstance(doc, list) else _field(doc, "maps", required=True)
+    weights = None if isinstance(doc, list) else _field(doc, "weights")
+    if not isinstance(maps_in, list):
+        raise CliError("'maps' must be a list")
+    maps = []
+    for i, m in enumerate(maps_in):
+        if isinstance(m, dict):
+            kind = m.get("kind", "polygon")
+            if kind not in ("null", "point", "edge", "polygon"):
+                raise CliError(f"maps[{i}].kind must be null, point, edge or polygon, "
+                               f"got {json.dumps(kind)}")
+            verts = _vectors(m.get("vertices", []), 3, f"maps[{i}].vertices")
+            closed = m.get("closed", False)
+            if not isinstance(closed, bool):
+                raise CliError(f"maps[{i}].closed must be true or false")
+            maps.append(core.VisibilityMap(kind, verts, closed))
+        else:
+            maps.append(_vectors(m, 3, f"maps[{i}]"))
+    if weights is not None:
+        if not isinstance(weights, list):
+            raise CliError("'weights' must be a list of numbers")
+        weights = [_number(w, f"weights[{i}]") for i, w in enumerate(weights)]
+    return maps, weights
+
+
+# --------------------------------------------------------------------------- #
+# Output helpers                                                              #
+# --------------------------------------------------------------------------- #
+
+def _list(array):
+    return [[float(x) for x in row] for row in array]
+
+
+def _regions_json(res):
+    regions = []
+    for r in range(len(res.regions)):
+        regions.append({
+            "kind": res.kinds[r],
+            "vertices": _list(res.regions[r]),
+            "cover": [int(i) for i in res.covers[r]],
+            "centre": [float(x) for x in res.centres[r]],
+            "margin": float(res.margins[r]),
+        })
+    count = res.count
+    count = int(count) if float(count).is_integer() and not isinstance(count, bool) else count
+    return {
+        "count": count,
+        "direction": None if res.direction is None else [float(x) for x in res.direction],
+        "margin": float(res.margin),
+        "regions": regions,
+    }
+
+
+# --------------------------------------------------------------------------- #
+# Subcommands                                                                 #
+# --------------------------------------------------------------------------- #
+
+def cmd_visibility_map(args):
+    from mfgeom import core
+    doc = _read_json(args.file)
+    if isinstance(doc, list):
+        normals, draft, negative = doc, 0.0, False
+    else:
+        normals = _field(doc, "normals", required=True)
+        draft = _number(_field(doc, "draft_angle", 0.0), "draft_angle")
+        negative = _field(doc, "negative", False)
+        if not isinstance(negative, bool):
+            raise CliError("'negative' must be true or false")
+    if args.draft_angle is not None:
+        draft = args.draft_angle
+    if args.negative:
+        negative = True
+    import numpy as np
+    normals = np.asarray(_vectors(normals, 3, "normals"), dtype=np.float64).reshape(-1, 3)
+    vm = core.visibility_map(normals, draft_angle=draft, negative=negative)
+    return {"kind": vm.kind, "vertices": _list(vm.vertices), "closed": bool(vm.closed)}
+
+
+def cmd_max_intersection(args):
+    from mfgeom import core
+    maps, weights = _maps(_read_json(args.file))
+    return _regions_json(core.max_intersection(maps, weights=weights))
+
+
+def cmd_level_regions(args):
+    from mfgeom import core
+    maps, weights = _maps(_read_json(args.file))
+    return _regions_json(core.level_regions(maps, args.level, weights=weights))
+
+
+def cmd_min_intersection(args):
+    from mfgeom import core
+    maps, weights = _maps(_read_json(args.file))
+    out = _regions_json(core.min_intersection(maps, weights=weights))
+    for r in out["regions"]:   # faces of least coverage are not convex: no vertices
+        r.pop("vertices", None)
+    return out
+
+
+def cmd_classify_points(args):
+    import numpy as np
+    from mfgeom import core
+    doc = _read_json(args.file)
+    rings_in = _field(doc, "rings", required=True)
+    if not isinstance(rings_in, list):
+        raise CliError("'rings' must be a list of rings")
+    rings = [np.asarray(_vectors(r, 2, f"rings[{i}]"), dtype=np.float64).reshape(-1, 2)
+             for i, r in enumerate(rings_in)]
+    points = np.asarray(_vectors(_field(doc, "points", required=True), 2, "points"),
+                        dtype=np.float64).reshape(-1, 2)
+    tol = _number(_field(doc, "tol", 0.0), "tol")
+    codes = [int(c) for c in core.classify_points(rings, points, tol)]
+    out = {"codes": codes}
+    if args.names:
+        out["names"] = [CODE_NAMES[c] for c in codes]
+    return out
+
+
+def cmd_version(args):
+    from mfgeom import __version__, core
+    return {"package": __version__, "library": core.version(), "library_path": core.library_path}
+
+
+def build_parser():
+    p = _Parser(prog="mfgeom", description=(
+        "libmfgeom on JSON: visibility maps and maximum intersection of spherical convex "
+        "polygons (Ha 2001), tolerance-based point classification (Chung & Park 2001).  "
+        "Each subcommand reads JSON from FILE or stdin and prints JSON; errors go to "
+        "stderr as {\"error\": ...} with exit code 2."))
+    p.add_argument("--indent", type=int, default=None, help="pretty-print with this indent")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+
+    def add(name, func, help_text):
+        sp = sub.add_parser(name, help=help_text, description=help_text)
+        sp.add_argument("file", nargs="?", default=None, metavar="FILE",
+                        help="input JSON file (default or '-': stdin)")
+        sp.set_defaults(func=func)
+        return sp
+
+    sp = add("visibility-map", cmd_visibility_map,
+             "VM(P) = {d : d.p >= 0} of the normals P: {kind, vertices, closed}")
+    sp.add_argument("--draft-angle", type=float, default=None, metavar="RAD",
+                    help="shrink the map to {d : d.p^ >= sin(RAD)} (overrides the input)")
+    sp.add_argument("--negative", action="store_true", help="the negative map -VM(P)")
+    add("max-intersection", cmd_max_intersection,
+        "regions covered by the greatest total weight of the maps")
+    sp = add("level-regions", cmd_level_regions,
+             "locally maximal regions whose covered weight is at least --level")
+    sp.add_argument("--level", type=float, required=True, metavar="K")
+    add("min-intersection", cmd_min_intersection,
+        "the least covered weight and a direction in each least-covered face")
+    sp = add("classify-points", cmd_classify_points,
+             "classify 2-D points against rings (even-odd) as OUT 0 / IN 1 / ON 2")
+    sp.add_argument("--names", action="store_true", help="also print OUT/IN/ON names")
+    sv = sub.add_parser("version", help="versions of the package and the loaded library")
+    sv.set_defaults(func=cmd_version, file=None)
+    return p
+
+
+def _fail(message):
+    sys.stderr.write(json.dumps({"error": str(message)}) + "\n")
+    return EXIT_ERROR
+
+
+def main(argv=None):
+    try:
+        args = build_parser().parse_args(argv)
+        result = args.func(args)
+        text = json.dumps(result, indent=args.indent, allow_nan=False)
+    except (CliError, ImportError, ValueError, TypeError, RuntimeError) as exc:
+        # usage and input errors, the library not loadable, core.MfgError (a RuntimeError)
+        return _fail(exc)
+    except Exception as exc:             # anything unforeseen is still reported as JSON
+        return _fail(f"{type(exc).__name__}: {exc}")
+    sys.stdout.write(text + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
