@@ -43,6 +43,8 @@ typedef struct sset {
     double *n;     /* POLYGON: inward unit normal of edge k (v[k] -> v[k+1]) */
     double cc[3];  /* bounding cap: centre and angular radius (cos, sin kept) */
     double cr, cos_cr, sin_cr;
+    double ic[3], ir;  /* POLYGON: inscribed circle (centre, radius; ir = 0 if none) */
+    double cos_ir, sin_ir;
 } sset;
 
 typedef struct interval {
@@ -424,6 +426,19 @@ static mfg_status prepare(const double *vertices, const int64_t *offsets, const 
     }
     if (W->nsets == 0)
         return mfg_fail(MFG_ERR_DEGENERATE, "every set is empty or has zero weight");
+    for (int64_t i = 0; i < W->nsets; i++) { /* inscribed circles: quick "contains" */
+        sset *S = &W->sets[i];
+        if (S->kind != MFG_VM_POLYGON)
+            continue;
+        double cosr, mind = 1.0;
+        enclosing_cap(S->n, S->nv, S->ic, &cosr);
+        for (int64_t k = 0; k < S->nv; k++)
+            mind = fmin(mind, mfg_dot3(S->ic, S->n + 3 * k));
+        /* shrunk a little: only ever used to claim containment */
+        S->ir = mind > 0.0 ? fmax(asin(fmin(mind, 1.0)) - 1e-9, 0.0) : 0.0;
+        S->cos_ir = cos(S->ir);
+        S->sin_ir = sin(S->ir);
+    }
     for (int64_t i = 0; i < W->nsets; i++) {
         W->sets[i].cr = fmin(W->sets[i].cr + 1e-9, MFG_PI);
         W->sets[i].cos_cr = cos(W->sets[i].cr);
@@ -904,6 +919,11 @@ typedef struct cell {
     double full;        /* weight of the sets containing the whole cell */
     int64_t *part;      /* sets meeting it only partly */
     int64_t npart;
+    /* For partial set t, the pieces whose circle still crosses the cell are
+     * eidx[eoff[t] .. eoff[t+1]): every other edge's half-space holds the whole cell
+     * (decided at an ancestor), so descendants never look at it again. */
+    int32_t *eidx;
+    int64_t *eoff;
     double ub;          /* full + weight of the partial sets */
     double key;         /* heap priority: ub (max, level) or -full (min) */
     int depth;
@@ -935,35 +955,46 @@ static void cell_init(cell *c, const double q[4][3])
     c->q.sin_cr = sin(c->q.cr);
 }
 
-/* 0: the set misses the cell, 1: meets it partly, 2: contains it (with the tolerance). */
-static int classify_cell(const sset *S, const cell *c)
+/* 0: the set misses the cell, 1: meets it partly, 2: contains it (with the tolerance).
+ * Only the pieces ein[0..nin) of S can still decide; the ones that stay undecided for
+ * this cell are written to eout (for POLYGON sets; thin sets keep all of theirs). */
+static int classify_cell(const sset *S, const cell *c, const int32_t *ein, int64_t nin,
+                         int32_t *eout, int64_t *nout)
 {
-    const double *q = c->q.v, *m = c->q.n;
+    const double *q = c->q.v;
+    *nout = 0;
     if (caps_apart(c->q.cc, c->q.cr, c->q.cos_cr, c->q.sin_cr, S))
         return 0;
-    if (S->kind == MFG_VM_POLYGON) {
-        int full = 1;
-        for (int64_t e = 0; e < S->nv; e++) {
-            const double *n = S->n + 3 * e;
-            int out = 0;
-            for (int k = 0; k < 4; k++)
-                out += mfg_dot3(q + 3 * k, n) < -TOL;
-            if (out == 4)
-                return 0; /* an edge of S separates */
-            if (out)
-                full = 0;
-        }
-        if (full)
-            return 2;
+    if (S->kind != MFG_VM_POLYGON) {
+        memcpy(eout, ein, (size_t)nin * sizeof(int32_t));
+        *nout = nin;
+        return 1;
     }
-    for (int k = 0; k < 4; k++) { /* an edge of the cell separates */
-        int out = 1;
-        for (int64_t i = 0; i < S->nv && out; i++)
-            out = mfg_dot3(S->v + 3 * i, m + 3 * k) < -TOL;
+    if (S->ir > c->q.cr &&
+        mfg_dot3(c->q.cc, S->ic) >= S->cos_ir * c->q.cos_cr + S->sin_ir * c->q.sin_cr + 1e-12)
+        return 2; /* the cell's cap lies in the set's inscribed circle */
+    /* Against each edge's half-space the cell's cap decides at once unless the edge's
+     * circle passes through the cap: then its four corners decide (the cell is the cone
+     * of its corners). */
+    const double band = c->q.sin_cr + TOL;
+    int64_t m = 0;
+    for (int64_t t = 0; t < nin; t++) {
+        const double *n = S->n + 3 * ein[t];
+        double d = mfg_dot3(c->q.cc, n);
+        if (d >= band)
+            continue; /* cell inside this half-space */
+        if (d < -band)
+            return 0; /* cell outside it: disjoint */
+        int out = 0;
+        for (int k = 0; k < 4; k++)
+            out += mfg_dot3(q + 3 * k, n) < -TOL;
+        if (out == 4)
+            return 0; /* an edge of S separates */
         if (out)
-            return 0;
+            eout[m++] = ein[t];
     }
-    return 1;
+    *nout = m;
+    return m ? 1 : 2;
 }
 
 /* Max-heap of cells by upper bound. */
@@ -1016,6 +1047,8 @@ static void cell_free(cell *c)
 {
     if (c) {
         free(c->part);
+        free(c->eidx);
+        free(c->eoff);
         free(c);
     }
 }
@@ -1025,22 +1058,30 @@ static mfg_status make_child(work *W, const cell *p, const double q[4][3], cell 
 {
     cell *c = calloc(1, sizeof *c);
     int64_t *part = malloc((size_t)(p->npart + 1) * sizeof(int64_t));
-    if (!c || !part) {
-        free(c), free(part);
+    int64_t *eoff = malloc((size_t)(p->npart + 1) * sizeof(int64_t));
+    int32_t *eidx = malloc((size_t)(p->eoff[p->npart] + 1) * sizeof(int32_t));
+    if (!c || !part || !eoff || !eidx) {
+        free(c), free(part), free(eoff), free(eidx);
         return mfg_fail(MFG_ERR_NOMEM, "cannot allocate a cell");
     }
     cell_init(c, q);
     c->part = part;
+    c->eoff = eoff;
+    c->eidx = eidx;
     c->full = p->full;
     c->depth = p->depth + 1;
+    c->eoff[0] = 0;
     double partial_w = 0.0;
     for (int64_t t = 0; t < p->npart; t++) {
         const sset *S = &W->sets[p->part[t]];
-        int k = classify_cell(S, c);
-        if (k == 2)
+        int64_t nout = 0, at = c->eoff[c->npart];
+        int k = classify_cell(S, c, p->eidx + p->eoff[t], p->eoff[t + 1] - p->eoff[t],
+                              c->eidx + at, &nout);
+        if (k == 2) {
             c->full += S->w;
-        else if (k == 1) {
+        } else if (k == 1) {
             c->part[c->npart++] = p->part[t];
+            c->eoff[c->npart] = at + nout;
             partial_w += S->w;
         }
     }
@@ -1048,6 +1089,18 @@ static mfg_status make_child(work *W, const cell *p, const double q[4][3], cell 
     c->key = W->mode == MODE_MIN ? -c->full : c->ub;
     *out = c;
     return MFG_OK;
+}
+
+/* Piece k of set S as an arc a -> b (a point when S is a POINT set). */
+static void piece(const sset *S, int64_t k, const double **a, const double **b)
+{
+    *a = S->v + 3 * k;
+    *b = S->kind == MFG_VM_POINT ? *a : S->v + 3 * ((k + 1) % S->nv);
+}
+
+static int64_t piece_count(const sset *S)
+{
+    return S->kind == MFG_VM_EDGE && !S->closed ? S->nv - 1 : S->nv;
 }
 
 /* The exact work in a small cell: sweep the partial sets' edges clipped to the cell, and
@@ -1061,12 +1114,9 @@ static mfg_status leaf(work *W, const cell *c, double threshold, int keep_best, 
     for (int64_t t = 0; t < c->npart && st == MFG_OK; t++) {
         int64_t j = c->part[t];
         const sset *S = &W->sets[j];
-        int64_t pieces = S->kind == MFG_VM_POLYGON ? S->nv
-                         : S->kind == MFG_VM_EDGE  ? (S->closed ? S->nv : S->nv - 1)
-                                                   : S->nv;
-        for (int64_t k = 0; k < pieces && st == MFG_OK; k++) {
-            const double *a = S->v + 3 * k;
-            const double *b = S->kind == MFG_VM_POINT ? a : S->v + 3 * ((k + 1) % S->nv);
+        for (int64_t u = c->eoff[t]; u < c->eoff[t + 1] && st == MFG_OK; u++) {
+            const double *a, *b;
+            piece(S, c->eidx[u], &a, &b);
             double r0 = 0.0, r1 = 1.0;
             if (!polygon_interval(&c->q, a, b, &r0, &r1))
                 continue;
@@ -1093,29 +1143,24 @@ static mfg_status consider_min(work *W, double wt, const double x[3], double eps
 static mfg_status leaf_min(work *W, const cell *c, double eps)
 {
     mfg_status st = MFG_OK;
-    int64_t total = 4;
-    for (int64_t t = 0; t < c->npart; t++)
-        if (W->sets[c->part[t]].kind == MFG_VM_POLYGON)
-            total += W->sets[c->part[t]].nv;
+    /* the cell's 4 edges, then the polygon pieces still crossing the cell */
+    int64_t total = 4 + c->eoff[c->npart];
+    int64_t t = 0;
     for (int64_t e = 0; e < total && st == MFG_OK; e++) {
-        int64_t own = -1, k = e;
+        int64_t own = -1;
         const double *a, *b, *n = NULL;
         if (e < 4) {
             a = c->q.v + 3 * e;
             b = c->q.v + 3 * ((e + 1) % 4);
         } else {
-            k = e - 4;
-            int64_t t = 0;
-            for (;; t++) {
-                const sset *S = &W->sets[c->part[t]];
-                if (S->kind != MFG_VM_POLYGON)
-                    continue;
-                if (k < S->nv)
-                    break;
-                k -= S->nv;
-            }
+            int64_t u = e - 4;
+            while (c->eoff[t + 1] <= u)
+                t++;
             own = c->part[t];
             const sset *S = &W->sets[own];
+            if (S->kind != MFG_VM_POLYGON)
+                continue;
+            int64_t k = c->eidx[u];
             a = S->v + 3 * k;
             b = S->v + 3 * ((k + 1) % S->nv);
             n = S->n + 3 * k;
@@ -1154,7 +1199,7 @@ static mfg_status leaf_min(work *W, const cell *c, double eps)
     return st;
 }
 
-#define LEAF_SETS 12
+#define LEAF_SETS 16
 #define MAX_DEPTH 16
 
 static mfg_status search(work *W, int mode, double threshold, double eps)
@@ -1175,6 +1220,21 @@ static mfg_status search(work *W, int mode, double threshold, double eps)
     root.part = all;
     root.npart = W->nsets;
     root.depth = -1;
+    int64_t npieces = 0;
+    for (int64_t j = 0; j < W->nsets; j++)
+        npieces += piece_count(&W->sets[j]);
+    root.eoff = malloc((size_t)(W->nsets + 1) * sizeof(int64_t));
+    root.eidx = malloc((size_t)(npieces + 1) * sizeof(int32_t));
+    if (!root.eoff || !root.eidx) {
+        free(all), free(root.eoff), free(root.eidx);
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the search");
+    }
+    root.eoff[0] = 0;
+    for (int64_t j = 0, u = 0; j < W->nsets; j++) {
+        for (int64_t k = 0; k < piece_count(&W->sets[j]); k++)
+            root.eidx[u++] = (int32_t)k;
+        root.eoff[j + 1] = root.eoff[j] + piece_count(&W->sets[j]);
+    }
     for (int axis = 0; axis < 3 && st == MFG_OK; axis++)
         for (int sgn = -1; sgn <= 1 && st == MFG_OK; sgn += 2) {
             double u[3] = {0, 0, 0}, v[3] = {0, 0, 0}, w[3] = {0, 0, 0}, q[4][3];
@@ -1195,6 +1255,8 @@ static mfg_status search(work *W, int mode, double threshold, double eps)
                 cell_free(c);
         }
     free(all);
+    free(root.eoff);
+    free(root.eidx);
     while (st == MFG_OK && h.n > 0) {
         cell *c = heap_pop(&h);
         double lim = keep_best ? W->best : threshold;
