@@ -16,7 +16,7 @@ or ``-``) and prints one JSON document on stdout.  Errors are printed on stderr 
              list of vertices (a counter-clockwise convex polygon) or an object
              {"kind": ..., "vertices": [...], "closed": false} as visibility-map prints it
         out: {"count": c, "direction": [x, y, z], "margin": rad,
-              "regions": [{"kind", "vertices", "cover", "centre", "margin"}, ...]}
+              "regions": [{"kind", "closed", "vertices", "cover", "centre", "margin"}, ...]}
     mfgeom classify-points  [FILE] [--names]
         in:  {"rings": [[[x, y], ...], ...], "points": [[x, y], ...], "tol": e}
         out: {"codes": [0 | 1 | 2, ...]}   (0 OUT, 1 IN, 2 ON; --names adds "names")
@@ -131,6 +131,7 @@ def _regions_json(res):
     for r in range(len(res.regions)):
         regions.append({
             "kind": res.kinds[r],
+            "closed": bool(res.closed[r]),
             "vertices": _list(res.regions[r]),
             "cover": [int(i) for i in res.covers[r]],
             "centre": [float(x) for x in res.centres[r]],
