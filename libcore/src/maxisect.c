@@ -1568,9 +1568,10 @@ static double weight_eps(const work *W)
     return 1e-9 * fmax(total, 1.0);
 }
 
-mfg_status mfg_max_intersection(const double *vertices, const int64_t *offsets,
-                                const int32_t *kinds, const int32_t *closed, int64_t npolys,
-                                const double *weights, mfg_regions **out)
+/* The three entry points differ only in the search mode and the region rule. */
+static mfg_status run(int mode, const double *vertices, const int64_t *offsets,
+                      const int32_t *kinds, const int32_t *closed, int64_t npolys,
+                      const double *weights, double level, mfg_regions **out)
 {
     if (!out)
         return mfg_fail(MFG_ERR_NULL, "out is NULL");
@@ -1578,53 +1579,36 @@ mfg_status mfg_max_intersection(const double *vertices, const int64_t *offsets,
     mfg_status st = prepare(vertices, offsets, kinds, closed, npolys, weights, &W);
     double eps = st == MFG_OK ? weight_eps(&W) : 0.0;
     if (st == MFG_OK)
-        st = search(&W, MODE_MAX, 0.0, eps);
+        st = search(&W, mode, mode == MODE_LEVEL ? level : 0.0, eps);
     if (st == MFG_OK)
-        st = regions_of(&W, 0, W.best, eps, out);
+        st = regions_of(&W, mode == MODE_LEVEL, mode == MODE_LEVEL ? level : W.best, eps, out);
     free_work(&W);
     if (st == MFG_OK)
         mfg_clear_error();
     return st;
+}
+
+mfg_status mfg_max_intersection(const double *vertices, const int64_t *offsets,
+                                const int32_t *kinds, const int32_t *closed, int64_t npolys,
+                                const double *weights, mfg_regions **out)
+{
+    return run(MODE_MAX, vertices, offsets, kinds, closed, npolys, weights, 0.0, out);
 }
 
 mfg_status mfg_level_regions(const double *vertices, const int64_t *offsets,
                              const int32_t *kinds, const int32_t *closed, int64_t npolys,
                              const double *weights, double level, mfg_regions **out)
 {
-    if (!out)
-        return mfg_fail(MFG_ERR_NULL, "out is NULL");
     if (!(level > -1e300 && level < 1e300))
         return mfg_fail(MFG_ERR_INVALID, "level must be finite (got %g)", level);
-    work W;
-    mfg_status st = prepare(vertices, offsets, kinds, closed, npolys, weights, &W);
-    double eps = st == MFG_OK ? weight_eps(&W) : 0.0;
-    if (st == MFG_OK)
-        st = search(&W, MODE_LEVEL, level, eps);
-    if (st == MFG_OK)
-        st = regions_of(&W, 1, level, eps, out);
-    free_work(&W);
-    if (st == MFG_OK)
-        mfg_clear_error();
-    return st;
+    return run(MODE_LEVEL, vertices, offsets, kinds, closed, npolys, weights, level, out);
 }
 
 mfg_status mfg_min_intersection(const double *vertices, const int64_t *offsets,
                                 const int32_t *kinds, const int32_t *closed, int64_t npolys,
                                 const double *weights, mfg_regions **out)
 {
-    if (!out)
-        return mfg_fail(MFG_ERR_NULL, "out is NULL");
-    work W;
-    mfg_status st = prepare(vertices, offsets, kinds, closed, npolys, weights, &W);
-    double eps = st == MFG_OK ? weight_eps(&W) : 0.0;
-    if (st == MFG_OK)
-        st = search(&W, MODE_MIN, 0.0, eps);
-    if (st == MFG_OK)
-        st = regions_of(&W, 0, 0.0, eps, out);
-    free_work(&W);
-    if (st == MFG_OK)
-        mfg_clear_error();
-    return st;
+    return run(MODE_MIN, vertices, offsets, kinds, closed, npolys, weights, 0.0, out);
 }
 
 void mfg_regions_free(mfg_regions *r)

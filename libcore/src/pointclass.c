@@ -267,6 +267,18 @@ static inline int scan_extents_tail(const mfg_ringset *rs, int64_t i, int64_t en
 #include <immintrin.h>
 #define MFG_HAVE_SIMD 1
 
+/* Visits the edges base + k for the set bits k of mask (candidates of a SIMD block). */
+static inline int visit_mask(const mfg_ringset *rs, int64_t base, uint32_t mask, probe *p)
+{
+    while (mask) {
+        int k = __builtin_ctz(mask);
+        mask &= mask - 1;
+        if (visit_edge(rs, base + k, p))
+            return 1;
+    }
+    return 0;
+}
+
 __attribute__((target("avx2"))) static int scan_extents_avx2(const mfg_ringset *rs, float lo,
                                                               float hi, probe *p)
 {
@@ -278,13 +290,9 @@ __attribute__((target("avx2"))) static int scan_extents_avx2(const mfg_ringset *
                                   _mm256_cmp_ps(_mm256_loadu_ps(mn + i), vhi, _CMP_LE_OQ));
         __m256 k1 = _mm256_and_ps(_mm256_cmp_ps(_mm256_loadu_ps(mx + i + 8), vlo, _CMP_GE_OQ),
                                   _mm256_cmp_ps(_mm256_loadu_ps(mn + i + 8), vhi, _CMP_LE_OQ));
-        unsigned m = (unsigned)_mm256_movemask_ps(k0) | ((unsigned)_mm256_movemask_ps(k1) << 8);
-        while (m) {
-            int k = __builtin_ctz(m);
-            m &= m - 1;
-            if (visit_edge(rs, i + k, p))
-                return 1;
-        }
+        uint32_t m = (uint32_t)_mm256_movemask_ps(k0) | ((uint32_t)_mm256_movemask_ps(k1) << 8);
+        if (m && visit_mask(rs, i, m, p))
+            return 1;
     }
     return scan_extents_tail(rs, i, n, lo, hi, p);
 }
@@ -301,12 +309,8 @@ __attribute__((target("avx512f"))) static int scan_extents_avx512(const mfg_ring
         __mmask16 k1 = _mm512_mask_cmp_ps_mask(_mm512_cmp_ps_mask(_mm512_loadu_ps(mx + i + 16), vlo, _CMP_GE_OQ),
                                                _mm512_loadu_ps(mn + i + 16), vhi, _CMP_LE_OQ);
         uint32_t m = (uint32_t)k0 | ((uint32_t)k1 << 16);
-        while (m) {
-            int k = __builtin_ctz(m);
-            m &= m - 1;
-            if (visit_edge(rs, i + k, p))
-                return 1;
-        }
+        if (m && visit_mask(rs, i, m, p))
+            return 1;
     }
     return scan_extents_tail(rs, i, n, lo, hi, p);
 }
