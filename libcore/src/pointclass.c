@@ -219,7 +219,8 @@ static inline int visit_edge(const mfg_ringset *rs, int64_t i, probe *p)
     }
     if (ay < p->box.ylo && by < p->box.ylo) /* shared D bit */
         return 0;
-    if (mfg_segment_within(p->tx, p->ty, ax, ay, bx, by, p->tol))
+    if (!mfg_far_from_line(p->tx, p->ty, ax, ay, bx, by, p->tol) &&
+        mfg_segment_within(p->tx, p->ty, ax, ay, bx, by, p->tol))
         return 1;
     if (straddle) {
         if (ay > p->ty && by > p->ty) {

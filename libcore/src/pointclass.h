@@ -3,6 +3,7 @@
 #ifndef MFG_POINTCLASS_H
 #define MFG_POINTCLASS_H
 
+#include <math.h>
 #include <stdint.h>
 
 #include "mfgeom.h"
@@ -39,6 +40,18 @@ typedef struct mfg_tolbox {
     double xlo, xhi, ylo, yhi;
 } mfg_tolbox;
 mfg_tolbox mfg_tolbox_make(double tx, double ty, double tol);
+
+/* 1 when t is certainly farther than tol from the line through a and b (float filter:
+ * |cross| / |b - a| > tol with the L1 length as a bound); 0 means "test exactly". */
+static inline int mfg_far_from_line(double tx, double ty, double ax, double ay, double bx,
+                                    double by, double tol)
+{
+    double ux = bx - ax, uy = by - ay;
+    double l = ux * (ty - ay), r = uy * (tx - ax);
+    double cr = l - r, err = 4.440892098500626e-16 * (fabs(l) + fabs(r)); /* 4u */
+    double len1 = fabs(ux) + fabs(uy);
+    return fabs(cr) - err > tol * len1 * (1.0 + 1e-12);
+}
 
 /* Classification of one point by the outcode method over all edges. */
 uint8_t mfg_classify_one(const mfg_ringset *rs, double tx, double ty, double tol);

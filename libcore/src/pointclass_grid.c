@@ -40,6 +40,7 @@ struct mfg_region {
     uint16_t *refk;            /* nx*ny: reference point index of each cell */
     uint32_t *start;           /* nx*ny + 1 offsets into edges[] */
     uint32_t *edges;           /* edge (slot) ids, ascending within a cell */
+    int8_t *rside;             /* per entry: side of the cell's reference point (orient2d) */
 };
 
 static inline double round_up_abs(double v) { return v + (fabs(v) * 0x1p-50 + 0x1p-1022); }
@@ -226,12 +227,44 @@ static mfg_status propagate_parity(mfg_region *g)
     return MFG_OK;
 }
 
+/* For every cell entry, the side of the edge's line the cell's reference point is on:
+ * a query on the same side cannot have the edge cross its segment to the reference, so
+ * one orientation test replaces the crossing test for most edges. */
+static mfg_status reference_sides(mfg_region *g)
+{
+    const double *X = g->rs.x, *Y = g->rs.y;
+    int64_t ncells = g->nx * g->ny;
+    g->rside = malloc((size_t)(g->start[ncells] + 1));
+    if (!g->rside)
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the grid's reference sides");
+    for (int64_t c = 0; c < ncells; c++) {
+        if (g->start[c] == g->start[c + 1])
+            continue;
+        double rx, ry;
+        ref_point(g, c % g->nx, c / g->nx, g->refk[c], &rx, &ry);
+        for (uint32_t p = g->start[c]; p < g->start[c + 1]; p++) {
+            uint32_t e = g->edges[p];
+            g->rside[p] = (int8_t)mfg_orient2d(X[e], Y[e], X[e + 1], Y[e + 1], rx, ry);
+        }
+    }
+    return MFG_OK;
+}
+
+/* Sign of orient2d(a, b, t) when the float filter can tell, else 0 ("unknown"). */
+static inline int orient_fast(double ax, double ay, double bx, double by, double tx, double ty)
+{
+    double l = (bx - ax) * (ty - ay), r = (by - ay) * (tx - ax), det = l - r;
+    double bound = 4.440892098500626e-16 * (fabs(l) + fabs(r)); /* 4u, as in predicates.c */
+    return det > bound ? 1 : (-det > bound ? -1 : 0);
+}
+
 void mfg_region_free(mfg_region *g)
 {
     if (!g)
         return;
     mfg_ringset_free(&g->rs);
     free(g->cell);
+    free(g->rside);
     free(g->refk);
     free(g->start);
     free(g->edges);
@@ -302,6 +335,8 @@ mfg_status mfg_region_new(const double *xy, const int64_t *ring_offsets, int64_t
         st = choose_refs(g);
     if (st == MFG_OK)
         st = propagate_parity(g);
+    if (st == MFG_OK)
+        st = reference_sides(g);
     if (st != MFG_OK) {
         mfg_region_free(g);
         return st;
@@ -327,11 +362,15 @@ static uint8_t classify_in_cell(const mfg_region *g, int64_t i, int64_t j, doubl
         double ax = X[e], ay = Y[e], bx = X[e + 1], by = Y[e + 1];
         if (!((ax < box.xlo && bx < box.xlo) || (ax > box.xhi && bx > box.xhi) ||
               (ay < box.ylo && by < box.ylo) || (ay > box.yhi && by > box.yhi)) &&
+            !mfg_far_from_line(tx, ty, ax, ay, bx, by, g->tol) &&
             mfg_segment_within(tx, ty, ax, ay, bx, by, g->tol))
             return MFG_ON;
-        /* Most edges miss the box of the segment r -> t: no call for those. */
+        /* Most edges miss the box of the segment r -> t, or have r and t strictly on
+         * one side of their line: neither can cross the segment. */
         if ((ax < rx && ax < tx && bx < rx && bx < tx) || (ax > rx && ax > tx && bx > rx && bx > tx) ||
             (ay < ry && ay < ty && by < ry && by < ty) || (ay > ry && ay > ty && by > ry && by > ty))
+            continue;
+        if (g->rside[p] != 0 && orient_fast(ax, ay, bx, by, tx, ty) == g->rside[p])
             continue;
         par ^= (unsigned)mfg_edge_crosses_segment(rx, ry, tx, ty, ax, ay, bx, by);
     }
