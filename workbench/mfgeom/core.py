@@ -39,6 +39,11 @@ def _candidates():
 
 
 def _load():
+    env = os.environ.get("MFGEOM_LIBRARY")
+    if env and not os.path.exists(env):
+        # An explicit choice that is wrong should not silently load another build.
+        raise ImportError(f"MFGEOM_LIBRARY={env} does not exist; build the library "
+                          "(cmake -S . -B build && cmake --build build) or unset it")
     errors = []
     for path in _candidates():
         if os.sep in path and not os.path.exists(path):
