@@ -288,29 +288,6 @@ static int64_t tessellation_max(const instance *I, const grid *g, int32_t *count
 
 /* The same counts without the bounding caps (every sample against every polygon): run once
  * per size on the 0.5 degree grid to check the early-out never drops a sample. */
-static int64_t brute_force_mismatches(const instance *I, const grid *g, const int32_t *count)
-{
-    int64_t bad = 0;
-    for (int64_t i = 0; i < g->n; i++) {
-        const double *d = g->d + 3 * i;
-        int32_t c = 0;
-        for (int64_t p = 0; p < I->n; p++) {
-            const double *v = I->vertices + 3 * I->offsets[p];
-            int64_t k = I->offsets[p + 1] - I->offsets[p], j = 0;
-            for (; j < k; j++) {
-                double n[3];
-                cross3(v + 3 * j, v + 3 * ((j + 1) % k), n);
-                unit3(n);
-                if (dot3(d, n) < 0)
-                    break;
-            }
-            c += j == k;
-        }
-        bad += c != count[i];
-    }
-    return bad;
-}
-
 /* Coverage of one direction with a tolerance (to check the library's direction). */
 static int64_t coverage_at(const instance *I, const double d[3], double tol)
 {
@@ -328,6 +305,14 @@ static int64_t coverage_at(const instance *I, const double d[3], double tol)
         total += j == k;
     }
     return total;
+}
+
+static int64_t brute_force_mismatches(const instance *I, const grid *g, const int32_t *count)
+{
+    int64_t bad = 0;
+    for (int64_t i = 0; i < g->n; i++)
+        bad += coverage_at(I, g->d + 3 * i, 0.0) != count[i];
+    return bad;
 }
 
 /* ---- the benchmark ------------------------------------------------------------------------- */

@@ -50,6 +50,18 @@ def _subnames(subs):
     return [s for s in subs if s]
 
 
+def _sub_shape(obj, sub, shape_type, missing):
+    """Sub-element ``sub`` of ``obj`` (global coordinates), which must be a
+    ``shape_type``; InputError with ``missing`` otherwise."""
+    try:
+        shape = Part.getShape(obj, sub, needSubElement=True)
+    except (Part.OCCError, ValueError, IndexError) as exc:
+        raise InputError(f"{_label(obj)} has no {sub}: {exc}") from None
+    if shape.isNull() or shape.ShapeType != shape_type:
+        raise InputError(missing)
+    return shape
+
+
 def normalize_face_ref(face_ref):
     """``(obj, "FaceN")`` or ``(obj, ["FaceN"])`` -> ``(obj, "FaceN")``."""
     if not isinstance(face_ref, (tuple, list)) or len(face_ref) != 2:
@@ -71,13 +83,8 @@ def resolve_face(obj, sub):
     _check_object(obj, "face")
     if not hasattr(obj, "Shape"):
         raise InputError(f"{_label(obj)} has no shape, so it has no faces")
-    try:
-        face = Part.getShape(obj, sub, needSubElement=True)
-    except (Part.OCCError, ValueError, IndexError) as exc:
-        raise InputError(f"{_label(obj)} has no {sub}: {exc}") from None
-    if face.isNull() or face.ShapeType != "Face":
-        raise InputError(f"{_label(obj)} has no {sub} (it has {len(obj.Shape.Faces)} faces)")
-    return face
+    return _sub_shape(obj, sub, "Face",
+                      f"{_label(obj)} has no {sub} (it has {len(obj.Shape.Faces)} faces)")
 
 
 def normalize_points_ref(points_ref):
@@ -115,12 +122,7 @@ def resolve_points(obj, subs):
         if subs:
             pts = []
             for s in subs:
-                try:
-                    vertex = Part.getShape(obj, s, needSubElement=True)
-                except (Part.OCCError, ValueError, IndexError) as exc:
-                    raise InputError(f"{_label(obj)} has no {s}: {exc}") from None
-                if vertex.isNull() or vertex.ShapeType != "Vertex":
-                    raise InputError(f"{_label(obj)} has no {s}")
+                vertex = _sub_shape(obj, s, "Vertex", f"{_label(obj)} has no {s}")
                 pts.append((vertex.Point.x, vertex.Point.y, vertex.Point.z))
         else:
             shape = Part.getShape(obj)
