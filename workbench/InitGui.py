@@ -19,7 +19,8 @@ class MfgeomWorkbench(FreeCADGui.Workbench):
         self.__class__.Icon = paths.icon("mfgeom_workbench.svg")
 
     def Initialize(self):
-        from mfgeom import commands, paths
+        from mfgeom import paths
+        from mfgeom.gui import commands
         FreeCADGui.addIconPath(paths.icons_dir())
         self.appendToolbar("Manufacturing Geometry", commands.COMMAND_NAMES)
         self.appendMenu("&Manufacturing Geometry", commands.COMMAND_NAMES)

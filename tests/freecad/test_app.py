@@ -27,8 +27,9 @@ for _path in (os.path.join(REPO, "examples"), os.path.join(REPO, "workbench")):
 
 import bracket  # noqa: E402
 import mfgeom  # noqa: E402
-from mfgeom import core, face_domain, refs  # noqa: E402
-from mfgeom.pointclass_feature import VERSION  # noqa: E402
+from mfgeom import core  # noqa: E402
+from mfgeom.app import face_domain, refs  # noqa: E402
+from mfgeom.app.pointclass import VERSION  # noqa: E402
 
 RNG = np.random.default_rng(12345)
 
@@ -279,7 +280,7 @@ class ParametricTests(DocTestCase):
             App.closeDocument(name)
             self.doc = App.openDocument(path)
             obj = self.doc.getObject("PC")
-            self.assertEqual(type(obj.Proxy).__module__, "mfgeom.pointclass_feature")
+            self.assertEqual(type(obj.Proxy).__module__, "mfgeom.app.pointclass")
             self.assertEqual(list(obj.Classes), classes)
             self.assertEqual(obj.Version, VERSION)
             obj.touch()
@@ -289,6 +290,31 @@ class ParametricTests(DocTestCase):
             obj.Tolerance = 0.5  # still parametric after the reload
             self.doc.recompute()
             self.assertNotEqual(list(obj.Classes), classes)
+
+    def test_document_of_version_0_1_opens(self):
+        # mfgeom 0.1 saved its proxies as mfgeom.pointclass_feature.*: such files must
+        # still open, recompute and keep their results after the package was layered.
+        import zipfile
+        classes = list(self.obj.Classes)
+        with tempfile.TemporaryDirectory() as tmp:
+            new, old = os.path.join(tmp, "new.FCStd"), os.path.join(tmp, "old.FCStd")
+            self.doc.saveAs(new)
+            with zipfile.ZipFile(new) as zin, zipfile.ZipFile(old, "w") as zout:
+                for item in zin.infolist():
+                    data = zin.read(item.filename)
+                    if item.filename == "Document.xml":
+                        self.assertIn(b'module="mfgeom.app.pointclass"', data)
+                        data = data.replace(b'module="mfgeom.app.pointclass"',
+                                            b'module="mfgeom.pointclass_feature"')
+                    zout.writestr(item, data)
+            App.closeDocument(self.doc.Name)
+            self.doc = App.openDocument(old)
+            obj = self.doc.getObject("PC")
+            self.assertEqual(type(obj.Proxy).__name__, "PointClassification")
+            obj.touch()
+            self.doc.recompute()
+            self.assertTrue(obj.isValid(), obj.getStatusString())
+            self.assertEqual(list(obj.Classes), classes)
 
     def test_old_version_migrates(self):
         self.obj.Version = 0

@@ -1,6 +1,15 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The mfgeom package: the ctypes binding (core) and the FreeCAD workbench code.
 
+Layers (each feature adds one module per layer):
+
+* FreeCAD-free, importable from plain python3 + numpy: ``core`` (the ctypes binding,
+  library loaded on first use), ``cli``, ``errors`` (one exception base class),
+  ``names`` (class and kind codes), ``palette`` (result colours), ``paths``;
+* ``mfgeom.app``: FreeCAD App layer (feature proxies, reference resolution, geometry
+  that needs Part), works in freecadcmd;
+* ``mfgeom.gui``: commands, view providers, task panels (only when FreeCAD.GuiUp).
+
 Importing the package must work in plain python3 without FreeCAD (users of
 ``mfgeom.core`` do that), so nothing here imports FreeCAD or loads the C library;
 the FreeCAD-facing entry points import their modules when called.
@@ -17,7 +26,7 @@ def make_point_classification(doc, face_ref, points_ref, tolerance=None,
     Sketch or any Part shape: its vertices) or ``(obj, ["Vertex1", ...])``.
     ``tolerance`` is in mm (default: the preference DefaultTolerance).
     Raises ValueError/TypeError on bad input and creates nothing in that case.
-    See :func:`mfgeom.pointclass_feature.make_point_classification`.
+    See :func:`mfgeom.app.pointclass.make_point_classification`.
     """
-    from mfgeom.pointclass_feature import make_point_classification as _make
+    from mfgeom.app.pointclass import make_point_classification as _make
     return _make(doc, face_ref, points_ref, tolerance=tolerance, name=name)

@@ -7,14 +7,13 @@ import sys
 
 import numpy as np
 
-OUT = 0
-IN = 1
-ON = 2
+from mfgeom.errors import MfgeomError
+from mfgeom.names import IN, KIND_CODES, KINDS, ON, OUT  # noqa: F401  (core.IN etc.)
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-class MfgError(RuntimeError):
+class MfgError(MfgeomError, RuntimeError):
     """An error reported by libmfgeom; ``status`` is the C status name."""
 
     def __init__(self, status, message):
@@ -96,8 +95,6 @@ _lib.mfg_visibility_map.argtypes = [_c_double_p, ctypes.c_int64, ctypes.c_double
 _lib.mfg_spoly_free.restype = None
 _lib.mfg_spoly_free.argtypes = [ctypes.POINTER(_SPoly)]
 
-KINDS = {0: "null", 1: "point", 2: "edge", 3: "polygon"}
-KIND_CODES = {v: k for k, v in KINDS.items()}
 
 
 class _Regions(ctypes.Structure):

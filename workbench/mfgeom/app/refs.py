@@ -11,6 +11,8 @@ import numpy as np
 
 import Part
 
+from mfgeom.errors import InputError  # noqa: F401  (raised here; refs.InputError for callers)
+
 _FACE = re.compile(r"^Face[0-9]+$")
 _VERTEX = re.compile(r"^Vertex[0-9]+$")
 
@@ -18,8 +20,6 @@ POINT_SOURCES = ("a Points object, a Mesh, a sketch or any Part object (its vert
                  "or vertices of a shape")
 
 
-class InputError(ValueError):
-    """A reference that cannot be used as a face or as points; the text says why."""
 
 
 def _label(obj):

@@ -44,7 +44,7 @@ class ClassifyPointsCommand(BaseCommand):
         # Loaded here so a missing libmfgeom.so is reported, not a dead workbench.
         try:
             importlib.import_module("mfgeom.core")
-            from mfgeom import pointclass_feature, preferences, refs
+            from mfgeom.app import pointclass as pointclass_feature, preferences, refs
         except ImportError as exc:
             _warn(title, f"The mfgeom library could not be loaded:\n{exc}")
             return

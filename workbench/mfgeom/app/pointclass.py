@@ -1,0 +1,175 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The parametric "point classification" feature: App proxy and make function (its view
+provider is mfgeom.gui.pointclass_view).
+
+The object is a Part::FeaturePython whose Shape is a compound of the input points (one
+vertex each, in input order), linked to a face and a point source, recomputed when
+they or the tolerance change.  The geometry lives in :mod:`mfgeom.face_domain`.
+"""
+
+import FreeCAD
+import Part
+
+from mfgeom.app import preferences, refs
+
+# 1: first release.  Bump when properties change and migrate in _migrate().
+VERSION = 1
+
+TYPE = "Mfgeom::PointClassification"
+
+
+class PointClassification:
+    """App proxy: classifies the point source against the face on every recompute."""
+
+    def __init__(self, obj):
+        obj.Proxy = self
+        self.Type = TYPE
+        self._add_properties(obj)
+        obj.Version = VERSION
+
+    @staticmethod
+    def _add_properties(obj):
+        # (type, name, group, tooltip, read-only output?)
+        spec = [
+            ("App::PropertyLinkSub", "Face", "Input", "The face to classify against", False),
+            ("App::PropertyLinkSub", "PointSource", "Input",
+             "The points: a Points object, a Mesh, a sketch/Part object (its vertices) "
+             "or selected vertices", False),
+            ("App::PropertyLength", "Tolerance", "Input",
+             "Points whose distance to the face boundary is at most this are ON", False),
+            ("App::PropertyIntegerList", "Classes", "Result",
+             "Class of each point in input order: 0 = OUT, 1 = IN, 2 = ON", True),
+            ("App::PropertyInteger", "CountIn", "Result", "Number of points IN the face", True),
+            ("App::PropertyInteger", "CountOn", "Result",
+             "Number of points ON the boundary (within the tolerance)", True),
+            ("App::PropertyInteger", "CountOut", "Result", "Number of points OUT of the face",
+             True),
+            ("App::PropertyString", "Method", "Result",
+             "plane: exact in the plane's frame; uv: in the face's parameter domain", True),
+            ("App::PropertyFloat", "ParameterTolerance", "Result",
+             "Tolerance handed to libmfgeom in 2-D units (the ON candidate band on curved faces)",
+             True),
+            ("App::PropertyFloat", "Distortion", "Result",
+             "Largest over smallest stretch of the face's parametrisation (1 = isometric)", True),
+            ("App::PropertyLength", "MaxDistanceToSurface", "Result",
+             "Largest distance of a point to the face's surface (points are projected on it)",
+             True),
+            ("App::PropertyInteger", "Version", "Base",
+             "Version of this object's properties, for migrating old documents", True),
+        ]
+        for ptype, name, group, tip, output in spec:
+            if name not in obj.PropertiesList:
+                if output:
+                    # Output: setting it does not touch the object; read-only in the editor
+                    obj.addProperty(ptype, name, group, tip, 8, True)
+                else:
+                    obj.addProperty(ptype, name, group, tip)
+
+    def _migrate(self, obj):
+        if "Version" not in obj.PropertiesList or obj.Version < VERSION:
+            self._add_properties(obj)
+            obj.Version = VERSION
+
+    def onDocumentRestored(self, obj):
+        self.Type = TYPE
+        self._migrate(obj)
+        # A document made headless (freecadcmd) has no saved view provider: give it ours
+        # so the points show their colours when the file is opened in the GUI.
+        if FreeCAD.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
+            from mfgeom.gui.pointclass_view import ViewProviderPointClassification
+            ViewProviderPointClassification(obj.ViewObject)
+
+    def execute(self, obj):
+        self._migrate(obj)
+        if obj.Face is None or obj.PointSource is None:
+            raise refs.InputError(f"{obj.Label}: the linked face or point source is gone; "
+                                  "set the Face and PointSource properties again")
+        face_obj, face_sub = refs.normalize_face_ref(obj.Face)
+        face = refs.resolve_face(face_obj, face_sub)
+        src_obj, src_subs = refs.normalize_points_ref(obj.PointSource)
+        points = refs.resolve_points(src_obj, src_subs)
+        # Imported here: it loads libmfgeom, and a document must open (and show its last
+        # results) even where the library is missing.
+        from mfgeom.app import face_domain
+        result = face_domain.classify_points_on_face(face, points, obj.Tolerance.Value)
+        obj.Shape = Part.makeCompound([Part.Vertex(*p) for p in points.tolist()])
+        obj.Classes = [int(c) for c in result.classes]
+        obj.CountIn = result.counts["in"]
+        obj.CountOn = result.counts["on"]
+        obj.CountOut = result.counts["out"]
+        obj.Method = result.method
+        obj.ParameterTolerance = result.tol_2d
+        obj.Distortion = result.distortion
+        obj.MaxDistanceToSurface = result.max_distance_to_surface
+        FreeCAD.Console.PrintLog(
+            f"mfgeom: {obj.Label}: {len(points)} points, IN {obj.CountIn}, ON {obj.CountOn}, "
+            f"OUT {obj.CountOut} ({result.method}, {result.seconds * 1e3:.1f} ms)\n")
+
+    # Persistence: 0.20 calls __getstate__/__setstate__, 0.21+ dumps/loads.  Nothing but
+    # the type is kept: all state is in properties (and no C handle lives here).
+    def __getstate__(self):
+        return {"Type": TYPE, "Version": VERSION}
+
+    def __setstate__(self, state):
+        self.Type = TYPE
+
+    def dumps(self):
+        return self.__getstate__()
+
+    def loads(self, state):
+        self.__setstate__(state)
+
+
+def _check_tolerance(tolerance):
+    if tolerance is None:
+        return preferences.default_tolerance()
+    if hasattr(tolerance, "Value"):  # a FreeCAD.Quantity in mm
+        tolerance = tolerance.Value
+    try:
+        tolerance = float(tolerance)
+    except (TypeError, ValueError):
+        raise refs.InputError(f"the tolerance must be a number of mm, got {tolerance!r}") from None
+    if not tolerance >= 0.0 or tolerance == float("inf"):
+        raise refs.InputError(f"the tolerance must be a finite number >= 0 mm, got {tolerance!r}")
+    return tolerance
+
+
+def make_point_classification(doc, face_ref, points_ref, tolerance=None,
+                              name="PointClassification"):
+    """Create a point classification feature in ``doc`` and compute it.
+
+    ``face_ref``: ``(obj, "FaceN")``.  ``points_ref``: a Points, Mesh, Sketch or Part
+    object (all its points/vertices) or ``(obj, ["Vertex1", ...])``.  ``tolerance`` in mm
+    (None: the DefaultTolerance preference).  The inputs are checked before anything is
+    created; if the first recompute still fails, the object is removed again, so on an
+    exception the document is left as it was.  Returns the new object.
+    """
+    if doc is None or not hasattr(doc, "addObject"):
+        raise refs.InputError("no document given")
+    face_obj, face_sub = refs.normalize_face_ref(face_ref)
+    src_obj, src_subs = refs.normalize_points_ref(points_ref)
+    for obj, what in ((face_obj, "face"), (src_obj, "points")):
+        if obj.Document is not doc:
+            raise refs.InputError(f"the {what} object '{obj.Label}' is in document "
+                                  f"'{obj.Document.Name}', not in '{doc.Name}'")
+    tolerance = _check_tolerance(tolerance)
+    # Resolve now so a bad reference fails before the document changes.
+    refs.resolve_face(face_obj, face_sub)
+    refs.check_points(src_obj, src_subs)
+
+    obj = doc.addObject("Part::FeaturePython", name)
+    try:
+        PointClassification(obj)
+        if FreeCAD.GuiUp:
+            from mfgeom.gui.pointclass_view import ViewProviderPointClassification
+            ViewProviderPointClassification(obj.ViewObject)
+        obj.Face = (face_obj, [face_sub])
+        obj.PointSource = (src_obj, src_subs)
+        obj.Tolerance = tolerance
+        obj.recompute()
+        if not obj.isValid():
+            raise RuntimeError(f"point classification failed: {obj.getStatusString()}")
+    except Exception:  # undo the half-made object whatever went wrong, then re-raise
+        doc.removeObject(obj.Name)
+        raise
+    return obj
