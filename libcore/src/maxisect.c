@@ -84,69 +84,6 @@ typedef struct work {
 
 enum { MODE_MAX, MODE_LEVEL, MODE_MIN };
 
-static inline double angle_between(const double a[3], const double b[3])
-{
-    double c[3];
-    mfg_cross3(a, b, c);
-    return atan2(sqrt(mfg_dot3(c, c)), mfg_dot3(a, b));
-}
-
-/* ---- Smallest enclosing cap on the sphere (Welzl, iterative with move-to-front) --- */
-
-static void cap2(const double *a, const double *b, double c[3], double *cosr)
-{
-    double s[3] = {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
-    if (!mfg_unit3(s, c)) { /* antipodal: any point of the bisecting circle */
-        double t[3] = {a[1], -a[0], 0};
-        if (!mfg_unit3(t, c)) {
-            t[0] = 0, t[1] = a[2], t[2] = -a[1];
-            mfg_unit3(t, c);
-        }
-    }
-    *cosr = fmin(mfg_dot3(c, a), mfg_dot3(c, b));
-}
-
-static void cap3(const double *a, const double *b, const double *p, double c[3], double *cosr)
-{
-    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    double v[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]}, n[3];
-    mfg_cross3(u, v, n);
-    if (!mfg_unit3(n, c)) {
-        cap2(a, b, c, cosr);
-        return;
-    }
-    if (mfg_dot3(c, a) < 0)
-        c[0] = -c[0], c[1] = -c[1], c[2] = -c[2];
-    *cosr = fmin(mfg_dot3(c, a), fmin(mfg_dot3(c, b), mfg_dot3(c, p)));
-}
-
-/* Smallest cap containing the k unit points pts (k >= 1): centre c and cos(radius). */
-static void enclosing_cap(const double *pts, int64_t k, double c[3], double *cosr)
-{
-    const double eps = 1e-14;
-    memcpy(c, pts, 3 * sizeof(double));
-    *cosr = 1.0;
-    for (int64_t i = 1; i < k; i++) {
-        const double *pi = pts + 3 * i;
-        if (mfg_dot3(c, pi) >= *cosr - eps)
-            continue;
-        memcpy(c, pi, 3 * sizeof(double));
-        *cosr = 1.0;
-        for (int64_t j = 0; j < i; j++) {
-            const double *pj = pts + 3 * j;
-            if (mfg_dot3(c, pj) >= *cosr - eps)
-                continue;
-            cap2(pi, pj, c, cosr);
-            for (int64_t l = 0; l < j; l++) {
-                const double *pl = pts + 3 * l;
-                if (mfg_dot3(c, pl) >= *cosr - eps)
-                    continue;
-                cap3(pi, pj, pl, c, cosr);
-            }
-        }
-    }
-}
-
 /* ---- Membership and edge intervals ---------------------------------------------- */
 
 /* Parameter s of direction y (on the great circle of a->b) along x(s) = a + s (b - a);
@@ -166,7 +103,7 @@ static int param_on_edge(const double *a, const double *b, const double *y, doub
     if (alpha + beta <= 0.0)
         return 0;
     double t = beta / (alpha + beta);
-    double len = angle_between(a, b);
+    double len = mfg_angle3(a, b);
     double slack = TOL / fmax(len, TOL); /* tolerance as a fraction of the edge */
     if (t < -slack || t > 1.0 + slack)
         return 0;
@@ -404,10 +341,10 @@ static mfg_status prepare(const double *vertices, const int64_t *offsets, const 
                                         (long long)i, (long long)j, (long long)k);
         }
         double cosr;
-        enclosing_cap(S->v, nv, S->cc, &cosr);
+        mfg_enclosing_cap(S->v, nv, S->cc, &cosr);
         S->cr = acos(fmin(fmax(cosr, -1.0), 1.0));
         for (int64_t k = 0; k < nv; k++) /* Welzl's tolerance: make sure all are in */
-            S->cr = fmax(S->cr, angle_between(S->cc, S->v + 3 * k));
+            S->cr = fmax(S->cr, mfg_angle3(S->cc, S->v + 3 * k));
         /* A cap of radius >= pi/2 is not convex: containing the vertices no longer
          * means containing the set.  A polygon lies in the hemisphere around the sum
          * of its inward edge normals (x.n_k >= 0 for all k gives x.sum >= 0); an arc
@@ -431,7 +368,7 @@ static mfg_status prepare(const double *vertices, const int64_t *offsets, const 
         if (S->kind != MFG_VM_POLYGON)
             continue;
         double cosr, mind = 1.0;
-        enclosing_cap(S->n, S->nv, S->ic, &cosr);
+        mfg_enclosing_cap(S->n, S->nv, S->ic, &cosr);
         for (int64_t k = 0; k < S->nv; k++)
             mind = fmin(mind, mfg_dot3(S->ic, S->n + 3 * k));
         /* shrunk a little: only ever used to claim containment */
@@ -460,7 +397,7 @@ static void edge_cap(const double *a, const double *b, double mc[3], double *hal
                      double *sh)
 {
     double mid[3] = {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
-    *half = 0.5 * angle_between(a, b);
+    *half = 0.5 * mfg_angle3(a, b);
     *ch = cos(*half);
     *sh = sin(*half);
     if (!mfg_unit3(mid, mc))
@@ -853,21 +790,10 @@ static mfg_status build_region(work *W, int64_t ci, region *R)
          * enclosing the poles of the edges (the dual polygon); taking every normal is
          * the same, as inner ones never bound that circle.  Scrambled order keeps
          * Welzl's algorithm linear. */
-        int64_t stride = nn > 2 ? (int64_t)((double)nn * 0.6180339887498949) | 1 : 1;
-        while (stride > 1 && nn % stride == 0)
-            stride += 2;
-        double *sh = malloc((size_t)(nn + 1) * 3 * sizeof(double));
-        if (!sh) {
-            mfg_spoly_free(vm), free(nrm), free(ord);
-            return mfg_fail(MFG_ERR_NOMEM, "cannot build a region");
-        }
-        for (int64_t i = 0, j = 0; i < nn; i++, j = (j + stride) % nn)
-            memcpy(sh + 3 * i, nrm + 3 * j, 3 * sizeof(double));
         double cosr, mind = 1.0;
-        enclosing_cap(sh, nn, R->c, &cosr);
+        mfg_enclosing_cap(nrm, nn, R->c, &cosr);
         for (int64_t k = 0; k < nn; k++)
             mind = fmin(mind, mfg_dot3(R->c, nrm + 3 * k));
-        free(sh);
         R->margin = asin(fmin(fmax(mind, -1.0), 1.0));
         if (R->margin > 10 * TOL) {
             R->kind = MFG_VM_POLYGON;
@@ -949,7 +875,7 @@ static void cell_init(cell *c, const double q[4][3])
     mfg_unit3(s, c->q.cc);
     c->q.cr = 0.0;
     for (int k = 0; k < 4; k++)
-        c->q.cr = fmax(c->q.cr, angle_between(c->q.cc, c->vbuf + 3 * k));
+        c->q.cr = fmax(c->q.cr, mfg_angle3(c->q.cc, c->vbuf + 3 * k));
     c->q.cr += 1e-9;
     c->q.cos_cr = cos(c->q.cr);
     c->q.sin_cr = sin(c->q.cr);

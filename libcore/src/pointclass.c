@@ -403,8 +403,7 @@ int mfg_edge_crosses_segment(double rx, double ry, double tx, double ty, double 
                              double ay, double bx, double by)
 {
     /* Edges whose boxes are strictly apart from the segment's cannot cross it. */
-    if ((ax < rx && ax < tx && bx < rx && bx < tx) || (ax > rx && ax > tx && bx > rx && bx > tx) ||
-        (ay < ry && ay < ty && by < ry && by < ty) || (ay > ry && ay > ty && by > ry && by > ty))
+    if (mfg_segment_boxes_apart(rx, ry, tx, ty, ax, ay, bx, by))
         return 0;
     /* Symbolic perturbation: a vertex exactly on the line r-t is taken to lie on its
      * left (positive) side, i.e. the line is shifted infinitesimally to the right.  The

@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "mfgeom.h"
+#include "predicates.h"
 
 /* Rings stored as separate x and y arrays (SoA, so the x-band test vectorises), each
  * ring followed by a copy of its first vertex: edge i joins vertex i and i + 1 for
@@ -48,9 +49,18 @@ static inline int mfg_far_from_line(double tx, double ty, double ax, double ay, 
 {
     double ux = bx - ax, uy = by - ay;
     double l = ux * (ty - ay), r = uy * (tx - ax);
-    double cr = l - r, err = 4.440892098500626e-16 * (fabs(l) + fabs(r)); /* 4u */
+    double cr = l - r, err = MFG_ORIENT2D_ERR * (fabs(l) + fabs(r));
     double len1 = fabs(ux) + fabs(uy);
     return fabs(cr) - err > tol * len1 * (1.0 + 1e-12);
+}
+
+/* 1 when the bounding boxes of the segments a-b and r-t are strictly apart (in x or in
+ * y): then the segments cannot meet.  The cheap rejection before any crossing test. */
+static inline int mfg_segment_boxes_apart(double rx, double ry, double tx, double ty, double ax,
+                                          double ay, double bx, double by)
+{
+    return (ax < rx && ax < tx && bx < rx && bx < tx) || (ax > rx && ax > tx && bx > rx && bx > tx) ||
+           (ay < ry && ay < ty && by < ry && by < ty) || (ay > ry && ay > ty && by > ry && by > ty);
 }
 
 /* Classification of one point by the outcode method over all edges. */

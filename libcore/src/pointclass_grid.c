@@ -250,14 +250,6 @@ static mfg_status reference_sides(mfg_region *g)
     return MFG_OK;
 }
 
-/* Sign of orient2d(a, b, t) when the float filter can tell, else 0 ("unknown"). */
-static inline int orient_fast(double ax, double ay, double bx, double by, double tx, double ty)
-{
-    double l = (bx - ax) * (ty - ay), r = (by - ay) * (tx - ax), det = l - r;
-    double bound = 4.440892098500626e-16 * (fabs(l) + fabs(r)); /* 4u, as in predicates.c */
-    return det > bound ? 1 : (-det > bound ? -1 : 0);
-}
-
 void mfg_region_free(mfg_region *g)
 {
     if (!g)
@@ -367,10 +359,9 @@ static uint8_t classify_in_cell(const mfg_region *g, int64_t i, int64_t j, doubl
             return MFG_ON;
         /* Most edges miss the box of the segment r -> t, or have r and t strictly on
          * one side of their line: neither can cross the segment. */
-        if ((ax < rx && ax < tx && bx < rx && bx < tx) || (ax > rx && ax > tx && bx > rx && bx > tx) ||
-            (ay < ry && ay < ty && by < ry && by < ty) || (ay > ry && ay > ty && by > ry && by > ty))
+        if (mfg_segment_boxes_apart(rx, ry, tx, ty, ax, ay, bx, by))
             continue;
-        if (g->rside[p] != 0 && orient_fast(ax, ay, bx, by, tx, ty) == g->rside[p])
+        if (g->rside[p] != 0 && mfg_orient2d_filter(ax, ay, bx, by, tx, ty) == g->rside[p])
             continue;
         par ^= (unsigned)mfg_edge_crosses_segment(rx, ry, tx, ty, ax, ay, bx, by);
     }

@@ -171,17 +171,8 @@ static int orient2d_exact(double ax, double ay, double bx, double by, double cx,
 
 int mfg_orient2d(double ax, double ay, double bx, double by, double cx, double cy)
 {
-    double l = (bx - ax) * (cy - ay);
-    double r = (by - ay) * (cx - ax);
-    double det = l - r;
-    /* Each product carries <= 3u relative error (two differences, one product), the
-     * subtraction one more: 4u bounds it with room to spare. */
-    double bound = 4.0 * U * (fabs(l) + fabs(r));
-    if (det > bound)
-        return 1;
-    if (-det > bound)
-        return -1;
-    return orient2d_exact(ax, ay, bx, by, cx, cy);
+    int sign = mfg_orient2d_filter(ax, ay, bx, by, cx, cy); /* 4u bound: predicates.h */
+    return sign ? sign : orient2d_exact(ax, ay, bx, by, cx, cy);
 }
 
 int mfg_dot2d(double ax, double ay, double bx, double by, double cx, double cy)

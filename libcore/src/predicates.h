@@ -16,7 +16,22 @@ int mfg_dot2d(double ax, double ay, double bx, double by, double cx, double cy);
 int mfg_segment_within(double tx, double ty, double ax, double ay, double bx, double by,
                        double tol);
 
-#endif
+/* Error bound of the orientation filter: with l = (bx - ax)(cy - ay) and
+ * r = (by - ay)(cx - ax) in doubles, each product carries <= 3u relative error (two
+ * differences, one product) and the subtraction one more, so
+ * |(l - r) - exact| <= 4u (|l| + |r|), u = 2^-53. */
+#define MFG_ORIENT2D_ERR 4.440892098500626e-16
+
+/* The floating-point filter of mfg_orient2d alone: the sign of the orientation
+ * determinant when the rounded value decides it, 0 when it cannot tell (then call
+ * mfg_orient2d for the exact answer). */
+static inline int mfg_orient2d_filter(double ax, double ay, double bx, double by, double cx,
+                                      double cy)
+{
+    double l = (bx - ax) * (cy - ay), r = (by - ay) * (cx - ax), det = l - r;
+    double bound = MFG_ORIENT2D_ERR * ((l < 0 ? -l : l) + (r < 0 ? -r : r));
+    return det > bound ? 1 : (-det > bound ? -1 : 0);
+}
 
 /* ---- Sphere (3-D vector) predicates: signs are exact for the doubles given, and do
  * not depend on the vectors' lengths, so unnormalised normals can be used as they are. */
@@ -40,3 +55,5 @@ int mfg_parallel3(const double a[3], const double b[3]);
 /* a x b with each component computed from exact products (Kahan's trick): nearly
  * parallel vectors still give an accurate direction instead of rounding noise or 0. */
 void mfg_cross3_accurate(const double a[3], const double b[3], double out[3]);
+
+#endif

@@ -616,27 +616,6 @@ static void merge_near_duplicates(cone3 *k)
 
 /* ---- Entry point ---------------------------------------------------------------------- */
 
-/* A fixed stride coprime to m visits every index once in a scrambled order: incremental
- * hulls then see extreme points early, as with a random permutation, with no memory. */
-static int64_t scramble_stride(int64_t m)
-{
-    int64_t s = (int64_t)((double)m * 0.6180339887498949) | 1;
-    while (s > 1) {
-        int64_t x = s, y = m;
-        while (y) {
-            int64_t r = x % y;
-            x = y;
-            y = r;
-        }
-        if (x == 1)
-            break;
-        s += 2;
-        if (s >= m)
-            s = 1;
-    }
-    return s < 1 ? 1 : s;
-}
-
 mfg_status mfg_visibility_map(const double *normals, int64_t m, double draft_angle,
                               mfg_spoly **out_map)
 {
@@ -663,7 +642,7 @@ mfg_status mfg_visibility_map(const double *normals, int64_t m, double draft_ang
     cone3 k;
     memset(&k, 0, sizeof k);
     mfg_status st = MFG_OK;
-    int64_t stride = scramble_stride(m), idx = 0;
+    int64_t stride = mfg_scramble_stride(m), idx = 0;
     for (int64_t step = 0; step < m && st == MFG_OK && k.state != CONE_LINE; step++) {
         vref p = normals + 3 * idx;
         idx += stride;
