@@ -1227,10 +1227,11 @@ static mfg_status search(work *W, int mode, double threshold, double eps)
             }
             for (int k = 0; k < 4 && st == MFG_OK; k++) {
                 cell *kid = NULL;
-                st = make_child(W, c, kids[k], &kid);
+                if ((st = make_child(W, c, kids[k], &kid)) != MFG_OK)
+                    break; /* kid stays NULL: nothing to free */
                 int useful = mode == MODE_MIN ? kid->full <= W->best + eps
                                               : kid->ub >= (keep_best ? W->best : threshold) - eps;
-                if (st == MFG_OK && useful) {
+                if (useful) {
                     if ((st = heap_push(&h, kid)) != MFG_OK)
                         cell_free(kid);
                 } else {
@@ -1471,8 +1472,12 @@ static mfg_status regions_of(work *W, int maximal_only, double level, double eps
             if (dominated)
                 continue;
             st = build_region(W, idx[t], &R[nr]);
-            if (st == MFG_OK)
+            if (st == MFG_OK) {
                 nr++;
+            } else { /* a region half built: release its vertices */
+                free(R[nr].v);
+                R[nr].v = NULL;
+            }
         }
         weight = maximal_only ? level : (nr ? top : 0.0);
     }
