@@ -730,15 +730,14 @@ static mfg_status build_region(work *W, int64_t ci, region *R)
             if (set[k] == thin)
                 continue;
             const sset *S = &W->sets[set[k]];
-            interval iv[64];
             double l = 2.0, h = -1.0;
             if (S->kind == MFG_VM_POLYGON) {
                 if (!polygon_interval(S, a, b, &l, &h))
                     l = 2.0, h = -1.0;
-            } else if (S->nv <= 16) {
-                int64_t m = thin_intervals(S, set[k], a, b, iv);
+            } else { /* W->iv (free after the search) has room for any thin set's pieces */
+                int64_t m = thin_intervals(S, set[k], a, b, W->iv);
                 for (int64_t t = 0; t < m; t++)
-                    l = fmin(l, iv[t].lo), h = fmax(h, iv[t].hi);
+                    l = fmin(l, W->iv[t].lo), h = fmax(h, W->iv[t].hi);
             }
             if (l <= h) {
                 lo = fmax(lo, l);

@@ -316,8 +316,43 @@ static void test_single_polygon_margin(void)
         fprintf(stderr, "single polygons: worst margin error %.3g rad\n", worst);
 }
 
+/* Issue 6, item 3: a region on an arc is clipped by every thin set covering it, however
+ * many vertices that set has (sets of more than 16 vertices used to be ignored). */
+static void test_thin_cover_many_vertices(void)
+{
+    for (int nb = 3; nb <= 40; nb += 37) {
+        /* on the equator: A from 0 to 60 degrees (3 vertices), B from 40 to 100 degrees
+         * (nb vertices): both cover exactly the arc from 40 to 60 degrees */
+        double v[3 * 43];
+        const double d = M_PI / 180;
+        for (int k = 0; k < 3; k++)
+            v[3 * k] = cos(30 * k * d), v[3 * k + 1] = sin(30 * k * d), v[3 * k + 2] = 0;
+        for (int k = 0; k < nb; k++) {
+            double a = (40 + 60.0 * k / (nb - 1)) * d;
+            v[9 + 3 * k] = cos(a), v[9 + 3 * k + 1] = sin(a), v[9 + 3 * k + 2] = 0;
+        }
+        int64_t off[] = {0, 3, 3 + nb};
+        int32_t kinds[] = {MFG_VM_EDGE, MFG_VM_EDGE};
+        mfg_regions *r = NULL;
+        CHECK_EQ_INT(mfg_max_intersection(v, off, kinds, NULL, 2, NULL, &r), MFG_OK);
+        if (!r)
+            continue;
+        CHECK(r->weight == 2.0);
+        CHECK_EQ_INT(r->nregions, 1);
+        CHECK_EQ_INT(r->kinds[0], MFG_VM_EDGE);
+        int64_t n = r->vertex_offsets[1];
+        double a0 = atan2(r->vertices[1], r->vertices[0]) / d;
+        double a1 = atan2(r->vertices[3 * n - 2], r->vertices[3 * n - 3]) / d;
+        CHECK(fabs(fmin(a0, a1) - 40) < 1e-7 && fabs(fmax(a0, a1) - 60) < 1e-7);
+        if (!(fabs(fmin(a0, a1) - 40) < 1e-7 && fabs(fmax(a0, a1) - 60) < 1e-7))
+            fprintf(stderr, "nb = %d: arc from %.9g to %.9g degrees\n", nb, a0, a1);
+        mfg_regions_free(r);
+    }
+}
+
 int main(void)
 {
+    test_thin_cover_many_vertices();
     test_single_polygon_margin();
     test_errors();
     test_nested();
