@@ -20,6 +20,13 @@ mfg_status mfg_fail(mfg_status status, const char *fmt, ...)
 /* Clears the thread's detail text (called on success paths of public entry points). */
 void mfg_clear_error(void);
 
+/* Largest count (of vertices, points, rings, polygons, normals) any entry point accepts:
+ * 2^40, far beyond real inputs, yet every size derived from it (times 3 doubles, plus a
+ * slot per ring, in bytes) stays far below INT64_MAX, so no size computation can wrap.
+ * A larger count cannot describe memory the caller owns: it is rejected before anything
+ * is read through it. */
+#define MFG_MAX_COUNT ((int64_t)1 << 40)
+
 /* True when v is 0 or MFG_MIN_COORD <= |v| <= MFG_MAX_COORD (false for NaN and Inf).
  * Inside that range every coordinate is a multiple of 2^-252, so every exact
  * intermediate of a degree-4 predicate is a multiple of 2^-1008: representable, never

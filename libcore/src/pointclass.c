@@ -55,29 +55,43 @@ mfg_status mfg_ringset_build(mfg_ringset *rs, const double *xy, const int64_t *r
                              int64_t nrings, double tol)
 {
     memset(rs, 0, sizeof *rs);
+    if (nrings < 0)
+        return mfg_fail(MFG_ERR_INVALID, "nrings must be >= 0 (got %lld)", (long long)nrings);
     if (!ring_offsets)
         return mfg_fail(MFG_ERR_NULL, "ring_offsets is NULL");
-    if (nrings <= 0)
+    if (nrings == 0)
         return mfg_fail(MFG_ERR_DEGENERATE, "no rings: a region needs at least one ring (nrings = %lld)",
                         (long long)nrings);
+    /* Every ring has 3 vertices or more: a larger nrings can only be a wrong count, and
+     * walking ring_offsets that far would read past the caller's array. */
+    if (nrings > MFG_MAX_COUNT / 3)
+        return mfg_fail(MFG_ERR_INVALID, "nrings = %lld is more than %lld rings of 3 vertices",
+                        (long long)nrings, (long long)(MFG_MAX_COUNT / 3));
     if (!(tol >= 0.0) || !mfg_coord_ok(tol))
         return mfg_fail(MFG_ERR_INVALID, "tolerance must be 0 or between 2^-200 and 2^200 (got %g)", tol);
     if (ring_offsets[0] != 0)
         return mfg_fail(MFG_ERR_INVALID, "ring_offsets[0] must be 0 (got %lld)",
                         (long long)ring_offsets[0]);
+    /* Compared before subtracted: with ring_offsets[r] in [0, MFG_MAX_COUNT] (by
+     * induction from ring_offsets[0] = 0) and ring_offsets[r + 1] checked against both
+     * ends, the difference cannot overflow ({0, 4, INT64_MIN + 2} once wrapped to a
+     * positive ring size and a too-small allocation). */
     for (int64_t r = 0; r < nrings; r++) {
-        int64_t cnt = ring_offsets[r + 1] - ring_offsets[r];
-        if (cnt < 0)
-            return mfg_fail(MFG_ERR_INVALID, "ring_offsets must be non-decreasing (ring %lld)",
-                            (long long)r);
-        if (cnt < 3)
+        int64_t k0 = ring_offsets[r], k1 = ring_offsets[r + 1];
+        if (k1 < k0)
+            return mfg_fail(MFG_ERR_INVALID,
+                            "ring_offsets must be non-decreasing (ring %lld: %lld after %lld)",
+                            (long long)r, (long long)k1, (long long)k0);
+        if (k1 > MFG_MAX_COUNT)
+            return mfg_fail(MFG_ERR_INVALID,
+                            "ring_offsets[%lld] = %lld: more than %lld vertices in all",
+                            (long long)(r + 1), (long long)k1, (long long)MFG_MAX_COUNT);
+        if (k1 - k0 < 3)
             return mfg_fail(MFG_ERR_DEGENERATE,
                             "ring %lld has %lld vertices; a ring needs at least 3",
-                            (long long)r, (long long)cnt);
+                            (long long)r, (long long)(k1 - k0));
     }
     int64_t total = ring_offsets[nrings];
-    if (total > (int64_t)1 << 40)
-        return mfg_fail(MFG_ERR_INVALID, "too many vertices (%lld)", (long long)total);
     if (!xy)
         return mfg_fail(MFG_ERR_NULL, "xy (ring vertices) is NULL");
     for (int64_t k = 0; k < 2 * total; k++)
@@ -87,6 +101,8 @@ mfg_status mfg_ringset_build(mfg_ringset *rs, const double *xy, const int64_t *r
                             (long long)(k / 2), xy[k]);
 
     int64_t nslots = total + nrings;
+    if ((uint64_t)nslots > SIZE_MAX / sizeof(double)) /* only on 32-bit targets */
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate %lld ring vertices", (long long)nslots);
     rs->x = malloc((size_t)nslots * sizeof(double));
     rs->y = malloc((size_t)nslots * sizeof(double));
     rs->ring_first = malloc((size_t)nrings * sizeof(int64_t));
@@ -177,6 +193,9 @@ mfg_status mfg_check_points(const double *pts, int64_t npoints, const void *out)
 {
     if (npoints < 0)
         return mfg_fail(MFG_ERR_INVALID, "npoints must be >= 0 (got %lld)", (long long)npoints);
+    if (npoints > MFG_MAX_COUNT) /* also keeps 2 * npoints below overflow */
+        return mfg_fail(MFG_ERR_INVALID, "npoints = %lld is more than %lld points",
+                        (long long)npoints, (long long)MFG_MAX_COUNT);
     if (npoints == 0)
         return MFG_OK;
     if (!pts)

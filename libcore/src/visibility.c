@@ -621,7 +621,10 @@ mfg_status mfg_visibility_map(const double *normals, int64_t m, double draft_ang
 {
     if (!out_map)
         return mfg_fail(MFG_ERR_NULL, "out_map is NULL");
-    if (m <= 0)
+    if (m < 0 || m > MFG_MAX_COUNT) /* a count no caller's array can have */
+        return mfg_fail(MFG_ERR_INVALID, "m must be between 0 and %lld (got %lld)",
+                        (long long)MFG_MAX_COUNT, (long long)m);
+    if (m == 0)
         return mfg_fail(MFG_ERR_DEGENERATE, "no normals (m = %lld)", (long long)m);
     if (!normals)
         return mfg_fail(MFG_ERR_NULL, "normals is NULL");

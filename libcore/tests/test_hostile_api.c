@@ -1,0 +1,397 @@
+/* SPDX-License-Identifier: LGPL-2.1-or-later */
+/* test_hostile_api.c - every public entry point against hostile counts, offsets, NULL
+ * pointers and non-finite values: a clean error with a detail, outputs untouched. */
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "mfg_test.h"
+#include "mfgeom.h"
+
+/*
+ * A count the caller cannot possibly own memory for (count * element size beyond the
+ * address space) or an offset sequence that is not 0, non-decreasing, ... must be
+ * rejected before anything is read through it: otherwise the library computes sizes
+ * that wrap (offsets {0, 4, INT64_MIN + 2} once gave a 32-byte allocation and a heap
+ * overflow) or walks far past the caller's arrays.  Zero counts may instead be
+ * MFG_ERR_DEGENERATE ("no rings", "no normals"), as documented.
+ */
+
+#define BIT(s) (1u << (s))
+#define ANY_ERR (BIT(MFG_ERR_NULL) | BIT(MFG_ERR_INVALID) | BIT(MFG_ERR_DEGENERATE))
+#define OUT_SENTINEL 0xA5
+
+static const int64_t HUGE_COUNTS[] = {INT64_MAX, INT64_MAX - 1, (int64_t)1 << 62, (int64_t)1 << 60,
+                                      (int64_t)1 << 59};
+static const int64_t NEGATIVE_COUNTS[] = {-1, -2, -3, INT64_MIN, INT64_MIN + 1, -((int64_t)1 << 40)};
+static const double BAD_REALS[] = {NAN, -NAN, INFINITY, -INFINITY, 1e300, -1e300, 1e-300};
+
+/* Status in the allowed set, a detail message, a known status name. */
+static void expect(mfg_status st, unsigned allowed, const char *what, long long which)
+{
+    mfg_test_checks++;
+    if (!(BIT(st) & allowed)) {
+        mfg_test_failures++;
+        fprintf(stderr, "%s [%lld]: status %d (%s), detail \"%s\"\n", what, which, (int)st,
+                mfg_status_str(st), mfg_last_error());
+        return;
+    }
+    if (st != MFG_OK) {
+        const char *msg = mfg_last_error();
+        if (!msg || !msg[0]) {
+            mfg_test_failures++;
+            fprintf(stderr, "%s [%lld]: status %d without mfg_last_error() detail\n", what, which,
+                    (int)st);
+        }
+    }
+}
+
+static int untouched(const uint8_t *out, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (out[i] != OUT_SENTINEL)
+            return 0;
+    return 1;
+}
+
+/* ------------------------------------------------------------------------ */
+/* Offset sequences that must be rejected (one ring/polygon of 3 or 4 vertices is
+ * fine, the rest is hostile).  Every sequence has nrings + 1 entries.               */
+/* ------------------------------------------------------------------------ */
+
+typedef struct bad_offsets {
+    int64_t off[4];
+    int64_t n; /* nrings / npolys */
+    const char *why;
+} bad_offsets;
+
+static const bad_offsets BAD_OFFSETS[] = {
+    {{0, 4, INT64_MIN + 2}, 2, "wraps: 4 -> INT64_MIN + 2 (issue 6 repro)"},
+    {{0, 3, INT64_MIN + 2}, 2, "wraps: 3 -> INT64_MIN + 2"},
+    {{0, 4, INT64_MIN}, 2, "4 -> INT64_MIN"},
+    {{0, INT64_MAX}, 1, "INT64_MAX vertices"},
+    {{0, INT64_MAX - 1}, 1, "INT64_MAX - 1 vertices"},
+    {{0, 4, INT64_MAX}, 2, "second ring of INT64_MAX - 4 vertices"},
+    {{0, INT64_MAX, 4}, 2, "INT64_MAX then back to 4"},
+    {{0, INT64_MAX, INT64_MIN}, 2, "INT64_MAX then INT64_MIN"},
+    {{0, (int64_t)1 << 62}, 1, "2^62 vertices"},
+    {{0, ((int64_t)1 << 61) + 3}, 1, "2^61 + 3 vertices (16 bytes each wraps)"},
+    {{0, ((int64_t)1 << 60) + 4}, 1, "2^60 + 4 vertices"},
+    {{0, 4, 3}, 2, "decreasing"},
+    {{0, 4, 8, 7}, 3, "decreasing at the end"},
+    {{0, -4}, 1, "negative"},
+    {{0, 4, -1}, 2, "negative after positive"},
+    {{1, 5}, 1, "not starting at 0"},
+    {{-1, 3}, 1, "starting at -1"},
+    {{INT64_MIN, 4}, 1, "starting at INT64_MIN"},
+    {{INT64_MAX, 4}, 1, "starting at INT64_MAX"},
+    {{4, 0}, 1, "starting at 4, going back to 0"},
+};
+#define NBAD_OFFSETS (sizeof BAD_OFFSETS / sizeof BAD_OFFSETS[0])
+
+/* ------------------------------------------------------------------------ */
+/* Point classification                                                     */
+/* ------------------------------------------------------------------------ */
+
+/* Two rings of 4 (enough vertices for every "small" offset above: at most 8). */
+static const double RINGS[16] = {0, 0, 4, 0, 4, 4, 0, 4, 1, 1, 3, 1, 3, 3, 1, 3};
+static const int64_t GOOD_OFF[2] = {0, 4};
+static const double PTS[4] = {0.5, 0.5, 2, 2};
+
+static void classify_expect(const double *xy, const int64_t *off, int64_t nrings, const double *pts,
+                            int64_t np, double tol, int null_out, unsigned allowed, const char *what,
+                            long long which)
+{
+    uint8_t out[8];
+    memset(out, OUT_SENTINEL, sizeof out);
+    mfg_status st = mfg_classify_points(xy, off, nrings, pts, np, tol, null_out ? NULL : out);
+    expect(st, allowed, what, which);
+    if (st != MFG_OK && !untouched(out, sizeof out)) {
+        mfg_test_failures++;
+        fprintf(stderr, "%s [%lld]: out written on failure\n", what, which);
+    }
+}
+
+static void region_new_expect(const double *xy, const int64_t *off, int64_t nrings, double tol,
+                              unsigned allowed, const char *what, long long which)
+{
+    mfg_region *sentinel = (mfg_region *)(uintptr_t)&sentinel, *r = sentinel;
+    mfg_status st = mfg_region_new(xy, off, nrings, tol, &r);
+    expect(st, allowed, what, which);
+    if (st == MFG_OK) {
+        mfg_region_free(r);
+    } else if (r != sentinel) {
+        mfg_test_failures++;
+        fprintf(stderr, "%s [%lld]: out_region written on failure\n", what, which);
+    }
+}
+
+static void test_pointclass_offsets(void)
+{
+    for (size_t c = 0; c < NBAD_OFFSETS; c++) {
+        const bad_offsets *b = &BAD_OFFSETS[c];
+        classify_expect(RINGS, b->off, b->n, PTS, 2, 0.1, 0, BIT(MFG_ERR_INVALID), b->why, (long long)c);
+        region_new_expect(RINGS, b->off, b->n, 0.1, BIT(MFG_ERR_INVALID), b->why, (long long)c);
+    }
+    /* The message names the problem. */
+    int64_t wrap[3] = {0, 4, INT64_MIN + 2};
+    uint8_t out[2];
+    CHECK_EQ_INT(mfg_classify_points(RINGS, wrap, 2, PTS, 2, 0.1, out), MFG_ERR_INVALID);
+    CHECK(strstr(mfg_last_error(), "ring_offsets") != NULL);
+}
+
+static void test_pointclass_counts(void)
+{
+    /* nrings: negative or beyond anything the offsets array could hold.  The offsets
+     * given are fine for one ring, so a huge nrings must be refused before they are
+     * walked past their end. */
+    for (size_t i = 0; i < sizeof NEGATIVE_COUNTS / sizeof NEGATIVE_COUNTS[0]; i++) {
+        classify_expect(RINGS, GOOD_OFF, NEGATIVE_COUNTS[i], PTS, 2, 0.1, 0, BIT(MFG_ERR_INVALID),
+                        "classify nrings < 0", NEGATIVE_COUNTS[i]);
+        region_new_expect(RINGS, GOOD_OFF, NEGATIVE_COUNTS[i], 0.1, BIT(MFG_ERR_INVALID),
+                          "region_new nrings < 0", NEGATIVE_COUNTS[i]);
+    }
+    for (size_t i = 0; i < sizeof HUGE_COUNTS / sizeof HUGE_COUNTS[0]; i++) {
+        classify_expect(RINGS, GOOD_OFF, HUGE_COUNTS[i], PTS, 2, 0.1, 0, BIT(MFG_ERR_INVALID),
+                        "classify huge nrings", HUGE_COUNTS[i]);
+        region_new_expect(RINGS, GOOD_OFF, HUGE_COUNTS[i], 0.1, BIT(MFG_ERR_INVALID),
+                          "region_new huge nrings", HUGE_COUNTS[i]);
+    }
+    classify_expect(RINGS, GOOD_OFF, 0, PTS, 2, 0.1, 0, BIT(MFG_ERR_DEGENERATE), "classify nrings 0", 0);
+    region_new_expect(RINGS, GOOD_OFF, 0, 0.1, BIT(MFG_ERR_DEGENERATE), "region_new nrings 0", 0);
+
+    /* npoints: negative or impossibly many (2 * npoints overflowed once). */
+    for (size_t i = 0; i < sizeof NEGATIVE_COUNTS / sizeof NEGATIVE_COUNTS[0]; i++)
+        classify_expect(RINGS, GOOD_OFF, 1, PTS, NEGATIVE_COUNTS[i], 0.1, 0, BIT(MFG_ERR_INVALID),
+                        "classify npoints < 0", NEGATIVE_COUNTS[i]);
+    for (size_t i = 0; i < sizeof HUGE_COUNTS / sizeof HUGE_COUNTS[0]; i++)
+        classify_expect(RINGS, GOOD_OFF, 1, PTS, HUGE_COUNTS[i], 0.1, 0, BIT(MFG_ERR_INVALID),
+                        "classify huge npoints", HUGE_COUNTS[i]);
+    /* zero points: nothing to do, pts and out may be NULL */
+    classify_expect(RINGS, GOOD_OFF, 1, NULL, 0, 0.1, 1, BIT(MFG_OK), "classify npoints 0", 0);
+
+    mfg_region *r = NULL;
+    CHECK_EQ_INT(mfg_region_new(RINGS, GOOD_OFF, 1, 0.1, &r), MFG_OK);
+    if (!r)
+        return;
+    uint8_t out[8];
+    for (size_t i = 0; i < sizeof NEGATIVE_COUNTS / sizeof NEGATIVE_COUNTS[0]; i++) {
+        memset(out, OUT_SENTINEL, sizeof out);
+        expect(mfg_region_classify(r, PTS, NEGATIVE_COUNTS[i], out), BIT(MFG_ERR_INVALID),
+               "region_classify npoints < 0", NEGATIVE_COUNTS[i]);
+        CHECK(untouched(out, sizeof out));
+    }
+    for (size_t i = 0; i < sizeof HUGE_COUNTS / sizeof HUGE_COUNTS[0]; i++) {
+        memset(out, OUT_SENTINEL, sizeof out);
+        expect(mfg_region_classify(r, PTS, HUGE_COUNTS[i], out), BIT(MFG_ERR_INVALID),
+               "region_classify huge npoints", HUGE_COUNTS[i]);
+        CHECK(untouched(out, sizeof out));
+    }
+    expect(mfg_region_classify(r, NULL, 0, NULL), BIT(MFG_OK), "region_classify npoints 0", 0);
+    memset(out, OUT_SENTINEL, sizeof out);
+    expect(mfg_region_classify(r, NULL, 2, out), BIT(MFG_ERR_NULL), "region_classify pts NULL", 0);
+    CHECK(untouched(out, sizeof out));
+    expect(mfg_region_classify(r, PTS, 2, NULL), BIT(MFG_ERR_NULL), "region_classify out NULL", 0);
+    expect(mfg_region_classify(NULL, PTS, 2, out), BIT(MFG_ERR_NULL), "region_classify region NULL", 0);
+    CHECK(untouched(out, sizeof out));
+    for (size_t i = 0; i < sizeof BAD_REALS / sizeof BAD_REALS[0]; i++) {
+        double bad[4] = {0.5, 0.5, 2, 2};
+        bad[1 + (i & 2)] = BAD_REALS[i];
+        memset(out, OUT_SENTINEL, sizeof out);
+        expect(mfg_region_classify(r, bad, 2, out), BIT(MFG_ERR_INVALID), "region_classify bad point", (long long)i);
+        CHECK(untouched(out, sizeof out));
+    }
+    int64_t stats[4] = {-7, -7, -7, -7};
+    expect(mfg_region_stats(NULL, stats), BIT(MFG_ERR_NULL), "region_stats region NULL", 0);
+    CHECK(stats[0] == -7 && stats[1] == -7 && stats[2] == -7 && stats[3] == -7);
+    expect(mfg_region_stats(r, NULL), BIT(MFG_ERR_NULL), "region_stats stats NULL", 0);
+    expect(mfg_region_stats(r, stats), BIT(MFG_OK), "region_stats", 0);
+    CHECK(stats[0] >= 1 && stats[1] >= 1);
+    mfg_region_free(r);
+    mfg_region_free(NULL);
+}
+
+static void test_pointclass_null_and_values(void)
+{
+    classify_expect(NULL, GOOD_OFF, 1, PTS, 2, 0.1, 0, BIT(MFG_ERR_NULL), "classify xy NULL", 0);
+    classify_expect(RINGS, NULL, 1, PTS, 2, 0.1, 0, BIT(MFG_ERR_NULL), "classify offsets NULL", 0);
+    classify_expect(RINGS, GOOD_OFF, 1, NULL, 2, 0.1, 0, BIT(MFG_ERR_NULL), "classify pts NULL", 0);
+    classify_expect(RINGS, GOOD_OFF, 1, PTS, 2, 0.1, 1, BIT(MFG_ERR_NULL), "classify out NULL", 0);
+    region_new_expect(NULL, GOOD_OFF, 1, 0.1, BIT(MFG_ERR_NULL), "region_new xy NULL", 0);
+    region_new_expect(RINGS, NULL, 1, 0.1, BIT(MFG_ERR_NULL), "region_new offsets NULL", 0);
+    expect(mfg_region_new(RINGS, GOOD_OFF, 1, 0.1, NULL), BIT(MFG_ERR_NULL), "region_new out NULL", 0);
+    /* NULL offsets together with a hostile count: still a clean error */
+    classify_expect(RINGS, NULL, INT64_MAX, PTS, 2, 0.1, 0, ANY_ERR, "classify offsets NULL, huge nrings", 0);
+    region_new_expect(RINGS, NULL, -1, 0.1, ANY_ERR, "region_new offsets NULL, nrings -1", 0);
+
+    for (size_t i = 0; i < sizeof BAD_REALS / sizeof BAD_REALS[0]; i++) {
+        double tol = BAD_REALS[i];
+        classify_expect(RINGS, GOOD_OFF, 1, PTS, 2, tol, 0, BIT(MFG_ERR_INVALID), "classify bad tol", (long long)i);
+        region_new_expect(RINGS, GOOD_OFF, 1, tol, BIT(MFG_ERR_INVALID), "region_new bad tol", (long long)i);
+        double xy[8];
+        memcpy(xy, RINGS, sizeof xy);
+        xy[(3 * i + 1) % 8] = BAD_REALS[i];
+        classify_expect(xy, GOOD_OFF, 1, PTS, 2, 0.1, 0, BIT(MFG_ERR_INVALID), "classify bad vertex", (long long)i);
+        region_new_expect(xy, GOOD_OFF, 1, 0.1, BIT(MFG_ERR_INVALID), "region_new bad vertex", (long long)i);
+        double pts[4] = {0.5, 0.5, 2, 2};
+        pts[i & 3] = BAD_REALS[i];
+        classify_expect(RINGS, GOOD_OFF, 1, pts, 2, 0.1, 0, BIT(MFG_ERR_INVALID), "classify bad point", (long long)i);
+    }
+    classify_expect(RINGS, GOOD_OFF, 1, PTS, 2, -0.1, 0, BIT(MFG_ERR_INVALID), "classify tol < 0", 0);
+    region_new_expect(RINGS, GOOD_OFF, 1, -0.1, BIT(MFG_ERR_INVALID), "region_new tol < 0", 0);
+}
+
+/* ------------------------------------------------------------------------ */
+/* Visibility maps                                                          */
+/* ------------------------------------------------------------------------ */
+
+static void vm_expect(const double *normals, int64_t m, double draft, int null_out, unsigned allowed,
+                      const char *what, long long which)
+{
+    mfg_spoly *sentinel = (mfg_spoly *)(uintptr_t)&sentinel, *map = sentinel;
+    mfg_status st = mfg_visibility_map(normals, m, draft, null_out ? NULL : &map);
+    expect(st, allowed, what, which);
+    if (st == MFG_OK) {
+        mfg_spoly_free(map);
+    } else if (map != sentinel) {
+        mfg_test_failures++;
+        fprintf(stderr, "%s [%lld]: out_map written on failure\n", what, which);
+    }
+}
+
+static void test_visibility(void)
+{
+    static const double N3[9] = {0, 0, 1, 0.3, 0, 1, 0, 0.3, 1};
+    for (size_t i = 0; i < sizeof NEGATIVE_COUNTS / sizeof NEGATIVE_COUNTS[0]; i++)
+        vm_expect(N3, NEGATIVE_COUNTS[i], 0.0, 0, BIT(MFG_ERR_INVALID), "visibility m < 0", NEGATIVE_COUNTS[i]);
+    for (size_t i = 0; i < sizeof HUGE_COUNTS / sizeof HUGE_COUNTS[0]; i++)
+        vm_expect(N3, HUGE_COUNTS[i], 0.0, 0, BIT(MFG_ERR_INVALID), "visibility huge m", HUGE_COUNTS[i]);
+    vm_expect(N3, 0, 0.0, 0, BIT(MFG_ERR_DEGENERATE), "visibility m 0", 0);
+    vm_expect(NULL, 3, 0.0, 0, BIT(MFG_ERR_NULL), "visibility normals NULL", 0);
+    vm_expect(N3, 3, 0.0, 1, BIT(MFG_ERR_NULL), "visibility out NULL", 0);
+    for (size_t i = 0; i < sizeof BAD_REALS / sizeof BAD_REALS[0]; i++) {
+        if (BAD_REALS[i] != 1e-300) /* a tiny draft angle is a valid angle */
+            vm_expect(N3, 3, BAD_REALS[i], 0, BIT(MFG_ERR_INVALID), "visibility bad draft", (long long)i);
+        double n[9];
+        memcpy(n, N3, sizeof n);
+        n[(2 * i + 1) % 9] = BAD_REALS[i];
+        vm_expect(n, 3, 0.0, 0, BIT(MFG_ERR_INVALID), "visibility bad normal", (long long)i);
+    }
+    vm_expect(N3, 3, -0.1, 0, BIT(MFG_ERR_INVALID), "visibility draft < 0", 0);
+    vm_expect(N3, 3, 2.0, 0, BIT(MFG_ERR_INVALID), "visibility draft >= pi/2", 0);
+    mfg_spoly_free(NULL);
+}
+
+/* ------------------------------------------------------------------------ */
+/* Maximum / level / minimum intersection                                   */
+/* ------------------------------------------------------------------------ */
+
+/* Three octant-like triangles (9 vertices: enough for every small offset above). */
+static const double SV[27] = {1, 0, 0, 0, 1, 0, 0, 0, 1,   0, 1, 0, -1, 0, 0, 0, 0, 1,
+                              0.9, 0.1, 0, 0.1, 0.9, 0, 0.1, 0.1, 1};
+static const int64_t SOFF[4] = {0, 3, 6, 9};
+static const int32_t SKINDS[4] = {MFG_VM_POLYGON, MFG_VM_POLYGON, MFG_VM_POLYGON, MFG_VM_POLYGON};
+
+enum { MAXI, LEVEL, MINI };
+static const char *const SPHERE_FN[3] = {"max_intersection", "level_regions", "min_intersection"};
+
+static mfg_status sphere_call(int fn, const double *v, const int64_t *off, const int32_t *kinds,
+                              const int32_t *closed, int64_t n, const double *w, double level,
+                              mfg_regions **out)
+{
+    switch (fn) {
+    case MAXI: return mfg_max_intersection(v, off, kinds, closed, n, w, out);
+    case LEVEL: return mfg_level_regions(v, off, kinds, closed, n, w, level, out);
+    default: return mfg_min_intersection(v, off, kinds, closed, n, w, out);
+    }
+}
+
+static void sphere_expect(int fn, const double *v, const int64_t *off, const int32_t *kinds,
+                          const int32_t *closed, int64_t n, const double *w, double level,
+                          int null_out, unsigned allowed, const char *what, long long which)
+{
+    mfg_regions *sentinel = (mfg_regions *)(uintptr_t)&sentinel, *r = sentinel;
+    mfg_status st = sphere_call(fn, v, off, kinds, closed, n, w, level, null_out ? NULL : &r);
+    char label[160];
+    snprintf(label, sizeof label, "%s: %s", SPHERE_FN[fn], what);
+    expect(st, allowed, label, which);
+    if (st == MFG_OK) {
+        mfg_regions_free(r);
+    } else if (r != sentinel) {
+        mfg_test_failures++;
+        fprintf(stderr, "%s [%lld]: out written on failure\n", label, which);
+    }
+}
+
+static void test_sphere(void)
+{
+    for (int fn = 0; fn < 3; fn++) {
+        /* the good input works (so the failures below are the hostile value's) */
+        sphere_expect(fn, SV, SOFF, SKINDS, NULL, 3, NULL, 1.0, 0, BIT(MFG_OK), "good input", 0);
+        for (size_t c = 0; c < NBAD_OFFSETS; c++) {
+            const bad_offsets *b = &BAD_OFFSETS[c];
+            sphere_expect(fn, SV, b->off, SKINDS, NULL, b->n, NULL, 1.0, 0, BIT(MFG_ERR_INVALID), b->why,
+                          (long long)c);
+        }
+        for (size_t i = 0; i < sizeof NEGATIVE_COUNTS / sizeof NEGATIVE_COUNTS[0]; i++)
+            sphere_expect(fn, SV, SOFF, SKINDS, NULL, NEGATIVE_COUNTS[i], NULL, 1.0, 0, BIT(MFG_ERR_INVALID),
+                          "npolys < 0", NEGATIVE_COUNTS[i]);
+        for (size_t i = 0; i < sizeof HUGE_COUNTS / sizeof HUGE_COUNTS[0]; i++)
+            sphere_expect(fn, SV, SOFF, SKINDS, NULL, HUGE_COUNTS[i], NULL, 1.0, 0, BIT(MFG_ERR_INVALID),
+                          "huge npolys", HUGE_COUNTS[i]);
+        sphere_expect(fn, SV, SOFF, SKINDS, NULL, 0, NULL, 1.0, 0, BIT(MFG_ERR_DEGENERATE), "npolys 0", 0);
+
+        sphere_expect(fn, NULL, SOFF, SKINDS, NULL, 3, NULL, 1.0, 0, BIT(MFG_ERR_NULL), "vertices NULL", 0);
+        sphere_expect(fn, SV, NULL, SKINDS, NULL, 3, NULL, 1.0, 0, BIT(MFG_ERR_NULL), "offsets NULL", 0);
+        sphere_expect(fn, SV, SOFF, NULL, NULL, 3, NULL, 1.0, 0, BIT(MFG_ERR_NULL), "kinds NULL", 0);
+        sphere_expect(fn, SV, SOFF, SKINDS, NULL, 3, NULL, 1.0, 1, BIT(MFG_ERR_NULL), "out NULL", 0);
+        sphere_expect(fn, SV, NULL, SKINDS, NULL, INT64_MAX, NULL, 1.0, 0, ANY_ERR, "offsets NULL, huge npolys", 0);
+
+        static const int32_t BAD_KINDS[] = {-1, 4, 7, INT32_MIN, INT32_MAX};
+        for (size_t i = 0; i < sizeof BAD_KINDS / sizeof BAD_KINDS[0]; i++) {
+            int32_t kinds[3] = {MFG_VM_POLYGON, MFG_VM_POLYGON, MFG_VM_POLYGON};
+            kinds[i % 3] = BAD_KINDS[i];
+            sphere_expect(fn, SV, SOFF, kinds, NULL, 3, NULL, 1.0, 0, BIT(MFG_ERR_INVALID), "bad kind",
+                          BAD_KINDS[i]);
+        }
+        for (size_t i = 0; i < sizeof BAD_REALS / sizeof BAD_REALS[0]; i++) {
+            double v[27];
+            memcpy(v, SV, sizeof v);
+            v[(4 * i + 2) % 27] = BAD_REALS[i];
+            sphere_expect(fn, v, SOFF, SKINDS, NULL, 3, NULL, 1.0, 0, BIT(MFG_ERR_INVALID), "bad vertex",
+                          (long long)i);
+            if (BAD_REALS[i] == 1e-300 || BAD_REALS[i] == 1e300)
+                continue; /* huge weights are the scaling item's (issue 6), tiny ones are valid */
+            double w[3] = {1, 1, 1};
+            w[i % 3] = BAD_REALS[i];
+            sphere_expect(fn, SV, SOFF, SKINDS, NULL, 3, w, 1.0, 0, BIT(MFG_ERR_INVALID), "bad weight",
+                          (long long)i);
+        }
+        double negw[3] = {1, -1, 1};
+        sphere_expect(fn, SV, SOFF, SKINDS, NULL, 3, negw, 1.0, 0, BIT(MFG_ERR_INVALID), "weight < 0", 0);
+    }
+    for (size_t i = 0; i < sizeof BAD_REALS / sizeof BAD_REALS[0]; i++) {
+        if (BAD_REALS[i] == 1e-300)
+            continue; /* a tiny level is a valid level */
+        sphere_expect(LEVEL, SV, SOFF, SKINDS, NULL, 3, NULL, BAD_REALS[i], 0, BIT(MFG_ERR_INVALID), "bad level",
+                      (long long)i);
+    }
+    mfg_regions_free(NULL);
+}
+
+int main(int argc, char **argv)
+{
+    /* "pointclass", "visibility" or "sphere" runs one family (one ctest each, so one
+     * family's failure does not hide another's); no argument runs all. */
+    const char *only = argc > 1 ? argv[1] : "";
+    if (!only[0] || !strcmp(only, "pointclass")) {
+        test_pointclass_offsets();
+        test_pointclass_counts();
+        test_pointclass_null_and_values();
+    }
+    if (!only[0] || !strcmp(only, "visibility"))
+        test_visibility();
+    if (!only[0] || !strcmp(only, "sphere"))
+        test_sphere();
+    return mfg_test_report("test_hostile_api");
+}
