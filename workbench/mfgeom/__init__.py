@@ -19,14 +19,16 @@ __version__ = "0.1.0"
 
 
 def make_point_classification(doc, face_ref, points_ref, tolerance=None,
-                              name="PointClassification"):
+                              name="PointClassification", strict=True):
     """Create a parametric point classification of points against a face in ``doc``.
 
     ``face_ref`` is ``(obj, "FaceN")``; ``points_ref`` is an object (Points, Mesh,
     Sketch or any Part shape: its vertices) or ``(obj, ["Vertex1", ...])``.
-    ``tolerance`` is in mm (default: the preference DefaultTolerance).
+    ``tolerance`` is in mm, a length Quantity or a string such as "0.01 mm" (default:
+    the preference DefaultTolerance).  ``strict``: points farther than the tolerance
+    from the face's surface are OUT (False: classified by their projection onto it).
     Raises ValueError/TypeError on bad input and creates nothing in that case.
     See :func:`mfgeom.app.pointclass.make_point_classification`.
     """
     from mfgeom.app.pointclass import make_point_classification as _make
-    return _make(doc, face_ref, points_ref, tolerance=tolerance, name=name)
+    return _make(doc, face_ref, points_ref, tolerance=tolerance, name=name, strict=strict)

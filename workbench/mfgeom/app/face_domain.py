@@ -2,18 +2,36 @@
 """Maps a FreeCAD face and 3-D points into one 2-D domain so libmfgeom can classify them.
 
 This is the pure geometry of the "Classify points" feature: no document, no GUI.
-A point is classified through its orthogonal projection onto the face's surface (so
-points should lie on or near that surface); its offset from the surface is ignored
-for the class and reported as ``max_distance_to_surface``.  ON means: the projected
-point is within ``tol`` (mm, 3-D Euclidean distance) of the face's boundary edges.
-The boundary is discretised with a chordal deflection of ``DEFLECTION_FRACTION * tol``
-(5 % of the tolerance), so "the boundary" is exact to within 5 % of the tolerance.
+A point is classified through its orthogonal projection onto the face's surface (its
+"foot"); its distance to the surface is reported (``max_distance_to_surface``,
+``far_count``) and, with ``strict``, a point farther than ``tol`` from the surface is
+OUT.  ON means: the foot is within ``tol`` (mm, 3-D Euclidean distance) of the face's
+*true* boundary edges, for every tolerance the feature accepts.
+
+The exact boundary, and what "exact" costs
+    Each real boundary edge (not a seam, not degenerated) is discretised with a chordal
+    deflection of ``DEFLECTION_FRACTION * tol`` (5 %), with no floor, so the polyline
+    stays within ``tol`` of the edge and every point farther than ``tol`` from the edge
+    lies on the same side of the polyline as of the edge: the polyline's parity is the
+    face's parity wherever the answer is not ON.  Whether a point is ON is decided on
+    the exact edge curves: points whose distance to the polyline is within
+    ``ON_MARGIN * tol`` of ``tol`` are measured against the edges themselves (a
+    safeguarded Newton iteration on the edge's curve in each polyline span within
+    reach; OCCT's BRepExtrema where an edge has no parametric curve), so "distance to
+    the boundary <= tol" is decided to machine precision.  A tolerance is refused
+    (``InputError``) below what the face's boundary defines: OCCT's
+    Precision::Confusion (``MIN_TOLERANCE`` = 1e-7 mm) or the largest tolerance of the
+    face's edges (an edge is only known to within its tolerance).  Only planar faces
+    bounded by straight edges accept any tolerance >= 0: their boundary is the polygon.
 
 Planar faces (surface ``Part::GeomPlane``)
     The plane's own parametrisation is an orthonormal frame (origin ``S(0,0)``, axes
     ``S(1,0)-S(0,0)`` and ``S(0,1)-S(0,0)``), so the 2-D domain is the plane itself:
-    2-D distances are 3-D distances, points are projected orthogonally onto the plane,
-    and libmfgeom decides IN / ON / OUT in one exact pass with the tolerance in mm.
+    2-D distances are 3-D distances and points are projected orthogonally onto the
+    plane.  Straight edges only: libmfgeom decides IN / ON / OUT in one exact pass with
+    the tolerance in mm.  With curved edges: libmfgeom marks the candidates within
+    ``tol + margin`` of the polyline and gives the parity of the others; the candidates
+    are decided on the exact edges as above.
 
 Curved faces (any other surface): parity in (u, v), ON in 3-D
     The boundary comes from the edges' pcurves (``face.curveOnSurface(edge)``), each
@@ -47,17 +65,14 @@ Curved faces (any other surface): parity in (u, v), ON in 3-D
     inside the face only) plus 9 interior points of every non-degenerated pcurve.
     sigma_min is floored at 1e-9 (a pole would make tol_uv infinite; then every point
     is a candidate and step 2 alone decides).
-    ON, step 2 (exact, in mm): for the candidates only, the 3-D distance from the
-    projected point S(u, v) to the real boundary edges (discretised in 3-D) is compared
-    with tol.  So ON means the same, in mm, as on planar faces, and a strongly
-    distorted parametrisation (wide tol_uv) costs time, not accuracy.
+    ON, step 2 (in mm, on the exact edges): for the candidates only, the 3-D distance
+    from the foot S(u, v) to the real boundary edges is compared with tol as described
+    above.  So ON means the same, in mm, as on planar faces, and a strongly distorted
+    parametrisation (wide tol_uv) costs time, not accuracy.
 
     The pcurves are discretised with deflection ``DEFLECTION_FRACTION * tol /
     sigma_max`` in (x, y), i.e. at most 5 % of the tolerance once mapped to 3-D.
     ``distortion`` = sigma_max / sigma_min is reported per face (1.0 on cylinders).
-
-With ``tol == 0`` the deflection falls back to 1e-6 of the face's size, and ON means
-"on the discretised boundary".
 """
 
 import math
@@ -68,13 +83,21 @@ import numpy as np
 import FreeCAD
 
 from mfgeom import core
+from mfgeom.errors import InputError
 
 DEFLECTION_FRACTION = 0.05
+# Points within ON_MARGIN * tol of the ON threshold (distance to the polyline) are
+# measured on the exact edges: 4x the deflection, so an underestimated deflection
+# (GCPnts estimates it from samples) still leaves them inside the window.
+ON_MARGIN = 4.0 * DEFLECTION_FRACTION
+MIN_TOLERANCE = 1e-7  # mm: OCCT's Precision::Confusion, below which points coincide
 FILTER_SAFETY = 2.0
 METRIC_GRID = 17
 EDGE_SAMPLES = 9
 SIGMA_FLOOR = 1e-9
-_CHUNK = 1_000_000  # point-segment pairs per numpy block in the exact 3-D ON test
+NEWTON_STEPS = 60
+_CHUNK = 1_000_000  # point-segment pairs per numpy block in the 3-D distance tests
+_STRAIGHT = ("Part::GeomLine", "Part::GeomLineSegment")
 
 
 class FaceDomain:
@@ -91,11 +114,18 @@ class FaceDomain:
         tol = float(tol)
         if not math.isfinite(tol) or tol < 0.0:
             raise ValueError(f"tolerance must be a finite number >= 0 mm, got {tol!r}")
+        least = minimum_tolerance(face)
+        if tol < least:
+            raise InputError(
+                f"a tolerance of {tol:g} mm cannot be honoured on this face: its boundary "
+                f"is only defined to {least:g} mm (" + (
+                    "OCCT's Precision::Confusion" if least == MIN_TOLERANCE
+                    else "the tolerance of its edges") + f"); use at least {least:g} mm")
         self.face = face
         self.tol = tol
         self.surface = face.Surface
-        self._size = max(face.BoundBox.DiagonalLength, 1e-9)
         self._regions = []
+        self._boundary = None
         if getattr(self.surface, "TypeId", "") == "Part::GeomPlane":
             self._build_plane()
         else:
@@ -118,21 +148,27 @@ class FaceDomain:
         self._normal = np.cross(eu, ev)
         self.tol_2d = self.tol
         self.distortion = 1.0
-        defl = self._deflection_3d()
-        rings = []
-        for wire in self.face.Wires:
+        wires = [[e for e in w.OrderedEdges if not e.Degenerated] for w in self.face.Wires]
+        self._boundary = _Boundary([e for w in wires for e in w], DEFLECTION_FRACTION * self.tol)
+        rings, k = [], 0
+        for wire in wires:
             segs = []
-            for edge in wire.OrderedEdges:
-                if edge.Degenerated:
-                    continue
-                xyz = np.array([_xyz(p) for p in edge.discretize(Deflection=defl)])
-                seg = self._plane_xy(xyz)
+            for edge in wire:
+                seg = self._plane_xy(self._boundary.polylines[k])
+                k += 1
                 segs.append(seg[::-1] if edge.Orientation == "Reversed" else seg)
             rings.extend(r for r in _chain(segs) if len(r) >= 3)
         if not rings:
             raise ValueError("the face has no boundary wire that encloses an area")
         self.rings = rings
-        self._region = self._new_region(rings, self.tol)
+        if self._boundary.straight:
+            self._region = self._new_region(rings, self.tol)  # the polygon is the boundary
+            self._parity = None
+        else:
+            # Candidates within tol + margin of the polyline; parity for the rest.
+            self.tol_2d = self.tol * (1.0 + ON_MARGIN)
+            self._region = self._new_region(rings, self.tol_2d)
+            self._parity = self._new_region(rings, 0.0)
 
     def _plane_xy(self, xyz):
         d = xyz - self._origin
@@ -179,7 +215,8 @@ class FaceDomain:
 
         su, sv = self.scale
         size_2d = math.hypot(su * (umax - umin), sv * (vmax - vmin))
-        defl_2d = max(DEFLECTION_FRACTION * self.tol / self.sigma[1], 1e-6 * size_2d)
+        # No floor: the parity must be right wherever the answer is not ON.
+        defl_2d = DEFLECTION_FRACTION * self.tol / self.sigma[1]
         # GCPnts discretises in raw (u, v); the rescaling stretches chords by <= max(su, sv)
         defl_uv = defl_2d / max(su, sv)
         rings, chains = [], []
@@ -210,18 +247,10 @@ class FaceDomain:
         self._parity = self._new_region(self.rings, 0.0)
         self._candidates = self._new_region(real_rings, self.tol_2d) if real_rings else None
 
-        # The exact ON test measures in 3-D against the real edges.
-        defl = self._deflection_3d()
-        a_list, b_list = [], []
-        for edge in face.Edges:
-            if edge.Degenerated or _is_in(edge, seams):
-                continue
-            p = np.array([_xyz(q) for q in edge.discretize(Deflection=defl)], dtype=np.float64)
-            if len(p) >= 2:
-                a_list.append(p[:-1])
-                b_list.append(p[1:])
-        self._seg_a = np.concatenate(a_list) if a_list else np.zeros((0, 3))
-        self._seg_b = np.concatenate(b_list) if b_list else np.zeros((0, 3))
+        # The ON test measures in 3-D against the real edges.
+        self._boundary = _Boundary([e for e in face.Edges
+                                    if not (e.Degenerated or _is_in(e, seams))],
+                                   DEFLECTION_FRACTION * self.tol)
 
     def _measure_metric(self, samples):
         """su, sv (median |dS/du|, |dS/dv|) and the extreme singular values of the
@@ -248,9 +277,6 @@ class FaceDomain:
         us = [0.0] if pu is None else [-pu * su, 0.0, pu * su]
         vs = [0.0] if pv is None else [-pv * sv, 0.0, pv * sv]
         return [np.array([x, y]) for x in us for y in vs]
-
-    def _deflection_3d(self):
-        return max(DEFLECTION_FRACTION * self.tol, 1e-6 * self._size)
 
     def _new_region(self, rings, tol):
         region = core.Region(rings, tol)
@@ -296,7 +322,13 @@ class FaceDomain:
         if len(xy) == 0:
             return np.zeros(0, dtype=np.uint8), dist
         if self.method == "plane":
-            return self._region.classify(xy), dist
+            classes = self._region.classify(xy)
+            if self._parity is not None:
+                cand = np.nonzero(classes == core.ON)[0]
+                if len(cand):
+                    on = self._boundary.within(foot[cand], self.tol)
+                    classes[cand[~on]] = self._parity.classify(xy[cand[~on]])
+            return classes, dist
         classes = self._parity.classify(xy)
         on_seam = np.nonzero(classes == core.ON)[0]
         if len(on_seam):
@@ -306,11 +338,10 @@ class FaceDomain:
             again = self._parity.classify(xy[on_seam] + nudge)
             again[again == core.ON] = core.IN
             classes[on_seam] = again
-        if self._candidates is not None and len(self._seg_a):
+        if self._candidates is not None and self._boundary.segments:
             cand = np.nonzero(self._candidates.classify(xy) == core.ON)[0]
             if len(cand):
-                d3 = _distance_to_segments(foot[cand], self._seg_a, self._seg_b)
-                classes[cand[d3 <= self.tol]] = core.ON
+                classes[cand[self._boundary.within(foot[cand], self.tol)]] = core.ON
         return classes, dist
 
     def close(self):
@@ -321,9 +352,13 @@ class FaceDomain:
 
 
 class Classification:
-    """The result of :func:`classify_points_on_face` (plain data)."""
+    """The result of :func:`classify_points_on_face` (plain data).
 
-    def __init__(self, classes, distance, domain, seconds):
+    ``far_count``: points farther than the tolerance from the face's surface (OUT when
+    ``strict``, else classified by their projection); ``max_distance_to_surface`` in mm.
+    """
+
+    def __init__(self, classes, distance, domain, seconds, strict):
         self.classes = classes
         self.counts = {
             "in": int(np.count_nonzero(classes == core.IN)),
@@ -331,6 +366,8 @@ class Classification:
             "out": int(np.count_nonzero(classes == core.OUT)),
         }
         self.max_distance_to_surface = float(distance.max()) if len(distance) else 0.0
+        self.far_count = int(np.count_nonzero(distance > domain.tol))
+        self.strict = bool(strict)
         self.method = domain.method
         self.tol = domain.tol
         self.tol_2d = domain.tol_2d
@@ -338,19 +375,210 @@ class Classification:
         self.boundary_vertices = domain.boundary_vertices
         self.seconds = seconds
 
+    def surface_report(self):
+        """(is_warning, text) about the points' distance to the surface, for the Report
+        view: a warning when points farther than the tolerance were classified by their
+        projection, a note when strict made them OUT, else just the largest distance."""
+        far, dmax, tol = self.far_count, self.max_distance_to_surface, self.tol
+        if not far:
+            return False, f"largest distance of a point to the face's surface {dmax:g} mm"
+        what = f"{far} point{'s' if far != 1 else ''} farther than the tolerance ({tol:g} mm) " \
+               f"from the face's surface (largest distance {dmax:g} mm)"
+        if self.strict:
+            return False, f"{what}: OUT (Strict)"
+        return True, (f"{what} classified by their projection onto the surface; "
+                      "set Strict to make them OUT")
 
-def classify_points_on_face(face, points, tol):
-    """Classify 3-D points (an (m, 3) array-like) against ``face`` with tolerance ``tol`` mm."""
+
+def classify_points_on_face(face, points, tol, strict=False):
+    """Classify 3-D points (an (m, 3) array-like) against ``face`` with tolerance ``tol`` mm.
+
+    ``strict``: a point farther than ``tol`` from the face's surface is OUT (else it is
+    classified by its orthogonal projection onto the surface)."""
     t0 = time.perf_counter()
     domain = FaceDomain(face, tol)
     try:
         classes, dist = domain.classify(points)
     finally:
         domain.close()
-    return Classification(classes, dist, domain, time.perf_counter() - t0)
+    if strict:
+        classes[dist > domain.tol] = core.OUT
+    return Classification(classes, dist, domain, time.perf_counter() - t0, strict)
+
+
+def minimum_tolerance(face):
+    """The smallest tolerance (mm) ON can be decided with on ``face``: 0 for a planar face
+    bounded by straight edges (the polygon is exact), else the larger of OCCT's
+    Precision::Confusion and the tolerances of the face's real boundary edges."""
+    _check_face(face)
+    planar = getattr(face.Surface, "TypeId", "") == "Part::GeomPlane"
+    edges = [e for e in face.Edges if not e.Degenerated]
+    if planar and all(_is_straight(e) for e in edges):
+        return 0.0
+    seams = _seam_edges(face)
+    return max([MIN_TOLERANCE] + [e.Tolerance for e in edges if not _is_in(e, seams)])
+
+
+class _Boundary:
+    """The real boundary edges of a face in 3-D: a polyline within ``deflection`` of each
+    edge for the fast distance test, and the edges' exact curves for the decision.
+
+    The polyline comes from OCCT's GCPnts (``Edge.discretize(Deflection=...)``); the
+    exact distance is minimised over the polyline spans within reach of a point, each
+    span [t_j, t_j+1] (parameters of its vertices on the edge's curve) by a safeguarded
+    Newton iteration on (C(t) - q) . C'(t) = 0; span ends count too, so the distance to
+    a trimmed edge includes its end points.
+    """
+
+    def __init__(self, edges, deflection):
+        self.edges = list(edges)
+        self.straight = all(_is_straight(e) for e in self.edges)
+        self.polylines, a_list, b_list, owner, index = [], [], [], [], []
+        for k, edge in enumerate(self.edges):
+            if _is_straight(edge):  # exact as a segment, whatever the deflection
+                p = np.array([_xyz(edge.valueAt(edge.FirstParameter)),
+                              _xyz(edge.valueAt(edge.LastParameter))])
+            else:
+                p = np.array([_xyz(q) for q in edge.discretize(Deflection=deflection)],
+                             dtype=np.float64)
+            self.polylines.append(p)
+            if len(p) >= 2:
+                a_list.append(p[:-1])
+                b_list.append(p[1:])
+                owner.append(np.full(len(p) - 1, k))
+                index.append(np.arange(len(p) - 1))
+        self.segments = int(sum(len(a) for a in a_list))
+        self._a = np.concatenate(a_list) if a_list else np.zeros((0, 3))
+        self._b = np.concatenate(b_list) if b_list else np.zeros((0, 3))
+        self._owner = np.concatenate(owner) if owner else np.zeros(0, dtype=int)
+        self._index = np.concatenate(index) if index else np.zeros(0, dtype=int)
+        self._curves = {}  # edge index -> Geom curve, or None (no parametric access)
+        self._params = {}  # (edge index, vertex index) -> parameter on the edge
+
+    def within(self, points, tol):
+        """Boolean mask: is each (3-D) point within ``tol`` of the true edges?"""
+        points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        out = np.zeros(len(points), dtype=bool)
+        if not self.segments or not len(points):
+            return out
+        d_poly = _distance_to_segments(points, self._a, self._b)
+        margin = ON_MARGIN * tol
+        out[d_poly <= tol - margin] = True  # deep inside the band: the polyline suffices
+        for i in np.nonzero((d_poly > tol - margin) & (d_poly <= tol + margin))[0]:
+            out[i] = self.distance(points[i], tol + margin) <= tol
+        return out
+
+    def distance(self, q, reach):
+        """Exact distance from the point q to the edges, if at most ``reach`` (else some
+        value > reach): spans of the polyline farther than reach are not visited."""
+        d_seg, lam = _segment_distances(q, self._a, self._b)
+        best = math.inf
+        for s in np.nonzero(d_seg <= reach)[0]:
+            k, j = int(self._owner[s]), int(self._index[s])
+            if _is_straight(self.edges[k]):
+                best = min(best, float(d_seg[s]))  # the segment is the edge
+                continue
+            best = min(best, self._span_distance(k, j, q, float(lam[s])))
+        return best
+
+    def _span_distance(self, k, j, q, lam):
+        edge = self.edges[k]
+        span = self._span(k, j)
+        if span is None:  # no parametric curve: OCCT's exact distance to the whole edge
+            import Part
+            return float(Part.Vertex(FreeCAD.Vector(*q)).distToShape(edge)[0])
+        ta, tb = span
+        return _nearest_on_span(edge, q, ta, tb, ta + lam * (tb - ta))
+
+    def _span(self, k, j):
+        """Parameters (ta, tb) of polyline vertices j, j+1 of edge k, or None."""
+        edge = self.edges[k]
+        if k not in self._curves:
+            try:
+                curve = edge.Curve
+                mid = self.polylines[k][len(self.polylines[k]) // 2]
+                t0 = curve.parameter(FreeCAD.Vector(*mid))
+                ok = _dist(edge.valueAt(t0), mid) <= 1e-9 * (1.0 + edge.Length)
+            except Exception:  # noqa: BLE001 -- OCCT raises several kinds; any means "no curve"
+                curve, ok = None, False
+            self._curves[k] = curve if ok else None
+        curve = self._curves[k]
+        if curve is None:
+            return None
+        first, last = edge.FirstParameter, edge.LastParameter
+        # GCPnts walks from the first to the last parameter whatever the orientation,
+        # so the polyline's ends are the edge's ends.
+        n = len(self.polylines[k])
+        ta = first if j == 0 else self._param(k, j, curve)
+        tb = last if j + 1 == n - 1 else self._param(k, j + 1, curve)
+        if curve.isPeriodic():
+            per = curve.period()
+            if j > 0:
+                ta = first + math.fmod(ta - first, per) % per
+            if j + 1 < n - 1:
+                tb = ta + math.fmod(tb - ta, per) % per
+        ta, tb = min(max(ta, first), last), min(max(tb, first), last)
+        return (ta, tb) if ta <= tb else (tb, ta)
+
+    def _param(self, k, j, curve):
+        key = (k, j)
+        if key not in self._params:
+            self._params[key] = curve.parameter(FreeCAD.Vector(*self.polylines[k][j]))
+        return self._params[key]
 
 
 # ----------------------------------------------------------------- helpers
+def _nearest_on_span(edge, q, ta, tb, t):
+    """Distance from q to the edge's curve over [ta, tb]: Newton on
+    f(t) = (C(t) - q) . C'(t), kept inside a bracket that shrinks with f's sign (the
+    span is far below the curve's features, so f changes sign at most once in it),
+    bisecting when a step leaves it; the span's ends are candidates too."""
+    qx, qy, qz = q
+    best = min(_dist(edge.valueAt(ta), q), _dist(edge.valueAt(tb), q))
+    lo, hi = ta, tb
+    for _ in range(NEWTON_STEPS):
+        c, d1, d2 = edge.valueAt(t), edge.derivative1At(t), edge.derivative2At(t)
+        rx, ry, rz = c.x - qx, c.y - qy, c.z - qz
+        best = min(best, math.sqrt(rx * rx + ry * ry + rz * rz))
+        f = rx * d1.x + ry * d1.y + rz * d1.z
+        if f > 0.0:
+            hi = t
+        elif f < 0.0:
+            lo = t
+        else:
+            break
+        h = d1.x * d1.x + d1.y * d1.y + d1.z * d1.z + rx * d2.x + ry * d2.y + rz * d2.z
+        nxt = t - f / h if h > 0.0 else 0.5 * (lo + hi)
+        if not lo < nxt < hi:
+            nxt = 0.5 * (lo + hi)
+        if abs(nxt - t) <= 4e-16 * max(abs(t), abs(ta), abs(tb), 1.0):
+            break
+        t = nxt
+    return best
+
+
+def _dist(v, q):
+    return math.sqrt((v.x - q[0]) ** 2 + (v.y - q[1]) ** 2 + (v.z - q[2]) ** 2)
+
+
+def _is_straight(edge):
+    try:
+        return edge.Curve.TypeId in _STRAIGHT
+    except Exception:  # noqa: BLE001 -- "undefined curve type": treat as curved
+        return False
+
+
+def _segment_distances(q, a, b):
+    """Distance from one point q to every segment [a[j], b[j]] and the fraction along
+    each segment of the nearest point."""
+    ab = b - a
+    len2 = (ab * ab).sum(1)
+    len2[len2 == 0.0] = 1.0
+    t = np.clip(((q - a) * ab).sum(1) / len2, 0.0, 1.0)
+    d = q - (a + t[:, None] * ab)
+    return np.sqrt((d * d).sum(1)), t
+
+
 def _check_face(face):
     if getattr(face, "ShapeType", None) != "Face":
         kind = getattr(face, "ShapeType", type(face).__name__)

@@ -12,8 +12,8 @@ import Part
 
 from mfgeom.app import preferences, refs
 
-# 1: first release.  Bump when properties change and migrate in _migrate().
-VERSION = 1
+# 1: first release; 2: Strict.  Bump when properties change and migrate in _migrate().
+VERSION = 2
 
 TYPE = "Mfgeom::PointClassification"
 
@@ -25,6 +25,7 @@ class PointClassification:
         obj.Proxy = self
         self.Type = TYPE
         self._add_properties(obj)
+        obj.Strict = True  # new objects: a point far from the surface is not in the face
         obj.Version = VERSION
 
     @staticmethod
@@ -37,6 +38,9 @@ class PointClassification:
              "or selected vertices", False),
             ("App::PropertyLength", "Tolerance", "Input",
              "Points whose distance to the face boundary is at most this are ON", False),
+            ("App::PropertyBool", "Strict", "Input",
+             "Points farther than the tolerance from the face's surface are OUT (else they "
+             "are classified by their projection onto the surface)", False),
             ("App::PropertyIntegerList", "Classes", "Result",
              "Class of each point in input order: 0 = OUT, 1 = IN, 2 = ON", True),
             ("App::PropertyInteger", "CountIn", "Result", "Number of points IN the face", True),
@@ -67,7 +71,10 @@ class PointClassification:
 
     def _migrate(self, obj):
         if "Version" not in obj.PropertiesList or obj.Version < VERSION:
+            strict_was_there = "Strict" in obj.PropertiesList
             self._add_properties(obj)
+            if not strict_was_there:
+                obj.Strict = False  # older documents keep their results: projection
             obj.Version = VERSION
 
     def onDocumentRestored(self, obj):
@@ -91,7 +98,8 @@ class PointClassification:
         # Imported here: it loads libmfgeom, and a document must open (and show its last
         # results) even where the library is missing.
         from mfgeom.app import face_domain
-        result = face_domain.classify_points_on_face(face, points, obj.Tolerance.Value)
+        result = face_domain.classify_points_on_face(face, points, obj.Tolerance.Value,
+                                                     strict=obj.Strict)
         obj.Shape = Part.makeCompound([Part.Vertex(*p) for p in points.tolist()])
         obj.Classes = [int(c) for c in result.classes]
         obj.CountIn = result.counts["in"]
@@ -104,6 +112,11 @@ class PointClassification:
         FreeCAD.Console.PrintLog(
             f"mfgeom: {obj.Label}: {len(points)} points, IN {obj.CountIn}, ON {obj.CountOn}, "
             f"OUT {obj.CountOut} ({result.method}, {result.seconds * 1e3:.1f} ms)\n")
+        warn, text = result.surface_report()
+        if warn:
+            FreeCAD.Console.PrintWarning(f"mfgeom: {obj.Label}: {text}\n")
+        elif result.far_count:
+            FreeCAD.Console.PrintMessage(f"mfgeom: {obj.Label}: {text}\n")
 
     # Persistence: 0.20 calls __getstate__/__setstate__, 0.21+ dumps/loads.  Nothing but
     # the type is kept: all state is in properties (and no C handle lives here).
@@ -121,10 +134,26 @@ class PointClassification:
 
 
 def _check_tolerance(tolerance):
+    """The tolerance in mm from a number (mm), a length Quantity or a string such as
+    "0.01 mm" or "10 um" (no unit: mm); InputError for anything else, e.g. "5 deg"."""
     if tolerance is None:
         return preferences.default_tolerance()
-    if hasattr(tolerance, "Value"):  # a FreeCAD.Quantity in mm
-        tolerance = tolerance.Value
+    if isinstance(tolerance, bool):
+        raise refs.InputError(f"the tolerance must be a length, got {tolerance!r}")
+    if isinstance(tolerance, str):
+        try:
+            tolerance = FreeCAD.Units.Quantity(tolerance)
+        except ValueError:
+            raise refs.InputError(f"the tolerance must be a length such as '0.01 mm', "
+                                  f"got {tolerance!r}") from None
+    if isinstance(tolerance, FreeCAD.Units.Quantity):
+        if tolerance.Unit == FreeCAD.Units.Length:
+            tolerance = tolerance.getValueAs("mm")
+        elif tolerance.Unit == FreeCAD.Units.Unit():  # no unit: mm, as for a plain number
+            tolerance = tolerance.Value
+        else:
+            raise refs.InputError(f"the tolerance must be a length, got {tolerance.UserString} "
+                                  f"({tolerance.Unit.Type or 'no known quantity'})")
     try:
         tolerance = float(tolerance)
     except (TypeError, ValueError):
@@ -135,14 +164,18 @@ def _check_tolerance(tolerance):
 
 
 def make_point_classification(doc, face_ref, points_ref, tolerance=None,
-                              name="PointClassification"):
+                              name="PointClassification", strict=True):
     """Create a point classification feature in ``doc`` and compute it.
 
     ``face_ref``: ``(obj, "FaceN")``.  ``points_ref``: a Points, Mesh, Sketch or Part
-    object (all its points/vertices) or ``(obj, ["Vertex1", ...])``.  ``tolerance`` in mm
-    (None: the DefaultTolerance preference).  The inputs are checked before anything is
-    created; if the first recompute still fails, the object is removed again, so on an
-    exception the document is left as it was.  Returns the new object.
+    object (all its points/vertices) or ``(obj, ["Vertex1", ...])``.  ``tolerance``: a
+    number in mm, a length Quantity or a string such as "0.01 mm" (None: the
+    DefaultTolerance preference).  ``strict``: points farther than the tolerance from
+    the face's surface are OUT (False: classified by their projection onto it).  The
+    object's Label names what it classifies ("Classes of Face3 of Box").  The inputs are
+    checked before anything is created; if the first recompute still fails, the object
+    is removed again, so on an exception the document is left as it was.  Returns the
+    new object.
     """
     if doc is None or not hasattr(doc, "addObject"):
         raise refs.InputError("no document given")
@@ -154,8 +187,14 @@ def make_point_classification(doc, face_ref, points_ref, tolerance=None,
                                   f"'{obj.Document.Name}', not in '{doc.Name}'")
     tolerance = _check_tolerance(tolerance)
     # Resolve now so a bad reference fails before the document changes.
-    refs.resolve_face(face_obj, face_sub)
+    face = refs.resolve_face(face_obj, face_sub)
     refs.check_points(src_obj, src_subs)
+    from mfgeom.app import face_domain
+    least = face_domain.minimum_tolerance(face)
+    if tolerance < least:
+        raise refs.InputError(f"a tolerance of {tolerance:g} mm cannot be honoured on "
+                              f"{face_sub} of '{face_obj.Label}': its boundary is only "
+                              f"defined to {least:g} mm; use at least {least:g} mm")
 
     obj = doc.addObject("Part::FeaturePython", name)
     try:
@@ -163,9 +202,11 @@ def make_point_classification(doc, face_ref, points_ref, tolerance=None,
         if FreeCAD.GuiUp:
             from mfgeom.gui.pointclass_view import ViewProviderPointClassification
             ViewProviderPointClassification(obj.ViewObject)
+        obj.Label = f"Classes of {face_sub} of {face_obj.Label}"
         obj.Face = (face_obj, [face_sub])
         obj.PointSource = (src_obj, src_subs)
         obj.Tolerance = tolerance
+        obj.Strict = bool(strict)
         obj.recompute()
         if not obj.isValid():
             raise RuntimeError(f"point classification failed: {obj.getStatusString()}")
