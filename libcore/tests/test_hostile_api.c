@@ -288,7 +288,9 @@ static void test_visibility(void)
 
 /* Three octant-like triangles (9 vertices: enough for every small offset above). */
 static const double SV[27] = {1, 0, 0, 0, 1, 0, 0, 0, 1,   0, 1, 0, -1, 0, 0, 0, 0, 1,
-                              0.9, 0.1, 0, 0.1, 0.9, 0, 0.1, 0.1, 1};
+                              /* unit vectors: (0.9, 0.1, 0), (0.1, 0.9, 0), (0.1, 0.1, 1) normalised */
+                              0.9938837346736189, 0.11043152607484655, 0, 0.11043152607484655, 0.9938837346736189, 0,
+                              0.09901475429766743, 0.09901475429766743, 0.9901475429766743};
 static const int64_t SOFF[4] = {0, 3, 6, 9};
 static const int32_t SKINDS[4] = {MFG_VM_POLYGON, MFG_VM_POLYGON, MFG_VM_POLYGON, MFG_VM_POLYGON};
 

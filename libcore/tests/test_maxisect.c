@@ -52,8 +52,8 @@ static void test_nested(void)
     e2[2] = c[0] * e1[1] - c[1] * e1[0];
     for (int k = 0; k < 3; k++) {
         double a = 2 * M_PI * k / 3;
-        for (int i = 0; i < 3; i++)
-            v[9 + 3 * k + i] = c[i] + s * (cos(a) * e1[i] + sin(a) * e2[i]);
+        for (int i = 0; i < 3; i++) /* on the unit sphere: vertices are directions */
+            v[9 + 3 * k + i] = (c[i] + s * (cos(a) * e1[i] + sin(a) * e2[i])) / sqrt(1 + s * s);
     }
     /* the octant again, and the octant rotated a little about z */
     memcpy(v + 18, OCT, sizeof OCT);
@@ -350,8 +350,63 @@ static void test_thin_cover_many_vertices(void)
     }
 }
 
+/* Issue 6, item 6: results do not depend on the scale of the weights.  Two overlapping
+ * octants of weight s (maximum 2 s where they overlap) and a disjoint one of weight
+ * 1.5 s: for every s from subnormal to 1e200 the maximum is the overlap alone, the level
+ * regions never fall below the level, and the minimum's regions are uncovered.  (An
+ * absolute floor in the weight tolerance made 1.5 s and 2 s "equal" for s <= 1e-9.) */
+static void test_weight_scale(void)
+{
+    const double t = 0.1;
+    double v[27] = {1, 0, 0, 0, 1, 0, 0, 0, 1,
+                    cos(t), sin(t), 0, -sin(t), cos(t), 0, 0, 0, 1,
+                    -1, 0, 0, 0, 0, -1, 0, -1, 0};
+    int64_t off[] = {0, 3, 6, 9};
+    int32_t kinds[] = {3, 3, 3};
+    const double scales[] = {1e-310, 1e-300, 1e-12, 1e-9, 1e-6, 1.0, 1e6, 1e12, 1e200};
+    for (size_t i = 0; i < sizeof scales / sizeof *scales; i++) {
+        const double s = scales[i], rel = s < 1e-300 ? 1e-12 : 1e-15;
+        double w[] = {s, s, 1.5 * s};
+        mfg_regions *r = NULL;
+        CHECK_EQ_INT(mfg_max_intersection(v, off, kinds, NULL, 3, w, &r), MFG_OK);
+        if (r) {
+            CHECK(fabs(r->weight - 2 * s) <= rel * 2 * s);
+            CHECK_EQ_INT(r->nregions, 1);
+            CHECK(r->nregions >= 1 && r->cover_offsets[1] == 2 && r->cover[0] == 0 && r->cover[1] == 1);
+            if (r->nregions != 1)
+                fprintf(stderr, "weights x %g: %lld maximum regions\n", s, (long long)r->nregions);
+        }
+        mfg_regions_free(r);
+        for (int lv = 0; lv < 2; lv++) {
+            double level = (lv ? 1.9 : 1.2) * s;
+            r = NULL;
+            CHECK_EQ_INT(mfg_level_regions(v, off, kinds, NULL, 3, w, level, &r), MFG_OK);
+            if (!r)
+                continue;
+            CHECK_EQ_INT(r->nregions, lv ? 1 : 2);
+            for (int64_t g = 0; g < r->nregions; g++) {
+                double cw = 0;
+                for (int64_t k = r->cover_offsets[g]; k < r->cover_offsets[g + 1]; k++)
+                    cw += w[r->cover[k]];
+                CHECK(cw >= level);
+            }
+            mfg_regions_free(r);
+        }
+        r = NULL;
+        CHECK_EQ_INT(mfg_min_intersection(v, off, kinds, NULL, 3, w, &r), MFG_OK);
+        if (r) {
+            CHECK(r->weight == 0.0);
+            CHECK(r->nregions >= 1);
+            for (int64_t g = 0; g < r->nregions; g++)
+                CHECK(r->cover_offsets[g + 1] == r->cover_offsets[g]);
+        }
+        mfg_regions_free(r);
+    }
+}
+
 int main(void)
 {
+    test_weight_scale();
     test_thin_cover_many_vertices();
     test_single_polygon_margin();
     test_errors();
