@@ -15,9 +15,24 @@ Importing the package must work in plain python3 without FreeCAD (users of
 the FreeCAD-facing entry points import their modules when called.
 """
 
+import functools
+
 __version__ = "0.1.0"
 
 
+def needs_library(make):
+    """Decorator of every public ``make_*`` function: loads libmfgeom first, so a missing
+    library raises :class:`mfgeom.errors.LibraryError` (an ImportError, saying where it
+    was looked for and how to build it) before the document is touched."""
+    @functools.wraps(make)
+    def checked(*args, **kwargs):
+        from mfgeom import core
+        core.load()
+        return make(*args, **kwargs)
+    return checked
+
+
+@needs_library
 def make_point_classification(doc, face_ref, points_ref, tolerance=None,
                               name="PointClassification", strict=True):
     """Create a parametric point classification of points against a face in ``doc``.
@@ -27,7 +42,8 @@ def make_point_classification(doc, face_ref, points_ref, tolerance=None,
     ``tolerance`` is in mm, a length Quantity or a string such as "0.01 mm" (default:
     the preference DefaultTolerance).  ``strict``: points farther than the tolerance
     from the face's surface are OUT (False: classified by their projection onto it).
-    Raises ValueError/TypeError on bad input and creates nothing in that case.
+    Raises ValueError/TypeError on bad input and mfgeom.errors.LibraryError (an
+    ImportError) without the C library, and creates nothing in those cases.
     See :func:`mfgeom.app.pointclass.make_point_classification`.
     """
     from mfgeom.app.pointclass import make_point_classification as _make

@@ -2,16 +2,18 @@
 """ctypes binding to libmfgeom: works in plain python3 with numpy, without FreeCAD."""
 
 import ctypes
+import numbers
 import os
+import struct
 import sys
+import sysconfig
+import threading
 
 import numpy as np
 
-from mfgeom.errors import MfgeomError
+from mfgeom import building, paths
+from mfgeom.errors import LibraryError, MfgeomError
 from mfgeom.names import IN, KIND_CODES, KINDS, ON, OUT  # noqa: F401  (core.IN etc.)
-
-_HERE = os.path.dirname(os.path.abspath(__file__))
-
 
 class MfgError(MfgeomError, RuntimeError):
     """An error reported by libmfgeom; ``status`` is the C status name."""
@@ -22,43 +24,209 @@ class MfgError(MfgeomError, RuntimeError):
         self.detail = message
 
 
-def _candidates():
-    """Where the library may be, in order: $MFGEOM_LIBRARY, next to the package
-    (installed layout), the repository's build trees, then the system loader."""
-    env = os.environ.get("MFGEOM_LIBRARY")
-    if env:
-        yield env
-    repo = os.path.dirname(os.path.dirname(_HERE))
-    yield os.path.join(_HERE, "libmfgeom.so")
-    for build in ("build", "build-release", "build-asan"):
-        yield os.path.join(repo, build, "libmfgeom.so")
-    yield os.path.join(sys.prefix, "lib", "libmfgeom.so")
-    yield "/usr/local/lib/libmfgeom.so"
-    yield "libmfgeom.so"
+# --------------------------------------------------------------------------- #
+# Loading the library: lazily (importing this module never needs it), once,   #
+# under a lock, and never a sanitizer build unless asked for by name.         #
+# --------------------------------------------------------------------------- #
+
+LIBRARY_NAME = "libmfgeom.so"
+
+# Symbol-name prefixes that mark an instrumented build.  The runtimes of the first four
+# must be the first library of the process: loaded later, they abort it (FreeCAD dies
+# with "ASan runtime does not come first"), so their init symbol must already be there.
+_SANITIZERS = {b"__asan_": ("AddressSanitizer", "__asan_init"),
+               b"__hwasan_": ("HWAddressSanitizer", "__hwasan_init"),
+               b"__tsan_": ("ThreadSanitizer", "__tsan_init"),
+               b"__msan_": ("MemorySanitizer", "__msan_init"),
+               b"__ubsan_": ("UndefinedBehaviorSanitizer", None)}
 
 
-def _load():
-    env = os.environ.get("MFGEOM_LIBRARY")
-    if env and not os.path.exists(env):
-        # An explicit choice that is wrong should not silently load another build.
-        raise ImportError(f"MFGEOM_LIBRARY={env} does not exist; build the library "
-                          "(cmake -S . -B build && cmake --build build) or unset it")
-    errors = []
-    for path in _candidates():
-        if os.sep in path and not os.path.exists(path):
+def _elf_dynamic_names(path):
+    """The names in ELF file ``path``'s dynamic string table (its imported and exported
+    symbols and needed libraries); empty if it is not an ELF file.  Reading it is cheap
+    (no process is started) and does not depend on how the build was configured: a
+    copied library carries its instrumentation with it."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:4] != b"\x7fELF" or data[4] not in (1, 2) or data[5] not in (1, 2):
+        return []
+    is64, order = data[4] == 2, "<" if data[5] == 1 else ">"
+    try:
+        if is64:
+            shoff, = struct.unpack_from(order + "Q", data, 40)
+            shentsize, shnum = struct.unpack_from(order + "HH", data, 58)
+            section = lambda i: struct.unpack_from(   # noqa: E731  (type, offset, size, link)
+                order + "4xI16xQQI", data, shoff + i * shentsize)
+        else:
+            shoff, = struct.unpack_from(order + "I", data, 32)
+            shentsize, shnum = struct.unpack_from(order + "HH", data, 46)
+            section = lambda i: struct.unpack_from(   # noqa: E731
+                order + "4xI8xIII", data, shoff + i * shentsize)
+        for i in range(shnum):
+            sh_type, _off, _size, link = section(i)
+            if sh_type == 11:                        # SHT_DYNSYM: its strings are in `link`
+                _t, off, size, _l = section(link)
+                return data[off:off + size].split(b"\0")
+    except struct.error:                             # truncated: let the loader judge it
+        pass
+    return []
+
+
+def sanitizers(path):
+    """Names of the sanitizers ``path`` was built with (empty for a normal build)."""
+    names = _elf_dynamic_names(path)
+    return [sanitizer for prefix, (sanitizer, _init) in _SANITIZERS.items()
+            if any(name.startswith(prefix) for name in names)]
+
+
+def _runtime_missing(path):
+    """The sanitizer runtime ``path`` needs first in the process but is not there, or
+    None: loading such a library would abort the process, not raise."""
+    names = _elf_dynamic_names(path)
+    process = ctypes.CDLL(None)
+    for prefix, (sanitizer, init) in _SANITIZERS.items():
+        if init and any(n.startswith(prefix) for n in names) and not hasattr(process, init):
+            return sanitizer
+    return None
+
+
+def _search_places():
+    """Where the library is looked for when MFGEOM_LIBRARY is not set, in order: next
+    to the binding (scripts/build.sh links it there), the repository's build/, then the
+    system library directories.  Every place is a path, so each can be inspected
+    before it is loaded."""
+    places = [os.path.join(paths.PACKAGE_DIR, LIBRARY_NAME),
+              os.path.join(paths.REPO_DIR, "build", LIBRARY_NAME)]
+    dirs = [d for d in os.environ.get("LD_LIBRARY_PATH", "").split(os.pathsep) if d]
+    dirs += [os.path.join(sys.prefix, "lib"), "/usr/local/lib", "/usr/lib"]
+    multiarch = sysconfig.get_config_var("MULTIARCH")
+    if multiarch:
+        dirs.append(os.path.join("/usr/lib", multiarch))
+    for d in dirs:
+        place = os.path.join(d, LIBRARY_NAME)
+        if place not in places:
+            places.append(place)
+    return places
+
+
+def _not_found(tried, explicit=None):
+    """The LibraryError for a missing library: where it was looked for, why each place
+    was not used, and the command that builds it."""
+    lines = [f"MFGEOM_LIBRARY={explicit} cannot be used." if explicit else
+             f"{LIBRARY_NAME}, the mfgeom C library, was not found."]
+    lines.append("Looked in:")
+    lines += [f"  {place}: {why}" for place, why in tried]
+    lines.append(building.instructions())
+    lines.append("or set MFGEOM_LIBRARY to the path of a libmfgeom.so" +
+                 (" that exists." if explicit else "."))
+    return LibraryError("\n".join(lines))
+
+
+def _open(path):
+    try:
+        return ctypes.CDLL(path)
+    except OSError as exc:
+        raise LibraryError(f"{path} could not be loaded: {exc}\n"
+                           + building.instructions()) from None
+
+
+def _find_and_open():
+    """(CDLL, path) of the library to use, or raises LibraryError."""
+    explicit = os.environ.get("MFGEOM_LIBRARY")
+    if explicit:
+        # An explicit choice that is wrong must not silently load another build.
+        if not os.path.isfile(explicit):
+            raise _not_found([(explicit, "no such file")], explicit)
+        missing = _runtime_missing(explicit)
+        if missing:
+            raise LibraryError(
+                f"MFGEOM_LIBRARY={explicit} is built with {missing}: loading it would abort "
+                f"this process, whose first library is not the {missing} runtime.  Run "
+                "under LD_PRELOAD=$(gcc -print-file-name=libasan.so) or use a normal "
+                "build.\n" + building.instructions())
+        return _open(explicit), explicit
+    tried = []
+    for place in _search_places():
+        if not os.path.isfile(place):
+            tried.append((place, "no such file"))
             continue
-        try:
-            return ctypes.CDLL(path), path
-        except OSError as exc:  # try the next location
-            errors.append(f"{path}: {exc}")
-            if path == os.environ.get("MFGEOM_LIBRARY"):
-                break
-    raise ImportError(
-        "libmfgeom.so not found; build it (cmake -S . -B build && cmake --build build) "
-        "or set MFGEOM_LIBRARY. Tried: " + "; ".join(errors or ["no candidate existed"]))
+        found = sanitizers(place)
+        if found:
+            tried.append((place, f"skipped: built with {' + '.join(found)}, loaded only "
+                                 "when MFGEOM_LIBRARY names it"))
+            continue
+        return _open(place), place
+    raise _not_found(tried)
 
 
-_lib, library_path = _load()
+class _Function:
+    """A C function of the library, declared (restype, argtypes) before the library is
+    loaded; the first call loads the library."""
+
+    __slots__ = ("name", "restype", "argtypes", "_cfunc")
+
+    def __init__(self, name):
+        object.__setattr__(self, "name", name)
+        object.__setattr__(self, "restype", ctypes.c_int)
+        object.__setattr__(self, "argtypes", None)
+        object.__setattr__(self, "_cfunc", None)
+
+    def __setattr__(self, key, value):
+        object.__setattr__(self, key, value)
+        object.__setattr__(self, "_cfunc", None)   # re-declared: bind again
+
+    def __call__(self, *args):
+        cfunc = self._cfunc
+        if cfunc is None:
+            # A fresh function object of our own: concurrent first calls each bind one,
+            # identically, and whichever is stored last is as good as the other.
+            cfunc = load()[self.name]
+            cfunc.restype = self.restype
+            if self.argtypes is not None:
+                cfunc.argtypes = self.argtypes
+            object.__setattr__(self, "_cfunc", cfunc)
+        return cfunc(*args)
+
+
+class _Library:
+    """Stands for the CDLL: ``_lib.mfg_x`` is a :class:`_Function` that loads the
+    library on its first call, so declaring the prototypes needs no library."""
+
+    def __getattr__(self, name):
+        if name.startswith("__"):
+            raise AttributeError(name)
+        function = _Function(name)
+        setattr(self, name, function)
+        return function
+
+
+_lib = _Library()
+_load_lock = threading.Lock()
+_loaded = None            # (CDLL, path) once loaded; a failed load is retried next time
+
+
+def load():
+    """The loaded library (a ctypes.CDLL), loading it on the first call (thread-safe).
+
+    Raises :class:`mfgeom.errors.LibraryError` (an ImportError) if it cannot be found
+    or loaded, with the places searched and the command that builds it; a later call
+    tries again (e.g. after the library was built)."""
+    global _loaded
+    loaded = _loaded
+    if loaded is None:
+        with _load_lock:
+            if _loaded is None:
+                _loaded = _find_and_open()
+            loaded = _loaded
+    return loaded[0]
+
+
+def __getattr__(name):
+    # ``core.library_path``: the path of the loaded library (loads it if needed).
+    if name == "library_path":
+        load()
+        return _loaded[1]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 _c_double_p = ctypes.POINTER(ctypes.c_double)
 _c_int64_p = ctypes.POINTER(ctypes.c_int64)
@@ -135,11 +303,53 @@ def _ptr(array, ctype):
     return array.ctypes.data_as(ctypes.POINTER(ctype))
 
 
-def _as_points(points, what="points"):
+def _as_float_array(value, what):
+    """``value``, an array-like of real numbers, as a C-contiguous float64 ndarray: the
+    one conversion every public function applies to its numeric input.
+
+    numpy alone would turn strings into numbers, booleans into 0/1, drop the imaginary
+    part of complex arrays and None into NaN: those raise TypeError here.  A number no
+    double can hold (an int beyond ~1.8e308, a long double overflowing) raises
+    ValueError, as does a ragged nesting.  Arrays already float64 and contiguous are not
+    copied."""
     try:
-        arr = np.ascontiguousarray(points, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{what} must be an (m, 2) array of numbers: {exc}") from None
+        arr = np.asarray(value)
+    except ValueError as exc:                 # ragged nesting
+        raise ValueError(f"{what}: {exc}") from None
+    kind = arr.dtype.kind
+    if kind == "O":                           # Python ints beyond int64, Fractions, None, ...
+        out = np.empty(arr.shape, dtype=np.float64)
+        for index, x in np.ndenumerate(arr):
+            if isinstance(x, (bool, np.bool_)) or not isinstance(x, numbers.Real):
+                raise TypeError(f"{what} must be real numbers, got {type(x).__name__} "
+                                f"{x!r:.40}")
+            try:
+                out[index] = float(x)
+            except OverflowError:
+                raise ValueError(f"{what}: {x!r:.40} is too large for a double") from None
+        return out
+    if kind in "iu":
+        return np.asarray(arr, dtype=np.float64, order="C")
+    if kind == "f":
+        if arr.dtype.itemsize > 8 and np.count_nonzero(
+                np.isfinite(arr) & (np.abs(arr) > np.finfo(np.float64).max)):
+            raise ValueError(f"{what}: a value is too large for a double")
+        return np.asarray(arr, dtype=np.float64, order="C")
+    names = {"b": "booleans", "c": "complex numbers", "U": "strings", "S": "bytes"}
+    raise TypeError(f"{what} must be real numbers, got {names.get(kind, arr.dtype.name)}")
+
+
+def _as_float(value, what):
+    """A real number (int, float, numpy scalar) as a Python float; TypeError for
+    strings, booleans, complex numbers and arrays, ValueError if too large."""
+    arr = _as_float_array(value, what)
+    if arr.ndim != 0:
+        raise TypeError(f"{what} must be a number, got an array of shape {arr.shape}")
+    return float(arr)
+
+
+def _as_points(points, what="points"):
+    arr = _as_float_array(points, what)
     if arr.ndim == 1 and arr.size == 0:
         arr = arr.reshape(0, 2)
     if arr.ndim != 2 or arr.shape[1] != 2:
@@ -176,7 +386,7 @@ def classify_points(rings, points, tol):
     out = np.empty(len(pts), dtype=np.uint8)
     _check(_lib.mfg_classify_points(_ptr(xy, ctypes.c_double), _ptr(offsets, ctypes.c_int64),
                                     len(offsets) - 1, _ptr(pts, ctypes.c_double), len(pts),
-                                    float(tol), _ptr(out, ctypes.c_uint8)))
+                                    _as_float(tol, "tol"), _ptr(out, ctypes.c_uint8)))
     return out
 
 
@@ -191,7 +401,8 @@ class Region:
         xy, offsets = _flatten_rings(rings)
         handle = ctypes.c_void_p()
         _check(_lib.mfg_region_new(_ptr(xy, ctypes.c_double), _ptr(offsets, ctypes.c_int64),
-                                   len(offsets) - 1, float(tol), ctypes.byref(handle)))
+                                   len(offsets) - 1, _as_float(tol, "tol"),
+                                   ctypes.byref(handle)))
         self._handle = handle
         self.tol = float(tol)
         self._free = _lib.mfg_region_free  # kept for use during interpreter shutdown
@@ -237,7 +448,7 @@ class VisibilityMap:
 
     def __init__(self, kind, vertices, closed=False):
         self.kind = kind
-        self.vertices = np.asarray(vertices, dtype=np.float64).reshape(-1, 3)
+        self.vertices = _as_float_array(vertices, "vertices").reshape(-1, 3)
         self.closed = bool(closed)
 
     def __repr__(self):
@@ -275,14 +486,14 @@ def visibility_map(normals, draft_angle=0.0, negative=False):
     """Visibility map VM(P) = {d : d.p >= 0 for all p} of unit (or any non-zero)
     normals ``(m, 3)``; ``negative=True`` gives -VM(P).  ``draft_angle`` (radians)
     shrinks it to {d : d.p^ >= sin(draft_angle)} (a conservative inscribed polygon)."""
-    p = np.ascontiguousarray(normals, dtype=np.float64)
+    p = _as_float_array(normals, "normals")
     if p.ndim != 2 or p.shape[1] != 3:
         raise ValueError(f"normals must have shape (m, 3), got {p.shape}")
     if negative:
         p = np.ascontiguousarray(-p)
     res = ctypes.POINTER(_SPoly)()
-    _check(_lib.mfg_visibility_map(_ptr(p, ctypes.c_double), len(p), float(draft_angle),
-                                   ctypes.byref(res)))
+    _check(_lib.mfg_visibility_map(_ptr(p, ctypes.c_double), len(p),
+                                   _as_float(draft_angle, "draft_angle"), ctypes.byref(res)))
     try:
         sp = res.contents
         n = sp.nvertices
@@ -324,14 +535,14 @@ def _flatten_maps(maps, weights):
         if isinstance(m, VisibilityMap):
             v, kind, cl = m.vertices, m.kind, m.closed
         else:
-            v, kind, cl = np.asarray(m, dtype=np.float64), "polygon", False
+            v, kind, cl = _as_float_array(m, f"map {k}"), "polygon", False
             if v.ndim != 2 or v.shape[1] != 3:
                 raise ValueError(f"map {k} must be a VisibilityMap or a (k, 3) array")
             if len(v) == 0:
                 kind = "null"
         if kind not in KIND_CODES:
             raise ValueError(f"map {k} has unknown kind {kind!r}")
-        verts.append(np.asarray(v, dtype=np.float64).reshape(-1, 3))
+        verts.append(_as_float_array(v, f"map {k}").reshape(-1, 3))
         offsets.append(offsets[-1] + len(verts[-1]))
         kinds.append(KIND_CODES[kind])
         closed.append(1 if cl else 0)
@@ -340,7 +551,7 @@ def _flatten_maps(maps, weights):
     xyz = np.ascontiguousarray(np.concatenate(verts), dtype=np.float64)
     w = None
     if weights is not None:
-        w = np.ascontiguousarray(weights, dtype=np.float64)
+        w = _as_float_array(weights, "weights")
         if w.shape != (len(kinds),):
             raise ValueError(f"weights must have shape ({len(kinds)},), got {w.shape}")
     return (xyz, np.asarray(offsets, dtype=np.int64), np.asarray(kinds, dtype=np.int32),
@@ -385,7 +596,8 @@ def max_intersection(maps, weights=None):
 
 def level_regions(maps, level, weights=None):
     """Every locally maximal region whose covered weight is at least ``level``."""
-    return _call_regions(_lib.mfg_level_regions, maps, weights, ctypes.c_double(float(level)))
+    return _call_regions(_lib.mfg_level_regions, maps, weights,
+                         ctypes.c_double(_as_float(level, "level")))
 
 
 def min_intersection(maps, weights=None):
