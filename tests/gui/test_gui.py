@@ -80,6 +80,42 @@ class DialogCloser:
 dialogs = DialogCloser()
 
 
+def task_panel():
+    """The open Classify points task panel as a user sees it: its widgets by object name
+    and the task view's OK / Cancel buttons (None when no panel is open)."""
+    _QtCore, QtGui = qt()
+    Gui.updateGui()
+    mw = Gui.getMainWindow()
+    spins = [w for w in mw.findChildren(QtGui.QAbstractSpinBox)
+             if w.objectName() == "tolerance" and w.isVisible()]
+    if not Gui.Control.activeDialog() or not spins:
+        return None
+    panel = spins[0].parentWidget()
+    widgets = {w.objectName(): w for w in panel.findChildren(QtGui.QWidget) if w.objectName()}
+    boxes = [b for b in mw.findChildren(QtGui.QDialogButtonBox)
+             if b.isVisible() and b.button(QtGui.QDialogButtonBox.Ok) is not None]
+    assert len(boxes) == 1, f"{len(boxes)} visible OK button boxes"
+    widgets["ok"] = boxes[0].button(QtGui.QDialogButtonBox.Ok)
+    widgets["cancel"] = boxes[0].button(QtGui.QDialogButtonBox.Cancel)
+    widgets["tolerance_text"] = spins[0].findChild(QtGui.QLineEdit)
+    return widgets
+
+
+def press(button):
+    button.click()
+    Gui.updateGui()
+
+
+def dock_text(name):
+    """The text of the Report view or the Python console."""
+    _QtCore, QtGui = qt()
+    mw = Gui.getMainWindow()
+    for widget in mw.findChildren(QtGui.QTextEdit) + mw.findChildren(QtGui.QPlainTextEdit):
+        if widget.objectName() == name:
+            return widget.toPlainText()
+    raise AssertionError(f"no {name!r} in the main window")
+
+
 @check("workbench is registered and activates")
 def _():
     assert WORKBENCH in Gui.listWorkbenches(), sorted(Gui.listWorkbenches())
@@ -140,11 +176,33 @@ def _():
     Gui.runCommand(COMMAND)
     Gui.updateGui()
     assert not dialogs.take(), "the command complained"
+    panel = task_panel()
+    assert panel is not None, "the command opened no task panel"
+    assert len(doc.Objects) == before, "the panel created something before OK"
+    # The panel's defaults: the preferences, Strict on
+    assert panel["tolerance_text"].text() == "0.3 mm", panel["tolerance_text"].text()
+    assert panel["strict"].isChecked()
+    panel["pointSize"].setValue(7)
+    press(panel["ok"])
+    assert task_panel() is None, "OK left the panel open"
     new = [o for o in doc.Objects if o.Name.startswith("PointClassification")]
     assert len(doc.Objects) == before + 1 and len(new) == 1, [o.Name for o in doc.Objects]
     obj = new[0]
     assert obj.isValid(), obj.getStatusString()
     assert abs(obj.Tolerance.Value - 0.3) < 1e-12, obj.Tolerance  # from the preference
+    assert obj.Strict and obj.ViewObject.PointSize == 7, (obj.Strict, obj.ViewObject.PointSize)
+    assert obj.Label == f"Classes of {bracket.top_face_name(part)} of {part.Label}", obj.Label
+    # Echoed to the Python console: replayed as a macro, the line makes the same feature
+    console = dock_text("Python console")
+    calls = [line[4:] for line in console.splitlines()
+             if line.startswith(">>> mfgeom.make_point_classification(")]
+    assert len(calls) == 1, console[-800:]
+    import mfgeom
+    replay = eval(calls[0], {"App": App, "Gui": Gui, "mfgeom": mfgeom})
+    assert (replay.Tolerance.Value, replay.Strict, list(replay.Classes)) == \
+        (obj.Tolerance.Value, obj.Strict, list(obj.Classes)), calls[0]
+    doc.removeObject(replay.Name)
+    doc.recompute()
     n = len(cloud.Points.Points)
     assert obj.CountIn + obj.CountOn + obj.CountOut == n
     assert min(obj.CountIn, obj.CountOn, obj.CountOut) > 0, (obj.CountIn, obj.CountOn, obj.CountOut)
@@ -193,6 +251,87 @@ def _():
     assert doc.getObject(name) is None, "undo kept the feature"
     doc.redo()
     assert doc.getObject(name) is not None and doc.getObject(name).isValid()
+
+
+@check("Cancel creates nothing; a tolerance in degrees is refused in the panel")
+def _():
+    doc, part, cloud = state["doc"], state["part"], state["cloud"]
+    before = [o.Name for o in doc.Objects]
+    undo = doc.UndoCount
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(part, bracket_top(part))
+    Gui.Selection.addSelection(cloud)
+    Gui.runCommand(COMMAND)
+    panel = task_panel()
+    assert panel is not None
+    press(panel["cancel"])
+    assert task_panel() is None and [o.Name for o in doc.Objects] == before
+    assert doc.UndoCount == undo, "Cancel left an undo step"
+    Gui.runCommand(COMMAND)
+    panel = task_panel()
+    panel["tolerance_text"].setText("5 deg")
+    press(panel["ok"])
+    panel = task_panel()
+    assert panel is not None, "OK with '5 deg' closed the panel"
+    assert "must be a length" in panel["message"].text(), panel["message"].text()
+    assert [o.Name for o in doc.Objects] == before
+    press(panel["cancel"])
+    assert task_panel() is None and [o.Name for o in doc.Objects] == before
+
+
+@check("double click edits the feature in the same panel")
+def _():
+    doc = state["doc"]
+    obj = [o for o in doc.Objects if o.Name.startswith("PointClassification")][0]  # redone
+    classes = list(obj.Classes)
+    assert obj.ViewObject.Proxy.doubleClicked(obj.ViewObject)
+    panel = task_panel()
+    assert panel is not None, "no panel on double click"
+    assert panel["tolerance_text"].text() == "0.3 mm" and panel["strict"].isChecked()
+    panel["tolerance_text"].setText("0.1 mm")
+    press(panel["cancel"])
+    assert task_panel() is None and abs(obj.Tolerance.Value - 0.3) < 1e-12
+    assert not Gui.ActiveDocument.getInEdit(), "still in edit mode after Cancel"
+    Gui.ActiveDocument.setEdit(obj.Name, 0)
+    panel = task_panel()
+    panel["tolerance_text"].setText("0.1 mm")
+    undo = doc.UndoCount
+    press(panel["ok"])
+    assert task_panel() is None and abs(obj.Tolerance.Value - 0.1) < 1e-12, obj.Tolerance
+    assert obj.isValid() and "Touched" not in obj.State, obj.State
+    assert list(obj.Classes) != classes and doc.UndoCount == undo + 1
+    doc.undo()  # one step back to 0.3 mm and its results
+    doc.recompute()
+    assert abs(obj.Tolerance.Value - 0.3) < 1e-12 and list(obj.Classes) == classes
+
+
+@check("the Report view warns about a cloud far from the surface")
+def _():
+    import numpy as np
+    import Points
+    import bracket
+    doc, part = state["doc"], state["part"]
+    lx, ly, lz = bracket.PLATE
+    far = doc.addObject("Points::Feature", "FarCloud")
+    far.Points = Points.Points([App.Vector(x, y, lz + 25.0)
+                                for x in np.arange(2.0, lx, 10.0) for y in np.arange(2.0, ly, 10.0)])
+    doc.recompute()
+    n = len(far.Points.Points)
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(part, bracket_top(part))
+    Gui.Selection.addSelection(far)
+    Gui.runCommand(COMMAND)
+    panel = task_panel()
+    panel["strict"].setChecked(False)
+    press(panel["ok"])
+    obj = [o for o in doc.Objects if o.Label.startswith("Classes of") and o.PointSource[0] == far]
+    assert len(obj) == 1 and not obj[0].Strict, obj
+    report = dock_text("Report view")
+    assert f"{n} points farther than the tolerance (0.3 mm)" in report, report[-800:]
+    assert "largest distance 25 mm" in report and "set Strict" in report, report[-800:]
+    doc.removeObject(obj[0].Name)
+    doc.removeObject(far.Name)
+    doc.recompute()
 
 
 @check("bad selection shows a message and creates nothing")

@@ -35,18 +35,23 @@ class ClassifyPointsCommand(BaseCommand):
 
     icon = "mfgeom_classify_points.svg"
     menu_text = "Classify points"
-    tooltip = ("Classify points against a face with a tolerance: IN (green), ON the "
-               "boundary (orange) or OUT (red).\nSelect one face (planar or curved) and "
-               "the points: a Points object, a Mesh, a sketch, a Part object or vertices.")
+    tooltip = ("Classify points against a face with a tolerance: IN, ON the boundary "
+               "(within the tolerance) or OUT.\nSelect one face (planar or curved) and "
+               "the points: a Points object, a Mesh, a sketch, a Part object or vertices;\n"
+               "a task panel then asks for the tolerance.")
 
     def Activated(self):
         title = "Classify points"
         # Loaded here so a missing libmfgeom.so is reported, not a dead workbench.
         try:
             importlib.import_module("mfgeom.core")
-            from mfgeom.app import pointclass as pointclass_feature, preferences, refs
+            from mfgeom.app import refs
+            from mfgeom.gui.pointclass_panel import PointClassificationPanel
         except ImportError as exc:
             _warn(title, f"The mfgeom library could not be loaded:\n{exc}")
+            return
+        if FreeCADGui.Control.activeDialog():
+            _warn(title, "A task panel is open: close it first (OK or Cancel).")
             return
         selection = [(s.Object, list(s.SubElementNames))
                      for s in FreeCADGui.Selection.getSelectionEx()]
@@ -55,23 +60,8 @@ class ClassifyPointsCommand(BaseCommand):
         except refs.InputError as exc:
             _warn(title, str(exc))
             return
-        doc = face_ref[0].Document
-        doc.openTransaction(title)
-        try:
-            obj = pointclass_feature.make_point_classification(
-                doc, face_ref, points_ref, preferences.default_tolerance())
-        except (ValueError, TypeError, RuntimeError) as exc:  # core.MfgError is a RuntimeError
-            doc.abortTransaction()
-            _warn(title, str(exc))
-            return
-        src = points_ref[0]
-        if src.isDerivedFrom("Points::Feature") and src.ViewObject is not None:
-            src.ViewObject.Visibility = False  # our coloured copy sits on top of it
-        doc.commitTransaction()
-        FreeCADGui.Selection.clearSelection()
-        FreeCAD.Console.PrintMessage(
-            f"mfgeom: {obj.Label}: IN {obj.CountIn}, ON {obj.CountOn}, OUT {obj.CountOut} "
-            f"(tolerance {obj.Tolerance.Value:g} mm)\n")
+        # The panel asks for tolerance, Strict and point size; its OK creates the feature.
+        FreeCADGui.Control.showDialog(PointClassificationPanel(face_ref, points_ref))
 
 
 COMMANDS = {"Mfgeom_ClassifyPoints": ClassifyPointsCommand()}

@@ -42,6 +42,29 @@ class ViewProviderPointClassification:
         from mfgeom import paths
         return paths.icon("mfgeom_classify_points.svg")
 
+    # Double click or Edit opens the task panel of the command (default edit mode 0).
+    def doubleClicked(self, vobj):
+        import FreeCADGui
+        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
+        return True
+
+    def setEdit(self, vobj, mode=0):
+        if mode != 0:
+            return None  # other modes (transform, ...) stay FreeCAD's
+        import FreeCADGui
+        if FreeCADGui.Control.activeDialog():
+            return False
+        from mfgeom.gui.pointclass_panel import PointClassificationPanel
+        FreeCADGui.Control.showDialog(PointClassificationPanel(obj=vobj.Object))
+        return True
+
+    def unsetEdit(self, vobj, mode=0):
+        if mode != 0:
+            return None
+        import FreeCADGui
+        FreeCADGui.Control.closeDialog()
+        return True
+
     def __getstate__(self):
         return None
 
