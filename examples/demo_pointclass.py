@@ -101,7 +101,8 @@ def add_mesh(doc, part):
 
 def cross_check(obj, face, pts, tol, rng):
     """Compare with OCCT (BRepClass via Face.isInside) where we must agree: points whose
-    projection is farther than 2 * tol from the boundary."""
+    projection is farther than 2 * tol from the boundary (with Strict, points farther
+    than tol from the surface are OUT)."""
     edges = Part.Compound([e for e in face.Edges if not e.Degenerated])
     surface = face.Surface
     idx = rng.choice(len(pts), size=min(CROSS_CHECK_POINTS, len(pts)), replace=False)
@@ -113,6 +114,9 @@ def cross_check(obj, face, pts, tol, rng):
         if Part.Vertex(foot).distToShape(edges)[0] <= 2 * tol:
             continue
         checked += 1
+        if obj.Strict and (p - foot).Length > tol:
+            agreed += int(obj.Classes[i] == core.OUT)
+            continue
         occt = core.IN if face.isInside(foot, 1e-7, True) else core.OUT
         agreed += int(obj.Classes[i] == occt)
     return checked, agreed
