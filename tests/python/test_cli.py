@@ -266,3 +266,85 @@ def test_launcher_in_the_build_tree():
     info = json.loads(proc.stdout)
     assert os.path.realpath(info["library_path"]) == os.path.realpath(core.library_path)
     assert info["library"] == core.version()
+
+
+# --------------------------------------------------------------------------- #
+# Broken standard streams: still {"error": ...} on stderr and exit code 2     #
+# --------------------------------------------------------------------------- #
+
+def _shell(script, stdin=None):
+    """Runs ``script`` in bash with $CLI set to the CLI command; returns the process."""
+    env = _env()
+    env["CLI"] = f"{PYTHON} -m mfgeom.cli"
+    return subprocess.run(["bash", "-c", script], input=stdin, capture_output=True,
+                          text=True, env=env, timeout=120, cwd=_REPO)
+
+
+def _only_json_error(stderr, fragment):
+    assert "Traceback" not in stderr, stderr
+    err = json.loads(stderr)
+    assert set(err) == {"error"} and fragment in err["error"], err
+    return err["error"]
+
+
+def test_stdout_closed():
+    proc = _shell('$CLI visibility-map >&-', json.dumps(POCKET))
+    assert proc.returncode == 2
+    _only_json_error(proc.stderr, "stdout is closed")
+
+
+def test_stdout_full():
+    proc = _shell('$CLI visibility-map >/dev/full', json.dumps(POCKET))
+    assert proc.returncode == 2
+    _only_json_error(proc.stderr, "No space left on device")
+    proc = _shell('$CLI --help >/dev/full')
+    assert proc.returncode == 2
+    _only_json_error(proc.stderr, "No space left on device")
+
+
+def test_stdout_reader_gone():
+    """`mfgeom ... | head -c1` on a result larger than the pipe buffer: the reader is
+    gone before the write ends (EPIPE).  The reader reads one byte and leaves (GNU head
+    9.1 here drains its input, so it would not break the pipe)."""
+    doc = {"rings": [[[0, 0], [1, 0], [1, 1]]], "points": [[0.5, 0.25]] * 200000, "tol": 0}
+    proc = _shell(f'$CLI classify-points --names | {PYTHON} -c "import os; os.read(0, 1)"; '
+                  'echo "exit ${PIPESTATUS[0]}" >&2', json.dumps(doc))
+    err, status = proc.stderr.rstrip("\n").rsplit("\n", 1)
+    assert status == "exit 2", proc.stderr
+    _only_json_error(err, "Broken pipe")
+
+
+def test_stdout_pipe_closed_before_start():
+    read_end, write_end = os.pipe()
+    os.close(read_end)
+    try:
+        proc = subprocess.run([PYTHON, "-m", "mfgeom.cli", "visibility-map"],
+                              input=json.dumps(POCKET).encode(), stdout=write_end,
+                              stderr=subprocess.PIPE, env=_env(), timeout=120)
+    finally:
+        os.close(write_end)
+    assert proc.returncode == 2
+    _only_json_error(proc.stderr.decode(), "Broken pipe")
+
+
+def test_stdin_closed():
+    proc = _shell('$CLI visibility-map <&-')
+    assert proc.returncode == 2
+    _only_json_error(proc.stderr, "stdin")
+    # a FILE argument needs no stdin
+    proc = _shell('$CLI version <&-')
+    assert proc.returncode == 0 and json.loads(proc.stdout)["library"] == core.version()
+
+
+def test_every_stream_closed_still_exits_2():
+    proc = _shell('$CLI visibility-map <&- >&- 2>&-; echo "exit $?"')
+    assert proc.stdout.strip() == "exit 2" and proc.stderr == ""
+
+
+def test_large_result_through_a_slow_pipe_is_complete():
+    """A result far larger than the pipe buffer, read slowly, arrives whole."""
+    doc = {"rings": [[[0, 0], [1, 0], [1, 1]]], "points": [[0.5, 0.25]] * 200000, "tol": 0}
+    proc = _shell(f'$CLI classify-points | {PYTHON} -c "import sys, time; time.sleep(0.5); '
+                  f'sys.stdout.write(sys.stdin.read())"', json.dumps(doc))
+    assert proc.returncode == 0 and proc.stderr == ""
+    assert json.loads(proc.stdout)["codes"] == [1] * 200000

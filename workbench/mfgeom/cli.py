@@ -3,7 +3,9 @@
 
 Every subcommand reads one JSON document from a file (or stdin when the file is omitted
 or ``-``) and prints one JSON document on stdout.  Errors are printed on stderr as
-``{"error": "..."}`` and the exit code is 2.
+``{"error": "..."}`` and the exit code is 2 -- every error: bad usage or input, a missing
+library, a closed stdin, and a stdout that cannot take the result (closed, a pipe whose
+reader has gone, a full disk).
 
     mfgeom visibility-map   [FILE] [--draft-angle RAD] [--negative]
         in:  {"normals": [[x, y, z], ...], "draft_angle": 0, "negative": false}
@@ -23,7 +25,9 @@ or ``-``) and prints one JSON document on stdout.  Errors are printed on stderr 
 """
 
 import argparse
+import io
 import json
+import os
 import sys
 
 EXIT_ERROR = 2
@@ -40,22 +44,34 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message):
         raise CliError(f"{self.prog}: {message}")
 
+    def _print_message(self, message, file=None):
+        # --help and usage go to stdout: a stdout that cannot take them is a CliError too
+        if message and (file is None or file is sys.stdout):
+            _flush_stdout(message)
+        else:
+            super()._print_message(message, file)
+
 
 # --------------------------------------------------------------------------- #
 # Input helpers                                                               #
 # --------------------------------------------------------------------------- #
 
 def _read_json(path):
+    where = "stdin" if path in (None, "-") else path
     try:
-        if path in (None, "-"):
+        if where == "stdin":
+            if sys.stdin is None:            # started with stdin closed (<&-)
+                raise CliError("cannot read stdin: it is closed; give the input FILE or "
+                               "pipe the JSON in")
             text = sys.stdin.read()
-            where = "stdin"
         else:
             with open(path, encoding="utf-8") as f:
                 text = f.read()
-            where = path
     except OSError as exc:
-        raise CliError(f"cannot read {path}: {exc.strerror or exc}") from None
+        raise CliError(f"cannot read {where}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError as exc:
+        raise CliError(f"cannot read {where}: not UTF-8 text ({exc.reason} at byte "
+                       f"{exc.start})") from None
     try:
         return json.loads(text)
     except json.JSONDecodeError as exc:
@@ -255,8 +271,47 @@ def build_parser():
 
 
 def _fail(message):
-    sys.stderr.write(json.dumps({"error": str(message)}) + "\n")
+    try:
+        sys.stderr.write(json.dumps({"error": str(message)}) + "\n")
+        sys.stderr.flush()
+    except (AttributeError, OSError, ValueError):   # stderr closed too: the code must do
+        pass
     return EXIT_ERROR
+
+
+def _drop_stdout():
+    """After a failed write, point fd 1 at /dev/null so that the interpreter's flush at
+    exit does not fail again (and print a traceback or exit 120)."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (AttributeError, OSError, ValueError):
+        pass
+
+
+def _flush_stdout(text=""):
+    """Writes ``text`` to stdout and flushes it; a stdout that cannot take it is a
+    CliError (reported on stderr, exit 2) instead of a traceback."""
+    if sys.stdout is None:                    # started with stdout closed (>&-)
+        raise CliError("cannot write the result: stdout is closed")
+    try:
+        sys.stdout.flush()
+        try:
+            fd = sys.stdout.fileno()
+        except (AttributeError, io.UnsupportedOperation):   # a caller's StringIO
+            sys.stdout.write(text)
+            sys.stdout.flush()
+            return
+        # To the descriptor, in a loop: with PYTHONUNBUFFERED=1 sys.stdout.write ignores
+        # a short write to a pipe whose reader has gone, and the result is cut silently.
+        data = memoryview(text.encode("utf-8"))
+        while data:
+            data = data[os.write(fd, data):]
+    except (OSError, ValueError) as exc:      # EPIPE (reader gone), ENOSPC, EBADF, closed
+        _drop_stdout()
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
+        raise CliError(f"cannot write the result to stdout: {reason}") from None
 
 
 def main(argv=None):
@@ -264,12 +319,20 @@ def main(argv=None):
         args = build_parser().parse_args(argv)
         result = args.func(args)
         text = json.dumps(result, indent=args.indent, allow_nan=False)
+        _flush_stdout(text + "\n")
     except (CliError, ImportError, ValueError, TypeError, RuntimeError) as exc:
         # usage and input errors, the library not loadable, core.MfgError (a RuntimeError)
         return _fail(exc)
+    except SystemExit as exc:            # --help / --version printed by argparse
+        try:
+            _flush_stdout()
+        except CliError as err:
+            return _fail(err)
+        return exc.code
+    except KeyboardInterrupt:
+        return _fail("interrupted")
     except Exception as exc:             # anything unforeseen is still reported as JSON
         return _fail(f"{type(exc).__name__}: {exc}")
-    sys.stdout.write(text + "\n")
     return 0
 
 
