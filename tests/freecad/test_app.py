@@ -650,7 +650,10 @@ class BadInputTests(DocTestCase):
 class PackagingTests(unittest.TestCase):
     def test_package_xml(self):
         meta = App.Metadata(os.path.join(REPO, "package.xml"))
-        self.assertEqual(meta.Name, "mfgeom")
+        self.assertEqual(meta.Name, "Manufacturing Geometry")   # the id is the folder
+        urls = {u["type"]: u["location"] for u in meta.Urls}
+        self.assertEqual(set(urls), {"repository", "readme", "bugtracker", "documentation"})
+        self.assertIn("numpy", [d["package"] for d in meta.Depend])
         self.assertEqual(meta.Version, "0.1.0")
         self.assertTrue(meta.supportsCurrentFreeCAD())
         self.assertTrue(os.path.isfile(os.path.join(REPO, meta.Icon)))
