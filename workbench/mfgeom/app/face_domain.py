@@ -96,7 +96,7 @@ METRIC_GRID = 17
 EDGE_SAMPLES = 9
 SIGMA_FLOOR = 1e-9
 NEWTON_STEPS = 60
-_CHUNK = 1_000_000  # point-segment pairs per numpy block in the 3-D distance tests
+_POINT_BLOCK = 100_000  # points per block in the ON test (bounds the pair arrays)
 _STRAIGHT = ("Part::GeomLine", "Part::GeomLineSegment")
 
 
@@ -432,10 +432,11 @@ class _Boundary:
 
     def __init__(self, edges, deflection):
         self.edges = list(edges)
-        self.straight = all(_is_straight(e) for e in self.edges)
+        straight = [_is_straight(e) for e in self.edges]
+        self.straight = all(straight)
         self.polylines, a_list, b_list, owner, index = [], [], [], [], []
         for k, edge in enumerate(self.edges):
-            if _is_straight(edge):  # exact as a segment, whatever the deflection
+            if straight[k]:  # exact as a segment, whatever the deflection
                 p = np.array([_xyz(edge.valueAt(edge.FirstParameter)),
                               _xyz(edge.valueAt(edge.LastParameter))])
             else:
@@ -452,8 +453,10 @@ class _Boundary:
         self._b = np.concatenate(b_list) if b_list else np.zeros((0, 3))
         self._owner = np.concatenate(owner) if owner else np.zeros(0, dtype=int)
         self._index = np.concatenate(index) if index else np.zeros(0, dtype=int)
+        self._straight = straight
         self._curves = {}  # edge index -> Geom curve, or None (no parametric access)
         self._params = {}  # (edge index, vertex index) -> parameter on the edge
+        self._grid = None
 
     def within(self, points, tol):
         """Boolean mask: is each (3-D) point within ``tol`` of the true edges?"""
@@ -461,25 +464,30 @@ class _Boundary:
         out = np.zeros(len(points), dtype=bool)
         if not self.segments or not len(points):
             return out
-        d_poly = _distance_to_segments(points, self._a, self._b)
         margin = ON_MARGIN * tol
-        out[d_poly <= tol - margin] = True  # deep inside the band: the polyline suffices
-        for i in np.nonzero((d_poly > tol - margin) & (d_poly <= tol + margin))[0]:
-            out[i] = self.distance(points[i], tol + margin) <= tol
+        reach = tol + margin
+        if self._grid is None or self._grid.reach != reach:
+            self._grid = _SegmentGrid(self._a, self._b, reach)
+        for s in range(0, len(points), _POINT_BLOCK):
+            block = points[s:s + _POINT_BLOCK]
+            pt, seg = self._grid.pairs(block)
+            d, lam = _pair_distances(block[pt], self._a[seg], self._b[seg])
+            d_poly = np.full(len(block), np.inf)
+            np.minimum.at(d_poly, pt, d)
+            sure = d_poly <= tol - margin  # deep inside the band: the polyline suffices
+            unsure = (d_poly > tol - margin) & (d_poly <= reach)
+            # The exact distance of an unsure point: the minimum over the spans within reach
+            best = np.full(len(block), np.inf)
+            for i in np.nonzero(unsure[pt] & (d <= reach))[0]:
+                p, g = int(pt[i]), int(seg[i])
+                k = int(self._owner[g])
+                if self._straight[k]:
+                    dist = float(d[i])  # the segment is the edge
+                else:
+                    dist = self._span_distance(k, int(self._index[g]), block[p], float(lam[i]))
+                best[p] = min(best[p], dist)
+            out[s:s + len(block)] = sure | (unsure & (best <= tol))
         return out
-
-    def distance(self, q, reach):
-        """Exact distance from the point q to the edges, if at most ``reach`` (else some
-        value > reach): spans of the polyline farther than reach are not visited."""
-        d_seg, lam = _segment_distances(q, self._a, self._b)
-        best = math.inf
-        for s in np.nonzero(d_seg <= reach)[0]:
-            k, j = int(self._owner[s]), int(self._index[s])
-            if _is_straight(self.edges[k]):
-                best = min(best, float(d_seg[s]))  # the segment is the edge
-                continue
-            best = min(best, self._span_distance(k, j, q, float(lam[s])))
-        return best
 
     def _span_distance(self, k, j, q, lam):
         edge = self.edges[k]
@@ -568,15 +576,66 @@ def _is_straight(edge):
         return False
 
 
-def _segment_distances(q, a, b):
-    """Distance from one point q to every segment [a[j], b[j]] and the fraction along
-    each segment of the nearest point."""
+def _pair_distances(q, a, b):
+    """Distance from each point q[i] to the segment [a[i], b[i]] and the fraction along
+    the segment of the nearest point."""
     ab = b - a
     len2 = (ab * ab).sum(1)
-    len2[len2 == 0.0] = 1.0
+    len2[len2 == 0.0] = 1.0  # a zero-length segment is its endpoint: t clamps to 0
     t = np.clip(((q - a) * ab).sum(1) / len2, 0.0, 1.0)
     d = q - (a + t[:, None] * ab)
     return np.sqrt((d * d).sum(1)), t
+
+
+class _SegmentGrid:
+    """Segments bucketed on a uniform 3-D grid, each in every cell its box grown by
+    ``reach`` touches, so a point meets only the segments that can be within reach of
+    it (measuring every point against every segment took seconds for 10^4 points near
+    a finely discretised edge).  Cells are hashed, so the grid has no extent limit; a
+    collision only adds segments to measure.  Segments that would fill more than
+    MAX_CELLS cells (long straight edges) are measured against every point."""
+
+    MAX_CELLS = 64
+
+    def __init__(self, a, b, reach):
+        self.reach = reach
+        lengths = np.linalg.norm(b - a, axis=1)
+        self.cell = max(float(np.median(lengths)) if len(a) else 0.0, reach, 1e-300)
+        lo = np.floor((np.minimum(a, b) - reach) / self.cell).astype(np.int64)
+        hi = np.floor((np.maximum(a, b) + reach) / self.cell).astype(np.int64)
+        span = hi - lo + 1
+        count = span.prod(axis=1)
+        big = count > self.MAX_CELLS
+        self.everywhere = np.nonzero(big)[0]
+        segs = np.nonzero(~big)[0]
+        count, lo, span = count[segs], lo[segs], span[segs]
+        seg = np.repeat(segs, count)
+        local = np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
+        sy, sz = np.repeat(span[:, 1], count), np.repeat(span[:, 2], count)
+        cells = np.repeat(lo, count, axis=0) + np.column_stack(
+            (local // (sy * sz), (local // sz) % sy, local % sz))
+        keys = _cell_keys(cells)
+        order = np.argsort(keys, kind="stable")
+        self._keys, self._segs = keys[order], seg[order]
+
+    def pairs(self, points):
+        """(point index, segment index) of every segment near each point."""
+        keys = _cell_keys(np.floor(points / self.cell).astype(np.int64))
+        left = np.searchsorted(self._keys, keys, "left")
+        n = np.searchsorted(self._keys, keys, "right") - left
+        pt = np.repeat(np.arange(len(points)), n)
+        seg = self._segs[np.repeat(left, n) + np.arange(int(n.sum()))
+                         - np.repeat(np.cumsum(n) - n, n)]
+        if len(self.everywhere):
+            pt = np.concatenate([pt, np.repeat(np.arange(len(points)), len(self.everywhere))])
+            seg = np.concatenate([seg, np.tile(self.everywhere, len(points))])
+        return pt, seg
+
+
+def _cell_keys(cells):
+    # Wrapping int64 arithmetic is intended: a hash.
+    with np.errstate(over="ignore"):
+        return (cells[:, 0] * 73856093) ^ (cells[:, 1] * 19349663) ^ (cells[:, 2] * 83492791)
 
 
 def _check_face(face):
@@ -686,18 +745,3 @@ def _there_and_back(chain):
     if len(chain) == 2:  # libmfgeom wants >= 3 vertices per ring
         chain = np.vstack([chain[0], 0.5 * (chain[0] + chain[1]), chain[1]])
     return np.vstack([chain, chain[-2:0:-1]])
-
-
-def _distance_to_segments(p, a, b):
-    """Euclidean distance from each point p[i] to the nearest segment [a[j], b[j]] (3-D)."""
-    ab = b - a
-    len2 = (ab * ab).sum(1)
-    len2[len2 == 0.0] = 1.0  # a zero-length segment is its endpoint: t clamps to 0
-    out = np.empty(len(p))
-    step = max(1, _CHUNK // max(1, len(a)))
-    for s in range(0, len(p), step):
-        q = p[s:s + step, None, :]
-        t = np.clip(((q - a) * ab).sum(-1) / len2, 0.0, 1.0)
-        d = q - (a + t[..., None] * ab)
-        out[s:s + step] = np.sqrt((d * d).sum(-1).min(1))
-    return out
