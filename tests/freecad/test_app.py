@@ -397,6 +397,22 @@ class SurfaceDistanceTests(DocTestCase):
         obj = self.classify((self.cyl, self.lateral), near, 0.01, name="N")
         self.assertEqual(list(obj.Classes), [core.IN, core.ON])
 
+    def test_strict_at_zero_tolerance_on_a_tilted_plane(self):
+        # Points on a tilted plane are 1e-14 mm off it after rounding: not OUT at tol 0
+        # (Strict counts from Precision::Confusion, 1e-7 mm, at least).
+        box = Part.makeBox(20, 10, 5)
+        box.Placement = App.Placement(App.Vector(100, -50, 7),
+                                      App.Rotation(App.Vector(1, 0.3, 0), 33))
+        up = box.Placement.Rotation.multVec(App.Vector(0, 0, 1))
+        top = [f for f in box.Faces if f.normalAt(0, 0).isEqual(up, 1e-9)][0]
+        local = np.column_stack([RNG.uniform(1, 19, 200), RNG.uniform(1, 9, 200),
+                                 np.full(200, 5.0)])
+        pts = np.array([tuple(box.Placement.multVec(vec(p))) for p in local])
+        res = face_domain.classify_points_on_face(top, pts, 0.0, strict=True)
+        self.assertGreater(res.max_distance_to_surface, 0.0)  # the rounding is there
+        self.assertEqual(res.counts, {"in": 200, "on": 0, "out": 0})
+        self.assertEqual(res.far_count, 0)
+
     def test_report_of_far_points(self):
         face = self.cyl.Shape.getElement(self.lateral)
         res = face_domain.classify_points_on_face(face, self.far, 0.01)

@@ -366,7 +366,7 @@ class Classification:
             "out": int(np.count_nonzero(classes == core.OUT)),
         }
         self.max_distance_to_surface = float(distance.max()) if len(distance) else 0.0
-        self.far_count = int(np.count_nonzero(distance > domain.tol))
+        self.far_count = int(np.count_nonzero(distance > off_surface_distance(domain.tol)))
         self.strict = bool(strict)
         self.method = domain.method
         self.tol = domain.tol
@@ -393,8 +393,8 @@ class Classification:
 def classify_points_on_face(face, points, tol, strict=False):
     """Classify 3-D points (an (m, 3) array-like) against ``face`` with tolerance ``tol`` mm.
 
-    ``strict``: a point farther than ``tol`` from the face's surface is OUT (else it is
-    classified by its orthogonal projection onto the surface)."""
+    ``strict``: a point farther than ``tol`` (at least 1e-7 mm) from the face's surface is
+    OUT (else it is classified by its orthogonal projection onto the surface)."""
     t0 = time.perf_counter()
     domain = FaceDomain(face, tol)
     try:
@@ -402,8 +402,15 @@ def classify_points_on_face(face, points, tol, strict=False):
     finally:
         domain.close()
     if strict:
-        classes[dist > domain.tol] = core.OUT
+        classes[dist > off_surface_distance(domain.tol)] = core.OUT
     return Classification(classes, dist, domain, time.perf_counter() - t0, strict)
+
+
+def off_surface_distance(tol):
+    """Farther than this from the surface, a point is off it (OUT when strict): the
+    tolerance, but at least OCCT's Precision::Confusion, so that at tolerance 0 a point
+    on a tilted plane is not OUT for the rounding of its projection."""
+    return max(tol, MIN_TOLERANCE)
 
 
 def minimum_tolerance(face):
