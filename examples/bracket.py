@@ -7,7 +7,9 @@ planar face with holes and a pocket, the boss is a trimmed cylindrical face (cut
 the plate) with a hole in it.  Everything is a parametric Part feature, so changing a
 dimension recomputes the point classifications built on it.
 
-Run ``freecadcmd examples/bracket.py`` to (re)write ``examples/bracket.FCStd``.
+``examples/make_examples.sh`` (re)writes ``examples/bracket.FCStd`` by running this file in
+FreeCAD's GUI under a virtual X server: only a document saved from the GUI carries
+GuiDocument.xml, without which FreeCAD opens every object hidden.
 """
 
 import os
@@ -99,10 +101,18 @@ def boss_face_name(obj):
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     path = os.path.join(here, "bracket.FCStd")
+    if not App.GuiUp:
+        raise RuntimeError("run examples/make_examples.sh: the example must be saved from "
+                           "the GUI, or it opens with every object hidden")
+    import FreeCADGui as Gui
     doc = App.newDocument("bracket")
     obj = make_bracket(doc)
     if not obj.isValid() or obj.Shape.isNull() or not obj.Shape.isValid():
         raise RuntimeError("the bracket did not build")
+    for o in doc.Objects:
+        o.ViewObject.Visibility = o is obj  # the result; its construction features hidden
+    Gui.getDocument(doc.Name).ActiveView.viewIsometric()
+    Gui.SendMsgToActiveView("ViewFit")
     doc.saveAs(path)
     App.Console.PrintMessage(f"bracket: {len(obj.Shape.Faces)} faces, volume "
                              f"{obj.Shape.Volume:.1f} mm^3, top {top_face_name(obj)}, "
@@ -110,6 +120,22 @@ def main():
     App.closeDocument(doc.Name)
 
 
-# freecadcmd runs a script with its file name as __name__, so look at argv instead.
-if __name__ == "__main__" or os.path.basename(sys.argv[0] if sys.argv else "") == "bracket.py":
-    main()
+def _run_as_script():
+    # freecadcmd and freecad run a script with its file name as __name__ (or as
+    # __main__), and a GUI macro must leave with os._exit or the GUI stays up.
+    rc = 0
+    try:
+        main()
+    except Exception:  # reported; the exit code tells make_examples.sh
+        import traceback
+        traceback.print_exc()
+        rc = 1
+    if App.GuiUp:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(rc)
+    sys.exit(rc)
+
+
+if __name__ == "__main__" or any(os.path.basename(a) == "bracket.py" for a in sys.argv):
+    _run_as_script()

@@ -28,7 +28,8 @@ for _path in (os.path.join(REPO, "examples"), os.path.join(REPO, "workbench")):
 import bracket  # noqa: E402
 import mfgeom  # noqa: E402
 from mfgeom import core  # noqa: E402
-from mfgeom.app import face_domain, refs  # noqa: E402
+from mfgeom import names, palette  # noqa: E402
+from mfgeom.app import face_domain, pointcloud, refs  # noqa: E402
 from mfgeom.app.pointclass import VERSION  # noqa: E402
 
 RNG = np.random.default_rng(12345)
@@ -111,8 +112,17 @@ class DocTestCase(unittest.TestCase):
                                                strict=strict)
         self.assertTrue(obj.isValid(), obj.getStatusString())
         self.assertEqual(obj.CountIn + obj.CountOn + obj.CountOut, len(obj.Classes))
-        self.assertEqual(len(obj.Shape.Vertexes), len(obj.Classes))
+        self.assertEqual(obj.Points.CountPoints, len(obj.Classes))
+        self.assertTrue(obj.Shape.isNull(), "the points belong in Points, not in a compound")
+        # FreeCAD 0.20's obj.recompute() leaves a new object Touched (blue mark, redone by
+        # the next Ctrl+R); the make function must not.
+        self.assertNotIn("Touched", obj.State)
         return obj
+
+
+def points_of(obj):
+    """The classified points of a PointClassification, in the order of its Classes."""
+    return pointcloud.kernel_to_array(obj.Points)
 
 
 # ------------------------------------------------------------------ planar faces
@@ -153,7 +163,7 @@ class PlanarFaceTests(DocTestCase):
                                np.full(1500, lz)])
         obj = self.classify(self.top, add_cloud(self.doc, "Grid", pts), 0.2)
         face = self.part.Shape.getElement(self.top[1])
-        got = np.array([(v.X, v.Y, v.Z) for v in obj.Shape.Vertexes])
+        got = points_of(obj)
         far = occt_compare(self, face, got, obj.Classes, 0.2)
         self.assertGreater(far, 1200)
         self.assertGreater(obj.CountOn, 0)
@@ -203,7 +213,7 @@ class CurvedFaceTests(DocTestCase):
         obj = self.classify((obj_shape, names[0]), add_cloud(self.doc, "Cloud", pts), tol,
                             strict=False)
         self.assertEqual(obj.Method, "uv")
-        got = np.array([(v.X, v.Y, v.Z) for v in obj.Shape.Vertexes])
+        got = points_of(obj)
         far = occt_compare(self, face, got, obj.Classes, tol)
         self.assertGreater(far, min_far)
         return obj
@@ -481,7 +491,7 @@ class ParametricTests(DocTestCase):
         self.doc.recompute()
         self.assertTrue(self.obj.isValid())
         self.assertGreater(self.obj.CountOut, out_before)  # half the cloud is off the plate
-        self.assertAlmostEqual(self.obj.Shape.BoundBox.XMin, 60.25, places=4)
+        self.assertAlmostEqual(points_of(self.obj)[:, 0].min(), 60.25, places=4)
 
     def test_changing_the_part_recomputes(self):
         hole = self.doc.getObject("Hole1")
@@ -542,6 +552,179 @@ class ParametricTests(DocTestCase):
         self.doc.recompute()
         self.assertEqual(self.obj.Version, VERSION)
         self.assertTrue(self.obj.isValid())
+
+    def test_document_with_compound_points_migrates(self):
+        # Up to version 2 the points were a Part compound of one vertex each in Shape, with
+        # no Points property: such a file must open with its points moved into Points
+        # (shown before any recompute) and recompute into the new representation.
+        classes = list(self.obj.Classes)
+        self.obj.removeProperty("Points")
+        self.obj.Shape = Part.makeCompound([Part.Vertex(*p) for p in self.pts.tolist()])
+        self.obj.Version = 2
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "v2.FCStd")
+            self.doc.saveAs(path)
+            App.closeDocument(self.doc.Name)
+            self.doc = App.openDocument(path)
+            obj = self.doc.getObject("PC")
+            self.assertEqual(obj.Version, VERSION)
+            self.assertTrue(obj.Shape.isNull())
+            self.assertEqual(list(obj.Classes), classes)
+            np.testing.assert_allclose(points_of(obj), self.pts, rtol=0, atol=1e-5)
+            obj.touch()
+            self.doc.recompute()
+            self.assertTrue(obj.isValid(), obj.getStatusString())
+            self.assertEqual(list(obj.Classes), classes)
+            self.assertEqual(obj.Points.CountPoints, len(self.pts))
+            self.assertTrue(obj.Shape.isNull())
+
+    def test_file_size_is_a_few_bytes_per_point(self):
+        # Points are stored as binary float32 (12 bytes) and classes as a compressed list;
+        # the compound of vertices this replaced took 24 bytes per point.
+        n = 100_000
+        lx, ly, lz = bracket.PLATE
+        cloud = add_cloud(self.doc, "Big", np.column_stack([
+            RNG.uniform(0, lx, n), RNG.uniform(0, ly, n), np.full(n, lz)]))
+        with tempfile.TemporaryDirectory() as tmp:
+            before, after = os.path.join(tmp, "a.FCStd"), os.path.join(tmp, "b.FCStd")
+            self.doc.saveAs(before)
+            obj = self.classify(self.top, cloud, 0.1, name="Big")
+            self.doc.saveAs(after)
+            per_point = (os.path.getsize(after) - os.path.getsize(before)) / n
+        self.assertEqual(obj.Points.CountPoints, n)
+        self.assertLess(per_point, 14.0)
+
+    def test_recompute_error_is_one_clear_line(self):
+        # A broken face link: the object is invalid, the rest of the document valid, and
+        # the Report view gets one line saying what is wrong (FreeCAD 0.20 always adds the
+        # traceback of execute() itself: one frame, not the ten of the inner calls).
+        script = os.path.join(tempfile.mkdtemp(), "broken_link.py")
+        with open(script, "w", encoding="utf-8") as f:
+            f.write(BROKEN_LINK_SCRIPT.format(workbench=os.path.join(REPO, "workbench")))
+        run = subprocess.run(["freecadcmd", script], stdout=subprocess.PIPE,
+                             stderr=subprocess.STDOUT, text=True, timeout=120)
+        out = run.stdout
+        self.assertIn("=== end", out, out[-2000:])
+        report = out[out.index("=== begin"):out.index("=== end")]
+        said = [line for line in report.splitlines() if "has no Face9" in line]
+        self.assertEqual(len(said), 1, report)
+        self.assertIn("Classes of Face6 of Box: 'Box' has no Face9 (it has 6 faces)", said[0])
+        frames = [line for line in report.splitlines() if line.strip().startswith("File ")]
+        self.assertEqual(len(frames), 1, report)
+        self.assertIn("pointclass.py", frames[0])
+        self.assertIn("=== end valid=False others=[True, True, True]", out)
+
+
+BROKEN_LINK_SCRIPT = """
+import sys
+sys.path.append({workbench!r})
+import FreeCAD as App
+import Points
+import mfgeom
+doc = App.newDocument("broken")
+box = doc.addObject("Part::Box", "Box")
+other = doc.addObject("Part::Cylinder", "Other")
+doc.recompute()
+cloud = doc.addObject("Points::Feature", "Cloud")
+cloud.Points = Points.Points([(1.0, 1.0, 10.0), (5.0, 5.0, 10.0)])
+obj = mfgeom.make_point_classification(doc, (box, "Face6"), cloud, 0.01)
+App.Console.PrintMessage("=== begin\\n")
+obj.Face = (box, ["Face9"])
+doc.recompute()
+others = [o.isValid() for o in doc.Objects if o is not obj]
+App.Console.PrintMessage(f"=== end valid={{obj.isValid()}} others={{others}}\\n")
+"""
+
+
+# ------------------------------------------------------------------ point I/O
+class PointCloudTests(DocTestCase):
+    def test_kernel_round_trip_far_from_the_origin(self):
+        # Stored as float32 relative to the bounding box's centre: a 10 mm cloud 1 km away
+        # keeps ~1e-6 mm, not the ~6e-5 mm of float32 coordinates at 1000 mm.
+        pts = RNG.uniform(-5, 5, (2000, 3)) + np.array([1000.0, -2000.0, 500.0])
+        back = pointcloud.kernel_to_array(pointcloud.array_to_kernel(pts))
+        self.assertEqual(back.shape, pts.shape)
+        self.assertLess(np.abs(back - pts).max(), 2e-6)
+        # ... also through a saved document (which keeps 6 digits of the kernel's matrix)
+        holder = self.doc.addObject("App::FeaturePython", "Holder")
+        holder.addProperty("Points::PropertyPointKernel", "Points")
+        holder.Points = pointcloud.array_to_kernel(pts)
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "far.FCStd")
+            self.doc.saveAs(path)
+            App.closeDocument(self.doc.Name)
+            self.doc = App.openDocument(path)
+            back = pointcloud.kernel_to_array(self.doc.getObject("Holder").Points)
+        self.assertLess(np.abs(back - pts).max(), 2e-6)
+        self.assertEqual(pointcloud.kernel_to_array(pointcloud.array_to_kernel(
+            np.zeros((0, 3)))).shape, (0, 3))
+
+    def test_placed_sources_match_freecad_per_point_api(self):
+        # The numpy readers against FreeCAD's own per-point accessors, placements applied.
+        import Mesh
+        place = App.Placement(App.Vector(3, -7, 11), App.Rotation(App.Vector(1, 2, 3), 37))
+        cloud = add_cloud(self.doc, "C", RNG.uniform(-50, 50, (500, 3)))
+        cloud.Placement = place
+        mesh = self.doc.addObject("Mesh::Feature", "M")
+        mesh.Mesh = Mesh.createSphere(5, 20)
+        mesh.Placement = place
+        box = self.doc.addObject("Part::Box", "B")
+        box.Placement = place
+        self.doc.recompute()
+        want = {
+            "C": [tuple(v) for v in cloud.Points.Points],
+            "M": [(p.x, p.y, p.z) for p in mesh.Mesh.Points],
+            "B": [tuple(v.Point) for v in box.Shape.Vertexes],
+        }
+        for obj in (cloud, mesh, box):
+            got = refs.resolve_points(obj, [])
+            np.testing.assert_allclose(got, np.array(want[obj.Name]), rtol=0, atol=1e-9,
+                                       err_msg=obj.Name)
+        got = refs.resolve_points(box, ["Vertex3", "Vertex1"])
+        np.testing.assert_allclose(got, np.array([want["B"][2], want["B"][0]]), atol=1e-12)
+
+    def test_a_classification_is_a_point_source(self):
+        box = self.doc.addObject("Part::Box", "Box")
+        self.doc.recompute()
+        cloud = add_cloud(self.doc, "C", np.array([(1.0, 1.0, 10.0), (-1.0, 1.0, 10.0)]))
+        first = self.classify((box, "Face6"), cloud, 0.01, name="First")
+        second = self.classify((box, "Face6"), first, 0.01, name="Second")
+        self.assertEqual(list(second.Classes), [1, 0])
+
+
+# ------------------------------------------------------------------ palette
+class PaletteTests(unittest.TestCase):
+    """The result colours stay apart from each other and from FreeCAD's selection and
+    pre-selection colours, also under protanopia and deuteranopia (CIELAB distance after
+    simulation; ~2.3 is just noticeable)."""
+
+    def min_contrast(self, colours, others=None):
+        import itertools
+        pairs = (itertools.combinations(colours, 2) if others is None
+                 else [(a, b) for a in colours for b in others])
+        return min(palette.contrast(a, b, v) for v in palette.VISIONS for a, b in pairs)
+
+    def test_simulation_reference_values(self):
+        # Pure red and green look alike to a deuteranope, unlike blue and yellow.
+        red, green = (1.0, 0.0, 0.0), (0.0, 0.6, 0.0)
+        self.assertGreater(palette.contrast(red, green), 80)
+        self.assertLess(palette.contrast(red, green, "deuteranopia"), 25)
+        self.assertAlmostEqual(palette.contrast((1, 1, 1), (0, 0, 0)), 100.0, places=3)
+
+    def test_classes(self):
+        classes = [palette.CLASS_COLORS[c] for c in (names.IN, names.ON, names.OUT)]
+        self.assertGreater(self.min_contrast(classes), 30)
+        self.assertGreater(self.min_contrast(classes, [palette.SELECTION,
+                                                       palette.PRESELECTION]), 40)
+
+    def test_parting_and_setups(self):
+        sides = [palette.CORE_SIDE, palette.CAVITY_SIDE, palette.UNDERCUT]
+        fc = [palette.SELECTION, palette.PRESELECTION]
+        self.assertGreater(self.min_contrast(sides), 30)
+        self.assertGreater(self.min_contrast(sides, fc), 25)
+        self.assertGreater(self.min_contrast(palette.SETUP_COLORS), 15)
+        self.assertGreater(self.min_contrast(palette.SETUP_COLORS, fc), 20)
+        self.assertEqual(palette.setup_color(1), palette.setup_color(1 + len(palette.SETUP_COLORS)))
 
 
 # ------------------------------------------------------------------ point sources
@@ -684,7 +867,8 @@ class PackagingTests(unittest.TestCase):
 
     def test_icons_and_resources_exist(self):
         from mfgeom import paths
-        for name in ("mfgeom_workbench.svg", "mfgeom_classify_points.svg"):
+        for name in ("mfgeom_workbench.svg", "mfgeom_classify_points.svg",
+                     "preferences-manufacturing_geometry.svg"):
             self.assertTrue(os.path.isfile(paths.icon(name)), name)
         self.assertTrue(os.path.isfile(paths.resource("preferences.ui")))
 

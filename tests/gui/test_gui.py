@@ -206,9 +206,11 @@ def _():
     n = len(cloud.Points.Points)
     assert obj.CountIn + obj.CountOn + obj.CountOut == n
     assert min(obj.CountIn, obj.CountOn, obj.CountOut) > 0, (obj.CountIn, obj.CountOn, obj.CountOut)
-    colors = obj.ViewObject.PointColorArray
-    assert len(colors) == n, (len(colors), n)
     assert obj.ViewObject.Proxy is not None
+    # One Coin point set per class, holding exactly that class's points
+    shown = obj.ViewObject.Proxy.counts_shown()
+    assert shown == {0: obj.CountOut, 1: obj.CountIn, 2: obj.CountOn}, shown
+    assert "Touched" not in obj.State, obj.State  # no blue "recompute me" mark
     assert not cloud.ViewObject.Visibility  # the coloured copy replaces it on screen
     state.update(doc=doc, part=part, cloud=cloud, obj=obj)
 
@@ -231,11 +233,12 @@ def _():
             c = QtGui.QColor(img.pixel(x, y))
             r, g, b = c.red(), c.green(), c.blue()
             distinct.add((r // 16, g // 16, b // 16))
-            if g > 140 and r < 90 and b < 90:
+            # mfgeom.palette: IN (0, 114, 178), ON (102, 204, 238), OUT (136, 34, 85)
+            if r < 40 and 90 < g < 140 and 150 < b < 210:
                 found["in"] += 1
-            elif r > 200 and 120 < g < 200 and b < 60:
+            elif 80 < r < 130 and g > 180 and b > 215:
                 found["on"] += 1
-            elif r > 180 and g < 60 and b < 60:
+            elif 110 < r < 165 and g < 60 and 60 < b < 110:
                 found["out"] += 1
     assert len(distinct) >= 4, f"image looks blank: {len(distinct)} colours"
     assert all(v > 20 for v in found.values()), found
@@ -367,8 +370,50 @@ def _():
     doc = App.openDocument(path)
     obj = [o for o in doc.Objects if o.Name.startswith("PointClassification")][0]
     assert obj.isValid()
-    assert len(obj.ViewObject.PointColorArray) == len(obj.Classes)
+    shown = obj.ViewObject.Proxy.counts_shown()
+    assert shown == {0: obj.CountOut, 1: obj.CountIn, 2: obj.CountOn}, shown
+    assert sum(shown.values()) == len(obj.Classes) > 0
     App.closeDocument(doc.Name)
+
+
+@check("the bundled example opens with its objects visible")
+def _():
+    import zipfile
+    path = os.path.join(REPO, "examples", "bracket.FCStd")
+    with zipfile.ZipFile(path) as archive:
+        assert "GuiDocument.xml" in archive.namelist(), archive.namelist()
+    doc = App.openDocument(path)
+    try:
+        shown = [o.Name for o in doc.Objects if o.ViewObject.Visibility]
+        assert shown == ["Bracket"], shown  # the result; its construction features hidden
+    finally:
+        App.closeDocument(doc.Name)
+
+
+@check("the preferences dialog finds the page's icon")
+def _():
+    dialogs.take()
+    Gui.runCommand("Std_DlgPreferences")
+    Gui.updateGui()
+    assert dialogs.take(), "the preferences dialog did not open"
+    report = dock_text("Report view")
+    assert "Cannot find icon" not in report, report[-600:]
+
+
+@check("the command's creation is echoed to the Python console as a macro line")
+def _():
+    from mfgeom.gui import macro
+    doc = App.newDocument("MacroTest")
+    try:
+        box = doc.addObject("Part::Box", "Box")
+        text = macro.point_classification_call(doc, (box, "Face6"), (box, ["Vertex2", "Vertex1"]),
+                                               0.05, strict=False)
+        assert text == ("mfgeom.make_point_classification(App.getDocument('MacroTest'), "
+                        "(App.getDocument('MacroTest').getObject('Box'), 'Face6'), "
+                        "(App.getDocument('MacroTest').getObject('Box'), ['Vertex2', 'Vertex1']), "
+                        "'0.05 mm', strict=False)"), text
+    finally:
+        App.closeDocument(doc.Name)
 
 
 def finish():

@@ -1,9 +1,110 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""Result colours used by every feature of the workbench (RGB, 0..1).  FreeCAD-free, so
-reports and plots outside FreeCAD use the same colours."""
+"""Result colours used by every feature of the workbench (RGB, 0..1), and the colour-vision
+check they were chosen with.  FreeCAD-free, so reports and plots outside FreeCAD use the
+same colours.
+
+How they were chosen.  A result colour must stay distinct from
+
+* FreeCAD 0.20's selection green (28, 173, 28) and pre-selection yellow (225, 225, 20)
+  (View preferences SelectionColor / HighlightColor, the defaults shipped in
+  /usr/share/freecad/Gui/PreferencePacks/FreeCAD Classic Colors), else a selected or
+  hovered object reads as a result;
+* the other result colours of the same feature, also for the ~8 % of men with a red-green
+  deficiency: under protanopia and deuteranopia green, yellow, orange and red collapse
+  onto one olive-yellow hue and only the blue-yellow axis and lightness remain;
+* the default grey of shapes (204, 204, 204) the points lie on and the blue-grey
+  background gradient (51, 51, 101) .. (151, 151, 170) around them.
+
+The former IN green / ON orange / OUT red failed all of this: IN was the selection green,
+ON and the pre-selection yellow are 3 CIELAB units apart for a deuteranope.  The classes
+now use blue (IN, the material), light cyan (ON, the boundary band: lightness sets it
+apart from IN for everybody) and wine (OUT), from Okabe & Ito's and Paul Tol's
+colour-blind-safe sets.  ``contrast()`` measures it: CIE76 distance in CIELAB after
+simulating each vision with Machado, Oliveira & Fernandes (2009), severity 1.
+Minimum distances (normal / protanopia / deuteranopia):
+
+* between the three classes: 39 / 32 / 35 (about 2.3 units is "just noticeable");
+* from the selection and pre-selection colours: 94 / 91 / 58;
+
+tests/freecad/test_app.py (PaletteTests) keeps them above 30 and 40.
+"""
 
 from mfgeom import names
 
-CLASS_COLORS = {names.OUT: (0.85, 0.10, 0.10), names.IN: (0.10, 0.70, 0.15),
-                names.ON: (1.00, 0.65, 0.00)}
-UNKNOWN = (0.5, 0.5, 0.5)
+
+def _rgb(r, g, b):
+    return (r / 255.0, g / 255.0, b / 255.0)
+
+
+# ---------------------------------------------------------------- point classification
+IN = _rgb(0, 114, 178)      # Okabe-Ito blue
+ON = _rgb(102, 204, 238)    # Tol cyan
+OUT = _rgb(136, 34, 85)     # Tol wine (a grey-red)
+CLASS_COLORS = {names.OUT: OUT, names.IN: IN, names.ON: ON}
+UNKNOWN = _rgb(128, 128, 128)
+
+# ---------------------------------------------------------------- parting (next feature)
+# Faces visible from the core side, from the cavity side, and faces neither sees (undercut).
+CORE_SIDE = _rgb(68, 119, 170)    # Tol blue
+CAVITY_SIDE = _rgb(238, 102, 119)  # Tol red
+UNDERCUT = _rgb(51, 34, 136)       # Tol indigo
+# Set-ups 1..n of a multi-set-up plan, in this order (cycled beyond 8): a qualitative list
+# picked greedily, each colour the farthest from the earlier ones and from the FreeCAD
+# colours under normal, protan and deutan vision (minimum 18 CIELAB units).
+SETUP_COLORS = (
+    _rgb(0, 114, 178),    # blue
+    _rgb(0, 0, 0),        # black
+    _rgb(120, 60, 20),    # brown
+    _rgb(110, 110, 110),  # dark grey
+    _rgb(221, 204, 119),  # sand
+    _rgb(102, 204, 238),  # cyan
+    _rgb(51, 34, 136),    # indigo
+    _rgb(238, 102, 170),  # pink
+)
+
+
+def setup_color(i):
+    """Colour of set-up ``i`` (1-based)."""
+    return SETUP_COLORS[(i - 1) % len(SETUP_COLORS)]
+
+
+# ---------------------------------------------------------------- FreeCAD's own colours
+SELECTION = _rgb(28, 173, 28)      # FreeCAD 0.20 default SelectionColor
+PRESELECTION = _rgb(225, 225, 20)  # FreeCAD 0.20 default HighlightColor
+SHAPE_GREY = _rgb(204, 204, 204)   # FreeCAD 0.20 default DefaultShapeColor
+
+# ---------------------------------------------------------------- colour-vision check
+# Machado, Oliveira & Fernandes 2009, severity 1.0, applied to linear RGB.
+_VISION = {
+    "normal": None,
+    "protanopia": ((0.152286, 1.052583, -0.204868), (0.114503, 0.786281, 0.099216),
+                   (-0.003882, -0.048116, 1.051998)),
+    "deuteranopia": ((0.367322, 0.860646, -0.227968), (0.280085, 0.672501, 0.047413),
+                     (-0.011820, 0.042940, 0.968881)),
+}
+VISIONS = tuple(_VISION)
+
+
+def _linear(c):
+    return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+
+
+def _lab(rgb, vision):
+    lin = [_linear(c) for c in rgb]
+    m = _VISION[vision]
+    if m is not None:
+        lin = [min(1.0, max(0.0, sum(m[i][j] * lin[j] for j in range(3)))) for i in range(3)]
+    x = (0.4124 * lin[0] + 0.3576 * lin[1] + 0.1805 * lin[2]) / 0.95047
+    y = 0.2126 * lin[0] + 0.7152 * lin[1] + 0.0722 * lin[2]
+    z = (0.0193 * lin[0] + 0.1192 * lin[1] + 0.9505 * lin[2]) / 1.08883
+
+    def f(t):
+        return t ** (1.0 / 3.0) if t > 0.008856 else 7.787 * t + 16.0 / 116.0
+    return (116.0 * f(y) - 16.0, 500.0 * (f(x) - f(y)), 200.0 * (f(y) - f(z)))
+
+
+def contrast(a, b, vision="normal"):
+    """CIE76 distance in CIELAB between RGB colours ``a`` and ``b`` (0..1) as seen with
+    ``vision`` (one of VISIONS)."""
+    la, lb = _lab(a, vision), _lab(b, vision)
+    return sum((p - q) ** 2 for p, q in zip(la, lb)) ** 0.5

@@ -2,18 +2,25 @@
 """The parametric "point classification" feature: App proxy and make function (its view
 provider is mfgeom.gui.pointclass_view).
 
-The object is a Part::FeaturePython whose Shape is a compound of the input points (one
-vertex each, in input order), linked to a face and a point source, recomputed when
-they or the tolerance change.  The geometry lives in :mod:`mfgeom.face_domain`.
+The object is a Part::FeaturePython linked to a face and a point source, recomputed when
+they or the tolerance change.  Its results are the points (property Points, a Points
+kernel: binary float32 in the file, read and written through numpy) and their Classes in
+the same order; its Shape stays empty, because a compound of one vertex per point costs
+seconds per 10^5 points to build, colour and save.  The geometry lives in
+:mod:`mfgeom.app.face_domain`.
 """
+
+import traceback
+
 
 import FreeCAD
 import Part
 
 from mfgeom.app import preferences, refs
 
-# 1: first release; 2: Strict.  Bump when properties change and migrate in _migrate().
-VERSION = 2
+# 1: first release; 2: Strict; 3: points in the Points kernel property, Shape empty.
+# Bump when properties change and migrate in _migrate().
+VERSION = 3
 
 TYPE = "Mfgeom::PointClassification"
 
@@ -41,6 +48,8 @@ class PointClassification:
             ("App::PropertyBool", "Strict", "Input",
              "Points farther than the tolerance from the face's surface are OUT (else they "
              "are classified by their projection onto the surface)", False),
+            ("Points::PropertyPointKernel", "Points", "Result",
+             "The classified points, in the order of the point source", True),
             ("App::PropertyIntegerList", "Classes", "Result",
              "Class of each point in input order: 0 = OUT, 1 = IN, 2 = ON", True),
             ("App::PropertyInteger", "CountIn", "Result", "Number of points IN the face", True),
@@ -71,11 +80,24 @@ class PointClassification:
 
     def _migrate(self, obj):
         if "Version" not in obj.PropertiesList or obj.Version < VERSION:
+            old_version = obj.Version if "Version" in obj.PropertiesList else 0
             strict_was_there = "Strict" in obj.PropertiesList
             self._add_properties(obj)
             if not strict_was_there:
                 obj.Strict = False  # older documents keep their results: projection
+            if old_version < 3:
+                self._points_out_of_shape(obj)
             obj.Version = VERSION
+
+    @staticmethod
+    def _points_out_of_shape(obj):
+        """Version < 3 kept the points as a compound of vertices: move them into Points
+        (so the results show before any recompute) and empty the Shape."""
+        from mfgeom.app import pointcloud
+        if not obj.Shape.isNull() and len(obj.Shape.Vertexes) == len(obj.Classes):
+            obj.Points = pointcloud.array_to_kernel(pointcloud.shape_points(obj.Shape))
+            obj.Classes = list(obj.Classes)  # the view redraws when Classes is written
+        obj.Shape = Part.Shape()
 
     def onDocumentRestored(self, obj):
         self.Type = TYPE
@@ -87,9 +109,21 @@ class PointClassification:
             ViewProviderPointClassification(obj.ViewObject)
 
     def execute(self, obj):
+        try:
+            self._execute(obj)
+        except Exception as exc:  # whatever failed: one clear line, details in the log
+            FreeCAD.Console.PrintLog(f"mfgeom: {obj.Label}: {traceback.format_exc()}")
+            error = _one_line_error(obj, exc)
+        else:
+            return
+        # Raised here, outside the except block and with no context, so the traceback
+        # FreeCAD 0.20 prints (it always does) has this one frame only.
+        raise error
+
+    def _execute(self, obj):
         self._migrate(obj)
         if obj.Face is None or obj.PointSource is None:
-            raise refs.InputError(f"{obj.Label}: the linked face or point source is gone; "
+            raise refs.InputError("the linked face or point source is gone; "
                                   "set the Face and PointSource properties again")
         face_obj, face_sub = refs.normalize_face_ref(obj.Face)
         face = refs.resolve_face(face_obj, face_sub)
@@ -100,8 +134,11 @@ class PointClassification:
         from mfgeom.app import face_domain
         result = face_domain.classify_points_on_face(face, points, obj.Tolerance.Value,
                                                      strict=obj.Strict)
-        obj.Shape = Part.makeCompound([Part.Vertex(*p) for p in points.tolist()])
-        obj.Classes = [int(c) for c in result.classes]
+        from mfgeom.app import pointcloud
+        obj.Points = pointcloud.array_to_kernel(points)
+        if not obj.Shape.isNull():
+            obj.Shape = Part.Shape()
+        obj.Classes = result.classes.tolist()
         obj.CountIn = result.counts["in"]
         obj.CountOn = result.counts["on"]
         obj.CountOut = result.counts["out"]
@@ -131,6 +168,17 @@ class PointClassification:
 
     def loads(self, state):
         self.__setstate__(state)
+
+
+def _one_line_error(obj, exc):
+    """The exception a failed recompute raises: same class when it is ours (so callers can
+    catch InputError), message prefixed with the object's label, on one line."""
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    message = f"{obj.Label}: {text}"
+    if isinstance(exc, refs.InputError):
+        return refs.InputError(message)
+    from mfgeom.errors import MfgeomError
+    return MfgeomError(f"{message} ({type(exc).__name__})")
 
 
 def _check_tolerance(tolerance):
@@ -207,7 +255,8 @@ def make_point_classification(doc, face_ref, points_ref, tolerance=None,
         obj.PointSource = (src_obj, src_subs)
         obj.Tolerance = tolerance
         obj.Strict = bool(strict)
-        obj.recompute()
+        # recompute(True): in FreeCAD 0.20 obj.recompute() leaves the new object Touched
+        obj.recompute(True)
         if not obj.isValid():
             raise RuntimeError(f"point classification failed: {obj.getStatusString()}")
     except Exception:  # undo the half-made object whatever went wrong, then re-raise

@@ -113,26 +113,35 @@ def _is_cloud(obj):
 def resolve_points(obj, subs):
     """The points of a point source as an (m, 3) float array in global coordinates."""
     _check_object(obj, "points")
+    from mfgeom.app import pointcloud
     if obj.isDerivedFrom("Points::Feature"):
-        # Points.Points already carries the object's placement
-        pts = [(v.x, v.y, v.z) for v in obj.Points.Points]
+        # The kernel's matrix carries the object's placement
+        pts = pointcloud.kernel_to_array(obj.Points)
     elif obj.isDerivedFrom("Mesh::Feature"):
-        pts = [(p.x, p.y, p.z) for p in obj.Mesh.Points]
+        pts = pointcloud.mesh_points(obj.Mesh)
+    elif _classified_points(obj) is not None:
+        # the points of another classification (its Shape is empty)
+        pts = pointcloud.kernel_to_array(_classified_points(obj))
     elif hasattr(obj, "Shape"):
         if subs:
-            pts = []
-            for s in subs:
-                vertex = _sub_shape(obj, s, "Vertex", f"{_label(obj)} has no {s}")
-                pts.append((vertex.Point.x, vertex.Point.y, vertex.Point.z))
+            pts = pointcloud.vectors_to_array(
+                _sub_shape(obj, s, "Vertex", f"{_label(obj)} has no {s}").Point for s in subs)
         else:
-            shape = Part.getShape(obj)
-            pts = [(v.Point.x, v.Point.y, v.Point.z) for v in shape.Vertexes]
+            pts = pointcloud.shape_points(Part.getShape(obj))
     else:
         raise InputError(f"{_label(obj)} ({obj.TypeId}) is not a point source; use "
                          + POINT_SOURCES)
-    if not pts:
+    if not len(pts):
         raise InputError(f"{_label(obj)} has no points")
-    return np.array(pts, dtype=np.float64).reshape(-1, 3)
+    return pts
+
+
+def _classified_points(obj):
+    """The Points kernel property of a point classification feature, else None."""
+    if "Points" in getattr(obj, "PropertiesList", ()) and \
+            obj.getTypeIdOfProperty("Points") == "Points::PropertyPointKernel":
+        return obj.Points
+    return None
 
 
 def check_points(obj, subs):
@@ -143,6 +152,8 @@ def check_points(obj, subs):
         count = obj.Points.CountPoints
     elif obj.isDerivedFrom("Mesh::Feature"):
         count = obj.Mesh.CountPoints
+    elif _classified_points(obj) is not None:
+        count = _classified_points(obj).CountPoints
     else:
         count = len(resolve_points(obj, subs))
     if count == 0:
