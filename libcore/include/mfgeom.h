@@ -98,7 +98,24 @@ MFG_API mfg_status mfg_region_new(const double *xy, const int64_t *ring_offsets,
                                   int64_t nrings, double tol, mfg_region **out_region);
 MFG_API mfg_status mfg_region_classify(const mfg_region *region, const double *pts,
                                        int64_t npoints, uint8_t *out);
-/* Grid statistics: columns, rows, number of cells that hold edges, total edge entries. */
+/* Shape of a prepared region's index (mfg_region_info).  The index is a uniform grid;
+ * a cell holding edges has a quadtree whose leaves either list a few edges or are
+ * "ordered" (edges sorted across a slab, searched by bisection). */
+struct mfg_region_info {
+    int64_t columns, rows;    /* the uniform grid */
+    int64_t edge_cells;       /* grid cells within reach of an edge */
+    int64_t grid_entries;     /* edge entries of those cells (before refinement) */
+    int64_t edge_entries;     /* edge entries held by all leaves (list + ordered) */
+    int64_t list_entries, ordered_entries;
+    int64_t nodes;            /* quadtree nodes, leaves and inner */
+    int64_t list_leaves, ordered_leaves;
+    int64_t max_depth;        /* deepest leaf (0: a grid cell that was not split) */
+    int64_t max_list;         /* longest list a query may scan */
+    int64_t bytes;            /* memory held by the region, approximately */
+};
+/* Fills *out (a struct; the name is shared with this function, as with stat()). */
+MFG_API mfg_status mfg_region_info(const mfg_region *region, struct mfg_region_info *out);
+/* Older form: columns, rows, edge_cells, edge_entries of mfg_region_info. */
 MFG_API mfg_status mfg_region_stats(const mfg_region *region, int64_t stats_out[4]);
 /* Releases a region from mfg_region_new. NULL is allowed. */
 MFG_API void mfg_region_free(mfg_region *region);

@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
 /* pointclass_grid.c - prepared point classification: a uniform grid over the region whose
- * empty cells answer IN/OUT at once and whose boundary cells keep the exact tolerance test. */
+ * empty cells answer IN/OUT at once; busy cells hold a small quadtree whose leaves are
+ * short edge lists or "ordered" slabs searched by bisection.  Every decision is exact. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,38 +12,122 @@
 #include "predicates.h"
 
 /*
- * Why a grid of reference points.  The paper's swath (slab) method counts crossings of a
- * vertical ray, which needs every edge above the query.  Instead each cell has a
- * reference point r (its centre, or another fixed point of the cell if the centre lies on
- * the boundary) whose parity is known; a query t in the cell has
+ * Why reference points.  The paper's swath (slab) method counts crossings of a vertical
+ * ray, which needs every edge above the query.  Instead each cell (and quadtree node) has
+ * a reference point r off the boundary whose parity is known; a query t in the cell has
  *     parity(t) = parity(r) XOR #(edges crossing the segment r-t),
  * and only edges that touch the cell can cross r-t.  Cell lists hold every edge within
- * tol (+ a rounding margin) of the cell, so the same list also decides ON exactly.  Cells
- * with an empty list are answered by their reference parity alone.  The reference
- * parities are propagated cell to cell along the same kind of segments, so building
- * costs one full walk plus work proportional to the list sizes.
+ * tol (+ a rounding margin, together `reach`) of the cell, so the same list also decides
+ * ON exactly.  Cells with an empty list are answered by their reference parity alone.
+ * Reference parities are propagated cell to cell, and from a node to its children, along
+ * such segments (exact, symbolically perturbed crossing test).
+ *
+ * Why a quadtree with ordered leaves.  A uniform grid cannot separate dense spikes
+ * (a star with 50 000 spikes has ~10^-5 between edges over most of its area), so a busy
+ * cell with more than LEAF_LIST_MAX edges is
+ *  - an ORDERED leaf when every edge of its list spans the cell's x-range (or y-range)
+ *    grown by reach, and consecutive edges, sorted bottom to top, are exactly verified
+ *    not to meet over that range.  The edges then cut the cell into bands; parity is
+ *    constant on a band and flips across each edge, so
+ *        parity(t) = P0 XOR #(edges below t)      (P0 fixed once from the reference point),
+ *    and the count is a bisection.  Over a slab the disc of radius tol around t can only
+ *    reach a farther edge through the nearer ones, so ON needs only the two edges
+ *    around t.  The bisection runs on float copies of each edge's height at the two
+ *    ends of the slab; when they separate t from both neighbours by more than their
+ *    error bound plus tol (scaled by the steepest edge) the answer is certain without
+ *    touching the vertices, otherwise the exact predicates decide.
+ *  - otherwise split into four (up to MAX_DEPTH levels, within an entry budget), each
+ *    child keeping only the edges within reach of it.
+ * Leaves with few edges keep the plain exact list scan.
  * Every decision goes through the exact predicates, so answers equal the one-shot ones.
+ *
+ * Cost: building is one grid pass plus, per busy cell, a sort of its list and a split
+ * where the list cannot be ordered (edges ending or crossing inside).  A quadtree level
+ * only splits cells holding vertices or crossings and an edge passes O(1) of them per
+ * level, so entries grow by O(n) per level: O(n log n) time and O(n) memory per level,
+ * at most MAX_DEPTH levels and capped by the entry budget (ENTRY_BUDGET x grid entries).
+ * A query reads one byte for an empty cell, else descends a few nodes and scans
+ * <= LEAF_LIST_MAX edges or bisects an ordered leaf (O(log m)).
  */
 
 /* Per-cell byte: bit 0 parity of the reference point, bit 1 list not empty.  One byte
- * a cell keeps the hot table in cache; the reference position of busy cells is a
- * separate uint16 (which point of the sequence below). */
+ * a cell keeps the hot table in cache. */
 #define CELL_IN 1u
 #define CELL_BUSY 2u
+
+/* Lists of at most ORDER_MIN edges are scanned; longer ones become ordered leaves when
+ * they qualify (a bisection beats a scan), else scanned up to LEAF_LIST_MAX edges, else
+ * split. */
+#define ORDER_MIN 2
+#define LEAF_LIST_MAX 8
+#define MAX_DEPTH 16
+/* Subdivision stops once the quadtree holds this many times the grid's entries. */
+#define ENTRY_BUDGET 8
+
+enum { NODE_LIST = 0, NODE_ORDERED = 1, NODE_SPLIT = 2 };
+
+/* Quadtree objects live in one array of 64-byte lines (`tree`), each object starting on
+ * a line so that a leaf's header and its first entries arrive together; a reference to
+ * an object is its line number (uint32).  Word 0 of every object is its header:
+ * bits 0-7 kind, 8 parity, 9 axis, 16-23 bisection levels, 32-63 entry count.
+ *  SPLIT:   w1, w2 = split point (mx, my); w3, w4 = the four children's lines (child
+ *           bit 0: x >= mx, bit 1: y >= my).
+ *  LIST:    w1, w2 = reference point; then one word per edge: slot id (low 32 bits) and
+ *           the reference point's side of the edge (orient2d sign, bits 32-39).
+ *  ORDERED: w1 u0, w2 v0 (slab origin; u = x, v = y for axis 0, swapped for axis 1),
+ *           w3 1/width, w4 1/height, w5 certification threshold, w6 first of the
+ *           leaf's slot ids in oedge[] (bottom to top); from line 1 the slab heights
+ *           (see below) as an implicit B-tree of 8-entry groups, coarsest level first. */
+#define TREE_WORDS 8
+
+/* Heights of an ordered entry's edge at the two ends of the slab, relative to v0 and
+ * divided by the leaf's height. */
+typedef struct slab_heights {
+    float l, r;
+} slab_heights;
 
 struct mfg_region {
     mfg_ringset rs;
     double tol;
     double gx0, gy0, gx1, gy1; /* grid bounds: contain the tol-grown bounding box */
     double cw, ch, inv_cw, inv_ch;
-    double reach;              /* tol + rounding margin: how far a cell list looks */
+    double margin;             /* absorbs every rounding in locating cells and nodes */
+    double reach;              /* tol + margin: how far a cell or node list looks */
     int64_t nx, ny;
     uint8_t *cell;             /* nx*ny bytes, see CELL_* */
+    uint32_t *root;            /* nx*ny: line of the quadtree root of a busy cell */
+    uint64_t *tree;            /* quadtree objects, TREE_WORDS words a line (64-byte aligned) */
+    uint32_t nlines, cap_lines;
+    uint32_t *oedge;           /* ORDERED entries: slot ids, bottom to top */
+    uint32_t nord, cap_oedge;
+    uint64_t entry_budget;
+    int64_t grid_entries, max_depth, max_leaf, nlist, nsplit, nlistleaves, nordleaves;
+    /* build-time only: the grid's cell lists */
     uint16_t *refk;            /* nx*ny: reference point index of each cell */
     uint32_t *start;           /* nx*ny + 1 offsets into edges[] */
     uint32_t *edges;           /* edge (slot) ids, ascending within a cell */
-    int8_t *rside;             /* per entry: side of the cell's reference point (orient2d) */
 };
+
+static inline uint64_t tree_header(unsigned kind, unsigned par, unsigned axis, unsigned levels,
+                                   uint32_t count)
+{
+    return (uint64_t)kind | (uint64_t)(par & 1u) << 8 | (uint64_t)(axis & 1u) << 9 |
+           (uint64_t)levels << 16 | (uint64_t)count << 32;
+}
+
+static inline double word_double(uint64_t w)
+{
+    double d;
+    memcpy(&d, &w, sizeof d);
+    return d;
+}
+
+static inline uint64_t double_word(double d)
+{
+    uint64_t w;
+    memcpy(&w, &d, sizeof w);
+    return w;
+}
 
 static inline double round_up_abs(double v) { return v + (fabs(v) * 0x1p-50 + 0x1p-1022); }
 
@@ -101,9 +187,21 @@ static void rasterize_edge(const mfg_region *g, int64_t e, uint32_t *count, uint
     }
 }
 
-/* Reference point k of cell (i, j): the centre, then the R2 low-discrepancy sequence
- * (no three of its points are collinear in practice, so E edges can hide at most 2E of
- * them: trying 2E + 16 always finds one off the boundary). */
+/* Point k of the reference sequence in the box [x0, x0 + w] x [y0, y0 + h]: the centre,
+ * then the R2 low-discrepancy sequence (no three of its points are collinear in
+ * practice, so E edges can hide at most 2E of them: trying 2E + 16 always finds one
+ * off the boundary). */
+static inline void seq_point(double x0, double y0, double w, double h, unsigned k, double *rx,
+                             double *ry)
+{
+    double fx = 0.5 + (double)k * 0.7548776662466927, fy = 0.5 + (double)k * 0.5698402909980532;
+    fx -= floor(fx);
+    fy -= floor(fy);
+    *rx = x0 + fx * w;
+    *ry = y0 + fy * h;
+}
+
+/* Reference point k of grid cell (i, j). */
 static inline void ref_point(const mfg_region *g, int64_t i, int64_t j, unsigned k, double *rx,
                              double *ry)
 {
@@ -143,7 +241,8 @@ static mfg_status build_lists(mfg_region *g)
     g->start = calloc((size_t)ncells + 1, sizeof(uint32_t));
     g->cell = calloc((size_t)ncells, 1);
     g->refk = calloc((size_t)ncells, sizeof(uint16_t));
-    if (!g->start || !g->cell || !g->refk)
+    g->root = calloc((size_t)ncells, sizeof(uint32_t));
+    if (!g->start || !g->cell || !g->refk || !g->root)
         return mfg_fail(MFG_ERR_NOMEM, "cannot allocate a grid of %lld cells", (long long)ncells);
     for (int64_t r = 0; r < g->rs.nrings; r++)
         for (int64_t e = g->rs.ring_first[r]; e < g->rs.ring_first[r] + g->rs.ring_edges[r]; e++)
@@ -151,10 +250,11 @@ static mfg_status build_lists(mfg_region *g)
     uint64_t total = 0;
     for (int64_t c = 0; c < ncells; c++) {
         total += g->start[c + 1];
-        if (total > UINT32_MAX)
-            return mfg_fail(MFG_ERR_NOMEM, "grid index too large (more than 2^32 entries)");
+        if (total > UINT32_MAX / 2)
+            return mfg_fail(MFG_ERR_NOMEM, "grid index too large (more than 2^31 entries)");
         g->start[c + 1] = (uint32_t)total;
     }
+    g->grid_entries = (int64_t)total;
     g->edges = malloc((size_t)(total ? total : 1) * sizeof(uint32_t));
     uint32_t *cursor = malloc((size_t)ncells * sizeof(uint32_t));
     if (!g->edges || !cursor) {
@@ -169,10 +269,25 @@ static mfg_status build_lists(mfg_region *g)
     return MFG_OK;
 }
 
+/* 1 when (rx, ry) lies on none of the listed edges (exactly). */
+static int off_boundary(const mfg_region *g, const uint32_t *list, uint32_t m, double rx, double ry)
+{
+    const double *X = g->rs.x, *Y = g->rs.y;
+    for (uint32_t p = 0; p < m; p++) {
+        uint32_t e = list[p];
+        double ax = X[e], ay = Y[e], bx = X[e + 1], by = Y[e + 1];
+        if ((ax < rx && bx < rx) || (ax > rx && bx > rx) || (ay < ry && by < ry) ||
+            (ay > ry && by > ry))
+            continue;
+        if (mfg_segment_within(rx, ry, ax, ay, bx, by, 0.0))
+            return 0;
+    }
+    return 1;
+}
+
 /* Chooses each busy cell's reference point off the boundary. */
 static mfg_status choose_refs(mfg_region *g)
 {
-    const double *X = g->rs.x, *Y = g->rs.y;
     for (int64_t j = 0; j < g->ny; j++)
         for (int64_t i = 0; i < g->nx; i++) {
             int64_t c = j * g->nx + i;
@@ -184,13 +299,7 @@ static mfg_status choose_refs(mfg_region *g)
             for (; k < limit; k++) {
                 double rx, ry;
                 ref_point(g, i, j, k, &rx, &ry);
-                uint32_t p = g->start[c];
-                for (; p < g->start[c + 1]; p++) {
-                    uint32_t e = g->edges[p];
-                    if (mfg_segment_within(rx, ry, X[e], Y[e], X[e + 1], Y[e + 1], 0.0))
-                        break;
-                }
-                if (p == g->start[c + 1])
+                if (off_boundary(g, g->edges + g->start[c], len, rx, ry))
                     break;
             }
             if (k == limit)
@@ -227,26 +336,400 @@ static mfg_status propagate_parity(mfg_region *g)
     return MFG_OK;
 }
 
-/* For every cell entry, the side of the edge's line the cell's reference point is on:
- * a query on the same side cannot have the edge cross its segment to the reference, so
- * one orientation test replaces the crossing test for most edges. */
-static mfg_status reference_sides(mfg_region *g)
+/* ---- Quadtree build -------------------------------------------------------------- */
+
+/* A node under construction: its box, its reference point (off the boundary, inside
+ * the box) with exact parity, and every edge within reach of the box. */
+typedef struct nodebox {
+    double x0, y0, x1, y1;
+    double rx, ry;
+    unsigned par;
+    int depth;
+} nodebox;
+
+/* Makes room for `need` elements of `elem` bytes in *arr (capacity *cap, doubling);
+ * MFG_ERR_NOMEM (recorded) when that is impossible.  The array is passed as void * and
+ * stored back by the caller's macro, so no pointer is type-punned. */
+static void *grow_array(void *arr, uint32_t *cap, uint32_t need, size_t elem, mfg_status *st)
+{
+    *st = MFG_OK;
+    if (need <= *cap)
+        return arr;
+    uint64_t c = *cap ? *cap : 1024;
+    while (c < need)
+        c *= 2;
+    if (c > UINT32_MAX)
+        c = UINT32_MAX;
+    void *p = realloc(arr, (size_t)c * elem);
+    if (!p) {
+        *st = mfg_fail(MFG_ERR_NOMEM, "cannot allocate %llu index entries", (unsigned long long)c);
+        return arr;
+    }
+    *cap = (uint32_t)c;
+    return p;
+}
+
+#define GROW(arr, cap, need, st) ((arr) = grow_array((arr), &(cap), (need), sizeof *(arr), &(st)), (st))
+
+/* Reserves `lines` zeroed lines of the tree; *first receives the first one. */
+static mfg_status new_lines(mfg_region *g, uint64_t lines, uint32_t *first)
+{
+    if (lines > UINT32_MAX / 2 - g->nlines)
+        return mfg_fail(MFG_ERR_NOMEM, "prepared region index too large (more than 2^31 lines)");
+    uint32_t need = g->nlines + (uint32_t)lines;
+    if (need > g->cap_lines) {
+        uint64_t c = g->cap_lines ? g->cap_lines : 1024;
+        while (c < need)
+            c *= 2;
+        void *p = realloc(g->tree, (size_t)c * TREE_WORDS * sizeof(uint64_t));
+        if (!p)
+            return mfg_fail(MFG_ERR_NOMEM, "cannot allocate %llu index lines", (unsigned long long)c);
+        g->tree = p;
+        g->cap_lines = (uint32_t)c;
+    }
+    *first = g->nlines;
+    memset(g->tree + (size_t)g->nlines * TREE_WORDS, 0, (size_t)lines * TREE_WORDS * sizeof(uint64_t));
+    g->nlines = need;
+    return MFG_OK;
+}
+
+/* 1 when edge e may pass within d of the box (conservative: 0 means certainly farther):
+ * box test, then the distance from the box centre to the edge's line against the half
+ * diagonal (float bounds rounded outward). */
+static int edge_near_box(const mfg_region *g, uint32_t e, double x0, double y0, double x1,
+                         double y1, double d)
 {
     const double *X = g->rs.x, *Y = g->rs.y;
-    int64_t ncells = g->nx * g->ny;
-    g->rside = malloc((size_t)(g->start[ncells] + 1));
-    if (!g->rside)
-        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the grid's reference sides");
-    for (int64_t c = 0; c < ncells; c++) {
-        if (g->start[c] == g->start[c + 1])
-            continue;
-        double rx, ry;
-        ref_point(g, c % g->nx, c / g->nx, g->refk[c], &rx, &ry);
-        for (uint32_t p = g->start[c]; p < g->start[c + 1]; p++) {
-            uint32_t e = g->edges[p];
-            g->rside[p] = (int8_t)mfg_orient2d(X[e], Y[e], X[e + 1], Y[e + 1], rx, ry);
-        }
+    double ax = X[e], ay = Y[e], bx = X[e + 1], by = Y[e + 1];
+    if (fmax(ax, bx) < x0 - d || fmin(ax, bx) > x1 + d || fmax(ay, by) < y0 - d ||
+        fmin(ay, by) > y1 + d)
+        return 0;
+    double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+    double hw = 0.5 * (x1 - x0), hh = 0.5 * (y1 - y0);
+    double ux = bx - ax, uy = by - ay;
+    double l = ux * (cy - ay), r = uy * (cx - ax);
+    double cr = fabs(l - r) - MFG_ORIENT2D_ERR * (fabs(l) + fabs(r));
+    double len = sqrt(ux * ux + uy * uy);
+    double lim = (sqrt(hw * hw + hh * hh) + d) * len * (1.0 + 1e-12);
+    /* The centre's rounding (ulps of |x0| + |x1|) is far inside the margin in d. */
+    return !(cr > lim);
+}
+
+/* The slab axis swap: u, v are (x, y) for axis 0 and (y, x) for axis 1. */
+static inline void edge_uv(const mfg_region *g, uint32_t e, int axis, double *au, double *av,
+                           double *bu, double *bv)
+{
+    const double *U = axis ? g->rs.y : g->rs.x, *V = axis ? g->rs.x : g->rs.y;
+    double pu = U[e], pv = V[e], qu = U[e + 1], qv = V[e + 1];
+    if (pu <= qu) {
+        *au = pu; *av = pv; *bu = qu; *bv = qv;
+    } else {
+        *au = qu; *av = qv; *bu = pu; *bv = pv;
     }
+}
+
+/* Side of t (in u, v) of edge e directed towards increasing u: +1 above, -1 below, 0 on
+ * its line (exact). */
+static inline int side_uv(double au, double av, double bu, double bv, double tu, double tv)
+{
+    int s = mfg_orient2d_filter(au, av, bu, bv, tu, tv);
+    return s ? s : mfg_orient2d(au, av, bu, bv, tu, tv);
+}
+
+typedef struct sortkey {
+    double key;
+    uint32_t e;
+} sortkey;
+
+static int cmp_key(const void *p, const void *q)
+{
+    const sortkey *a = p, *b = q;
+    if (a->key != b->key)
+        return a->key < b->key ? -1 : 1;
+    return a->e < b->e ? -1 : (a->e > b->e);
+}
+
+/* 1 when f lies strictly above e over the whole common u-range of the two (each given
+ * with au < bu): the difference of their heights is linear there, so it is enough that
+ * it is >= 0 at both ends of that range and > 0 at one of them (a shared endpoint or an
+ * endpoint touching the other edge gives 0 at its end). */
+static int strictly_above(double eau, double eav, double ebu, double ebv, double fau,
+                          double fav, double fbu, double fbv)
+{
+    int sl = eau >= fau ? -side_uv(fau, fav, fbu, fbv, eau, eav) : side_uv(eau, eav, ebu, ebv, fau, fav);
+    int sr = ebu <= fbu ? -side_uv(fau, fav, fbu, fbv, ebu, ebv) : side_uv(eau, eav, ebu, ebv, fbu, fbv);
+    return sl >= 0 && sr >= 0 && (sl > 0 || sr > 0);
+}
+
+/* Bisection levels of an ordered leaf with m entries: groups of 8, so 8^levels >= m. */
+static unsigned ordered_levels(uint32_t m)
+{
+    unsigned d = 1;
+    while (((uint64_t)1 << (3 * d)) < m)
+        d++;
+    return d;
+}
+
+/* Groups (of 8 heights) of level j of an ordered leaf with m entries: level j holds the
+ * heights of entries (i + 1) 8^j - 1, padded at the end. */
+static inline uint32_t level_groups(uint32_t m, unsigned j)
+{
+    return (uint32_t)(((uint64_t)m + ((uint64_t)1 << (3 * (j + 1))) - 1) >> (3 * (j + 1)));
+}
+
+/* Tries to make the leaf for box b an ORDERED leaf on axis `axis`; returns 1 (and its
+ * line in *out) on success, 0 when the list does not qualify, -1 on allocation failure
+ * (status recorded in *st). */
+static int try_ordered(mfg_region *g, const nodebox *b, const uint32_t *list, uint32_t m,
+                       int axis, sortkey *keys, uint32_t *out, mfg_status *st)
+{
+    double u0 = axis ? b->y0 : b->x0, u1 = axis ? b->y1 : b->x1;
+    double v0 = axis ? b->x0 : b->y0, v1 = axis ? b->x1 : b->y1;
+    double w = u1 - u0, h = v1 - v0;
+    /* The normalised slab coordinate of a query stays within [-1/8, 9/8] (see E below). */
+    if (!(w >= 8.0 * g->margin && h >= 8.0 * g->margin))
+        return 0;
+    double lo = u0 - g->reach, hi = u1 + g->reach, uc = 0.5 * (u0 + u1);
+    for (uint32_t p = 0; p < m; p++) {
+        double au, av, bu, bv;
+        edge_uv(g, list[p], axis, &au, &av, &bu, &bv);
+        if (!(au < lo && bu > hi))
+            return 0;
+        keys[p].key = av + (uc - au) * ((bv - av) / (bu - au));
+        keys[p].e = list[p];
+    }
+    qsort(keys, m, sizeof *keys, cmp_key);
+    double tu = axis ? b->ry : b->rx, tv = axis ? b->rx : b->ry;
+    unsigned rank = 0;
+    double eau = 0, eav = 0, ebu = 0, ebv = 0;
+    double inv_w = 1.0 / w, inv_h = 1.0 / h;
+    double emax = 0.0, vmax = 0.0, sec = 1.0;
+    for (uint32_t p = 0; p < m; p++) {
+        double au, av, bu, bv;
+        edge_uv(g, keys[p].e, axis, &au, &av, &bu, &bv);
+        if (p > 0 && !strictly_above(eau, eav, ebu, ebv, au, av, bu, bv))
+            return 0;
+        eau = au; eav = av; ebu = bu; ebv = bv;
+        /* The reference point is off the boundary and inside the slab: never 0. */
+        rank += side_uv(au, av, bu, bv, tu, tv) > 0;
+        double slope = (bv - av) / (bu - au);
+        double yl = (av + (u0 - au) * slope - v0) * inv_h;
+        double yr = (av + (u1 - au) * slope - v0) * inv_h;
+        if (!(fabs(yl) <= 0x1p20 && fabs(yr) <= 0x1p20)) /* nearly parallel to v: no use */
+            return 0;
+        keys[p].key = yl; /* the sort key is no longer needed: keep yl, recompute yr */
+        /* Each height: a handful of roundings of magnitude |av| + |bv| + |v0| (the
+         * change u0 - au times the slope is at most |bv - av|); 128 ulps of that bound
+         * them. */
+        emax = fmax(emax, 0x1p-46 * (fabs(av) + fabs(bv) + fabs(v0)) * inv_h);
+        vmax = fmax(vmax, fabs(yl) + fabs(yr));
+        sec = fmax(sec, sqrt(1.0 + slope * slope));
+    }
+    /* Qualifies: lay out the header line and the bisection levels. */
+    unsigned levels = ordered_levels(m);
+    uint64_t lines = 1;
+    for (unsigned j = 0; j < levels; j++)
+        lines += level_groups(m, j);
+    if (g->nord > UINT32_MAX / 2 - m) {
+        *st = mfg_fail(MFG_ERR_NOMEM, "prepared region index too large (more than 2^31 entries)");
+        return -1;
+    }
+    uint32_t line;
+    if ((*st = new_lines(g, lines, &line)) != MFG_OK ||
+        GROW(g->oedge, g->cap_oedge, g->nord + m, *st) != MFG_OK)
+        return -1;
+    /* Estimate at a query: est = l + s (r - l) with |s| <= 9/8 + tiny; the errors of l
+     * and r enter at most (|1 - s| + |s|) < 4 times; float conversion <= 2^-24 relative;
+     * the double steps and the rounding of the query's own normalised coordinates a
+     * few ulps of vmax. */
+    double E = 5.0 * emax * 1.01 + 0x1p-20 * vmax + 0x1p-40;
+    uint64_t *hd = g->tree + (size_t)line * TREE_WORDS;
+    hd[0] = tree_header(NODE_ORDERED, (b->par ^ rank) & 1u, (unsigned)axis, levels, m);
+    hd[1] = double_word(u0);
+    hd[2] = double_word(v0);
+    hd[3] = double_word(inv_w);
+    hd[4] = double_word(inv_h);
+    hd[5] = double_word((E + g->tol * sec * (1.0 + 1e-9) * inv_h) * (1.0 + 1e-9));
+    hd[6] = g->nord;
+    slab_heights *lev = (slab_heights *)(hd + TREE_WORDS);
+    for (int j = (int)levels - 1; j >= 0; j--) {
+        uint32_t n = level_groups(m, (unsigned)j) * 8u;
+        for (uint32_t i = 0; i < n; i++) {
+            uint64_t src = ((uint64_t)(i + 1) << (3 * j)) - 1;
+            if (src < m) {
+                double au, av, bu, bv;
+                edge_uv(g, keys[src].e, axis, &au, &av, &bu, &bv);
+                double slope = (bv - av) / (bu - au);
+                lev[i].l = (float)keys[src].key;
+                lev[i].r = (float)((av + (u1 - au) * slope - v0) * inv_h);
+            } else {
+                lev[i].l = lev[i].r = FLT_MAX; /* above every query */
+            }
+        }
+        lev += n;
+    }
+    for (uint32_t p = 0; p < m; p++)
+        g->oedge[g->nord + p] = keys[p].e;
+    g->nord += m;
+    g->nordleaves++;
+    *out = line;
+    return 1;
+}
+
+static mfg_status make_list_leaf(mfg_region *g, const nodebox *b, const uint32_t *list,
+                                 uint32_t m, uint32_t *out)
+{
+    const double *X = g->rs.x, *Y = g->rs.y;
+    uint32_t line;
+    mfg_status st = new_lines(g, (3 + (uint64_t)m + TREE_WORDS - 1) / TREE_WORDS, &line);
+    if (st != MFG_OK)
+        return st;
+    uint64_t *hd = g->tree + (size_t)line * TREE_WORDS;
+    hd[0] = tree_header(NODE_LIST, b->par, 0, 0, m);
+    hd[1] = double_word(b->rx);
+    hd[2] = double_word(b->ry);
+    for (uint32_t p = 0; p < m; p++) {
+        uint32_t e = list[p];
+        /* The side of the reference point: a query on the same side cannot have the
+         * edge cross its segment to the reference, so one orientation test replaces the
+         * crossing test for most edges. */
+        int side = mfg_orient2d(X[e], Y[e], X[e + 1], Y[e + 1], b->rx, b->ry);
+        hd[3 + p] = (uint64_t)e | (uint64_t)(uint8_t)(int8_t)side << 32;
+    }
+    g->nlist += m;
+    g->nlistleaves++;
+    if ((int64_t)m > g->max_leaf)
+        g->max_leaf = m;
+    *out = line;
+    return MFG_OK;
+}
+
+static uint64_t entries_used(const mfg_region *g) { return (uint64_t)g->nlist + g->nord; }
+
+/* Builds the object for box b and its list (every edge within reach of b); *out
+ * receives its line. */
+static mfg_status build_node(mfg_region *g, const nodebox *b, const uint32_t *list, uint32_t m,
+                             uint32_t *out)
+{
+    if (b->depth > g->max_depth)
+        g->max_depth = b->depth;
+    if (m <= ORDER_MIN)
+        return make_list_leaf(g, b, list, m, out);
+    sortkey *keys = malloc((size_t)m * sizeof *keys);
+    if (!keys)
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate %u sort keys", m);
+    mfg_status st = MFG_OK;
+    /* Both axes can qualify (edges at 45 degrees): try first the axis along which the
+     * edges extend more, whose heights are flatter and certify more queries. */
+    const double *X = g->rs.x, *Y = g->rs.y;
+    double sx = 0.0, sy = 0.0;
+    for (uint32_t p = 0; p < m; p++) {
+        sx += fabs(X[list[p] + 1] - X[list[p]]);
+        sy += fabs(Y[list[p] + 1] - Y[list[p]]);
+    }
+    int first_axis = sy > sx;
+    int r = try_ordered(g, b, list, m, first_axis, keys, out, &st);
+    if (r == 0)
+        r = try_ordered(g, b, list, m, !first_axis, keys, out, &st);
+    free(keys);
+    if (r < 0)
+        return st;
+    if (r > 0)
+        return MFG_OK;
+    double w = b->x1 - b->x0, h = b->y1 - b->y0;
+    if (m <= LEAF_LIST_MAX || b->depth >= MAX_DEPTH || entries_used(g) + m > g->entry_budget ||
+        !(w >= 64.0 * g->margin && h >= 64.0 * g->margin))
+        return make_list_leaf(g, b, list, m, out);
+
+    /* Split into four: each child keeps the edges within reach of it and a reference
+     * point off them, whose parity follows from the parent's along the segment between
+     * the two (inside the parent, so only the parent's edges can cross it). */
+    uint32_t *sub = malloc((size_t)m * sizeof(uint32_t));
+    if (!sub)
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate a node list of %u edges", m);
+    double mx = 0.5 * (b->x0 + b->x1), my = 0.5 * (b->y0 + b->y1);
+    uint32_t line = 0, kid[4] = {0, 0, 0, 0};
+    st = new_lines(g, 1, &line);
+    for (int q = 0; q < 4 && st == MFG_OK; q++) {
+        nodebox c;
+        c.x0 = (q & 1) ? mx : b->x0;
+        c.x1 = (q & 1) ? b->x1 : mx;
+        c.y0 = (q & 2) ? my : b->y0;
+        c.y1 = (q & 2) ? b->y1 : my;
+        c.depth = b->depth + 1;
+        uint32_t cm = 0;
+        for (uint32_t p = 0; p < m; p++)
+            if (edge_near_box(g, list[p], c.x0, c.y0, c.x1, c.y1, g->reach))
+                sub[cm++] = list[p];
+        uint32_t limit = cm < 30000 ? 2 * cm + 16 : 65535, t = 0;
+        for (; t < limit; t++) {
+            seq_point(c.x0, c.y0, c.x1 - c.x0, c.y1 - c.y0, t, &c.rx, &c.ry);
+            if (off_boundary(g, sub, cm, c.rx, c.ry))
+                break;
+        }
+        if (t == limit) {
+            st = mfg_fail(MFG_ERR_INTERNAL, "no reference point off the boundary in a quadtree node");
+            break;
+        }
+        unsigned par = b->par;
+        for (uint32_t p = 0; p < m; p++) {
+            uint32_t e = list[p];
+            par ^= (unsigned)mfg_edge_crosses_segment(b->rx, b->ry, c.rx, c.ry, X[e], Y[e], X[e + 1], Y[e + 1]);
+        }
+        c.par = par & 1u;
+        st = build_node(g, &c, sub, cm, &kid[q]);
+    }
+    free(sub);
+    if (st != MFG_OK)
+        return st;
+    uint64_t *hd = g->tree + (size_t)line * TREE_WORDS;
+    hd[0] = tree_header(NODE_SPLIT, 0, 0, 0, 0);
+    hd[1] = double_word(mx);
+    hd[2] = double_word(my);
+    hd[3] = (uint64_t)kid[0] | (uint64_t)kid[1] << 32;
+    hd[4] = (uint64_t)kid[2] | (uint64_t)kid[3] << 32;
+    g->nsplit++;
+    *out = line;
+    return MFG_OK;
+}
+
+/* Builds the quadtree of every busy cell, then drops the grid's lists and moves the
+ * tree to 64-byte aligned memory (a line per cache line). */
+static mfg_status build_trees(mfg_region *g)
+{
+    int64_t ncells = g->nx * g->ny;
+    uint64_t budget = (uint64_t)ENTRY_BUDGET * (uint64_t)g->grid_entries + ((uint64_t)1 << 20);
+    g->entry_budget = budget < UINT32_MAX / 4 ? budget : UINT32_MAX / 4;
+    for (int64_t c = 0; c < ncells; c++) {
+        if (!(g->cell[c] & CELL_BUSY))
+            continue;
+        int64_t i = c % g->nx, j = c / g->nx;
+        nodebox b;
+        b.x0 = g->gx0 + (double)i * g->cw;
+        b.x1 = g->gx0 + (double)(i + 1) * g->cw;
+        b.y0 = g->gy0 + (double)j * g->ch;
+        b.y1 = g->gy0 + (double)(j + 1) * g->ch;
+        ref_point(g, i, j, g->refk[c], &b.rx, &b.ry);
+        b.par = g->cell[c] & CELL_IN;
+        b.depth = 0;
+        mfg_status st = build_node(g, &b, g->edges + g->start[c], g->start[c + 1] - g->start[c], &g->root[c]);
+        if (st != MFG_OK)
+            return st;
+    }
+    free(g->edges);
+    free(g->start);
+    free(g->refk);
+    g->edges = NULL;
+    g->start = NULL;
+    g->refk = NULL;
+    size_t bytes = ((size_t)g->nlines + 1) * TREE_WORDS * sizeof(uint64_t);
+    uint64_t *aligned = aligned_alloc(64, bytes);
+    if (!aligned)
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate %zu bytes of index", bytes);
+    if (g->nlines)
+        memcpy(aligned, g->tree, (size_t)g->nlines * TREE_WORDS * sizeof(uint64_t));
+    free(g->tree);
+    g->tree = aligned;
     return MFG_OK;
 }
 
@@ -256,7 +739,9 @@ void mfg_region_free(mfg_region *g)
         return;
     mfg_ringset_free(&g->rs);
     free(g->cell);
-    free(g->rside);
+    free(g->root);
+    free(g->tree);
+    free(g->oedge);
     free(g->refk);
     free(g->start);
     free(g->edges);
@@ -294,6 +779,7 @@ mfg_status mfg_region_new(const double *xy, const int64_t *ring_offsets, int64_t
     h = fmax(h, ext * 1e-3);
     double margin = 128.0 * 0x1p-53 * (fabs(x0) + fabs(x1) + fabs(y0) + fabs(y1) + w + h);
     margin = fmax(margin, 0x1p-1000);
+    g->margin = margin;
     g->gx0 = x0 - 2.0 * margin;
     g->gy0 = y0 - 2.0 * margin;
     g->reach = round_up_abs(tol + margin);
@@ -304,12 +790,12 @@ mfg_status mfg_region_new(const double *xy, const int64_t *ring_offsets, int64_t
     double cw = sqrt(w * h / want);
     /* Long edges (spiky stars) would each fill many cells: an edge enters about
      * (|dx| + |dy|) / cell + 3 cells, so coarsen the grid until the lists stay within
-     * 64 entries per edge on average. */
+     * 64 entries per edge on average (the quadtree refines busy cells further). */
     double sumlen = 0.0;
     for (int64_t r = 0; r < g->rs.nrings; r++)
         for (int64_t e = g->rs.ring_first[r]; e < g->rs.ring_first[r] + g->rs.ring_edges[r]; e++)
             sumlen += fabs(g->rs.x[e + 1] - g->rs.x[e]) + fabs(g->rs.y[e + 1] - g->rs.y[e]);
-    double budget = 61.0 * (double)g->rs.nedges + 4096.0;
+    double budget = 32.0 * (double)g->rs.nedges + 4096.0;
     if (sumlen / cw > budget)
         cw = sumlen / budget;
     int64_t nx = clamp64((int64_t)ceil(w / cw), 1, 65536);
@@ -328,7 +814,7 @@ mfg_status mfg_region_new(const double *xy, const int64_t *ring_offsets, int64_t
     if (st == MFG_OK)
         st = propagate_parity(g);
     if (st == MFG_OK)
-        st = reference_sides(g);
+        st = build_trees(g);
     if (st != MFG_OK) {
         mfg_region_free(g);
         return st;
@@ -338,34 +824,107 @@ mfg_status mfg_region_new(const double *xy, const int64_t *ring_offsets, int64_t
     return MFG_OK;
 }
 
-static uint8_t classify_in_cell(const mfg_region *g, int64_t i, int64_t j, double tx, double ty)
+/* ---- Queries --------------------------------------------------------------------- */
+
+/* 1 when t is within tol of edge e (exact, after the cheap rejections). */
+static inline int edge_within_tol(const mfg_region *g, const mfg_tolbox *box, uint32_t e,
+                                  double tx, double ty)
 {
-    int64_t c = j * g->nx + i;
-    unsigned info = g->cell[c];
-    if (!(info & CELL_BUSY))
-        return (uint8_t)(info & CELL_IN);
+    const double *X = g->rs.x, *Y = g->rs.y;
+    double ax = X[e], ay = Y[e], bx = X[e + 1], by = Y[e + 1];
+    return !((ax < box->xlo && bx < box->xlo) || (ax > box->xhi && bx > box->xhi) ||
+             (ay < box->ylo && by < box->ylo) || (ay > box->yhi && by > box->yhi)) &&
+           !mfg_far_from_line(tx, ty, ax, ay, bx, by, g->tol) &&
+           mfg_segment_within(tx, ty, ax, ay, bx, by, g->tol);
+}
+
+static uint8_t classify_list(const mfg_region *g, const uint64_t *hd, double tx, double ty)
+{
     const double *X = g->rs.x, *Y = g->rs.y;
     mfg_tolbox box = mfg_tolbox_make(tx, ty, g->tol);
-    double rx, ry;
-    ref_point(g, i, j, g->refk[c], &rx, &ry);
-    unsigned par = info & CELL_IN;
-    for (uint32_t p = g->start[c]; p < g->start[c + 1]; p++) {
-        uint32_t e = g->edges[p];
+    double rx = word_double(hd[1]), ry = word_double(hd[2]);
+    unsigned par = (unsigned)(hd[0] >> 8) & 1u;
+    uint32_t m = (uint32_t)(hd[0] >> 32);
+    for (uint32_t p = 0; p < m; p++) {
+        uint32_t e = (uint32_t)hd[3 + p];
+        int side = (int8_t)(uint8_t)(hd[3 + p] >> 32);
         double ax = X[e], ay = Y[e], bx = X[e + 1], by = Y[e + 1];
-        if (!((ax < box.xlo && bx < box.xlo) || (ax > box.xhi && bx > box.xhi) ||
-              (ay < box.ylo && by < box.ylo) || (ay > box.yhi && by > box.yhi)) &&
-            !mfg_far_from_line(tx, ty, ax, ay, bx, by, g->tol) &&
-            mfg_segment_within(tx, ty, ax, ay, bx, by, g->tol))
+        if (edge_within_tol(g, &box, e, tx, ty))
             return MFG_ON;
         /* Most edges miss the box of the segment r -> t, or have r and t strictly on
          * one side of their line: neither can cross the segment. */
-        if (mfg_segment_boxes_apart(rx, ry, tx, ty, ax, ay, bx, by))
+        if ((ax < rx && ax < tx && bx < rx && bx < tx) || (ax > rx && ax > tx && bx > rx && bx > tx) ||
+            (ay < ry && ay < ty && by < ry && by < ty) || (ay > ry && ay > ty && by > ry && by > ty))
             continue;
-        if (g->rside[p] != 0 && mfg_orient2d_filter(ax, ay, bx, by, tx, ty) == g->rside[p])
+        if (side != 0 && mfg_orient2d_filter(ax, ay, bx, by, tx, ty) == side)
             continue;
         par ^= (unsigned)mfg_edge_crosses_segment(rx, ry, tx, ty, ax, ay, bx, by);
     }
     return (uint8_t)par;
+}
+
+static inline double height_at(const slab_heights *h, double s)
+{
+    return (double)h->l + s * ((double)h->r - (double)h->l);
+}
+
+static uint8_t classify_ordered(const mfg_region *g, const uint64_t *hd, double tx, double ty)
+{
+    unsigned axis = (unsigned)(hd[0] >> 9) & 1u, levels = (unsigned)(hd[0] >> 16) & 0xffu;
+    unsigned par = (unsigned)(hd[0] >> 8) & 1u;
+    uint32_t m = (uint32_t)(hd[0] >> 32);
+    double tu = axis ? ty : tx, tv = axis ? tx : ty;
+    double s = (tu - word_double(hd[1])) * word_double(hd[3]);
+    double q = (tv - word_double(hd[2])) * word_double(hd[4]);
+    /* Descend the implicit B-tree: in each group of 8 heights count those estimated
+     * below t (floats: only a guess, certified or corrected below). */
+    const slab_heights *lev = (const slab_heights *)(hd + TREE_WORDS);
+    float sf = (float)s, qf = (float)q;
+    uint32_t grp = 0, k = 0;
+    for (int j = (int)levels - 1; j >= 0; j--) {
+        const slab_heights *h = lev + 8u * grp;
+        unsigned t = 0;
+        for (int u = 0; u < 8; u++)
+            t += h[u].l + sf * (h[u].r - h[u].l) < qf;
+        if (j == 0) {
+            k = 8u * grp + t;
+            break;
+        }
+        lev += 8u * level_groups(m, (unsigned)j);
+        grp = 8u * grp + (t < 7 ? t : 7);
+    }
+    k = k < m ? k : m;
+    /* lev is level 0: the heights in order. */
+    double thr = word_double(hd[5]);
+    if ((k == 0 || q - height_at(&lev[k - 1], s) > thr) && (k == m || height_at(&lev[k], s) - q > thr))
+        return (uint8_t)((par ^ k) & 1u);
+    /* Too close to call on the estimates: exact ranks, then ON against the two edges
+     * around t (any other edge within tol would have to be reached through them). */
+    const uint32_t *E = g->oedge + hd[6];
+    double au, av, bu, bv;
+    while (k < m) {
+        edge_uv(g, E[k], (int)axis, &au, &av, &bu, &bv);
+        int sd = side_uv(au, av, bu, bv, tu, tv);
+        if (sd == 0)
+            return MFG_ON; /* on the line inside the slab: on the edge */
+        if (sd < 0)
+            break;
+        k++;
+    }
+    while (k > 0) {
+        edge_uv(g, E[k - 1], (int)axis, &au, &av, &bu, &bv);
+        int sd = side_uv(au, av, bu, bv, tu, tv);
+        if (sd == 0)
+            return MFG_ON;
+        if (sd > 0)
+            break;
+        k--;
+    }
+    mfg_tolbox box = mfg_tolbox_make(tx, ty, g->tol);
+    if ((k > 0 && edge_within_tol(g, &box, E[k - 1], tx, ty)) ||
+        (k < m && edge_within_tol(g, &box, E[k], tx, ty)))
+        return MFG_ON;
+    return (uint8_t)((par ^ k) & 1u);
 }
 
 mfg_status mfg_region_classify(const mfg_region *g, const double *pts, int64_t npoints,
@@ -386,8 +945,49 @@ mfg_status mfg_region_classify(const mfg_region *g, const double *pts, int64_t n
         int64_t j = (int64_t)((ty - g->gy0) * g->inv_ch);
         i = i < g->nx ? i : g->nx - 1;
         j = j < g->ny ? j : g->ny - 1;
-        out[k] = classify_in_cell(g, i, j, tx, ty);
+        int64_t c = j * g->nx + i;
+        unsigned info = g->cell[c];
+        if (!(info & CELL_BUSY)) {
+            out[k] = (uint8_t)(info & CELL_IN);
+            continue;
+        }
+        const uint64_t *hd = g->tree + (size_t)g->root[c] * TREE_WORDS;
+        while ((hd[0] & 0xffu) == NODE_SPLIT) {
+            unsigned q = (unsigned)(tx >= word_double(hd[1])) + 2u * (unsigned)(ty >= word_double(hd[2]));
+            uint32_t kid = (uint32_t)(hd[3 + (q >> 1)] >> (32 * (q & 1u)));
+            hd = g->tree + (size_t)kid * TREE_WORDS;
+        }
+        out[k] = (hd[0] & 0xffu) == NODE_LIST ? classify_list(g, hd, tx, ty) : classify_ordered(g, hd, tx, ty);
     }
+    mfg_clear_error();
+    return MFG_OK;
+}
+
+mfg_status mfg_region_info(const mfg_region *g, struct mfg_region_info *out)
+{
+    if (!g || !out)
+        return mfg_fail(MFG_ERR_NULL, "region or out is NULL");
+    struct mfg_region_info r;
+    memset(&r, 0, sizeof r);
+    int64_t ncells = g->nx * g->ny;
+    for (int64_t c = 0; c < ncells; c++)
+        r.edge_cells += (g->cell[c] & CELL_BUSY) != 0;
+    r.columns = g->nx;
+    r.rows = g->ny;
+    r.grid_entries = g->grid_entries;
+    r.list_entries = g->nlist;
+    r.ordered_entries = g->nord;
+    r.edge_entries = g->nlist + (int64_t)g->nord;
+    r.nodes = g->nsplit + g->nlistleaves + g->nordleaves;
+    r.list_leaves = g->nlistleaves;
+    r.ordered_leaves = g->nordleaves;
+    r.max_depth = g->max_depth;
+    r.max_list = g->max_leaf;
+    r.bytes = (int64_t)sizeof *g + ncells * (int64_t)(sizeof(uint8_t) + sizeof(uint32_t)) +
+              (int64_t)g->nlines * TREE_WORDS * (int64_t)sizeof(uint64_t) +
+              (int64_t)g->nord * (int64_t)sizeof(uint32_t) +
+              g->rs.nslots * 2 * (int64_t)sizeof(double) + g->rs.nrings * 2 * (int64_t)sizeof(int64_t);
+    *out = r;
     mfg_clear_error();
     return MFG_OK;
 }
@@ -396,12 +996,13 @@ mfg_status mfg_region_stats(const mfg_region *g, int64_t stats_out[4])
 {
     if (!g || !stats_out)
         return mfg_fail(MFG_ERR_NULL, "region or stats_out is NULL");
-    int64_t busy = 0, ncells = g->nx * g->ny;
-    for (int64_t c = 0; c < ncells; c++)
-        busy += (g->cell[c] & CELL_BUSY) != 0;
-    stats_out[0] = g->nx;
-    stats_out[1] = g->ny;
-    stats_out[2] = busy;
-    stats_out[3] = (int64_t)g->start[ncells];
+    struct mfg_region_info r;
+    mfg_status st = mfg_region_info(g, &r);
+    if (st != MFG_OK)
+        return st;
+    stats_out[0] = r.columns;
+    stats_out[1] = r.rows;
+    stats_out[2] = r.edge_cells;
+    stats_out[3] = r.edge_entries;
     return MFG_OK;
 }
