@@ -192,6 +192,9 @@ def _():
     assert abs(obj.Tolerance.Value - 0.3) < 1e-12, obj.Tolerance  # from the preference
     assert obj.Strict and obj.ViewObject.PointSize == 7, (obj.Strict, obj.ViewObject.PointSize)
     assert obj.Label == f"Classes of {bracket.top_face_name(part)} of {part.Label}", obj.Label
+    summary = (f"mfgeom: {obj.Label}: IN {obj.CountIn}, ON {obj.CountOn}, OUT {obj.CountOut} "
+               f"(tolerance 0.3 mm, strict; largest distance to the surface 0.02")  # floats
+    assert summary in dock_text("Report view"), dock_text("Report view")[-600:]
     # Echoed to the Python console: replayed as a macro, the line makes the same feature
     console = dock_text("Python console")
     calls = [line[4:] for line in console.splitlines()

@@ -19,8 +19,18 @@ TITLE = "Classify points"
 MAX_POINT_SIZE = 64
 
 
-def _subject(face_obj, face_sub):
-    return f"{face_sub} of {face_obj.Label}"
+def _describe(face_ref, points_ref):
+    """'Face: Face3 of Bracket / Points: Cloud' for the panel's header; a link that is gone
+    (an edited feature whose input was deleted) reads '(missing)'."""
+    face, points = "(missing)", "(missing)"
+    if face_ref and face_ref[0] is not None:
+        face_obj, sub = face_ref
+        sub = sub if isinstance(sub, str) else (sub[0] if sub else "")
+        face = f"{sub} of {face_obj.Label}" if sub else face_obj.Label
+    if points_ref and points_ref[0] is not None:
+        src_obj, src_subs = points_ref
+        points = src_obj.Label + (f" ({len(src_subs)} vertices)" if src_subs else "")
+    return f"Face: {face}\nPoints: {points}"
 
 
 class PointClassificationPanel:
@@ -32,19 +42,15 @@ class PointClassificationPanel:
             raise InputError("the panel needs a face and points, or an object to edit")
         self.obj = obj
         self.face_ref, self.points_ref = face_ref, points_ref
-        if obj is not None:
-            face_obj, subs = obj.Face
-            self.face_ref = (face_obj, subs[0] if subs else "")
-            self.points_ref = obj.PointSource
-        self.doc = self.face_ref[0].Document
+        if obj is not None:  # editing needs the object only; its links are shown
+            self.face_ref, self.points_ref = obj.Face, obj.PointSource
+        self.doc = obj.Document if obj is not None else face_ref[0].Document
 
         self.form = QtGui.QWidget()
         self.form.setWindowTitle(TITLE if obj is None else f"Edit {obj.Label}")
         layout = QtGui.QFormLayout(self.form)
 
-        src_obj, src_subs = self.points_ref
-        points = src_obj.Label + (f" ({len(src_subs)} vertices)" if src_subs else "")
-        self.what = QtGui.QLabel(f"Face: {_subject(*self.face_ref)}\nPoints: {points}")
+        self.what = QtGui.QLabel(_describe(self.face_ref, self.points_ref))
         self.what.setWordWrap(True)
         layout.addRow(self.what)
 
@@ -217,11 +223,10 @@ class _MillimetreKeeper(QtCore.QObject):
 
 
 def report(obj):
-    """One line in the Report view: the counts, the tolerance and the surface distance."""
-    far = ""
-    dmax = obj.MaxDistanceToSurface.Value
-    if dmax > obj.Tolerance.Value:
-        far = f", largest distance to the surface {dmax:g} mm"
+    """One line in the Report view: the counts, the tolerance and the largest distance of
+    a point to the surface (the recompute itself warns about points farther than the
+    tolerance)."""
     FreeCAD.Console.PrintMessage(
         f"mfgeom: {obj.Label}: IN {obj.CountIn}, ON {obj.CountOn}, OUT {obj.CountOut} "
-        f"(tolerance {obj.Tolerance.Value:g} mm{', strict' if obj.Strict else ''}{far})\n")
+        f"(tolerance {obj.Tolerance.Value:g} mm{', strict' if obj.Strict else ''}; largest "
+        f"distance to the surface {obj.MaxDistanceToSurface.Value:g} mm)\n")
