@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # GUI start-up of the Manufacturing Geometry workbench: registers the workbench only.
 #
-# Commands, the preferences page and the C library are loaded in Initialize(), i.e. when
-# the workbench is first activated, so FreeCAD's start-up stays fast and a missing
-# libmfgeom.so cannot break it.  __file__ is not defined here: paths come from mfgeom.paths.
+# Commands and the preferences page are loaded in Initialize(), i.e. when the workbench is
+# first activated, so FreeCAD's start-up stays fast.  The C library is loaded on first use;
+# when it is missing (an Addon Manager install has none), activating the workbench offers
+# to build it (mfgeom.gui.library).  __file__ is not defined here: paths come from
+# mfgeom.paths.
 
 import FreeCADGui
 
@@ -27,7 +29,8 @@ class MfgeomWorkbench(FreeCADGui.Workbench):
         FreeCADGui.addPreferencePage(paths.resource("preferences.ui"), "Manufacturing Geometry")
 
     def Activated(self):
-        pass
+        from mfgeom.gui import library
+        library.offer_on_activation()
 
     def Deactivated(self):
         pass

@@ -28,3 +28,22 @@ grep -E "^(PASS|FAIL): |^screenshot: |^freecad-gui: " "$log"
 if [ $rc -ne 0 ]; then echo "gui tests: freecad exited with $rc (log: $log)"; tail -40 "$log"; exit 1; fi
 if grep -q "Traceback" "$log"; then echo "gui tests: traceback in the log:"; grep -n -A12 "Traceback" "$log"; exit 1; fi
 grep -qE "^freecad-gui: [0-9]+ passed, 0 failed$" "$log" || { echo "gui tests: no clean summary (log: $log)"; exit 1; }
+
+# The workbench without its library, as after an Addon Manager install: a copy of the
+# working tree without build/ and with MFGEOM_LIBRARY unset; tests/gui/test_gui_library.py
+# checks the offer to build, that the document stays valid, then builds and loads.
+lib_copy=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-nolib.XXXXXX")
+lib_home=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-nolib-home.XXXXXX")
+git ls-files -z --cached --others --exclude-standard |
+  while IFS= read -r -d '' f; do [ -e "$f" ] && cp --parents -P "$f" "$lib_copy/"; done
+mkdir -p "$lib_home/Mod"
+ln -s "$lib_copy" "$lib_home/Mod/mfgeom"
+lib_log="$MFGEOM_GUI_OUT/gui-library.log"
+(cd "$lib_copy" && env -u MFGEOM_LIBRARY FREECAD_USER_HOME="$lib_home" \
+   timeout 900 xvfb-run -a freecad tests/gui/test_gui_library.py) > "$lib_log" 2>&1
+rc=$?
+rm -rf "$lib_copy" "$lib_home"
+grep -E "^(PASS|FAIL): |^freecad-gui-library: " "$lib_log"
+if [ $rc -ne 0 ]; then echo "gui library tests: freecad exited with $rc (log: $lib_log)"; tail -40 "$lib_log"; exit 1; fi
+if grep -q "Traceback" "$lib_log"; then echo "gui library tests: traceback in the log:"; grep -n -A12 "Traceback" "$lib_log"; exit 1; fi
+grep -qE "^freecad-gui-library: [0-9]+ passed, 0 failed$" "$lib_log" || { echo "gui library tests: no clean summary (log: $lib_log)"; exit 1; }

@@ -42,6 +42,9 @@ class ClassifyPointsCommand(BaseCommand):
 
     def Activated(self):
         title = "Classify points"
+        from mfgeom.gui import library    # no libmfgeom.so: offer to build it, or say why
+        if not library.ensure_library(title):
+            return
         # Loaded here so a missing libmfgeom.so is reported, not a dead workbench.
         try:
             importlib.import_module("mfgeom.core")
