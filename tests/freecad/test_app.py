@@ -372,6 +372,20 @@ class ExactBoundaryTests(DocTestCase):
         hole = [e for e in real_edges(face) if e.Tolerance > 1e-7]
         self.check_near(face, tols=(1e-3, 1e-4), edges=hole)
 
+    def test_planar_face_with_bspline_edges(self):
+        # A B-spline side and an elliptic hole (a B-spline after the cut, known to 5e-6 mm)
+        spline = Part.BSplineCurve()
+        spline.interpolate([App.Vector(0, 0, 0), App.Vector(10, 6, 0), App.Vector(20, -3, 0),
+                            App.Vector(30, 4, 0), App.Vector(40, 0, 0)])
+        corners = [App.Vector(40, 0, 0), App.Vector(40, 20, 0), App.Vector(0, 20, 0),
+                   App.Vector(0, 0, 0)]
+        face = Part.Face(Part.Wire([spline.toShape()] + [
+            Part.LineSegment(a, b).toShape() for a, b in zip(corners, corners[1:])]))
+        self.check_near(face, tols=(1e-3, 1e-5, 1e-7))
+        hole = Part.Face(Part.Wire([Part.Ellipse(App.Vector(20, 12, 0), 6, 3).toShape()]))
+        face = face.cut(hole.extrude(App.Vector(0, 0, 1)).translated(App.Vector(0, 0, -0.5)))
+        self.check_near(face.Faces[0], tols=(1e-3, 1e-5))
+
     def test_planar_face_with_a_circular_hole(self):
         shape = Part.makeBox(20, 20, 5).cut(Part.makeCylinder(4, 10, App.Vector(10, 10, -1)))
         top = [f for f in shape.Faces
