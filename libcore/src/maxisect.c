@@ -46,6 +46,7 @@ typedef struct sset {
     double cr, cos_cr, sin_cr;
     double ic[3], ir;  /* POLYGON: inscribed circle (centre, radius; ir = 0 if none) */
     double cos_ir, sin_ir;
+    double *fan;   /* large POLYGON: bearing of each vertex about ic (the fan of ic) */
 } sset;
 
 typedef struct interval {
@@ -114,10 +115,77 @@ static int param_on_edge(const double *a, const double *b, const double *y, doub
     return 1;
 }
 
+/* ---- The fan of a large polygon: O(log v) membership and O(log v + k) clipping ----
+ *
+ * A convex polygon is the union of the triangles (ic, v_k, v_k+1) about an interior
+ * point ic: the lune between the half meridians from ic through v_k and v_k+1 meets the
+ * polygon exactly where it meets the half-space of edge k.  The bearings of the vertices
+ * about ic increase with k, so the triangle holding a direction is found by binary
+ * search, and an arc, whose bearing about ic is monotone, only crosses the triangles
+ * between those of its ends: only their edges can clip it.  Neighbouring edges (FAN_PAD
+ * on each side) are tested too, so a direction within the tolerance of a vertex is
+ * treated exactly as by the test against every edge. */
+#define FAN_MIN_VERTICES 32 /* below this, testing every edge is as fast */
+#define FAN_PAD 2
+
+/* Bearing of y about ic, from v_0, in [0, 2 pi). */
+static double fan_bearing(const sset *S, const double *y)
+{
+    double p[3], q[3], x[3];
+    mfg_cross3(S->ic, S->v, p);
+    mfg_cross3(S->ic, y, q);
+    mfg_cross3(p, q, x);
+    double t = atan2(mfg_dot3(x, S->ic), mfg_dot3(p, q));
+    return t < 0.0 ? t + 2 * MFG_PI : t;
+}
+
+/* Index k of the triangle (ic, v_k, v_k+1) holding direction y. */
+static int64_t fan_locate(const sset *S, const double *y)
+{
+    double t = fan_bearing(S, y);
+    int64_t lo = 0, hi = S->nv; /* fan[lo] <= t < fan[hi] (fan[nv] = 2 pi) */
+    while (hi - lo > 1) {
+        int64_t mid = lo + (hi - lo) / 2;
+        if (S->fan[mid] <= t)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* The fan's bearings (S->fan, nv entries); S->fan stays NULL (every edge tested) for
+ * small polygons or when no inscribed circle was found. */
+static mfg_status fan_build(sset *S)
+{
+    if (S->nv < FAN_MIN_VERTICES || !(S->ir > 0.0))
+        return MFG_OK;
+    S->fan = malloc((size_t)S->nv * sizeof(double));
+    if (!S->fan)
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the fan of map %lld", (long long)S->id);
+    S->fan[0] = 0.0;
+    for (int64_t k = 1; k < S->nv; k++) {
+        S->fan[k] = fan_bearing(S, S->v + 3 * k);
+        if (!(S->fan[k] > S->fan[k - 1])) { /* rounding on a needle polygon: do without */
+            free(S->fan);
+            S->fan = NULL;
+            return MFG_OK;
+        }
+    }
+    return MFG_OK;
+}
+
 static int set_contains(const sset *S, const double *y)
 {
     if (mfg_dot3(S->cc, y) < S->cos_cr - 1e-12)
         return 0;
+    if (S->kind == MFG_VM_POLYGON && S->fan) {
+        int64_t k = fan_locate(S, y);
+        for (int64_t j = k - FAN_PAD; j <= k + FAN_PAD; j++)
+            if (mfg_dot3(y, S->n + 3 * ((j + S->nv) % S->nv)) < -TOL)
+                return 0;
+        return 1;
+    }
     if (S->kind == MFG_VM_POLYGON) {
         for (int64_t k = 0; k < S->nv; k++)
             if (mfg_dot3(y, S->n + 3 * k) < -TOL)
@@ -161,7 +229,24 @@ static int polygon_interval(const sset *S, const double *a, const double *b, dou
     double l = 0.0, h = 1.0;
     double m[3] = {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
     double tol = TOL * 0.5 * sqrt(mfg_dot3(m, m));
-    for (int64_t k = 0; k < S->nv; k++) {
+    /* Edges to test: all, or (fan) those of the triangles the arc crosses, padded. */
+    int64_t first = 0, count = S->nv;
+    if (S->fan) {
+        double g[3], gu[3];
+        mfg_cross3(a, b, g);
+        /* an arc whose circle passes near ic sweeps bearings too fast: test all */
+        if (mfg_unit3(g, gu) && fabs(mfg_dot3(gu, S->ic)) > 1e-3) {
+            int64_t ka = fan_locate(S, a), kb = fan_locate(S, b);
+            int64_t from = mfg_dot3(gu, S->ic) > 0.0 ? ka : kb, to = from == ka ? kb : ka;
+            int64_t span = ((to - from) % S->nv + S->nv) % S->nv + 1 + 2 * FAN_PAD;
+            if (span < S->nv) {
+                first = from - FAN_PAD + S->nv;
+                count = span;
+            }
+        }
+    }
+    for (int64_t t = 0; t < count; t++) {
+        int64_t k = S->fan ? (first + t) % S->nv : t;
         const double *n = S->n + 3 * k;
         double fa = mfg_dot3(a, n) + tol, fb = mfg_dot3(b, n) + tol;
         if (fa >= 0.0 && fb >= 0.0)
@@ -263,6 +348,7 @@ static void free_work(work *W)
     for (int64_t i = 0; i < W->nsets; i++) {
         free(W->sets[i].v);
         free(W->sets[i].n);
+        free(W->sets[i].fan);
     }
     free(W->sets);
     free(W->iv);
@@ -560,8 +646,10 @@ static mfg_status load_set(work *W, const double *vertices, const int64_t *offse
     if (st != MFG_OK)
         return st;
     bounding_cap(S);
-    if (S->kind == MFG_VM_POLYGON)
+    if (S->kind == MFG_VM_POLYGON) {
         inscribed_circle(S);
+        return fan_build(S);
+    }
     return MFG_OK;
 }
 
@@ -740,20 +828,26 @@ static mfg_status sweep_range(work *W, const double *a, const double *b, int64_t
                 return st_;                                                                  \
         }                                                                                    \
     } while (0)
-    if (first_range && (ne == 0 || W->ev[0].s > s0))
+    /* A point is recorded only when no piece next to it has its cover set: a piece
+     * before it where no set starts, or a piece after it where none ends, would build the
+     * same region (this keeps the candidates to about one per piece). */
+    if (first_range && (ne == 0 || W->ev[0].s > s0) && (point_edge || (ne == 0 && s1 <= s0)))
         CONSIDER(depth, s0, s0, 1);
     for (int64_t i = 0; i < ne;) {
         double s = W->ev[i].s, starts = 0.0, ends = 0.0;
-        if (s > prev && !point_edge)
+        int piece_before = s > prev && !point_edge;
+        if (piece_before)
             CONSIDER(depth, prev, s, 0);
-        int64_t j = i;
+        int64_t j = i, nstarts = 0, nends = 0;
         for (; j < ne && W->ev[j].s == s; j++) {
             if (W->ev[j].start)
-                starts += W->sets[W->ev[j].set].w;
+                starts += W->sets[W->ev[j].set].w, nstarts++;
             else
-                ends += W->sets[W->ev[j].set].w;
+                ends += W->sets[W->ev[j].set].w, nends++;
         }
-        CONSIDER(depth + starts, s, s, 1);
+        int piece_after = !point_edge && (j < ne || s < s1);
+        if (!((nstarts == 0 && piece_before) || (nends == 0 && piece_after)))
+            CONSIDER(depth + starts, s, s, 1);
         depth = depth + starts - ends;
         prev = s;
         i = j;
@@ -765,6 +859,7 @@ static mfg_status sweep_range(work *W, const double *a, const double *b, int64_t
 }
 
 #define NBUCKET 16
+#define BUCKET_MIN_INTERVALS 64
 
 /* Sweeps the part [r0, r1] of edge a->b: base is the ownership every point there has
  * anyway (the sets containing the whole cell, and the edge's own set); the listed sets
@@ -791,7 +886,8 @@ static mfg_status sweep_edge(work *W, int64_t own, const double *a, const double
     niv = kept;
     if (ebound < (keep_best ? W->best : threshold) - eps)
         return MFG_OK;
-    int nb = (a == b || r1 <= r0) ? 1 : NBUCKET;
+    /* buckets pay off only with many intervals; each bucket records its own pieces */
+    int nb = (a == b || r1 <= r0 || niv <= BUCKET_MIN_INTERVALS) ? 1 : NBUCKET;
     double bstart[NBUCKET], bend[NBUCKET], width = r1 > r0 ? r1 - r0 : 1.0;
     for (int k = 0; k < nb; k++)
         bstart[k] = bend[k] = 0.0;
@@ -832,27 +928,45 @@ typedef struct region {
     double *v;
     double c[3], margin;
     int64_t cand;
+    double *fan; /* large POLYGON: bearings of its vertices about c (region_holds) */
 } region;
 
-/* Makes normals that are equal or opposite within the tolerance exactly so (sorted by
- * x, a partner can only be among the neighbours in x).  ord is scratch of nn entries. */
-static void snap_normals(double *n, int64_t nn, int64_t *ord)
+static void region_release(region *R)
 {
-    const double snap = 1e-9;
+    free(R->v);
+    free(R->fan);
+    R->v = NULL;
+    R->fan = NULL;
+}
+
+/* Normals closer than this (in each coordinate) are made equal, or opposite: the
+ * tolerance's "boundaries this close touch", in normal space (~10 TOL). */
+#define SNAP_NORMAL 1e-9
+
+typedef struct keyed {
+    double x;
+    int64_t i;
+} keyed;
+
+static int cmp_keyed(const void *p, const void *q)
+{
+    const keyed *a = p, *b = q;
+    return (a->x > b->x) - (a->x < b->x);
+}
+
+/* Makes normals that are equal or opposite within SNAP_NORMAL exactly so (sorted by x, a
+ * partner can only be among the neighbours in x).  ord is scratch of nn entries. */
+static void snap_normals(double *n, int64_t nn, keyed *ord)
+{
+    const double snap = SNAP_NORMAL;
     for (int64_t i = 0; i < nn; i++)
-        ord[i] = i;
-    for (int64_t gap = nn / 2; gap > 0; gap /= 2) /* Shell sort by x */
-        for (int64_t i = gap; i < nn; i++)
-            for (int64_t j = i; j >= gap && n[3 * ord[j - gap]] > n[3 * ord[j]]; j -= gap) {
-                int64_t t = ord[j - gap];
-                ord[j - gap] = ord[j];
-                ord[j] = t;
-            }
+        ord[i] = (keyed){n[3 * i], i};
+    qsort(ord, (size_t)nn, sizeof *ord, cmp_keyed);
     for (int64_t i = 0; i < nn; i++) {
-        double *a = n + 3 * ord[i];
+        double *a = n + 3 * ord[i].i;
         /* same direction: neighbours above in x */
-        for (int64_t j = i + 1; j < nn && n[3 * ord[j]] - a[0] <= snap; j++) {
-            double *b = n + 3 * ord[j];
+        for (int64_t j = i + 1; j < nn && ord[j].x - a[0] <= snap; j++) {
+            double *b = n + 3 * ord[j].i;
             if (fabs(b[1] - a[1]) <= snap && fabs(b[2] - a[2]) <= snap)
                 memcpy(b, a, 3 * sizeof(double));
         }
@@ -860,17 +974,28 @@ static void snap_normals(double *n, int64_t nn, int64_t *ord)
         int64_t lo = 0, hi = nn;
         while (lo < hi) {
             int64_t mid = (lo + hi) / 2;
-            if (n[3 * ord[mid]] < -a[0] - snap)
+            if (ord[mid].x < -a[0] - snap)
                 lo = mid + 1;
             else
                 hi = mid;
         }
-        for (int64_t j = lo; j < nn && n[3 * ord[j]] <= -a[0] + snap; j++) {
-            double *b = n + 3 * ord[j];
+        for (int64_t j = lo; j < nn && ord[j].x <= -a[0] + snap; j++) {
+            double *b = n + 3 * ord[j].i;
             if (b != a && fabs(b[1] + a[1]) <= snap && fabs(b[2] + a[2]) <= snap)
                 b[0] = -a[0], b[1] = -a[1], b[2] = -a[2];
         }
     }
+}
+
+/* The vertex of v[0..n) farthest from p: twice (from v[0], then from the answer) it
+ * gives the two ends of a polygon no thicker than the tolerance, in O(n). */
+static int64_t farthest_vertex(const double *v, int64_t n, const double *p)
+{
+    int64_t best = 0;
+    for (int64_t i = 1; i < n; i++)
+        if (mfg_dot3(v + 3 * i, p) < mfg_dot3(v + 3 * best, p))
+            best = i;
+    return best;
 }
 
 static void arc_region(region *R, const double *p, const double *q)
@@ -977,7 +1102,7 @@ static mfg_status build_region(work *W, int64_t ci, region *R)
     for (int64_t k = 0; k < C->len; k++)
         nn += W->sets[set[k]].nv;
     double *nrm = malloc((size_t)(nn + 1) * 3 * sizeof(double));
-    int64_t *ord = malloc((size_t)(nn + 1) * sizeof(int64_t));
+    keyed *ord = malloc((size_t)(nn + 1) * sizeof(keyed));
     if (!nrm || !ord) {
         free(nrm), free(ord);
         return mfg_fail(MFG_ERR_NOMEM, "cannot build a region");
@@ -1011,15 +1136,8 @@ static mfg_status build_region(work *W, int64_t ci, region *R)
             memcpy(R->v, vm->vertices, (size_t)R->nv * 3 * sizeof(double));
         } else { /* a sliver of the tolerance: the arc (or point) it thickens */
             const double *va = vm->vertices;
-            int64_t bi = 0, bj = 0;
-            double bd = -1.0;
-            for (int64_t i = 0; i < vm->nvertices; i++)
-                for (int64_t j = i + 1; j < vm->nvertices; j++) {
-                    double d[3] = {va[3 * i] - va[3 * j], va[3 * i + 1] - va[3 * j + 1],
-                                   va[3 * i + 2] - va[3 * j + 2]};
-                    if (mfg_dot3(d, d) > bd)
-                        bd = mfg_dot3(d, d), bi = i, bj = j;
-                }
+            int64_t bi = farthest_vertex(va, vm->nvertices, va);
+            int64_t bj = farthest_vertex(va, vm->nvertices, va + 3 * bi);
             arc_region(R, va + 3 * bi, va + 3 * bj);
         }
     } else if (vm->kind == MFG_VM_EDGE) {
@@ -1484,9 +1602,66 @@ static int subset_of(const work *W, const cand *a, const cand *b)
 }
 
 /* Within reach (10 TOL) of a built region? */
+/* Bearing of y about c, from v, in [0, 2 pi). */
+static double bearing_about(const double *c, const double *v, const double *y)
+{
+    double p[3], q[3], x[3];
+    mfg_cross3(c, v, p);
+    mfg_cross3(c, y, q);
+    mfg_cross3(p, q, x);
+    double t = atan2(mfg_dot3(x, c), mfg_dot3(p, q));
+    return t < 0.0 ? t + 2 * MFG_PI : t;
+}
+
+/* Is x within reach of the large polygon region R?  Its centre is inside (margin >
+ * 10 TOL), so the fan about it locates x's edge in O(log v), as for the input sets. */
+static int region_fan_holds(const region *R, const double x[3], double reach)
+{
+    double t = bearing_about(R->c, R->v, x);
+    int64_t lo = 0, hi = R->nv;
+    while (hi - lo > 1) {
+        int64_t mid = lo + (hi - lo) / 2;
+        if (R->fan[mid] <= t)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    for (int64_t j = lo - FAN_PAD; j <= lo + FAN_PAD; j++) {
+        int64_t i = (j + R->nv) % R->nv;
+        double n[3], nu[3];
+        mfg_cross3(R->v + 3 * i, R->v + 3 * ((i + 1) % R->nv), n);
+        if (mfg_unit3(n, nu) && mfg_dot3(x, nu) < -reach)
+            return 0;
+    }
+    return 1;
+}
+
+/* The fan of a large POLYGON region (its centre is inside: margin > 10 TOL); left NULL
+ * (every edge tested) for small ones or if rounding breaks the order of the bearings. */
+static mfg_status region_fan_build(region *R)
+{
+    if (R->kind != MFG_VM_POLYGON || R->nv < FAN_MIN_VERTICES)
+        return MFG_OK;
+    R->fan = malloc((size_t)R->nv * sizeof(double));
+    if (!R->fan)
+        return mfg_fail(MFG_ERR_NOMEM, "cannot build a region");
+    R->fan[0] = 0.0;
+    for (int64_t k = 1; k < R->nv; k++) {
+        R->fan[k] = bearing_about(R->c, R->v, R->v + 3 * k);
+        if (!(R->fan[k] > R->fan[k - 1])) {
+            free(R->fan);
+            R->fan = NULL;
+            break;
+        }
+    }
+    return MFG_OK;
+}
+
 static int region_holds(const region *R, const double x[3])
 {
     const double reach = 10 * TOL;
+    if (R->kind == MFG_VM_POLYGON && R->fan)
+        return region_fan_holds(R, x, reach);
     if (R->kind == MFG_VM_POLYGON) {
         for (int64_t i = 0; i < R->nv; i++) {
             double n[3], nu[3];
@@ -1670,7 +1845,7 @@ static mfg_status regions_of(work *W, int maximal_only, double level, double eps
             double cw = cover_weight(W, c);
             if (!maximal_only && cw > top + eps) { /* a heavier set: start again */
                 for (int64_t r = 0; r < nr; r++)
-                    free(R[r].v);
+                    region_release(&R[r]);
                 nr = 0;
                 top = cw;
             }
@@ -1682,11 +1857,12 @@ static mfg_status regions_of(work *W, int maximal_only, double level, double eps
             if (dominated)
                 continue;
             st = build_region(W, idx[t], &R[nr]);
+            if (st == MFG_OK)
+                st = region_fan_build(&R[nr]);
             if (st == MFG_OK) {
                 nr++;
-            } else { /* a region half built: release its vertices */
-                free(R[nr].v);
-                R[nr].v = NULL;
+            } else { /* a region half built: release it */
+                region_release(&R[nr]);
             }
         }
         weight = maximal_only ? level : (nr ? top : 0.0);
@@ -1694,7 +1870,7 @@ static mfg_status regions_of(work *W, int maximal_only, double level, double eps
     if (st == MFG_OK)
         st = emit(W, R, nr, weight, out);
     for (int64_t r = 0; r < nr; r++)
-        free(R[r].v);
+        region_release(&R[r]);
     free(R);
     free(idx);
     free(tmp);

@@ -404,8 +404,102 @@ static void test_weight_scale(void)
     }
 }
 
+/* Issue 6, item 7: two large polygons (random vertices on two overlapping small
+ * circles): one POLYGON region, equal to their intersection on 20000 sample directions
+ * (away from the boundary by 1e-9), whose centre is its margin away from every edge of
+ * both inputs and no sample deeper inside.  (The speed of this case is in bench/.) */
+static int inside_polygon(const double *nr, int n, const double *d, double slack)
+{
+    for (int k = 0; k < n; k++)
+        if (dot(d, nr + 3 * k) < slack)
+            return 0;
+    return 1;
+}
+
+static void test_two_large_polygons(void)
+{
+    enum { N = 3000, NS = 20000 };
+    double *v = malloc(sizeof(double) * 6 * N), *nr = malloc(sizeof(double) * 6 * N);
+    mfg_rng_state = 12345;
+    random_small_circle_polygon(N, 0.5, v);
+    random_small_circle_polygon(N, 0.6, v + 3 * N);
+    /* make sure they overlap: move the second's centre next to the first's */
+    double c1[3] = {0, 0, 0}, c2[3] = {0, 0, 0};
+    for (int k = 0; k < N; k++)
+        for (int i = 0; i < 3; i++)
+            c1[i] += v[3 * k + i], c2[i] += v[3 * (N + k) + i];
+    unit(c1), unit(c2);
+    /* rotate the second polygon by the rotation taking c2 to c1, then 0.4 rad aside */
+    double ax[3], target[3], perp[3];
+    double t0[3] = {0.3, -0.7, 0.2};
+    cross(c1, t0, perp);
+    unit(perp);
+    for (int i = 0; i < 3; i++)
+        target[i] = cos(0.4) * c1[i] + sin(0.4) * perp[i];
+    cross(c2, target, ax);
+    double sa = sqrt(dot(ax, ax)), ca = dot(c2, target);
+    unit(ax);
+    for (int k = 0; k < N; k++) { /* Rodrigues */
+        double *p = v + 3 * (N + k), kxp[3], q[3];
+        cross(ax, p, kxp);
+        double kp = dot(ax, p);
+        for (int i = 0; i < 3; i++)
+            q[i] = p[i] * ca + kxp[i] * sa + ax[i] * kp * (1 - ca);
+        unit(q);
+        memcpy(p, q, sizeof q);
+    }
+    for (int k = 0; k < 2 * N; k++) {
+        int base = k < N ? 0 : N, j = k - base;
+        cross(v + 3 * (base + j), v + 3 * (base + (j + 1) % N), nr + 3 * k);
+        unit(nr + 3 * k);
+    }
+    int64_t off[] = {0, N, 2 * N};
+    int32_t kinds[] = {3, 3};
+    mfg_regions *r = NULL;
+    CHECK_EQ_INT(mfg_max_intersection(v, off, kinds, NULL, 2, NULL, &r), MFG_OK);
+    if (r && r->nregions == 1 && r->kinds[0] == MFG_VM_POLYGON) {
+        CHECK(r->weight == 2.0);
+        int64_t m = r->vertex_offsets[1];
+        double *rn = malloc(sizeof(double) * 3 * (size_t)m);
+        for (int64_t k = 0; k < m; k++) {
+            cross(r->vertices + 3 * k, r->vertices + 3 * ((k + 1) % m), rn + 3 * k);
+            unit(rn + 3 * k);
+        }
+        int disagree = 0, deeper = 0;
+        for (int s = 0; s < NS; s++) { /* Fibonacci points in the cap of radius 1 about c1 */
+            double z = 1 - (1 - cos(1.0)) * (s + 0.5) / NS, rr = sqrt(1 - z * z), th = s * M_PI * (3 - sqrt(5.0));
+            double e1[3], e2[3], d[3];
+            cross(c1, perp, e1);
+            memcpy(e2, perp, sizeof e2);
+            for (int i = 0; i < 3; i++)
+                d[i] = z * c1[i] + rr * (cos(th) * e1[i] + sin(th) * e2[i]);
+            int in_both = inside_polygon(nr, 2 * N, d, 1e-9), out_both = !inside_polygon(nr, 2 * N, d, -1e-9);
+            int in_reg = inside_polygon(rn, (int)m, d, 1e-9), out_reg = !inside_polygon(rn, (int)m, d, -1e-9);
+            disagree += (in_both && out_reg) || (out_both && in_reg);
+            double depth = 2.0;
+            for (int k = 0; k < 2 * N; k++)
+                depth = fmin(depth, dot(d, nr + 3 * k));
+            deeper += asin(fmin(depth, 1.0)) > r->margins[0] + 1e-12;
+        }
+        CHECK_EQ_INT(disagree, 0);
+        CHECK_EQ_INT(deeper, 0);
+        double cdepth = 2.0;
+        for (int k = 0; k < 2 * N; k++)
+            cdepth = fmin(cdepth, dot(r->centres, nr + 3 * k));
+        CHECK(fabs(asin(cdepth) - r->margins[0]) < 1e-9);
+        CHECK(r->margins[0] > 0.05);
+        free(rn);
+    } else {
+        CHECK(0);
+    }
+    mfg_regions_free(r);
+    free(v);
+    free(nr);
+}
+
 int main(void)
 {
+    test_two_large_polygons();
     test_weight_scale();
     test_thin_cover_many_vertices();
     test_single_polygon_margin();

@@ -540,6 +540,13 @@ def _flatten_maps(maps, weights):
                 raise ValueError(f"map {k} must be a VisibilityMap or a (k, 3) array")
             if len(v) == 0:
                 kind = "null"
+            else:  # a bare array holds directions of any length; the library takes unit
+                # vectors (within 1e-6): scale the others, leave unit ones bit for bit
+                length = np.linalg.norm(v, axis=1)
+                if not np.all(length > 0):
+                    raise ValueError(f"map {k} has a zero vertex")
+                far = np.abs(length - 1.0) > 1e-6
+                v = np.where(far[:, None], v / length[:, None], v)
         if kind not in KIND_CODES:
             raise ValueError(f"map {k} has unknown kind {kind!r}")
         verts.append(_as_float_array(v, f"map {k}").reshape(-1, 3))
