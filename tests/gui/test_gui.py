@@ -379,6 +379,41 @@ def _():
     App.closeDocument(doc.Name)
 
 
+@check("points of a placed cloud show where they are, also after a reload")
+def _():
+    import numpy as np
+    import Points
+    import mfgeom
+    doc = App.newDocument("Placed")
+    try:
+        box = doc.addObject("Part::Box", "Box")
+        box.Placement = App.Placement(App.Vector(500, -300, 40), App.Rotation(0, 0, 30))
+        local = [App.Vector(x, y, 0) for x in np.arange(-2.0, 13.0, 1.5)
+                 for y in np.arange(-2.0, 13.0, 1.5)]
+        cloud = doc.addObject("Points::Feature", "Cloud")
+        cloud.Points = Points.Points(local)
+        cloud.Placement = App.Placement(App.Vector(500, -300, 50), App.Rotation(0, 0, 30))
+        doc.recompute()
+        want = np.array([tuple(v) for v in cloud.Points.Points])
+        lo, hi = want.min(axis=0), want.max(axis=0)
+        obj = mfgeom.make_point_classification(doc, (box, "Face6"), cloud, 0.01)
+        Gui.updateGui()
+        for when in ("after the command", "after a reload"):
+            got = obj.ViewObject.Proxy.bound_box()
+            assert np.allclose(got[0], lo, atol=1e-3) and np.allclose(got[1], hi, atol=1e-3), \
+                (when, got, lo, hi)
+            assert sum(obj.ViewObject.Proxy.counts_shown().values()) == len(want), when
+            if when == "after the command":
+                path, name = os.path.join(OUT, "placed.FCStd"), obj.Name
+                doc.saveAs(path)
+                App.closeDocument(doc.Name)
+                doc = App.openDocument(path)
+                obj = doc.getObject(name)
+                Gui.updateGui()
+    finally:
+        App.closeDocument(doc.Name)
+
+
 @check("the bundled example opens with its objects visible")
 def _():
     import zipfile

@@ -135,10 +135,15 @@ class PointClassification:
         result = face_domain.classify_points_on_face(face, points, obj.Tolerance.Value,
                                                      strict=obj.Strict)
         from mfgeom.app import pointcloud
-        obj.Points = pointcloud.array_to_kernel(points)
+        kernel = refs.cloud_kernel(src_obj, src_subs)
+        obj.Points = kernel if kernel is not None else pointcloud.array_to_kernel(points)
         if not obj.Shape.isNull():
             obj.Shape = Part.Shape()
+        # Handed to the view provider with the Classes it is about to draw, so it need not
+        # read them back from the kernel; not saved (see __getstate__).
+        self.display_points = points
         obj.Classes = result.classes.tolist()
+        self.display_points = None
         obj.CountIn = result.counts["in"]
         obj.CountOn = result.counts["on"]
         obj.CountOut = result.counts["out"]

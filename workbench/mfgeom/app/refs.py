@@ -136,6 +136,17 @@ def resolve_points(obj, subs):
     return pts
 
 
+def cloud_kernel(obj, subs):
+    """The Points kernel (with the object's placement) that holds exactly the points
+    resolve_points(obj, subs) gives, when the source is a cloud; else None.  Copying it
+    costs a memcpy, building a new one from an array a conversion."""
+    if subs:
+        return None
+    if obj.isDerivedFrom("Points::Feature"):
+        return obj.Points
+    return _classified_points(obj)
+
+
 def _classified_points(obj):
     """The Points kernel property of a point classification feature, else None."""
     if "Points" in getattr(obj, "PropertiesList", ()) and \

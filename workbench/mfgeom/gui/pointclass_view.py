@@ -33,8 +33,11 @@ class ViewProviderPointClassification:
         light.model = coin.SoLightModel.BASE_COLOR  # flat colours: no shading of points
         self._style = coin.SoDrawStyle()
         self._style.pointSize = vobj.PointSize
+        # The kernel's placement (points read back from a saved kernel stay local)
+        self._placement = coin.SoMatrixTransform()
         self._root.addChild(light)
         self._root.addChild(self._style)
+        self._root.addChild(self._placement)
         self._sets = {}
         for cls in DRAW_ORDER:
             group = coin.SoSeparator()
@@ -70,6 +73,14 @@ class ViewProviderPointClassification:
         if prop == "PointSize" and getattr(self, "_style", None) is not None:
             self._style.pointSize = vobj.PointSize
 
+    def bound_box(self):
+        """(min, max) corners of what the point sets draw, in document coordinates."""
+        from pivy import coin
+        action = coin.SoGetBoundingBoxAction(coin.SbViewportRegion())
+        action.apply(self._root)
+        box = action.getBoundingBox()
+        return tuple(box.getMin().getValue()), tuple(box.getMax().getValue())
+
     def counts_shown(self):
         """Number of points drawn per class (for tests and reports)."""
         sets = getattr(self, "_sets", {})
@@ -81,13 +92,20 @@ class ViewProviderPointClassification:
             return
         from mfgeom.app import pointcloud
         classes = np.asarray(obj.Classes, dtype=np.uint8)
-        # Classes and Points agree once execute() (or a restore) has written both.
-        kernel = obj.Points
-        if kernel.CountPoints != len(classes):
+        matrix = np.eye(4)
+        # execute() hands over the points it classified (global coordinates) while it
+        # writes Classes; otherwise (a restore, an undo) they come from the kernel.
+        points = getattr(obj.Proxy, "display_points", None)
+        if points is not None and len(points) == len(classes):
+            points = points.astype(np.float32)
+        elif obj.Points.CountPoints == len(classes):
+            points, matrix = pointcloud.kernel_local(obj.Points)
+        else:  # Classes and Points disagree until execute() (or a restore) wrote both
             classes = np.zeros(0, dtype=np.uint8)
             points = np.zeros((0, 3), dtype=np.float32)
-        else:
-            points = pointcloud.kernel_to_array(kernel).astype(np.float32)
+        # Coin multiplies row vectors: its matrix is the transpose of FreeCAD's
+        from pivy import coin
+        self._placement.matrix.setValue(coin.SbMatrix(*matrix.T.ravel().tolist()))
         for cls, (coords, point_set) in self._sets.items():
             selected = points[classes == cls]
             coords.point.setNum(len(selected))
