@@ -348,3 +348,14 @@ def test_large_result_through_a_slow_pipe_is_complete():
                   f'sys.stdout.write(sys.stdin.read())"', json.dumps(doc))
     assert proc.returncode == 0 and proc.stderr == ""
     assert json.loads(proc.stdout)["codes"] == [1] * 200000
+
+
+def test_missing_library_is_a_json_error(tmp_path):
+    env = _env()
+    env["MFGEOM_LIBRARY"] = str(tmp_path / "libmfgeom.so")
+    proc = subprocess.run([PYTHON, "-m", "mfgeom.cli", "visibility-map"],
+                          input=json.dumps(POCKET), capture_output=True, text=True, env=env,
+                          timeout=120)
+    assert proc.returncode == 2 and proc.stdout == ""
+    msg = _only_json_error(proc.stderr, "cannot be used")
+    assert f"{tmp_path / 'libmfgeom.so'}: no such file" in msg and "scripts/build.sh" in msg
