@@ -63,10 +63,12 @@ MFG_API const char *mfg_version(void);
 /* Tolerance-based point classification (Chung & Park, seed 002)             */
 /* ------------------------------------------------------------------------- */
 
-/* Classification codes. */
-#define MFG_OUT 0
-#define MFG_IN 1
-#define MFG_ON 2
+/* Classification codes (stored as uint8_t in the output arrays). */
+typedef enum mfg_class {
+    MFG_OUT = 0, /* outside the region, farther than tol from its boundary */
+    MFG_IN = 1,  /* inside, farther than tol from the boundary */
+    MFG_ON = 2   /* within tol of the boundary */
+} mfg_class;
 
 /*
  * A region is a set of rings given as one flat vertex array and ring offsets:
@@ -125,11 +127,21 @@ MFG_API void mfg_region_free(mfg_region *region);
 /* Visibility maps on the unit sphere (Ha 2001, seed 000)                    */
 /* ------------------------------------------------------------------------- */
 
-/* Kinds of a visibility map (or of any spherical convex set handled below). */
-#define MFG_VM_NULL 0    /* empty: the normals lie in no closed hemisphere */
-#define MFG_VM_POINT 1   /* one direction, or two antipodal ones (see below) */
-#define MFG_VM_EDGE 2    /* an arc of one great circle (possibly the whole circle) */
-#define MFG_VM_POLYGON 3 /* a spherical convex polygon with interior */
+/* Kinds of a visibility map (or of any spherical set handled below); stored as int32_t
+ * in mfg_spoly.kind, mfg_regions.kinds and the kinds[] inputs. */
+typedef enum mfg_vm_kind {
+    MFG_VM_NULL = 0,    /* empty: the normals lie in no closed hemisphere */
+    MFG_VM_POINT = 1,   /* one direction, or two antipodal ones (see below) */
+    MFG_VM_EDGE = 2,    /* an arc of one great circle (possibly the whole circle) */
+    MFG_VM_POLYGON = 3, /* a spherical convex polygon with interior */
+    MFG_VM_FACE = 4     /* output only (mfg_min_intersection): a face of the arrangement
+                         * of the input sets, not convex in general; its shape is not
+                         * computed (no vertices), only a direction inside it */
+} mfg_vm_kind;
+
+/* Largest angular distance (radians) of a point of a drafted map from the polygon
+ * returned for it (mfg_visibility_map with draft_angle > 0; see there). */
+#define MFG_DRAFT_TOL 1e-4
 
 /*
  * A spherical convex set, as returned by mfg_visibility_map (owned by the library,
@@ -163,7 +175,7 @@ typedef struct mfg_spoly {
  * draft_angle (radians, 0 <= a < pi/2) shrinks the map to { d : d . p^ >= sin a }; that
  * set is bounded by small circles, so the result is a polygon inscribed in it with
  * great arcs: every direction returned satisfies the draft, and no point of the true set
- * is farther than draft_tol = 1e-4 rad from the polygon.
+ * is farther than MFG_DRAFT_TOL (1e-4 rad) from the polygon.
  */
 MFG_API mfg_status mfg_visibility_map(const double *normals, int64_t m, double draft_angle,
                                       mfg_spoly **out_map);
@@ -175,12 +187,23 @@ MFG_API void mfg_spoly_free(mfg_spoly *poly);
 /* ------------------------------------------------------------------------- */
 
 /*
- * Input: npolys spherical convex sets in the mfg_spoly layout, flattened:
- *   vertices[3*k ..]           all vertices, polygon after polygon
- *   offsets[0..npolys]         polygon i uses vertices offsets[i] .. offsets[i+1]-1
- *   kinds[i]                   MFG_VM_* (NULL polygons are ignored)
- *   closed[i]                  1 for an EDGE that is a whole great circle (may be NULL)
- *   weights[i]                 >= 0 (NULL: all 1)
+ * Input: npolys (1 .. 2^40) spherical convex sets in the mfg_spoly layout, flattened:
+ *   vertices[3*k ..]           all vertices, polygon after polygon: unit vectors (length
+ *                              1 within 1e-6; anything else is refused as a mix-up)
+ *   offsets[0..npolys]         polygon i uses vertices offsets[i] .. offsets[i+1]-1;
+ *                              offsets[0] = 0, non-decreasing, at most 2^40; at most
+ *                              2^31 - 1 vertices per set
+ *   kinds[i]                   MFG_VM_NULL .. MFG_VM_POLYGON (NULL sets are ignored)
+ *   closed[i]                  0 or 1; 1 only for an EDGE that is a whole great circle
+ *                              (the array may be NULL: all 0)
+ *   weights[i]                 finite, >= 0 (NULL: all 1); 0 ignores the set.  Only the
+ *                              ratios matter: the result is the same for all weights
+ *                              scaled by any factor (up to rounding of the factor).
+ * Each set must have the shape its kind says, within 1e-9 rad, or the call fails with
+ * MFG_ERR_INVALID and a message naming the set: a POINT's two vertices antipodal; an
+ * EDGE's vertices on one great circle, each piece shorter than pi and turning the same
+ * way, less than a whole turn (closed: exactly one); a POLYGON convex and
+ * counter-clockwise (every turn to the left, once round its interior).
  * Sets are closed.  Coverage is decided with an angular tolerance of MFG_SPHERE_TOL:
  * boundaries closer than that count as touching, so two maps sharing a boundary circle
  * (common for faces with a common normal) overlap along it.
@@ -188,7 +211,7 @@ MFG_API void mfg_spoly_free(mfg_spoly *poly);
  * Output (mfg_regions, released with mfg_regions_free):
  *   weight          the maximum covered weight (or the level asked for)
  *   nregions        number of regions; for region r:
- *   kinds[r]        MFG_VM_POLYGON, MFG_VM_EDGE or MFG_VM_POINT
+ *   kinds[r]        MFG_VM_POLYGON, MFG_VM_EDGE or MFG_VM_POINT (MFG_VM_FACE: minimum)
  *   closed[r]       1 for an EDGE region that is a whole great circle (as in mfg_spoly)
  *   vertex_offsets, vertices   its vertices as in mfg_spoly (polygons counter-clockwise)
  *   cover_offsets, cover       indices of the input sets that cover it
@@ -231,8 +254,8 @@ MFG_API mfg_status mfg_level_regions(const double *vertices, const int64_t *offs
 
 /* Minimum intersection: the least covered weight over the sphere and, per region of
  * that coverage (a face of the arrangement, not convex in general), its cover set and a
- * representative direction inside it.  Such a region is reported with kind
- * MFG_VM_POLYGON but no vertices (its shape is not computed) and margin 0. */
+ * representative direction inside it.  Such a region has kind MFG_VM_FACE, no vertices
+ * (its shape is not computed) and margin 0. */
 MFG_API mfg_status mfg_min_intersection(const double *vertices, const int64_t *offsets,
                                         const int32_t *kinds, const int32_t *closed,
                                         int64_t npolys, const double *weights,

@@ -1822,7 +1822,7 @@ static mfg_status regions_of(work *W, int maximal_only, double level, double eps
                 dup = same_set(W, &W->cands[R[r].cand], c);
             if (dup)
                 continue;
-            R[nr].kind = MFG_VM_POLYGON; /* a face, not convex: only its direction */
+            R[nr].kind = MFG_VM_FACE; /* a face, not convex: only its direction */
             R[nr].cand = idx[t];
             memcpy(R[nr].c, c->x, sizeof R[nr].c);
             nr++;

@@ -508,12 +508,10 @@ static int64_t clip_hemisphere(const double *poly, int64_t n, const double nrm[3
     return m;
 }
 
-#define DRAFT_TOL 1e-4
-
 /* Shrinks a POLYGON map to the directions at least draft_angle away from every
  * hemisphere boundary: clipped by, for each hull normal u, a polygon inscribed in the
  * small circle d.u^ = sin(draft) (every chord lies inside that cap, so the result is
- * conservative; the chords' sagitta is below DRAFT_TOL). */
+ * conservative; the chords' sagitta is below MFG_DRAFT_TOL, mfgeom.h). */
 static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
 {
     vref single[2];
@@ -534,7 +532,7 @@ static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
     }
     double rho = MFG_PI / 2 - draft - 1e-12; /* cap radius, a hair inside */
     double sr = sin(rho), cr = cos(rho);
-    int64_t steps = (int64_t)ceil(2.0 * MFG_PI / sqrt(8.0 * DRAFT_TOL / fmax(sr, 1e-12)));
+    int64_t steps = (int64_t)ceil(2.0 * MFG_PI / sqrt(8.0 * MFG_DRAFT_TOL / fmax(sr, 1e-12)));
     if (steps < 8)
         steps = 8;
     int64_t cap = nu * steps + 8;
@@ -754,8 +752,9 @@ static int orient3_close(vref a, vref b, vref p)
     return mfg_orient3(a, b, p);
 }
 
-/* Strictly convex hull of the sorted points without repeats (Andrew's monotone chain),
- * counter-clockwise: orient3 > 0 at every vertex.  out has room for 2n; returns its size. */
+/* Strictly convex hull of the sorted points (Andrew's monotone chain), counter-clockwise:
+ * orient3 > 0 at every vertex; repeats and points on an edge are popped (orient3 = 0).
+ * out has room for 2n; returns its size. */
 static int64_t monotone_chain(const proj_pt *s, int64_t n, vref *out)
 {
     int64_t k = 0;
@@ -867,14 +866,10 @@ static mfg_status add_batch(cone3 *k, batch_work *w, int64_t np)
         }
         if (n > h) {
             proj_sort(&f, w->pts, w->tmp, n);
-            int64_t u = 0; /* drop repeats: positive multiples project to one point */
-            for (int64_t i = 0; i < n; i++)
-                if (u == 0 || proj_cmp(&f, &w->pts[u - 1], &w->pts[i]) != 0)
-                    w->pts[u++] = w->pts[i];
-            int64_t nh = monotone_chain(w->pts, u, w->chain);
+            int64_t nh = monotone_chain(w->pts, n, w->chain);
             if (nh < 3) /* it holds the old hull, which spans the space */
                 return mfg_fail(MFG_ERR_INTERNAL, "projected hull of %lld points collapsed",
-                                (long long)u);
+                                (long long)n);
             if ((st = hull_reserve(k, nh + 2)) != MFG_OK)
                 return st;
             memcpy(k->h, w->chain, (size_t)nh * sizeof(vref));

@@ -8,6 +8,12 @@
 #include "mfg_test.h"
 #include "mfgeom.h"
 
+/* The enums keep the numbers of the ABI (the arrays hold them as int32_t / uint8_t). */
+_Static_assert(MFG_VM_NULL == 0 && MFG_VM_POINT == 1 && MFG_VM_EDGE == 2 && MFG_VM_POLYGON == 3 &&
+                   MFG_VM_FACE == 4,
+               "kind codes");
+_Static_assert(MFG_OUT == 0 && MFG_IN == 1 && MFG_ON == 2, "class codes");
+
 /* Octant-like triangles: x>=0,y>=0,z>=0 is the spherical triangle (1,0,0),(0,1,0),(0,0,1). */
 static const double OCT[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 
@@ -397,8 +403,12 @@ static void test_weight_scale(void)
         if (r) {
             CHECK(r->weight == 0.0);
             CHECK(r->nregions >= 1);
-            for (int64_t g = 0; g < r->nregions; g++)
+            for (int64_t g = 0; g < r->nregions; g++) {
                 CHECK(r->cover_offsets[g + 1] == r->cover_offsets[g]);
+                /* issue 6, item 10: a face of the arrangement, its own kind, no vertices */
+                CHECK_EQ_INT(r->kinds[g], MFG_VM_FACE);
+                CHECK(r->vertex_offsets[g + 1] == r->vertex_offsets[g] && r->margins[g] == 0.0);
+            }
         }
         mfg_regions_free(r);
     }

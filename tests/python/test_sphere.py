@@ -975,6 +975,9 @@ def test_level_regions_and_min_intersection_against_sampling():
     # minimum intersection: nothing sampled is covered less; its points have that weight
     mn = core.min_intersection(maps)
     assert mn.count <= counts.min()
+    # its regions are faces of the arrangement: their own kind, no vertices (issue 6)
+    assert mn.kinds and all(k == "face" for k in mn.kinds)
+    assert all(len(v) == 0 for v in mn.regions) and all(m == 0 for m in mn.margins)
     for r, cov in enumerate(mn.covers):
         c = np.asarray(mn.centres[r])
         assert len(cov) == mn.count

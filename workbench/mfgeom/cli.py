@@ -19,6 +19,8 @@ reader has gone, a full disk).
              {"kind": ..., "vertices": [...], "closed": false} as visibility-map prints it
         out: {"count": c, "direction": [x, y, z], "margin": rad,
               "regions": [{"kind", "closed", "vertices", "cover", "centre", "margin"}, ...]}
+             (min-intersection regions have kind "face" and no vertices: faces of the
+             arrangement, not convex; a list of vertices is scaled to unit length)
     mfgeom classify-points  [FILE] [--names]
         in:  {"rings": [[[x, y], ...], ...], "points": [[x, y], ...], "tol": e}
         out: {"codes": [0 | 1 | 2, ...]}   (0 OUT, 1 IN, 2 ON; --names adds "names")

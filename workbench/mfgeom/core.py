@@ -175,16 +175,20 @@ class _Function:
         object.__setattr__(self, key, value)
         object.__setattr__(self, "_cfunc", None)   # re-declared: bind again
 
+    def _bind(self, cdll):
+        # A fresh function object of our own: concurrent first calls each bind one,
+        # identically, and whichever is stored last is as good as the other.
+        cfunc = cdll[self.name]
+        cfunc.restype = self.restype
+        if self.argtypes is not None:
+            cfunc.argtypes = self.argtypes
+        object.__setattr__(self, "_cfunc", cfunc)
+        return cfunc
+
     def __call__(self, *args):
         cfunc = self._cfunc
         if cfunc is None:
-            # A fresh function object of our own: concurrent first calls each bind one,
-            # identically, and whichever is stored last is as good as the other.
-            cfunc = load()[self.name]
-            cfunc.restype = self.restype
-            if self.argtypes is not None:
-                cfunc.argtypes = self.argtypes
-            object.__setattr__(self, "_cfunc", cfunc)
+            cfunc = self._bind(load())
         return cfunc(*args)
 
 
@@ -216,7 +220,12 @@ def load():
     if loaded is None:
         with _load_lock:
             if _loaded is None:
-                _loaded = _find_and_open()
+                cdll, path = _find_and_open()
+                # Bind every declared function now, so that later calls (also those of
+                # finalizers at interpreter shutdown) need nothing but their own object.
+                for function in list(vars(_lib).values()):
+                    function._bind(cdll)
+                _loaded = (cdll, path)
             loaded = _loaded
     return loaded[0]
 
@@ -507,7 +516,8 @@ class Intersection:
     """Result of :func:`max_intersection` / :func:`level_regions`.
 
     ``count``: the covered weight; ``regions``: list of (k, 3) vertex arrays (best
-    first); ``kinds``: "polygon" / "edge" / "point" per region; ``covers``: per region,
+    first); ``kinds``: "polygon" / "edge" / "point" per region ("face" for
+    :func:`min_intersection`: a face of the arrangement, no vertices); ``covers``: per region,
     the indices of the input maps covering it; ``centres`` (r, 3) and ``margins`` (r,):
     the representative direction of each region and how far (radians) it may move and
     stay inside; ``direction`` and ``margin``: those of the best region; ``closed``: per
@@ -609,5 +619,6 @@ def level_regions(maps, level, weights=None):
 
 def min_intersection(maps, weights=None):
     """The least covered weight over the sphere; per least-covered face its cover set
-    and a direction inside it (``regions`` are empty arrays: faces are not convex)."""
+    and a direction inside it (kind "face"; ``regions`` are empty arrays: faces are not
+    convex, their shape is not computed)."""
     return _call_regions(_lib.mfg_min_intersection, maps, weights)

@@ -9,5 +9,9 @@ ON = 2
 CLASS_NAMES = {OUT: "OUT", IN: "IN", ON: "ON"}
 
 # Kinds of spherical sets (enum mfg_vm_kind): visibility maps and intersection regions.
-KINDS = {0: "null", 1: "point", 2: "edge", 3: "polygon"}
-KIND_CODES = {name: code for code, name in KINDS.items()}
+# "face" (MFG_VM_FACE) is output only: a region of min_intersection, a face of the
+# arrangement whose shape is not computed (no vertices).
+KINDS = {0: "null", 1: "point", 2: "edge", 3: "polygon", 4: "face"}
+FACE = 4
+# The kinds a map given to the library may have.
+KIND_CODES = {name: code for code, name in KINDS.items() if code != FACE}
