@@ -352,6 +352,355 @@ static void test_threads(void)
     mfg_region_free(reg);
 }
 
+/* ---- Prepared index on dense and spiky regions ----------------------------------
+ * The prepared region refines busy grid cells into a quadtree with "ordered" leaves
+ * (edges sorted across a slab, bisection on float heights with a certified bound).
+ * Every shape below must give exactly the one-shot answers, for points spread over the
+ * box, on vertices, on edges, one ulp off edges, and about tol away from edges. */
+
+typedef struct shape {
+    double *xy;
+    int64_t off[4097];
+    int64_t nrings, nv, cap;
+} shape;
+
+static void shape_vertex(shape *s, double x, double y)
+{
+    if (s->nv == s->cap) {
+        s->cap = s->cap ? 2 * s->cap : 1024;
+        s->xy = realloc(s->xy, (size_t)s->cap * 2 * sizeof(double));
+    }
+    s->xy[2 * s->nv] = x;
+    s->xy[2 * s->nv + 1] = y;
+    s->nv++;
+}
+
+static void shape_close_ring(shape *s)
+{
+    s->nrings++;
+    s->off[s->nrings] = s->nv;
+}
+
+/* n spikes between radii r_in and r_out around (cx, cy), coordinates rounded to
+ * integers when `integral` (for the integer reference). */
+static void add_star(shape *s, int n, double cx, double cy, double r_out, double r_in, int integral)
+{
+    for (int k = 0; k < 2 * n; k++) {
+        double t = M_PI * k / n, r = k % 2 ? r_in : r_out;
+        double x = cx + r * cos(t), y = cy + r * sin(t);
+        shape_vertex(s, integral ? round(x) : x, integral ? round(y) : y);
+    }
+    shape_close_ring(s);
+}
+
+/* A comb: base [0, n (w + gap)] x [0, 1] with n teeth of width w and height h. */
+static void add_comb(shape *s, int n, double w, double gap, double h)
+{
+    shape_vertex(s, 0.0, 0.0);
+    shape_vertex(s, n * (w + gap), 0.0);
+    for (int k = n - 1; k >= 0; k--) {
+        double x0 = k * (w + gap);
+        shape_vertex(s, x0 + w, 1.0 + h);
+        shape_vertex(s, x0, 1.0 + h);
+        if (k > 0)
+            shape_vertex(s, x0, 1.0);
+    }
+    shape_close_ring(s);
+}
+
+/* A thick spiral band of `turns` turns (outer arm out, inner arm back). */
+static void add_spiral(shape *s, double turns, int steps)
+{
+    for (int k = 0; k <= steps; k++) {
+        double t = 2 * M_PI * turns * k / steps, r = 1.0 + t;
+        shape_vertex(s, r * cos(t), r * sin(t));
+    }
+    for (int k = steps; k >= 0; k--) {
+        double t = 2 * M_PI * turns * k / steps, r = 1.0 + t + 2.5;
+        shape_vertex(s, r * cos(t), r * sin(t));
+    }
+    shape_close_ring(s);
+}
+
+/* Edges of the shape, for probe points. */
+static void shape_edge(const shape *s, int64_t e, double *ax, double *ay, double *bx, double *by)
+{
+    int64_t r = 0;
+    while (s->off[r + 1] <= e)
+        r++;
+    int64_t f = e + 1 < s->off[r + 1] ? e + 1 : s->off[r];
+    *ax = s->xy[2 * e];
+    *ay = s->xy[2 * e + 1];
+    *bx = s->xy[2 * f];
+    *by = s->xy[2 * f + 1];
+}
+
+/* Probe points: uniform over the grown box, vertices, on edges, one ulp off them, and
+ * about tol away along the edge normal. */
+static int64_t probe_points(const shape *s, double tol, double *pts, int64_t np)
+{
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    for (int64_t k = 0; k < s->nv; k++) {
+        x0 = fmin(x0, s->xy[2 * k]);
+        x1 = fmax(x1, s->xy[2 * k]);
+        y0 = fmin(y0, s->xy[2 * k + 1]);
+        y1 = fmax(y1, s->xy[2 * k + 1]);
+    }
+    double gx = 0.05 * (x1 - x0) + tol, gy = 0.05 * (y1 - y0) + tol;
+    int64_t m = 0;
+    while (m < np) {
+        long kind = rng_int(0, 5);
+        double x, y;
+        if (kind <= 1) {
+            x = rng_uniform(x0 - gx, x1 + gx);
+            y = rng_uniform(y0 - gy, y1 + gy);
+        } else {
+            double ax, ay, bx, by;
+            shape_edge(s, rng_int(0, s->nv - 1), &ax, &ay, &bx, &by);
+            double u = kind == 2 ? 0.0 : rng_uniform(0.0, 1.0);
+            x = ax + u * (bx - ax);
+            y = ay + u * (by - ay);
+            if (kind == 4) {
+                x = nextafter(x, rng_int(0, 1) ? INFINITY : -INFINITY);
+                y = nextafter(y, rng_int(0, 1) ? INFINITY : -INFINITY);
+            } else if (kind == 5) {
+                double len = hypot(bx - ax, by - ay), sgn = rng_int(0, 1) ? 1.0 : -1.0;
+                double d = tol * (1.0 + rng_uniform(-1e-12, 1e-12));
+                if (len > 0) {
+                    x += sgn * d * -(by - ay) / len;
+                    y += sgn * d * (bx - ax) / len;
+                }
+            }
+        }
+        /* Keep inside the accepted range (a step off 0 would be subnormal). */
+        pts[2 * m] = fabs(x) < MFG_MIN_COORD ? 0.0 : x;
+        pts[2 * m + 1] = fabs(y) < MFG_MIN_COORD ? 0.0 : y;
+        m++;
+    }
+    return m;
+}
+
+/* Prepared == one-shot on every probe point; returns the region info. */
+static struct mfg_region_info check_shape(const char *label, const shape *s, double tol, int64_t np)
+{
+    double *pts = malloc((size_t)np * 2 * sizeof(double));
+    uint8_t *one = malloc((size_t)np), *prep = malloc((size_t)np);
+    struct mfg_region_info info;
+    memset(&info, 0, sizeof info);
+    probe_points(s, tol, pts, np);
+    CHECK_EQ_INT(mfg_classify_points(s->xy, s->off, s->nrings, pts, np, tol, one), MFG_OK);
+    mfg_region *reg = NULL;
+    CHECK_EQ_INT(mfg_region_new(s->xy, s->off, s->nrings, tol, &reg), MFG_OK);
+    CHECK_EQ_INT(mfg_region_classify(reg, pts, np, prep), MFG_OK);
+    CHECK_EQ_INT(mfg_region_info(reg, &info), MFG_OK);
+    mfg_region_free(reg);
+    int64_t bad = 0, counts[3] = {0, 0, 0};
+    for (int64_t k = 0; k < np; k++) {
+        counts[one[k] < 3 ? one[k] : 0]++;
+        if (one[k] != prep[k] && bad++ < 3)
+            fprintf(stderr, "%s tol %g: point (%.17g, %.17g) one-shot %d prepared %d\n", label, tol,
+                    pts[2 * k], pts[2 * k + 1], one[k], prep[k]);
+    }
+    CHECK_EQ_INT(bad, 0);
+    /* Probe points on edges make ON answers; the uniform ones IN and OUT. */
+    int all3 = counts[MFG_ON] > 0 && counts[MFG_OUT] > 0 && (counts[MFG_IN] > 0 || tol >= 0.1);
+    if (!all3)
+        fprintf(stderr, "%s tol %g: IN %lld OUT %lld ON %lld\n", label, tol, (long long)counts[MFG_IN],
+                (long long)counts[MFG_OUT], (long long)counts[MFG_ON]);
+    CHECK(all3); /* (a large tol can cover all of a thin shape) */
+    /* The info is consistent. */
+    CHECK_EQ_INT(info.edge_entries, info.list_entries + info.ordered_entries);
+    CHECK(info.nodes >= info.list_leaves + info.ordered_leaves);
+    CHECK(info.edge_cells >= 1 && info.edge_cells <= info.columns * info.rows);
+    free(pts);
+    free(one);
+    free(prep);
+    return info;
+}
+
+static void shape_scale(shape *dst, const shape *src, double scale, double shift)
+{
+    memset(dst, 0, sizeof *dst);
+    for (int64_t k = 0; k < src->nv; k++)
+        shape_vertex(dst, src->xy[2 * k] * scale + shift, src->xy[2 * k + 1] * scale + shift);
+    memcpy(dst->off, src->off, sizeof src->off);
+    dst->nrings = src->nrings;
+}
+
+static void test_prepared_spiky(void)
+{
+    static const double tols[] = {0.0, 1e-9, 1e-3, 0.2};
+    for (int ti = 0; ti < 4; ti++) {
+        double tol = tols[ti];
+        shape s;
+        /* Stars: few and many spikes, the 1000-spike star of the benchmark. */
+        int spikes[] = {7, 250, 2000};
+        for (int k = 0; k < 3; k++) {
+            memset(&s, 0, sizeof s);
+            add_star(&s, spikes[k], 0.0, 0.0, 1.0, 0.2, 0);
+            struct mfg_region_info info = check_shape("star", &s, tol, 20000);
+            if (k == 2 && tol < 1e-6) /* the index must really use ordered slabs */
+                CHECK(info.ordered_leaves > 0 && info.ordered_entries > info.edge_entries / 2);
+            free(s.xy);
+        }
+        memset(&s, 0, sizeof s);
+        add_spiral(&s, 12.0, 3000);
+        check_shape("spiral", &s, tol, 20000);
+        free(s.xy);
+        memset(&s, 0, sizeof s);
+        add_comb(&s, 800, 0.3, 0.7, 50.0);
+        check_shape("comb", &s, tol, 20000);
+        free(s.xy);
+        /* Many tiny holes (squares and triangles) in a square, some touching. */
+        memset(&s, 0, sizeof s);
+        shape_vertex(&s, -1.0, -1.0);
+        shape_vertex(&s, 101.0, -1.0);
+        shape_vertex(&s, 101.0, 101.0);
+        shape_vertex(&s, -1.0, 101.0);
+        shape_close_ring(&s);
+        for (int h = 0; h < 1500; h++) {
+            double cx = rng_int(0, 199) * 0.5, cy = rng_int(0, 199) * 0.5, r = rng_uniform(0.01, 0.3);
+            shape_vertex(&s, cx - r, cy - r);
+            shape_vertex(&s, cx + r, cy - r);
+            shape_vertex(&s, cx + (h % 2 ? 0.0 : r), cy + r);
+            if (h % 2 == 0)
+                shape_vertex(&s, cx - r, cy + r);
+            shape_close_ring(&s);
+        }
+        check_shape("holes", &s, tol, 20000);
+        /* Huge and tiny scales, shifted away from the origin. */
+        for (int e = -150; e <= 150; e += 100) {
+            shape t;
+            shape_scale(&t, &s, ldexp(1.0, e), 3.0 * ldexp(1.0, e + 7));
+            check_shape("holes scaled", &t, tol * ldexp(1.0, e), 10000);
+            free(t.xy);
+        }
+        free(s.xy);
+    }
+}
+
+/* Thousands of spikes inside one grid cell (a big frame sets the cell size): the cell's
+ * quadtree must go deep, and still answer exactly. */
+static void test_prepared_deep_cell(void)
+{
+    for (int ti = 0; ti < 3; ti++) {
+        double tol = ti == 0 ? 0.0 : (ti == 1 ? 1e-12 : 1e-6);
+        shape s;
+        memset(&s, 0, sizeof s);
+        shape_vertex(&s, 0.0, 0.0);
+        shape_vertex(&s, 1000.0, 0.0);
+        shape_vertex(&s, 1000.0, 1000.0);
+        shape_vertex(&s, 0.0, 1000.0);
+        shape_close_ring(&s);
+        add_star(&s, 3000, 500.3, 500.7, 0.4, 0.05, 0);
+        struct mfg_region_info info = check_shape("deep", &s, tol, 5000);
+        CHECK(info.max_depth >= 4);
+        CHECK(info.ordered_leaves > 10);
+        /* Most queries near the star: half of them inside its box. */
+        enum { NP = 40000 };
+        static double pts[2 * NP];
+        static uint8_t one[NP], prep[NP];
+        for (int k = 0; k < NP; k++) {
+            pts[2 * k] = 500.3 + rng_uniform(-0.45, 0.45);
+            pts[2 * k + 1] = 500.7 + rng_uniform(-0.45, 0.45);
+        }
+        mfg_region *reg = NULL;
+        CHECK_EQ_INT(mfg_region_new(s.xy, s.off, s.nrings, tol, &reg), MFG_OK);
+        CHECK_EQ_INT(mfg_region_classify(reg, pts, NP, prep), MFG_OK);
+        mfg_region_free(reg);
+        CHECK_EQ_INT(mfg_classify_points(s.xy, s.off, s.nrings, pts, NP, tol, one), MFG_OK);
+        CHECK(memcmp(one, prep, NP) == 0);
+        free(s.xy);
+    }
+}
+
+/* Many edges through one point (a fan of spikes sharing the centre vertex) cannot be
+ * ordered near the centre: the quadtree stops at its depth limit with a plain list. */
+static void test_prepared_fan(void)
+{
+    shape s;
+    memset(&s, 0, sizeof s);
+    for (int k = 0; k < 400; k++) {
+        double t0 = 2 * M_PI * k / 400, t1 = 2 * M_PI * (k + 0.5) / 400;
+        shape_vertex(&s, 0.0, 0.0);
+        shape_vertex(&s, cos(t0), sin(t0));
+        shape_vertex(&s, cos(t1), sin(t1));
+    }
+    shape_close_ring(&s);
+    for (int ti = 0; ti < 3; ti++)
+        check_shape("fan", &s, ti == 0 ? 0.0 : (ti == 1 ? 1e-10 : 1e-3), 20000);
+    free(s.xy);
+}
+
+/* A dense integer star against the independent integer reference (exact arithmetic):
+ * checks the prepared answers themselves, not only their agreement.  Coordinates stay
+ * below 2^15 so the reference's squared cross products fit in int64. */
+static void test_prepared_star_reference(void)
+{
+    enum { NSP = 1500, NV = 2 * NSP, NP = 3000 };
+    shape s;
+    memset(&s, 0, sizeof s);
+    add_star(&s, NSP, 0.0, 0.0, 10000.0, 2000.0, 1);
+    static ipt iv[NV];
+    long long off[2] = {0, NV};
+    for (int k = 0; k < NV; k++) {
+        iv[k].x = 2 * (long long)s.xy[2 * k];
+        iv[k].y = 2 * (long long)s.xy[2 * k + 1];
+    }
+    static double pts[2 * NP];
+    static uint8_t prep[NP];
+    for (long long tol2 = 0; tol2 <= 2; tol2++) {
+        for (int k = 0; k < NP; k++) {
+            if (k % 3 == 0) { /* on or next to an edge's integer points */
+                int e = (int)rng_int(0, NV - 1), f = (e + 1) % NV;
+                long long i = rng_int(0, 8);
+                pts[2 * k] = (double)((iv[e].x * (8 - i) + iv[f].x * i) / 8 + rng_int(-2, 2)) * 0.5;
+                pts[2 * k + 1] = (double)((iv[e].y * (8 - i) + iv[f].y * i) / 8 + rng_int(-2, 2)) * 0.5;
+            } else {
+                pts[2 * k] = (double)rng_int(-21000, 21000) * 0.5;
+                pts[2 * k + 1] = (double)rng_int(-21000, 21000) * 0.5;
+            }
+        }
+        mfg_region *reg = NULL;
+        CHECK_EQ_INT(mfg_region_new(s.xy, s.off, 1, 0.5 * (double)tol2, &reg), MFG_OK);
+        CHECK_EQ_INT(mfg_region_classify(reg, pts, NP, prep), MFG_OK);
+        struct mfg_region_info info;
+        CHECK_EQ_INT(mfg_region_info(reg, &info), MFG_OK);
+        CHECK(info.ordered_leaves > 0);
+        mfg_region_free(reg);
+        int bad = 0, on = 0;
+        for (int k = 0; k < NP; k++) {
+            ipt t = {(long long)(pts[2 * k] * 2), (long long)(pts[2 * k + 1] * 2)};
+            int want = ref_classify(iv, off, 1, t, tol2);
+            on += want == MFG_ON;
+            if (prep[k] != want && bad++ < 3)
+                fprintf(stderr, "integer star tol %g: point (%g, %g) reference %d prepared %d\n",
+                        0.5 * (double)tol2, pts[2 * k], pts[2 * k + 1], want, prep[k]);
+        }
+        CHECK_EQ_INT(bad, 0);
+        CHECK(on > 0);
+    }
+    free(s.xy);
+}
+
+static void test_region_info_errors(void)
+{
+    double sq[] = {0, 0, 1, 0, 1, 1, 0, 1};
+    int64_t off[] = {0, 4};
+    mfg_region *r = NULL;
+    struct mfg_region_info info;
+    CHECK_EQ_INT(mfg_region_new(sq, off, 1, 0.0, &r), MFG_OK);
+    CHECK_EQ_INT(mfg_region_info(NULL, &info), MFG_ERR_NULL);
+    CHECK_EQ_INT(mfg_region_info(r, NULL), MFG_ERR_NULL);
+    CHECK_EQ_INT(mfg_region_info(r, &info), MFG_OK);
+    int64_t st[4];
+    CHECK_EQ_INT(mfg_region_stats(r, st), MFG_OK);
+    CHECK(st[0] == info.columns && st[1] == info.rows && st[2] == info.edge_cells &&
+          st[3] == info.edge_entries);
+    CHECK(info.bytes > 0 && info.max_depth >= 0 && info.max_list <= 4);
+    mfg_region_free(r);
+}
+
 int main(void)
 {
     test_errors();
@@ -362,5 +711,10 @@ int main(void)
     test_degenerate_rings();
     test_scales();
     test_threads();
+    test_prepared_spiky();
+    test_prepared_deep_cell();
+    test_prepared_fan();
+    test_prepared_star_reference();
+    test_region_info_errors();
     return mfg_test_report("test_pointclass");
 }
