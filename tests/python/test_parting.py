@@ -1,0 +1,295 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Tests of mfgeom.parting (mould parting and 3-axis set-ups) on synthetic Gaussian maps,
+without FreeCAD: surfaces, canonicalisation under rotation, the examples' answers, and
+a brute-force check against 10^4 sampled directions."""
+
+import math
+
+import numpy as np
+import pytest
+
+from mfgeom import core, parting as P
+
+F = P.FaceGauss
+RNG = np.random.default_rng(2024)
+X, Y, Z = np.eye(3)
+
+
+def rotation(rng):
+    q = rng.normal(size=4)
+    a, b, c, d = q / np.linalg.norm(q)
+    return np.array([[a*a + b*b - c*c - d*d, 2*(b*c - a*d), 2*(b*d + a*c)],
+                     [2*(b*c + a*d), a*a - b*b + c*c - d*d, 2*(c*d - a*b)],
+                     [2*(b*d - a*c), 2*(c*d + a*b), a*a - b*b - c*c + d*d]])
+
+
+def circle(axis, k=4):
+    """k normals spread over the whole circle perpendicular to axis (a cylinder's
+    full-circle Gaussian map as gauss_map samples it: gaps of pi/2)."""
+    axis = np.asarray(axis, float)
+    e1 = np.cross(axis, X if abs(axis @ X) < 0.9 else Y)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(axis, e1)
+    t = np.linspace(0, 2 * math.pi, k + 1)
+    return np.outer(np.cos(t), e1) + np.outer(np.sin(t), e2)
+
+
+def cup(R=np.eye(3), hole=False):
+    """Faces of the cup (and its radial blind hole along +x) as gauss_map gives them."""
+    faces = [F(circle(Z) @ R.T, name="outer"), F([-Z @ R.T], name="bottom"),
+             F([Z @ R.T], name="top"), F(-circle(Z) @ R.T, name="inner"),
+             F([Z @ R.T], name="floor")]
+    adj = [(0, 1, "convex"), (0, 2, "convex"), (2, 3, "convex"), (3, 4, "concave")]
+    if hole:
+        faces += [F(-circle(X) @ R.T, name="hole wall"), F([X @ R.T], name="hole floor")]
+        adj += [(0, 5, "convex"), (5, 6, "concave")]
+    return faces, adj
+
+
+def pocket(axis, R, walls=4):
+    """A prismatic pocket opening towards axis: floor normal +axis, walls facing in."""
+    return [F([axis @ R.T])] + [F([-w @ R.T]) for w in circle(axis, walls)[:-1]]
+
+
+def block(R=np.eye(3), sides=(Z, X, -Y), walls=4):
+    faces = [F([s @ R.T]) for s in (X, -X, Y, -Y, Z, -Z)]
+    adj = [(i, j, "convex") for i in range(6) for j in range(i + 1, 6) if i // 2 != j // 2]
+    for axis in sides:
+        start = len(faces)
+        faces += pocket(np.asarray(axis, float), R, walls)
+        adj += [(start, start + k, "concave") for k in range(1, walls + 1)]
+        adj += [(start + k, start + k % walls + 1, "concave") for k in range(1, walls + 1)]
+        adj += [(start + k, 0, "convex") for k in range(1, walls + 1)]
+    return faces, adj
+
+
+# ------------------------------------------------------------------ surfaces
+def test_concave_surfaces_groups_across_concave_and_tangent_only():
+    groups, has_concave = P.concave_surfaces(
+        6, [(0, 1, "concave"), (1, 2, "tangent"), (2, 3, "convex"), (4, 5, "tangent"),
+            (3, 3, "concave")])
+    assert groups == [[0, 1, 2], [3], [4, 5]]
+    assert has_concave == [True, False, False]
+
+
+@pytest.mark.parametrize("adj", [[(0, 1, "sharp")], [(0, 5, "convex")]])
+def test_concave_surfaces_rejects_bad_adjacency(adj):
+    with pytest.raises(ValueError):
+        P.concave_surfaces(2, adj)
+
+
+def test_face_gauss_rejects_bad_input():
+    with pytest.raises(ValueError):
+        F(np.zeros((0, 3)))
+    with pytest.raises(ValueError):
+        F([[0, 0, 0]])
+    with pytest.raises(ValueError):
+        F([[0, 0, 1]], shrink=-1.0)
+    faces, adj = cup()
+    with pytest.raises(ValueError):
+        P.mould_parting(faces, adj, weighting="volume")
+    with pytest.raises(ValueError):
+        P.mould_parting(faces, adj, draft_angle=-0.1)
+    with pytest.raises(ValueError):
+        P.nc_setups(faces, adj, tilt=2.0)
+
+
+# ------------------------------------------------------------------ canonicalisation
+def test_rotated_triangular_pocket_keeps_its_point_map():
+    """Three walls at 120 degrees and a floor: VM is the floor normal, a POINT that the
+    exact library loses on rotated doubles (never exactly on one great circle)."""
+    walls = circle(Z, 3)[:-1]
+    normals = np.vstack([walls, [Z]])
+    raw_point = 0
+    for _ in range(50):
+        R = rotation(RNG)
+        rotated = normals @ R.T
+        raw_point += core.visibility_map(rotated).kind == "point"
+        vm = P.surface_map(rotated)
+        assert vm.kind == "point"
+        assert np.allclose(vm.vertices[0], R @ Z, atol=1e-12)
+        neg = P.surface_map(rotated, negative=True)
+        assert neg.kind == "point" and np.allclose(neg.vertices[0], -R @ Z, atol=1e-12)
+    assert raw_point < 50  # the snapping is what makes it work
+
+
+def test_canonical_normals_move_normals_by_at_most_tol():
+    R = rotation(RNG)
+    normals = np.vstack([circle(Z, 5)[:-1], [Z], -circle(Z, 5)[:2]]) @ R.T
+    normals += RNG.normal(scale=1e-9, size=normals.shape)
+    Rl, local = P.canonical_normals(normals, tol=1e-6)
+    back = local @ Rl
+    back /= np.linalg.norm(back, axis=1)[:, None]
+    # every snapped normal is within tol of an input normal and vice versa
+    ang = np.arccos(np.clip(back @ (normals / np.linalg.norm(normals, axis=1)[:, None]).T, -1, 1))
+    assert ang.min(axis=1).max() <= 1e-6 and ang.min(axis=0).max() <= 1e-6
+    assert np.allclose(Rl @ Rl.T, np.eye(3), atol=1e-14)
+    circ = np.abs(local[:, 2]) == 0.0
+    assert circ.sum() == 7   # the 5 walls and 2 antipodes snapped exactly onto z = 0
+
+
+# ------------------------------------------------------------------ the examples
+def test_cup_everything_covered_along_axis():
+    r = P.mould_parting(*cup())
+    assert np.allclose(r.direction, Z) and r.covered == [0, 1, 2, 3]
+    assert r.count == r.total == 4 and r.undercuts == [] and r.side_cores == []
+    # outer wall parallel to d (either side), bottom cavity, top and pocket core
+    assert r.side == [0, -1, 1, 1]
+
+
+def test_cup_with_hole_one_undercut_side_core_and_two_setups():
+    r = P.mould_parting(*cup(hole=True))
+    assert np.allclose(r.direction, Z) and r.count == 4 and r.total == 5
+    assert [r.surfaces[s].faces for s in r.undercuts] == [[5, 6]]
+    assert len(r.side_cores) == 1 and np.allclose(r.side_cores[0].direction, X)
+    assert r.side_cores[0].faces == [5, 6] and r.unresolved == []
+    nc = P.nc_setups(*cup(hole=True))
+    assert [s.faces for s in nc.setups] == [[3, 4], [5, 6]]
+    assert np.allclose(nc.setups[0].direction, Z) and np.allclose(nc.setups[1].direction, X)
+
+
+def test_block_with_three_pockets_needs_three_setups():
+    nc = P.nc_setups(*block())
+    dirs = sorted(tuple(np.round(s.direction, 9)) for s in nc.setups)
+    assert dirs == sorted([tuple(Z), tuple(X), tuple(-Y)])
+    assert nc.total == 3 and nc.unresolved == []
+    every = P.nc_setups(*block(), all_faces=True)
+    assert every.total == 9
+    assert sum(len(s.surfaces) for s in every.setups) == 9
+    # the main set-up covers a pocket and the five outer faces not facing away from it
+    assert every.setups[0].weight == 6
+
+
+@pytest.mark.parametrize("walls", [3, 4, 5, 6])
+@pytest.mark.parametrize("seed", range(6))
+def test_rotation_same_surfaces_rotated_directions(walls, seed):
+    rng = np.random.default_rng(seed)
+    R = rotation(rng)
+    for build in (lambda M: cup(M, hole=True), lambda M: block(M, walls=walls)):
+        a, b = P.mould_parting(*build(np.eye(3))), P.mould_parting(*build(R))
+        assert a.covered == b.covered and a.undercuts == b.undercuts
+        assert np.allclose(R @ a.direction, b.direction, atol=1e-9)
+        assert abs(a.margin - b.margin) < 1e-9
+        assert [c.surfaces for c in a.side_cores] == [c.surfaces for c in b.side_cores]
+        for ca, cb in zip(a.side_cores, b.side_cores):
+            assert np.allclose(R @ ca.direction, cb.direction, atol=1e-9)
+        na, nb = P.nc_setups(*build(np.eye(3))), P.nc_setups(*build(R))
+        assert [s.surfaces for s in na.setups] == [s.surfaces for s in nb.setups]
+        for sa, sb in zip(na.setups, nb.setups):
+            assert np.allclose(R @ sa.direction, sb.direction, atol=1e-9)
+
+
+def cone_pocket(axis, taper, k=64):
+    """A tapered round pocket opening towards axis: floor + walls leaning by taper."""
+    ring = -circle(axis, k)[:-1]
+    walls = math.cos(taper) * ring + math.sin(taper) * np.asarray(axis)
+    return [F([axis]), F(walls, shrink=0.0)]
+
+
+def draft_flip():
+    faces, adj = block(sides=(Z, Z, Z))
+    for _ in range(2):
+        start = len(faces)
+        faces += cone_pocket(X, math.radians(10))
+        adj += [(start, start + 1, "concave"), (start + 1, 0, "convex")]
+    return faces, adj
+
+
+def test_draft_angle_flips_the_parting_direction():
+    faces, adj = draft_flip()
+    r0 = P.mould_parting(faces, adj)
+    assert np.allclose(r0.direction, Z) and r0.count == 9 and r0.total == 11
+    r3 = P.mould_parting(faces, adj, draft_angle=math.radians(3))
+    assert r3.direction @ X > math.cos(math.radians(7)) and r3.count == 8
+    # every covered surface has the draft along its side
+    for s in r3.covered:
+        dots = r3.surfaces[s].normals @ r3.direction * r3.side[s]
+        assert dots.min() >= math.sin(math.radians(3)) - 1e-9
+    # the straight pockets cannot be demoulded with draft by any single direction
+    assert len(r3.unresolved) == 3 and r3.side_cores == []
+
+
+def test_insufficient_draft_reported_apart_from_undercuts():
+    r = P.mould_parting(*cup(), draft_angle=math.radians(1))
+    assert r.covered == [1, 2] and r.insufficient_draft == [0, 3] and r.undercuts == []
+
+
+def test_area_weighting_changes_the_answer():
+    # two pockets seen from +z (small) against one from +x (large area)
+    faces, adj = block(sides=(Z, Z, X))
+    nc = P.nc_setups(faces, adj)
+    assert np.allclose(nc.direction, Z)
+    for f in faces[-5:]:
+        f.area = 100.0
+    nc = P.nc_setups(faces, adj, weighting="area")
+    assert np.allclose(nc.direction, X) and nc.setups[0].weight == 500.0
+
+
+# ------------------------------------------------------------------ brute force
+def brute_counts(surfaces, dirs, mould, draft=0.0, eps=1e-12):
+    s = math.sin(draft)
+    out = np.zeros(len(dirs))
+    for surf in surfaces:
+        dots = dirs @ surf.normals.T
+        ok = dots.min(axis=1) >= s - eps
+        if mould:
+            ok |= dots.max(axis=1) <= -s + eps
+        out += surf.weight * ok
+    return out
+
+
+def random_part(rng, nsurf):
+    """Surfaces as random caps of normals (a few with one normal or a circle)."""
+    faces = []
+    for i in range(nsurf):
+        kind = rng.integers(0, 4)
+        axis = rng.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        if kind == 0:
+            faces.append(F([axis], area=rng.uniform(1, 3)))
+            continue
+        if kind == 1:
+            faces.append(F(circle(axis), area=rng.uniform(1, 3)))
+            continue
+        k = rng.integers(3, 9)
+        spread = rng.uniform(0.1, 1.2)
+        pts = axis + spread * rng.normal(size=(k, 3))
+        faces.append(F(pts, area=rng.uniform(1, 3)))
+    return faces, []
+
+
+@pytest.mark.parametrize("seed", range(8))
+@pytest.mark.parametrize("mould", [True, False])
+def test_no_sampled_direction_beats_the_answer(seed, mould):
+    rng = np.random.default_rng(100 + seed)
+    faces, adj = random_part(rng, 12)
+    dirs = P.fibonacci_sphere(20000)
+    draft = [0.0, math.radians(2)][seed % 2]
+    weighting = ["count", "area"][(seed // 2) % 2]
+    if mould:
+        r = P.mould_parting(faces, adj, draft_angle=draft, weighting=weighting)
+    else:
+        r = P.nc_setups(faces, adj, tilt=draft, weighting=weighting, all_faces=True)
+    counts = brute_counts(r.surfaces, dirs, mould, draft)
+    assert counts.max() <= r.count + 1e-9
+    # the answer is valid on every normal of its covered surfaces (within tol)
+    mine = brute_counts([r.surfaces[s] for s in r.covered], r.direction[None, :], mould,
+                        draft, eps=1e-6)
+    assert mine[0] == pytest.approx(r.count)
+    assert r.count > 0
+
+
+def test_antipodal_point_maps_with_weights():
+    """Regression for a library bug found by the brute-force test (random_part(100)):
+    two antipodal POINT maps among hemispheres and polygons, with weights, made
+    core.max_intersection miss the maximum (5.85 instead of 7.77).  mould/nc split such
+    maps; the brute-force test above is the end-to-end check, this one pins the case."""
+    rng = np.random.default_rng(100)
+    faces, adj = random_part(rng, 12)
+    r = P.nc_setups(faces, adj, weighting="area", all_faces=True)
+    assert r.count == pytest.approx(7.766692871158426)
+    maps = [P.surface_map(s.normals) for s in r.surfaces]
+    owner = list(range(len(maps)))
+    weights = {s: r.surfaces[s].weight for s in owner}
+    d, margin, covered = P._best_region(maps, owner, weights, len(maps))
+    assert sorted(covered) == [1, 2, 8, 9, 10]

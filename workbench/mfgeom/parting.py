@@ -1,0 +1,448 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Mould parting directions and 3-axis NC set-up plans from per-face Gaussian maps
+(seed 000, section 2.2), FreeCAD-free: numpy and mfgeom.core only.
+
+Input: one :class:`FaceGauss` per face (its unit normals and, where they were sampled,
+``shrink``, a bound on the angle by which the face's true normals may leave the cone of
+the samples), and the face adjacency with each edge's kind ("concave", "convex",
+"tangent").  Faces joined across concave or tangent edges form *concave-connected
+surfaces*; the visibility map VM(S) = {d : d.n >= 0 for every normal n of S} of each
+surface is computed by the C library.
+
+Tolerances and exactness:
+
+* Samples: a direction d with d.s >= sin(shrink) for every sample s satisfies d.n >= 0
+  for every true normal n within ``shrink`` of the samples' cone, so a surface's map is
+  the library's draft map of its samples with draft = user draft + shrink (the largest
+  shrink of its faces: conservative for the exact faces of a mixed surface).
+* Angular tolerance ``tol`` (default 1e-6 rad, far below any draft angle): the library
+  decides kinds exactly on the doubles it is given, and the normals of a moved part are
+  never exactly on a great circle.  Before calling it, each surface's normals are
+  *canonicalised* (:func:`canonical_normals`): normals within ``tol`` are merged,
+  near-antipodal ones become exact negations, and the great circle carrying the most
+  (>= 3 distinct) normal axes within ``tol`` is rotated onto the plane z = 0 of a local
+  frame and its normals snapped onto it (z = 0 exactly).  The map is computed in that
+  frame and rotated back.  So the same faces are covered whether the part is rotated or
+  not, directions rotate with the part, and every answer holds up to ``tol``.
+* A surface whose normals are all one normal (a plane, coplanar faces) has
+  VM u -VM = the whole sphere at zero draft: it is demouldable along any direction and
+  is left out of the maximum intersection (always covered).
+* A surface whose normals lie on one great circle (a cylinder wall) has VM and -VM
+  meeting at the circle's poles, where the library would count it twice.  The true count
+  (each surface once) is recomputed from the cover sets, and if the library's best region
+  double-counts, the locally maximal regions at the true count's level are searched.
+"""
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mfgeom import core
+
+DEFAULT_TOL = 1e-6
+EDGE_KINDS = ("concave", "convex", "tangent")
+
+
+@dataclass
+class FaceGauss:
+    """Gaussian map of one face: ``normals`` (m, 3) unit normals (outward, face
+    orientation respected); ``shrink`` (rad): bound on how far true normals may lie
+    outside the cone of these samples (0 where exact); ``area``; ``name``."""
+    normals: np.ndarray
+    shrink: float = 0.0
+    area: float = 1.0
+    name: str = ""
+
+    def __post_init__(self):
+        n = np.asarray(self.normals, dtype=np.float64).reshape(-1, 3)
+        if len(n) == 0:
+            raise ValueError(f"face {self.name or '?'} has no normals")
+        lengths = np.linalg.norm(n, axis=1)
+        if not np.all(np.isfinite(lengths)) or np.any(lengths == 0):
+            raise ValueError(f"face {self.name or '?'} has zero or non-finite normals")
+        self.normals = n / lengths[:, None]
+        if not (self.shrink >= 0 and math.isfinite(self.shrink)):
+            raise ValueError(f"face {self.name or '?'}: shrink must be finite and >= 0")
+
+
+# --------------------------------------------------------------- surfaces
+def concave_surfaces(nfaces, adjacency):
+    """Group faces 0..nfaces-1 into concave-connected surfaces: faces joined across
+    concave or tangent edges (union-find).  ``adjacency``: iterable of (i, j, kind).
+    Returns (groups, has_concave): groups as sorted lists of face indices, ordered by
+    their smallest face; has_concave[g] is True if a concave edge joins two faces of g."""
+    parent = list(range(nfaces))
+
+    def find(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    concave_roots_edges = []
+    for i, j, kind in adjacency:
+        if kind not in EDGE_KINDS:
+            raise ValueError(f"unknown edge kind {kind!r}")
+        if not (0 <= i < nfaces and 0 <= j < nfaces):
+            raise ValueError(f"adjacency ({i}, {j}) outside 0..{nfaces - 1}")
+        if kind == "convex" or i == j:
+            continue
+        a, b = find(i), find(j)
+        if a != b:
+            parent[max(a, b)] = min(a, b)
+        if kind == "concave":
+            concave_roots_edges.append(i)
+    members = {}
+    for f in range(nfaces):
+        members.setdefault(find(f), []).append(f)
+    groups = sorted(members.values(), key=lambda g: g[0])
+    index = {find(g[0]): k for k, g in enumerate(groups)}
+    has_concave = [False] * len(groups)
+    for i in concave_roots_edges:
+        has_concave[index[find(i)]] = True
+    return groups, has_concave
+
+
+# --------------------------------------------------------------- canonical normals
+def _unit(v):
+    return v / np.linalg.norm(v)
+
+
+def canonical_normals(normals, tol=DEFAULT_TOL, max_circle_search=96):
+    """Snap a surface's normals so that degeneracies within ``tol`` become exact.
+
+    Returns (R, local): a rotation R (3x3, rows = local axes) and the snapped normals in
+    that frame (local = R @ n; global = local @ R).  Normals within tol are merged
+    (first one kept), near-antipodal ones become the exact negation, and the great
+    circle holding the most (>= 3) distinct axes within tol is made the plane z = 0
+    (those normals get z = 0 exactly).  Every normal moves by at most ~tol.  The search
+    for that circle tries the poles of all pairs of axes: skipped above
+    ``max_circle_search`` axes (densely sampled faces, which carry a shrink anyway)."""
+    p = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
+    p = p / np.linalg.norm(p, axis=1)[:, None]
+    cos_t, sin_t = math.cos(tol), math.sin(tol)
+    # Distinct axes (up to sign) and, per normal, its axis and sign.
+    axes, signs = [], []
+    unique = []
+    for n in p:
+        if axes:
+            dots = np.asarray(axes) @ n
+            k = int(np.argmax(np.abs(dots)))
+            if abs(dots[k]) >= cos_t:
+                s = 1.0 if dots[k] > 0 else -1.0
+                if (k, s) not in unique:
+                    unique.append((k, s))
+                continue
+        axes.append(n)
+        unique.append((len(axes) - 1, 1.0))
+    axes = np.asarray(axes)
+    R = np.eye(3)
+    on_circle = np.zeros(len(axes), dtype=bool)
+    if 3 <= len(axes) <= max_circle_search:
+        best = 2
+        cross = np.cross(axes[:, None, :], axes[None, :, :])
+        norms = np.linalg.norm(cross, axis=2)
+        ii, jj = np.nonzero(np.triu(norms > sin_t, 1))
+        for i, j in zip(ii, jj):
+            u = cross[i, j] / norms[i, j]
+            on = np.abs(axes @ u) <= sin_t
+            cnt = int(on.sum())
+            if cnt > best:
+                best, on_circle, pole = cnt, on, u
+        if best >= 3:
+            # refine the pole as the best-fit plane of the axes on the circle
+            _, _, vt = np.linalg.svd(axes[on_circle])
+            u = vt[2] if vt[2] @ pole >= 0 else -vt[2]
+            e1 = _unit(axes[on_circle][0] - (axes[on_circle][0] @ u) * u)
+            R = np.array([e1, np.cross(u, e1), u])
+    local_axes = axes @ R.T
+    local_axes[on_circle, 2] = 0.0
+    local = np.array([s * local_axes[k] for k, s in unique])
+    return R, local
+
+
+def surface_map(normals, draft=0.0, tol=DEFAULT_TOL, negative=False):
+    """VM (or -VM) of a surface's normals with a draft (rad) as a core.VisibilityMap in
+    global coordinates.  At zero draft the normals are canonicalised first (see
+    :func:`canonical_normals`); a positive draft map {d : d.p >= sin(draft)} moves
+    continuously with the normals, so there they are used as given."""
+    if draft > 0.0:
+        return core.visibility_map(normals, draft_angle=draft, negative=negative)
+    R, local = canonical_normals(normals, tol)
+    vm = core.visibility_map(local, draft_angle=draft, negative=negative)
+    return core.VisibilityMap(vm.kind, vm.vertices @ R, vm.closed)
+
+
+def _is_single_normal(normals, tol):
+    n = np.asarray(normals)
+    return bool(np.all(n @ n[0] >= math.cos(tol)))
+
+
+# --------------------------------------------------------------- results
+@dataclass
+class Surface:
+    """A concave-connected surface: its faces (indices), weight, whether a concave
+    edge joins two of its faces, its normals and the shrink of its samples."""
+    faces: list
+    weight: float
+    has_concave: bool
+    normals: np.ndarray
+    shrink: float
+
+
+@dataclass
+class Direction:
+    """One direction of a result: unit ``direction``, ``margin`` (rad, how far it may
+    move and keep its surfaces covered), ``surfaces`` (indices) and ``faces`` (indices)."""
+    direction: np.ndarray
+    margin: float
+    surfaces: list
+    faces: list
+    weight: float = 0.0
+
+
+@dataclass
+class PartingResult:
+    """Result of :func:`mould_parting` or :func:`nc_setups`.
+
+    Mould: ``direction``/``margin`` the parting direction; ``side[s]`` for each surface:
+    +1 core side (demoulded along +d), -1 cavity side (-d), 0 either (parallel to d),
+    None if not covered; ``undercuts`` (surface indices), ``insufficient_draft``
+    (surfaces demouldable along +-d only without the draft), ``side_cores`` (greedy
+    cover of the undercuts, list of :class:`Direction`), ``unresolved`` (surfaces no
+    single direction demoulds).  NC: ``setups`` (first the main one), ``unresolved``
+    (pocket surfaces no 3-axis direction reaches), ``considered`` (the surfaces taken
+    into account).  ``covered``: surfaces covered by ``direction``; ``count``/``total``
+    their weight and the weight of all considered surfaces."""
+    mode: str
+    surfaces: list
+    direction: np.ndarray = None
+    margin: float = 0.0
+    covered: list = field(default_factory=list)
+    count: float = 0.0
+    total: float = 0.0
+    considered: list = field(default_factory=list)
+    side: list = field(default_factory=list)
+    undercuts: list = field(default_factory=list)
+    insufficient_draft: list = field(default_factory=list)
+    side_cores: list = field(default_factory=list)
+    setups: list = field(default_factory=list)
+    unresolved: list = field(default_factory=list)
+
+    def faces_of(self, surfaces):
+        return sorted(f for s in surfaces for f in self.surfaces[s].faces)
+
+
+def build_surfaces(faces, adjacency, weighting="count", tol=DEFAULT_TOL):
+    """Concave-connected :class:`Surface` list from FaceGauss objects and adjacency."""
+    if weighting not in ("count", "area"):
+        raise ValueError(f"weighting must be 'count' or 'area', got {weighting!r}")
+    groups, has_concave = concave_surfaces(len(faces), adjacency)
+    out = []
+    for g, hc in zip(groups, has_concave):
+        normals = np.concatenate([faces[f].normals for f in g])
+        weight = 1.0 if weighting == "count" else float(sum(faces[f].area for f in g))
+        # a shrink within tol is below what the answer promises anyway: treated as exact
+        shrink = max(faces[f].shrink for f in g)
+        out.append(Surface(g, weight, hc, normals, shrink if shrink > tol else 0.0))
+    return out
+
+
+def _split_point_pairs(maps, owner):
+    """A POINT map made of two antipodal directions becomes two one-direction maps of
+    the same owner (they never overlap, so nothing is counted twice).  Works around a
+    libmfgeom bug (HEAD 667a42d): with weights, such maps among hemispheres and polygons
+    made mfg_max_intersection return less than the maximum (tests/python/test_parting.py,
+    test_antipodal_point_maps_with_weights)."""
+    out_maps, out_owner = [], []
+    for m, o in zip(maps, owner):
+        if m.kind == "point" and len(m.vertices) == 2:
+            for v in m.vertices:
+                out_maps.append(core.VisibilityMap("point", v[None, :]))
+                out_owner.append(o)
+        else:
+            out_maps.append(m)
+            out_owner.append(o)
+    return out_maps, out_owner
+
+
+def _best_region(maps, owner, weights, nsurf):
+    """The region covering the greatest weight of distinct surfaces (each surface once,
+    though it may own two maps).  Returns (direction, margin, covered surface set)
+    or None if no map has a direction."""
+    if not any(m.kind != "null" for m in maps):
+        return None
+    maps, owner = _split_point_pairs(maps, owner)
+    w_maps = np.array([weights[o] for o in owner], dtype=np.float64)
+    res = core.max_intersection(maps, weights=w_maps)
+
+    def true_weight(cover):
+        return sum(weights[s] for s in {owner[i] for i in cover})
+
+    cands = [(true_weight(c), float(m), i) for i, (c, m) in enumerate(zip(res.covers, res.margins))]
+    best_w = max(c[0] for c in cands)
+    regions = res
+    if best_w < float(res.count) * (1 - 1e-12) - 1e-12:
+        # The library's best double-counts surfaces whose VM and -VM touch; every region
+        # of true weight >= best_w has library weight >= best_w and contains a locally
+        # maximal one, so search those.
+        regions = core.level_regions(maps, level=best_w * (1 - 1e-12), weights=w_maps)
+        cands = [(true_weight(c), float(m), i)
+                 for i, (c, m) in enumerate(zip(regions.covers, regions.margins))]
+        best_w = max(c[0] for c in cands)
+    # Heaviest first, then widest margin (equal within 1e-9 rad), then the smallest
+    # set of surfaces: not the library's order, which depends on coordinates, so ties
+    # break the same way when the part is rotated.
+    top = max(c[0] for c in cands)
+    cands = [c for c in cands if c[0] >= top * (1 - 1e-12)]
+    widest = max(c[1] for c in cands)
+    cands = [c for c in cands if c[1] >= widest - 1e-9]
+    i = min(cands, key=lambda c: sorted({owner[k] for k in regions.covers[c[2]]}))[2]
+    margin = float(regions.margins[i])
+    covered = {owner[k] for k in regions.covers[i]}
+    return _unit(np.asarray(regions.centres[i], dtype=np.float64)), margin, covered
+
+
+def _greedy_cover(surfaces, candidates, draft, tol):
+    """Greedy cover of ``candidates`` (surface indices) with positive maps: repeated
+    maximum intersection on the surfaces not yet covered.  Returns (directions,
+    unresolved) — unresolved: surfaces whose map is empty."""
+    maps, owner = [], []
+    unresolved = []
+    for s in candidates:
+        vm = surface_map(surfaces[s].normals, draft + surfaces[s].shrink, tol)
+        if vm.kind == "null":
+            unresolved.append(s)
+        else:
+            maps.append(vm)
+            owner.append(s)
+    weights = {s: surfaces[s].weight for s in candidates}
+    out = []
+    remaining = list(range(len(maps)))
+    while remaining:
+        sub_maps = [maps[i] for i in remaining]
+        sub_owner = [owner[i] for i in remaining]
+        d, margin, covered = _best_region(sub_maps, sub_owner, weights, len(surfaces))
+        cov = sorted(covered)
+        out.append(Direction(d, margin, cov, sorted(f for s in cov for f in surfaces[s].faces),
+                             float(sum(weights[s] for s in cov))))
+        remaining = [i for i in remaining if owner[i] not in covered]
+    return out, sorted(unresolved)
+
+
+def _check_common(draft, tol, name):
+    if not (0.0 <= draft < math.pi / 2):
+        raise ValueError(f"{name} must be in [0, pi/2) radians, got {draft}")
+    if not (0.0 < tol < 1e-2):
+        raise ValueError(f"tol must be in (0, 0.01) radians, got {tol}")
+
+
+# --------------------------------------------------------------- mould mode
+def _sides(surfaces, covered, d, tol):
+    """+1 core (all normals n.d >= 0), -1 cavity (n.d <= 0), 0 both (parallel to d)."""
+    side = [None] * len(surfaces)
+    eps = 4 * math.sin(tol)
+    for s in covered:
+        dots = surfaces[s].normals @ d
+        lo, hi = float(dots.min()), float(dots.max())
+        side[s] = 0 if (lo > -eps and hi < eps) else (1 if lo >= -eps else -1)
+    return side
+
+
+def _core_score(surfaces, side):
+    """(pocket weight, all weight) on the core side minus that on the cavity side."""
+    pockets = sum(surfaces[s].weight * x for s, x in enumerate(side)
+                  if x and surfaces[s].has_concave)
+    every = sum(surfaces[s].weight * x for s, x in enumerate(side) if x)
+    return (pockets, every)
+
+
+def mould_parting(faces, adjacency, draft_angle=0.0, weighting="count", tol=DEFAULT_TOL):
+    """Mould parting direction (seed 000 s.2.2): each concave-connected surface S gives
+    VM(S) and -VM(S) (shrunk by ``draft_angle`` + its samples' shrink); the parting
+    direction d is the representative direction of their maximum intersection (each
+    surface counted once, weighted by ``weighting`` "count" or "area").  Covered
+    surfaces are on the core side (+d) or the cavity side (-d); the others are undercuts,
+    covered greedily by side-core directions (positive maps: a slider moving along e
+    releases the faces with e.n >= 0).  With a draft, uncovered surfaces that +-d would
+    demould without it are reported as ``insufficient_draft`` instead of undercuts."""
+    _check_common(draft_angle, tol, "draft_angle")
+    surfaces = build_surfaces(faces, adjacency, weighting, tol)
+    weights = {s: surf.weight for s, surf in enumerate(surfaces)}
+    maps, owner, free = [], [], []
+    for s, surf in enumerate(surfaces):
+        draft = draft_angle + surf.shrink
+        if draft == 0.0 and _is_single_normal(surf.normals, tol):
+            free.append(s)  # VM u -VM is the whole sphere
+            continue
+        for negative in (False, True):
+            maps.append(surface_map(surf.normals, draft, tol, negative))
+            owner.append(s)
+    result = PartingResult("Mould", surfaces, considered=list(range(len(surfaces))),
+                           total=float(sum(weights.values())))
+    best = _best_region(maps, owner, weights, len(surfaces)) if maps else None
+    if best is None:
+        # no map has a direction: every covered surface is free; take the heaviest
+        # free surface's normal (any direction would do)
+        if free:
+            s = max(free, key=lambda k: (weights[k], -k))
+            d, margin, covered = surfaces[s].normals[0].copy(), 0.0, set()
+        else:
+            d, margin, covered = None, 0.0, set()
+    else:
+        d, margin, covered = best
+    covered = set(covered) | set(free) if d is not None else set()
+    side = _sides(surfaces, covered, d, tol)
+    if d is not None and _core_score(surfaces, side) < (0.0, 0.0):
+        # +d and -d are the same parting; take the sign that puts the pockets (and then
+        # most weight) on the core side, so the answer does not depend on tie order
+        d = -d
+        side = [None if x is None else -x for x in side]
+    result.direction, result.margin = d, margin
+    result.covered = sorted(covered)
+    result.count = float(sum(weights[s] for s in covered))
+    result.side = side
+    uncovered = [s for s in range(len(surfaces)) if s not in covered]
+    if draft_angle > 0 and d is not None:
+        for s in uncovered:
+            surf = surfaces[s]
+            if any(surface_map(surf.normals, surf.shrink, tol, neg).contains(d, tol=math.sin(tol) * 4)[0]
+                   for neg in (False, True)):
+                result.insufficient_draft.append(s)
+    result.undercuts = [s for s in uncovered if s not in result.insufficient_draft]
+    result.side_cores, result.unresolved = _greedy_cover(surfaces, result.undercuts,
+                                                         draft_angle, tol)
+    return result
+
+
+# --------------------------------------------------------------- NC 3-axis mode
+def nc_setups(faces, adjacency, tilt=0.0, weighting="count", all_faces=False,
+              tol=DEFAULT_TOL):
+    """3-axis NC set-up plan (seed 000 s.2.2): the pocket surfaces (concave-connected
+    surfaces with a concave edge; ``all_faces``: every surface) and their positive maps
+    shrunk by ``tilt`` (rad, a tool-axis allowance: the tool may lean that far and still
+    reach; growing maps is not supported by the library) plus their samples' shrink.
+    The main set-up is their maximum intersection; the plan repeats it greedily on the
+    surfaces not yet covered.  ``setups`` lists each :class:`Direction`."""
+    _check_common(tilt, tol, "tilt")
+    surfaces = build_surfaces(faces, adjacency, weighting, tol)
+    considered = [s for s, surf in enumerate(surfaces) if all_faces or surf.has_concave]
+    result = PartingResult("NC3Axis", surfaces, considered=considered,
+                           total=float(sum(surfaces[s].weight for s in considered)))
+    result.setups, result.unresolved = _greedy_cover(surfaces, considered, tilt, tol)
+    if result.setups:
+        main = result.setups[0]
+        result.direction, result.margin = main.direction, main.margin
+        result.covered, result.count = list(main.surfaces), main.weight
+    return result
+
+
+# --------------------------------------------------------------- references for tests
+def fibonacci_sphere(n):
+    """n nearly uniform unit directions (golden-angle spiral)."""
+    k = np.arange(n) + 0.5
+    z = 1 - 2 * k / n
+    r = np.sqrt(np.maximum(0.0, 1 - z * z))
+    phi = k * math.pi * (3 - math.sqrt(5))
+    return np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
