@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
 /* test_visibility.c - unit tests of mfg_visibility_map against the definition
  * VM(P) = { d : d.p >= 0 for all p in P }: constructed kinds, error statuses, dense
- * sampling on random caps, permutation invariance, near-duplicates and 10^6 normals. */
+ * sampling on random caps, permutation invariance, near-duplicates and 10^6 normals;
+ * hulls of integer normals against an exact gift-wrapping reference (128-bit integers),
+ * and large degenerate cones (tessellated cones with an opposite normal, cylinders). */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <math.h>
 #include <stdint.h>
@@ -589,6 +591,454 @@ static void test_million_normals(void)
     free(p);
 }
 
+/* ---- exact reference hulls on integer normals --------------------------------------- */
+
+/* Normals with integer coordinates below 2^19 make every determinant and dot product an
+ * exact 128-bit integer: a reference independent of the library's predicates. */
+typedef __int128 i128;
+
+static i128 idot(const double *a, const double *b)
+{
+    return (i128)(int64_t)a[0] * (int64_t)b[0] + (i128)(int64_t)a[1] * (int64_t)b[1] +
+           (i128)(int64_t)a[2] * (int64_t)b[2];
+}
+
+static void icross(const double *a, const double *b, i128 o[3])
+{
+    int64_t a0 = (int64_t)a[0], a1 = (int64_t)a[1], a2 = (int64_t)a[2];
+    int64_t b0 = (int64_t)b[0], b1 = (int64_t)b[1], b2 = (int64_t)b[2];
+    o[0] = (i128)a1 * b2 - (i128)a2 * b1;
+    o[1] = (i128)a2 * b0 - (i128)a0 * b2;
+    o[2] = (i128)a0 * b1 - (i128)a1 * b0;
+}
+
+static int sign128(i128 x)
+{
+    return (x > 0) - (x < 0);
+}
+
+static int iorient(const double *a, const double *b, const double *c) /* sign det[a,b,c] */
+{
+    i128 n[3];
+    icross(b, c, n);
+    return sign128(n[0] * (int64_t)a[0] + n[1] * (int64_t)a[1] + n[2] * (int64_t)a[2]);
+}
+
+/* sign of (a x b).(c x d) = (a.c)(b.d) - (a.d)(b.c) */
+static int icross_dot(const double *a, const double *b, const double *c, const double *d)
+{
+    return sign128(idot(a, c) * idot(b, d) - idot(a, d) * idot(b, c));
+}
+
+static int same_ray(const double *a, const double *b)
+{
+    i128 n[3];
+    icross(a, b, n);
+    return n[0] == 0 && n[1] == 0 && n[2] == 0 && idot(a, b) > 0;
+}
+
+/* The hull of integer normals p (pointed: c.p > 0 for all, else -1) by gift wrapping:
+ * from the lexicographically first projection (x = p.e1 / p.c, then y = p.e2 / p.c;
+ * e1, e2, c independent), the next vertex is the normal with every other one left of or
+ * on the great circle to it, the farthest one among those on it.  Writes the indices
+ * counter-clockwise to idx and returns their number.  O(m h), exact. */
+static int64_t reference_hull(const double *p, int64_t m, const double *c, int64_t *idx)
+{
+    for (int64_t i = 0; i < m; i++)
+        if (idot(c, p + 3 * i) <= 0)
+            return -1;
+    double e[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    int skip = fabs(c[0]) >= fabs(c[1]) && fabs(c[0]) >= fabs(c[2]) ? 0
+               : fabs(c[1]) >= fabs(c[2])                           ? 1
+                                                                    : 2;
+    const double *e1 = e[skip == 0 ? 1 : 0], *e2 = e[skip == 2 ? 1 : 2];
+    int64_t s = 0;
+    for (int64_t i = 1; i < m; i++) {
+        int x = icross_dot(p + 3 * i, p + 3 * s, e1, c); /* sign(x_i - x_s) */
+        if (x < 0 || (x == 0 && icross_dot(p + 3 * i, p + 3 * s, e2, c) < 0))
+            s = i;
+    }
+    int64_t h = 0, cur = s;
+    do {
+        int64_t cand = -1;
+        for (int64_t k = 0; k < m; k++) {
+            const double *q = p + 3 * k;
+            if (same_ray(p + 3 * cur, q))
+                continue;
+            if (cand < 0) {
+                cand = k;
+                continue;
+            }
+            int o = iorient(p + 3 * cur, p + 3 * cand, q);
+            /* q beyond cand along the same great circle: the angle cur -> q is larger */
+            if (o < 0 || (o == 0 && icross_dot(p + 3 * cand, q, p + 3 * cur, p + 3 * cand) > 0))
+                cand = k;
+        }
+        if (cand < 0 || h >= m)
+            return -2;
+        idx[h++] = cand;
+        cur = cand;
+    } while (!same_ray(p + 3 * cur, p + 3 * s));
+    return h;
+}
+
+/* The map's vertices from the reference hull, u_i x u_i+1 (exact integers, then unit),
+ * matched against s cyclically; returns the largest deviation (INFINITY: other kind or
+ * count). */
+static double reference_deviation(const double *p, const int64_t *idx, int64_t h,
+                                  const mfg_spoly *s)
+{
+    if (s->kind != MFG_VM_POLYGON || s->nvertices != h || h < 3)
+        return INFINITY;
+    double *w = malloc((size_t)h * 3 * sizeof(double));
+    for (int64_t i = 0; i < h; i++) {
+        i128 n[3];
+        icross(p + 3 * idx[i], p + 3 * idx[(i + 1) % h], n);
+        long double x = (long double)n[0], y = (long double)n[1], z = (long double)n[2];
+        long double r = sqrtl(x * x + y * y + z * z);
+        w[3 * i] = (double)(x / r), w[3 * i + 1] = (double)(y / r), w[3 * i + 2] = (double)(z / r);
+    }
+    double best = INFINITY;
+    for (int64_t off = 0; off < h; off++) { /* the output may start at any vertex */
+        double d0 = 0;
+        for (int k = 0; k < 3; k++)
+            d0 = fmax(d0, fabs(s->vertices[3 * off + k] - w[k]));
+        if (d0 > 1e-9)
+            continue;
+        double worst = 0;
+        for (int64_t i = 0; i < h && worst < best; i++)
+            for (int k = 0; k < 3; k++)
+                worst = fmax(worst, fabs(s->vertices[3 * ((i + off) % h) + k] - w[3 * i + k]));
+        best = fmin(best, worst);
+    }
+    free(w);
+    return best;
+}
+
+static void random_rotation(double r[9])
+{
+    double a[3], b[3], c[3];
+    random_dir(a);
+    do {
+        random_dir(b);
+        cross3(a, b, c);
+    } while (dot3(c, c) < 1e-2);
+    unit3(c);
+    cross3(c, a, b);
+    memcpy(r, a, sizeof a), memcpy(r + 3, b, sizeof b), memcpy(r + 6, c, sizeof c);
+}
+
+/* x -> round(scale * R x): rotated to the integer lattice. */
+static void lattice(const double r[9], double scale, const double x[3], double out[3])
+{
+    for (int i = 0; i < 3; i++)
+        out[i] = nearbyint(scale * dot3(r + 3 * i, x));
+}
+
+/* Compares the map of integer normals with the reference hull; returns 1 when it matched. */
+static int matches_reference(const double *p, int64_t m, const double *c, const char *what)
+{
+    int64_t *idx = malloc((size_t)m * sizeof(int64_t));
+    int64_t h = reference_hull(p, m, c, idx);
+    CHECK(h >= 3); /* the construction keeps every case pointed and full */
+    mfg_spoly *s = vm(p, m, 0);
+    double dev = h >= 3 && s ? reference_deviation(p, idx, h, s) : INFINITY;
+    CHECK(dev < 1e-13);
+    if (!(dev < 1e-13))
+        fprintf(stderr, "  %s (m = %lld): reference hull %lld vertices, map kind %d with %lld, "
+                        "deviation %g\n", what, (long long)m, (long long)h, s ? s->kind : -1,
+                (long long)(s ? s->nvertices : -1), dev);
+    mfg_spoly_free(s);
+    free(idx);
+    return dev < 1e-13;
+}
+
+static void test_reference_hulls(void)
+{
+    const double R = 262144.0; /* 2^18: coordinates below 2^19 */
+    int64_t sizes[] = {10, 47, 48, 49, 50, 97, 333, 1000, 2000};
+    for (int trial = 0; trial < 36; trial++) {
+        int64_t n = sizes[trial % 9], m = 0;
+        int shape = trial / 9; /* tessellated cone, + inside and repeats, + outliers, cap */
+        double rot[9], axis[3] = {0, 0, 1}, c[3];
+        random_rotation(rot);
+        double *p = malloc((size_t)(4 * n + 8) * 3 * sizeof(double));
+        double r = rng_uniform(0.05, 1.5), x[3];
+        int ordered = trial % 2;
+        for (int64_t i = 0; i < n; i++) {
+            double ph = ordered ? 2 * M_PI * (double)i / (double)n : rng_uniform(0, 2 * M_PI);
+            double rr = shape == 3 ? r * sqrt(rng_uniform(0, 1)) : shape == 2 ? 80 * M_PI / 180 : r;
+            x[0] = sin(rr) * cos(ph), x[1] = sin(rr) * sin(ph), x[2] = cos(rr);
+            lattice(rot, R, x, p + 3 * m++);
+            if (shape == 1 && i % 3 == 0) { /* an inside normal and an exact repeat 3p */
+                double in[3] = {0.3 * x[0], 0.3 * x[1], x[2]};
+                lattice(rot, R, in, p + 3 * m++);
+                for (int k = 0; k < 3; k++)
+                    p[3 * m + k] = 3 * p[3 * (m - 2) + k];
+                m++;
+            }
+            if (shape == 2 && i % 5 == 0) { /* below the circle's plane on one side */
+                double ps = rng_uniform(-0.3, 0.3), o[3] = {cos(ps), sin(ps), -0.05};
+                lattice(rot, R, o, p + 3 * m++);
+            }
+        }
+        if (shape == 2) { /* the circle's axis would be outside these normals' map */
+            axis[0] = cos(82 * M_PI / 180), axis[2] = sin(82 * M_PI / 180);
+        }
+        lattice(rot, R, axis, c);
+        if (!ordered)
+            shuffle(p, m);
+        char what[64];
+        snprintf(what, sizeof what, "reference trial %d (shape %d)", trial, shape);
+        matches_reference(p, m, c, what);
+        free(p);
+    }
+    /* corners and normals exactly on each edge's great circle, (k - t) u_i + t u_i+1: only
+     * the corners are vertices (a hull of 60 or 200 corners is built in batches) */
+    for (int trial = 0; trial < 6; trial++) {
+        int64_t nc = (int64_t[]){5, 5, 60, 60, 200, 200}[trial];
+        int64_t k = (int64_t[]){3, 100, 4, 30, 3, 10}[trial], m = 0;
+        double rot[9], z[3] = {0, 0, 1}, c[3];
+        random_rotation(rot);
+        double *u = malloc((size_t)nc * 3 * sizeof(double));
+        for (int64_t i = 0; i < nc; i++) {
+            double t = 2 * M_PI * ((double)i + rng_uniform(0, 0.3)) / (double)nc;
+            double x[3] = {0.6 * cos(t), 0.6 * sin(t), 0.8};
+            lattice(rot, 1e5, x, u + 3 * i);
+        }
+        lattice(rot, 1e5, z, c);
+        double *p = malloc((size_t)(nc * k) * 3 * sizeof(double));
+        for (int64_t i = 0; i < nc; i++)
+            for (int64_t t = 0; t < k; t++, m++)
+                for (int j = 0; j < 3; j++)
+                    p[3 * m + j] = (double)(k - t) * u[3 * i + j] + (double)t * u[3 * ((i + 1) % nc) + j];
+        if (trial % 2)
+            shuffle(p, m);
+        if (matches_reference(p, m, c, "normals along the edges") && nc == 5) {
+            mfg_spoly *s = vm(p, m, 0);
+            if (s)
+                CHECK_EQ_INT(s->nvertices, 5);
+            mfg_spoly_free(s);
+        }
+        free(p);
+        free(u);
+    }
+    /* nearly hemispherical: (R cos t, R sin t, 1), a map of radius about 1/R, each
+     * coordinate permutation and sign pattern */
+    for (int trial = 0; trial < 6; trial++) {
+        int64_t m = (int64_t[]){60, 200, 700, 1500, 2000, 120}[trial];
+        double *p = malloc((size_t)m * 3 * sizeof(double)), c[3] = {0, 0, 0};
+        int perm = trial % 3, flip = trial % 2 ? -1 : 1;
+        for (int64_t i = 0; i < m; i++) {
+            double t = 2 * M_PI * (double)i / (double)m + (trial >= 3 ? rng_uniform(0, 1e-3) : 0);
+            double v[3] = {nearbyint(R * cos(t)), nearbyint(R * sin(t)), 1};
+            for (int k = 0; k < 3; k++)
+                p[3 * i + (k + perm) % 3] = flip * v[k];
+        }
+        c[(2 + perm) % 3] = flip;
+        if (trial >= 3)
+            shuffle(p, m);
+        matches_reference(p, m, c, "nearly hemispherical");
+        free(p);
+    }
+}
+
+/* Circles of normals 0.88e-9 rad short of the equator: the map is a cap of that radius.
+ * Every normal is a vertex (the arcs between neighbours bulge by about
+ * (2 pi / m)^2 cot(r) / 8 > 1e-13, far above rounding).  The centre of such a hull's
+ * vertex subset can lie next to its boundary; an inscribed "cap" of radius below 1e-8
+ * has cos r = 1 in floating point, and a later vertex at that centre, dot = 1 + 2^-52,
+ * was skipped as inside (these m lost one vertex). */
+static void test_nearly_hemispherical_cones(void)
+{
+    int64_t ms[] = {120, 155, 219, 237, 399};
+    for (int t = 0; t < 5; t++) {
+        int64_t m = ms[t];
+        double r = M_PI / 2 - 0.88e-9, *p = malloc((size_t)m * 3 * sizeof(double));
+        for (int64_t i = 0; i < m; i++) {
+            double ph = 2 * M_PI * (double)i / (double)m;
+            p[3 * i] = sin(r) * cos(ph), p[3 * i + 1] = sin(r) * sin(ph), p[3 * i + 2] = cos(r);
+        }
+        mfg_spoly *s = vm(p, m, 0);
+        if (s) {
+            CHECK_EQ_INT(s->kind, MFG_VM_POLYGON);
+            CHECK_EQ_INT(s->nvertices, m);
+            /* a regular m-gon of inradius 0.88e-9 about the pole */
+            for (int64_t i = 0; i < s->nvertices; i++) {
+                const double *v = s->vertices + 3 * i;
+                double rho = atan2(sqrt(v[0] * v[0] + v[1] * v[1]), v[2]);
+                CHECK(fabs(rho - 0.88e-9 / cos(M_PI / (double)m)) < 1e-14);
+            }
+            mfg_spoly_free(s);
+        }
+        free(p);
+    }
+}
+
+/* ---- large degenerate cones: the kinds stay exact ----------------------------------- */
+
+/* Normals on the circle of angular radius r about e3 (t_i = 2 pi i / n + phase), rotated. */
+static double *tessellated_cone(int64_t n, double r, const double rot[9], double phase)
+{
+    double *p = malloc((size_t)(n + 2) * 3 * sizeof(double));
+    for (int64_t i = 0; i < n; i++) {
+        double t = 2 * M_PI * (double)i / (double)n + phase;
+        double x[3] = {sin(r) * cos(t), sin(r) * sin(t), cos(r)};
+        for (int k = 0; k < 3; k++)
+            p[3 * i + k] = dot3(rot + 3 * k, x);
+    }
+    return p;
+}
+
+static void test_large_degenerate(void)
+{
+    for (int trial = 0; trial < 6; trial++) {
+        int64_t n = (int64_t[]){100, 1000, 3000}[trial % 3];
+        double rot[9], axis[3];
+        random_rotation(rot);
+        for (int k = 0; k < 3; k++)
+            axis[k] = rot[3 * k + 2];
+        double *p = tessellated_cone(n, rng_uniform(0.2, 1.3), rot, 0.1);
+        /* every normal a vertex: an n-gon */
+        mfg_spoly *s = vm(p, n, 0);
+        if (s) {
+            CHECK_EQ_INT(s->kind, MFG_VM_POLYGON);
+            CHECK_EQ_INT(s->nvertices, n);
+            CHECK(in_polygon(axis, s, -1e-15));
+            mfg_spoly_free(s);
+        }
+        /* plus the opposite of the axis, first, in the middle or last: no direction */
+        for (int where = 0; where < 3; where++) {
+            int64_t at = (int64_t[]){0, n / 2, n}[where];
+            double *q = malloc((size_t)(n + 1) * 3 * sizeof(double));
+            memcpy(q, p, (size_t)at * 3 * sizeof(double));
+            for (int k = 0; k < 3; k++)
+                q[3 * at + k] = -axis[k];
+            memcpy(q + 3 * (at + 1), p + 3 * at, (size_t)(n - at) * 3 * sizeof(double));
+            if ((s = vm(q, n + 1, 0))) {
+                CHECK_EQ_INT(s->kind, MFG_VM_NULL);
+                mfg_spoly_free(s);
+            }
+            /* the opposite of one normal instead: the map shrinks to that normal's edge,
+             * from u_j-1 x u_j to u_j x u_j+1 */
+            int64_t j = (int64_t[]){1, n / 3, n - 1}[where];
+            for (int k = 0; k < 3; k++)
+                q[3 * at + k] = -p[3 * j + k];
+            if ((s = vm(q, n + 1, 0))) {
+                CHECK_EQ_INT(s->kind, MFG_VM_EDGE);
+                CHECK_EQ_INT(s->closed, 0);
+                if (s->kind == MFG_VM_EDGE && s->nvertices == 3) {
+                    double e0[3], e1[3];
+                    cross3(p + 3 * ((j + n - 1) % n), p + 3 * j, e0);
+                    cross3(p + 3 * j, p + 3 * ((j + 1) % n), e1);
+                    unit3(e0), unit3(e1);
+                    const double *a = s->vertices, *b = s->vertices + 6;
+                    double d1 = fmax(fmax(fabs(a[0] - e0[0]), fabs(a[1] - e0[1])), fabs(a[2] - e0[2])) +
+                                fmax(fmax(fabs(b[0] - e1[0]), fabs(b[1] - e1[1])), fabs(b[2] - e1[2]));
+                    double d2 = fmax(fmax(fabs(a[0] - e1[0]), fabs(a[1] - e1[1])), fabs(a[2] - e1[2])) +
+                                fmax(fmax(fabs(b[0] - e0[0]), fabs(b[1] - e0[1])), fabs(b[2] - e0[2]));
+                    CHECK(fmin(d1, d2) < 1e-12);
+                    for (int v = 0; v < 3; v++)
+                        CHECK(fabs(dot3(s->vertices + 3 * v, p + 3 * j)) < 1e-12);
+                }
+                mfg_spoly_free(s);
+            }
+            free(q);
+        }
+        free(p);
+        /* a cylinder: normals on a great circle (exactly: integer combinations i a + j b
+         * of two integer vectors); all around: both poles (POINT); all around plus one
+         * end face: the pole above it; one half with its two ends exactly opposite: the
+         * half circle (EDGE) */
+        double ia[3], ib[3], pole[3];
+        for (int k = 0; k < 3; k++)
+            ia[k] = (double)rng_int(-1000, 1000), ib[k] = (double)rng_int(-1000, 1000);
+        cross3(ia, ib, pole);
+        unit3(pole);
+        p = malloc((size_t)(n + 1) * 3 * sizeof(double));
+        for (int64_t i = 0; i < n; i++) {
+            double t = 2 * M_PI * (double)i / (double)n, ci = nearbyint(1000 * cos(t)),
+                   si = nearbyint(1000 * sin(t));
+            for (int k = 0; k < 3; k++)
+                p[3 * i + k] = ci * ia[k] + si * ib[k];
+        }
+        if (trial % 2)
+            shuffle(p, n);
+        if ((s = vm(p, n, 0))) {
+            CHECK_EQ_INT(s->kind, MFG_VM_POINT);
+            CHECK_EQ_INT(s->nvertices, 2);
+            if (s->nvertices == 2)
+                CHECK(fabs(fabs(dot3(s->vertices, pole)) - 1) < 1e-12 &&
+                      fabs(dot3(s->vertices + 3, pole) + dot3(s->vertices, pole)) < 1e-12);
+            mfg_spoly_free(s);
+        }
+        cross3(ia, ib, p + 3 * n); /* exact: integers below 2^22 */
+        if ((s = vm(p, n + 1, 0))) {
+            CHECK_EQ_INT(s->kind, MFG_VM_POINT);
+            CHECK_EQ_INT(s->nvertices, 1);
+            if (s->nvertices == 1)
+                CHECK(dot3(s->vertices, pole) > 1 - 1e-12);
+            mfg_spoly_free(s);
+        }
+        int64_t half = 0; /* t in [0, pi): i a + j b with j >= 0, then -1000 a */
+        for (int64_t i = 0; i < n; i++) {
+            double t = 2 * M_PI * (double)i / (double)n;
+            if (t >= M_PI)
+                continue;
+            double ci = nearbyint(1000 * cos(t)), si = nearbyint(1000 * sin(t));
+            for (int k = 0; k < 3; k++)
+                p[3 * half + k] = ci * ia[k] + si * ib[k];
+            half++;
+        }
+        for (int k = 0; k < 3; k++)
+            p[3 * half + k] = -1000 * ia[k];
+        half++;
+        if (trial % 2)
+            shuffle(p, half);
+        if ((s = vm(p, half, 0))) {
+            CHECK_EQ_INT(s->kind, MFG_VM_EDGE);
+            CHECK_EQ_INT(s->closed, 0);
+            check_vm(p, half, s, 20000);
+            mfg_spoly_free(s);
+        }
+        free(p);
+    }
+    /* near-duplicates of every normal (3p rounded, a few ulps off) on a large cone: merged
+     * in the output to the clean cone's map */
+    double rot[9];
+    random_rotation(rot);
+    int64_t n = 500;
+    double *p = tessellated_cone(n, 0.9, rot, 0.0);
+    double *q = malloc((size_t)(3 * n) * 3 * sizeof(double));
+    for (int64_t i = 0; i < 3 * n; i++)
+        for (int k = 0; k < 3; k++) {
+            double x = p[3 * (i % n) + k];
+            q[3 * i + k] = i < n ? x : i < 2 * n ? 3 * x : nextafter(x, i % 2 ? 2.0 : -2.0);
+        }
+    shuffle(q, 3 * n);
+    mfg_spoly *a = vm(p, n, 0), *b = vm(q, 3 * n, 0);
+    if (a && b) {
+        CHECK_EQ_INT(b->kind, MFG_VM_POLYGON);
+        CHECK_EQ_INT(b->nvertices, n);
+        double worst = 0; /* every vertex of b within 1e-10 of one of a */
+        for (int64_t i = 0; i < b->nvertices; i++) {
+            double near = INFINITY;
+            for (int64_t j = 0; j < a->nvertices; j++) {
+                double d = 0;
+                for (int k = 0; k < 3; k++)
+                    d = fmax(d, fabs(b->vertices[3 * i + k] - a->vertices[3 * j + k]));
+                near = fmin(near, d);
+            }
+            worst = fmax(worst, near);
+        }
+        CHECK(worst < 1e-10);
+    }
+    mfg_spoly_free(a);
+    mfg_spoly_free(b);
+    free(q);
+    free(p);
+}
+
 int main(void)
 {
     test_kinds();
@@ -597,6 +1047,9 @@ int main(void)
     test_permutation_invariance();
     test_duplicates();
     test_many_hull_vertices();
+    test_reference_hulls();
+    test_nearly_hemispherical_cones();
+    test_large_degenerate();
     test_draft();
     test_million_normals();
     return mfg_test_report("test_visibility");
