@@ -643,28 +643,40 @@ static mfg_status build_node(mfg_region *g, const nodebox *b, const uint32_t *li
 
     /* Split into four: each child keeps the edges within reach of it and a reference
      * point off them, whose parity follows from the parent's along the segment between
-     * the two (inside the parent, so only the parent's edges can cross it). */
-    uint32_t *sub = malloc((size_t)m * sizeof(uint32_t));
+     * the two (inside the parent, so only the parent's edges can cross it).  A split
+     * that leaves most edges in every child (edges through one point, or a tol wider
+     * than the gaps) only multiplies entries: then the list stays a leaf. */
+    uint32_t *sub = malloc((size_t)m * 4 * sizeof(uint32_t));
     if (!sub)
         return mfg_fail(MFG_ERR_NOMEM, "cannot allocate a node list of %u edges", m);
     double mx = 0.5 * (b->x0 + b->x1), my = 0.5 * (b->y0 + b->y1);
+    nodebox c[4];
+    uint32_t cm[4];
+    uint64_t sum = 0;
+    for (int q = 0; q < 4; q++) {
+        c[q].x0 = (q & 1) ? mx : b->x0;
+        c[q].x1 = (q & 1) ? b->x1 : mx;
+        c[q].y0 = (q & 2) ? my : b->y0;
+        c[q].y1 = (q & 2) ? b->y1 : my;
+        c[q].depth = b->depth + 1;
+        cm[q] = 0;
+        for (uint32_t p = 0; p < m; p++)
+            if (edge_near_box(g, list[p], c[q].x0, c[q].y0, c[q].x1, c[q].y1, g->reach))
+                sub[(size_t)q * m + cm[q]++] = list[p];
+        sum += cm[q];
+    }
+    if (sum > 3 * (uint64_t)m) {
+        free(sub);
+        return make_list_leaf(g, b, list, m, out);
+    }
     uint32_t line = 0, kid[4] = {0, 0, 0, 0};
     st = new_lines(g, 1, &line);
     for (int q = 0; q < 4 && st == MFG_OK; q++) {
-        nodebox c;
-        c.x0 = (q & 1) ? mx : b->x0;
-        c.x1 = (q & 1) ? b->x1 : mx;
-        c.y0 = (q & 2) ? my : b->y0;
-        c.y1 = (q & 2) ? b->y1 : my;
-        c.depth = b->depth + 1;
-        uint32_t cm = 0;
-        for (uint32_t p = 0; p < m; p++)
-            if (edge_near_box(g, list[p], c.x0, c.y0, c.x1, c.y1, g->reach))
-                sub[cm++] = list[p];
-        uint32_t limit = cm < 30000 ? 2 * cm + 16 : 65535, t = 0;
+        const uint32_t *cl = sub + (size_t)q * m;
+        uint32_t limit = cm[q] < 30000 ? 2 * cm[q] + 16 : 65535, t = 0;
         for (; t < limit; t++) {
-            seq_point(c.x0, c.y0, c.x1 - c.x0, c.y1 - c.y0, t, &c.rx, &c.ry);
-            if (off_boundary(g, sub, cm, c.rx, c.ry))
+            seq_point(c[q].x0, c[q].y0, c[q].x1 - c[q].x0, c[q].y1 - c[q].y0, t, &c[q].rx, &c[q].ry);
+            if (off_boundary(g, cl, cm[q], c[q].rx, c[q].ry))
                 break;
         }
         if (t == limit) {
@@ -674,10 +686,10 @@ static mfg_status build_node(mfg_region *g, const nodebox *b, const uint32_t *li
         unsigned par = b->par;
         for (uint32_t p = 0; p < m; p++) {
             uint32_t e = list[p];
-            par ^= (unsigned)mfg_edge_crosses_segment(b->rx, b->ry, c.rx, c.ry, X[e], Y[e], X[e + 1], Y[e + 1]);
+            par ^= (unsigned)mfg_edge_crosses_segment(b->rx, b->ry, c[q].rx, c[q].ry, X[e], Y[e], X[e + 1], Y[e + 1]);
         }
-        c.par = par & 1u;
-        st = build_node(g, &c, sub, cm, &kid[q]);
+        c[q].par = par & 1u;
+        st = build_node(g, &c[q], cl, cm[q], &kid[q]);
     }
     free(sub);
     if (st != MFG_OK)

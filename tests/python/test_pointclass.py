@@ -674,11 +674,74 @@ def test_prepared_equals_one_shot_large(seed):
                         f"one-shot {NAMES[int(o1[0])]} prepared {NAMES[int(p1[0])]} "
                         f"reference {NAMES[reference.classify(small, [pt], tol)[0]]}")
         assert st["columns"] >= 1 and st["rows"] >= 1
-        assert 0 <= st["boundary_cells"] <= st["columns"] * st["rows"]
-        assert st["edge_entries"] >= st["boundary_cells"]
+        assert 0 <= st["edge_cells"] <= st["columns"] * st["rows"]
+        assert st["grid_entries"] >= st["edge_cells"]
+        assert st["edge_entries"] == st["list_entries"] + st["ordered_entries"]
+        assert st["nodes"] >= st["list_leaves"] + st["ordered_leaves"] >= st["edge_cells"]
         # spot check a subsample against the exact reference
         idx = nprng.choice(len(P), 120, replace=False)
         check(rings, P[idx], tol, label=f"large seed {seed} subsample")
+
+
+def _spiky_star(n, r_out=1.0, r_in=0.2, cx=0.0, cy=0.0):
+    """The benchmark's star: 2n vertices alternating between radii r_out and r_in."""
+    k = np.arange(2 * n)
+    r = np.where(k % 2 == 0, r_out, r_in)
+    return np.column_stack([cx + r * np.cos(k * math.pi / n), cy + r * np.sin(k * math.pi / n)])
+
+
+def _comb(n, width=0.3, gap=0.7, height=50.0):
+    """A base with n long thin teeth."""
+    pts = [(0.0, 0.0), (n * (width + gap), 0.0)]
+    for k in range(n - 1, -1, -1):
+        x0 = k * (width + gap)
+        pts += [(x0 + width, 1.0 + height), (x0, 1.0 + height)] + ([(x0, 1.0)] if k else [])
+    return np.array(pts)
+
+
+@pytest.mark.parametrize("tol", [0.0, 1e-9, 1e-4, 0.05])
+def test_prepared_dense_spikes(tol):
+    """Regions a uniform grid cannot separate: the benchmark's star (5000 spikes), a comb
+    of 600 thin teeth, and 2000 spikes inside one grid cell of a large frame.  The
+    prepared index refines them (ordered slabs, a deep quadtree) and must still answer
+    as the one-shot path, and as the exact reference on a subsample."""
+    rng = random.Random(int(tol * 1e9) + 11)
+    nprng = np.random.default_rng(int(tol * 1e9) + 11)
+    cases = {
+        "star": [_spiky_star(5000)],
+        "comb": [_comb(600)],
+        "deep": [np.array(square(0.0, 0.0, 1000.0, 1000.0)), _spiky_star(2000, 0.4, 0.05, 500.3, 500.7)],
+    }
+    for name, rings in cases.items():
+        allv = np.concatenate(rings)
+        lo, hi = allv.min(axis=0), allv.max(axis=0)
+        near = near_boundary_points(rng, [r.tolist() for r in rings], tol, per_edge=1)
+        pts = [np.array(near), nprng.uniform(lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo), size=(30000, 2))]
+        if name == "deep":  # most queries inside the dense cell
+            pts.append(nprng.uniform((499.85, 500.25), (500.75, 501.15), size=(30000, 2)))
+        P = np.ascontiguousarray(in_range(np.concatenate(pts)))
+        with core.Region(rings, tol) as region:
+            prep = region.classify(P)
+            st = region.stats()
+        one = core.classify_points(rings, P, tol)
+        bad = np.nonzero(one != prep)[0]
+        if len(bad):
+            i = int(bad[0])
+            pytest.fail(f"{name} tol={tol!r}: prepared != one-shot on {len(bad)} of {len(P)} points, "
+                        f"first {tuple(P[i].tolist())!r}: one-shot {NAMES[int(one[i])]}, "
+                        f"prepared {NAMES[int(prep[i])]} (stats {st})")
+        counts = np.bincount(one, minlength=3)
+        assert counts[ON] > 0 and counts[OUT] > 0 and (counts[IN] > 0 or tol >= 0.05)
+        # The refinement is really in use (a tol wider than the gaps leaves nothing to
+        # order: every slab would have to reach across neighbouring spikes).
+        if tol <= 1e-4:
+            assert st["ordered_leaves"] > 0 and st["ordered_entries"] > 0, st
+        if name == "deep" and tol <= 1e-4:
+            assert st["max_depth"] >= 4, st
+        # exact reference on a subsample (near-boundary points first)
+        idx = np.concatenate([nprng.choice(len(near), 40, replace=False),
+                              nprng.choice(len(P), 20, replace=False)])
+        check([r.tolist() for r in rings], P[idx], tol, label=f"dense spikes {name} tol={tol}")
 
 
 # Reference-point fractions and grid formulas of the prepared region (pointclass_grid.c),
@@ -1095,6 +1158,11 @@ def test_error_status_codes_and_untouched_output():
     assert lib.mfg_region_classify(handle, d(pts), 2, u8(out)) == MFG_OK
     assert out.tolist() == [IN, OUT]
     assert lib.mfg_region_stats(None, i64(np.zeros(4, dtype=np.int64))) == MFG_ERR_NULL
+    info = core._RegionInfo()
+    assert lib.mfg_region_info(None, ctypes.byref(info)) == MFG_ERR_NULL
+    assert lib.mfg_region_info(handle, None) == MFG_ERR_NULL
+    assert lib.mfg_region_info(handle, ctypes.byref(info)) == MFG_OK
+    assert info.columns >= 1 and info.rows >= 1 and info.edge_cells >= 1
     lib.mfg_region_free(handle)
     lib.mfg_region_free(None)
     assert lib.mfg_status_str(99)   # never NULL

@@ -224,7 +224,10 @@ def load():
                 # Bind every declared function now, so that later calls (also those of
                 # finalizers at interpreter shutdown) need nothing but their own object.
                 for function in list(vars(_lib).values()):
-                    function._bind(cdll)
+                    try:
+                        function._bind(cdll)
+                    except AttributeError:   # not in this build: fails when called
+                        pass
                 _loaded = (cdll, path)
             loaded = _loaded
     return loaded[0]
@@ -255,8 +258,18 @@ _lib.mfg_region_new.argtypes = [_c_double_p, _c_int64_p, ctypes.c_int64, ctypes.
                                 ctypes.POINTER(ctypes.c_void_p)]
 _lib.mfg_region_classify.restype = ctypes.c_int
 _lib.mfg_region_classify.argtypes = [ctypes.c_void_p, _c_double_p, ctypes.c_int64, _c_uint8_p]
-_lib.mfg_region_stats.restype = ctypes.c_int
-_lib.mfg_region_stats.argtypes = [ctypes.c_void_p, _c_int64_p]
+
+
+class _RegionInfo(ctypes.Structure):
+    """struct mfg_region_info (mfgeom.h): the shape of a prepared region's index."""
+    _fields_ = [(name, ctypes.c_int64) for name in (
+        "columns", "rows", "edge_cells", "grid_entries", "edge_entries", "list_entries",
+        "ordered_entries", "nodes", "list_leaves", "ordered_leaves", "max_depth", "max_list",
+        "bytes")]
+
+
+_lib.mfg_region_info.restype = ctypes.c_int
+_lib.mfg_region_info.argtypes = [ctypes.c_void_p, ctypes.POINTER(_RegionInfo)]
 _lib.mfg_region_free.restype = None
 _lib.mfg_region_free.argtypes = [ctypes.c_void_p]
 
@@ -426,10 +439,14 @@ class Region:
         return out
 
     def stats(self):
-        """Grid statistics: dict with columns, rows, boundary_cells, edge_entries."""
-        buf = np.zeros(4, dtype=np.int64)
-        _check(_lib.mfg_region_stats(self._handle, _ptr(buf, ctypes.c_int64)))
-        return dict(zip(("columns", "rows", "boundary_cells", "edge_entries"), buf.tolist()))
+        """Index statistics (struct mfg_region_info) as a dict: columns, rows (the grid),
+        edge_cells, grid_entries, edge_entries, list_entries, ordered_entries, nodes,
+        list_leaves, ordered_leaves, max_depth, max_list, bytes."""
+        if not self._handle:
+            raise MfgError("invalid argument", "Region is closed")
+        info = _RegionInfo()
+        _check(_lib.mfg_region_info(self._handle, ctypes.byref(info)))
+        return {name: int(getattr(info, name)) for name, _ in _RegionInfo._fields_}
 
     def close(self):
         if self._handle:
