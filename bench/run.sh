@@ -39,6 +39,9 @@ tmp="$results.tmp"
         "$python" "$here/bench_python.py" $quick
     echo
     "$build/bench/bench_maxisect" $quick || echo "(bench_maxisect reported consistency failures: see stderr)"
+    echo
+    MFGEOM_LIBRARY="$build/libmfgeom.so" "$python" "$here/bench_freecad.py" $quick ||
+        echo "(bench_freecad: the FreeCAD GUI path failed or is missing: see stderr)"
 } | tee "$tmp"
 mv "$tmp" "$results"
 echo

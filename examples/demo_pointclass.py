@@ -20,7 +20,6 @@ import numpy as np
 
 import FreeCAD as App
 import Part
-import Points
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
@@ -33,6 +32,7 @@ for path in (HERE, os.path.join(REPO, "workbench")):
 import bracket  # noqa: E402  (needs the path above)
 import mfgeom  # noqa: E402
 from mfgeom import core  # noqa: E402
+from mfgeom.app import pointcloud  # noqa: E402
 
 TOLERANCE = 0.3  # mm: wide enough for the ON band to show at the demo's 1 mm point spacing
 FINE_TOLERANCE = 0.01  # mm: the workbench default, for the timing run
@@ -58,7 +58,7 @@ def open_bracket():
 
 def add_cloud(doc, name, pts):
     obj = doc.addObject("Points::Feature", name)
-    obj.Points = Points.Points([App.Vector(*p) for p in pts.tolist()])
+    obj.Points = pointcloud.array_to_kernel(pts)
     return obj
 
 
@@ -157,7 +157,7 @@ def run():
         seconds = time.perf_counter() - t0
         n = len(obj.Classes)
         face = part.Shape.getElement(face_ref[1])
-        pts = np.array([(v.X, v.Y, v.Z) for v in obj.Shape.Vertexes])
+        pts = pointcloud.kernel_to_array(obj.Points)
         checked, agreed = cross_check(obj, face, pts, tol, rng)
         entry = {
             "name": name, "face": f"{part.Label}.{face_ref[1]}", "surface": face.Surface.TypeId,

@@ -34,8 +34,8 @@ def render():
     for obj in features:
         if not obj.isValid():
             raise RuntimeError(f"{obj.Label} is not valid: {obj.getStatusString()}")
-        if len(obj.ViewObject.PointColorArray) != len(obj.Classes):
-            raise RuntimeError(f"{obj.Label}: points are not coloured")
+        if sum(obj.ViewObject.Proxy.counts_shown().values()) != len(obj.Classes):
+            raise RuntimeError(f"{obj.Label}: the view does not show every point")
     with open(os.path.join(out, "demo_pointclass.json"), encoding="utf-8") as f:
         show = set(json.load(f)["show"])
     for obj in doc.Objects:
