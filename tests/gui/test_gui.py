@@ -376,6 +376,7 @@ def _():
     shown = obj.ViewObject.Proxy.counts_shown()
     assert shown == {0: obj.CountOut, 1: obj.CountIn, 2: obj.CountOn}, shown
     assert sum(shown.values()) == len(obj.Classes) > 0
+    assert obj.ViewObject.Proxy.is_shown(obj.ViewObject), obj.ViewObject.DisplayMode
     App.closeDocument(doc.Name)
 
 
@@ -410,6 +411,36 @@ def _():
                 doc = App.openDocument(path)
                 obj = doc.getObject(name)
                 Gui.updateGui()
+    finally:
+        App.closeDocument(doc.Name)
+
+
+@check("a document saved by freecadcmd shows its points once made visible")
+def _():
+    import subprocess
+    path = os.path.join(OUT, "headless.FCStd")
+    script = os.path.join(OUT, "headless.py")
+    with open(script, "w", encoding="utf-8") as f:
+        f.write(f"""import sys
+sys.path.append({os.path.join(REPO, "workbench")!r})
+import FreeCAD as App, Points, mfgeom
+doc = App.newDocument("headless")
+box = doc.addObject("Part::Box", "Box")
+doc.recompute()
+cloud = doc.addObject("Points::Feature", "Cloud")
+cloud.Points = Points.Points([(1.0, 1.0, 10.0), (5.0, 0.0, 10.0), (-1.0, 1.0, 10.0)])
+mfgeom.make_point_classification(doc, (box, "Face6"), cloud, 0.01, name="PC")
+doc.saveAs({path!r})
+""")
+    run = subprocess.run(["freecadcmd", script], capture_output=True, text=True, timeout=120)
+    assert os.path.exists(path), run.stdout[-1000:] + run.stderr[-1000:]
+    doc = App.openDocument(path)
+    try:
+        obj = doc.getObject("PC")
+        obj.ViewObject.Visibility = True
+        Gui.updateGui()
+        assert obj.ViewObject.Proxy.is_shown(obj.ViewObject), obj.ViewObject.DisplayMode
+        assert obj.ViewObject.Proxy.counts_shown() == {0: 1, 1: 1, 2: 1}
     finally:
         App.closeDocument(doc.Name)
 

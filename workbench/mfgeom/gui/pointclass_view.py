@@ -24,6 +24,9 @@ class ViewProviderPointClassification:
         vobj.Proxy = self
         self.Object = vobj.Object
         vobj.PointSize = preferences.point_size()
+        # Also for an object that had no view provider (a document saved by freecadcmd):
+        # its DisplayMode is Part's default, and setDisplayMode() is only asked on a change.
+        vobj.DisplayMode = DISPLAY_MODE
 
     def attach(self, vobj):
         from pivy import coin
@@ -80,6 +83,14 @@ class ViewProviderPointClassification:
         action.apply(self._root)
         box = action.getBoundingBox()
         return tuple(box.getMin().getValue()), tuple(box.getMax().getValue())
+
+    def is_shown(self, vobj):
+        """Whether the 3D view draws our point sets (visible, and our display mode is the
+        active child of the object's mode switch)."""
+        switch = vobj.SwitchNode
+        which = switch.whichChild.getValue()
+        return bool(vobj.Visibility) and 0 <= which < switch.getNumChildren() and \
+            switch.getChild(which) == self._root
 
     def counts_shown(self):
         """Number of points drawn per class (for tests and reports)."""
