@@ -222,10 +222,11 @@ def load():
             if _loaded is None:
                 cdll, path = _find_and_open()
                 # Bind every declared function now, so that later calls (also those of
-                # finalizers at interpreter shutdown) need nothing but their own object.
-                for function in list(vars(_lib).values()):
+                # finalizers at interpreter shutdown) need nothing but their own object,
+                # and put the ctypes function itself in its place: no proxy per call.
+                for name, function in list(vars(_lib).items()):
                     try:
-                        function._bind(cdll)
+                        setattr(_lib, name, function._bind(cdll))
                     except AttributeError:   # not in this build: fails when called
                         pass
                 _loaded = (cdll, path)
