@@ -114,10 +114,29 @@ static int in_inscribed_cap(const cone3 *k, vref p)
     return d > 0.0 && d * d > k->cos2_in * mfg_dot3(p, p);
 }
 
+/* p in the cone of one triangle h_0, h_i, h_i+1 of the fan from h_0, the triangle found
+ * by binary search on the side of p from the rays h_0 -> h_i (then three exact tests
+ * certify it): O(log h) orientation tests instead of h for a point inside, where the
+ * inscribed cap does not help (a sliver hull of normals near one great circle). */
+static int in_fan_triangle(const cone3 *k, vref p)
+{
+    int64_t n = k->nh, lo = 1, hi = n - 1;
+    if (mfg_orient3(k->h[0], k->h[lo], p) < 0 || mfg_orient3(k->h[0], k->h[hi], p) > 0)
+        return 0;
+    while (hi - lo > 1) { /* p left of or on h_0 -> h_lo, right of or on h_0 -> h_hi */
+        int64_t mid = lo + (hi - lo) / 2;
+        if (mfg_orient3(k->h[0], k->h[mid], p) >= 0)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return mfg_orient3(k->h[lo], k->h[hi], p) >= 0;
+}
+
 /* Adds p to a pointed polygonal hull, or moves to CONE_LINE when -p is in the cone. */
 static mfg_status hull_add(cone3 *k, vref p)
 {
-    if (in_inscribed_cap(k, p))
+    if (in_inscribed_cap(k, p) || in_fan_triangle(k, p))
         return MFG_OK;
     int64_t n = k->nh, neg = 0, pos = 0;
     mfg_status st = hull_reserve(k, n + 2);
@@ -903,7 +922,7 @@ static mfg_status grow_in_batches(cone3 *k, const double *normals, int64_t m, in
     memset(&w, 0, sizeof w);
     mfg_status st = MFG_OK;
     while (step < m && st == MFG_OK && k->state == CONE_HULL) {
-        int64_t b = step < m - step ? step : m - step, np = 0;
+        int64_t b = 3 * step < m - step ? 3 * step : m - step, np = 0;
         vref *pend = reserve(w.pend, &w.n_pend, b, sizeof *pend);
         if (!pend) {
             st = mfg_fail(MFG_ERR_NOMEM, "cannot allocate a batch of %lld normals", (long long)b);
