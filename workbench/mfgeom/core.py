@@ -113,7 +113,7 @@ def _not_found(tried, explicit=None):
     """The LibraryError for a missing library: where it was looked for, why each place
     was not used, and the command that builds it."""
     lines = [f"MFGEOM_LIBRARY={explicit} cannot be used." if explicit else
-             f"{LIBRARY_NAME}, the mfgeom C library, was not found."]
+             f"No usable {LIBRARY_NAME} (the mfgeom C library) was found."]
     lines.append("Looked in:")
     lines += [f"  {place}: {why}" for place, why in tried]
     lines.append(building.instructions())
