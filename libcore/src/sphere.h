@@ -59,6 +59,18 @@ static inline double mfg_angle3(const double a[3], const double b[3])
     return atan2(sqrt(mfg_dot3(c, c)), mfg_dot3(a, b));
 }
 
+/* Bearing of y about the axis c, measured counter-clockwise (seen from outside, looking
+ * at c) from the half meridian through v, in [0, 2 pi).  c need not be unit. */
+static inline double mfg_bearing3(const double c[3], const double v[3], const double y[3])
+{
+    double p[3], q[3], x[3];
+    mfg_cross3(c, v, p);
+    mfg_cross3(c, y, q);
+    mfg_cross3(p, q, x);
+    double t = atan2(mfg_dot3(x, c), mfg_dot3(p, q));
+    return t < 0.0 ? t + 2 * MFG_PI : t;
+}
+
 /* A fixed stride coprime to m (m >= 1) visits every index of 0..m-1 exactly once, in a
  * scrambled order (i -> i + stride mod m): incremental hulls and Welzl's algorithm then
  * see extreme points early, as with a random permutation, with no memory.  The stride
