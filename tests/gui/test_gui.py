@@ -445,6 +445,29 @@ doc.saveAs({path!r})
         App.closeDocument(doc.Name)
 
 
+@check("a version 1 document (points in a compound, Part's display mode) opens shown")
+def _():
+    import shutil
+    # tests/gui/data/pointclass_v1.FCStd was saved by the GUI with mfgeom 92be5eb: Version
+    # 1, the 4 points as a compound of vertices in Shape, PointColorArray, DisplayMode
+    # "Points".  It must show its points before any recompute, then recompute cleanly.
+    path = os.path.join(OUT, "pointclass_v1.FCStd")
+    shutil.copyfile(os.path.join(HERE, "data", "pointclass_v1.FCStd"), path)
+    doc = App.openDocument(path)
+    try:
+        obj = doc.getObject("PC")
+        vobj = obj.ViewObject
+        assert obj.Points.CountPoints == 4 and obj.Shape.isNull(), obj.Points.CountPoints
+        assert vobj.Proxy.is_shown(vobj), vobj.DisplayMode
+        assert vobj.Proxy.counts_shown() == {0: 1, 1: 2, 2: 1}, vobj.Proxy.counts_shown()
+        obj.touch()
+        doc.recompute()
+        assert obj.isValid() and list(obj.Classes) == [1, 2, 0, 1], list(obj.Classes)
+        assert vobj.Proxy.is_shown(vobj) and "Touched" not in obj.State
+    finally:
+        App.closeDocument(doc.Name)
+
+
 @check("the bundled example opens with its objects visible")
 def _():
     import zipfile

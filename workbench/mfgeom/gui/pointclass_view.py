@@ -55,6 +55,14 @@ class ViewProviderPointClassification:
         vobj.addDisplayMode(self._root, DISPLAY_MODE)
         self._show(vobj.Object)
 
+    def finishRestoring(self, vobj=None):
+        # Documents of version < 3 saved Part's modes ("Flat Lines", "Points"); restored
+        # before this proxy was attached, they never went through setDisplayMode().
+        # (FreeCAD 0.20 passes no argument here.)
+        vobj = vobj if vobj is not None else self.Object.ViewObject
+        if vobj.DisplayMode != DISPLAY_MODE:
+            vobj.DisplayMode = DISPLAY_MODE
+
     def getDisplayModes(self, vobj):
         return [DISPLAY_MODE]
 
