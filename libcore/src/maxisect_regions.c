@@ -72,7 +72,7 @@ static void snap_normals(double *n, int64_t nn, keyed *ord)
         for (int64_t j = lo; j < nn && ord[j].x <= -a[0] + snap; j++) {
             double *b = n + 3 * ord[j].i;
             if (b != a && fabs(b[1] + a[1]) <= snap && fabs(b[2] + a[2]) <= snap)
-                b[0] = -a[0], b[1] = -a[1], b[2] = -a[2];
+                mfg_neg3(a, b);
         }
     }
 }

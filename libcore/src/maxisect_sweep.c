@@ -117,7 +117,7 @@ int64_t mfg_thin_intervals(const sset *S, int64_t sid, const double *a, const do
                 continue;
             for (int sign = 0; sign < 2; sign++) {
                 if (sign)
-                    xu[0] = -xu[0], xu[1] = -xu[1], xu[2] = -xu[2];
+                    mfg_neg3(xu, xu);
                 if (mfg_param_on_edge(a, b, xu, &s) && mfg_param_on_edge(c, d, xu, &t))
                     iv[m++] = (interval){s, s, sid};
             }

@@ -460,7 +460,7 @@ static mfg_status map_on_great_circle(const double *normals, int64_t m, vref q,
         double au[3], bu[3];
         mfg_cross3_accurate(q, lo, t);
         mfg_unit3(t, s);
-        s[0] = -s[0], s[1] = -s[1], s[2] = -s[2];
+        mfg_neg3(s, s);
         mfg_cross3_accurate(q, hi, t);
         mfg_unit3(t, e);
         /* The arc's midpoint is the bisector of the projections of a and b. */
@@ -491,7 +491,8 @@ static mfg_status map_on_great_circle(const double *normals, int64_t m, vref q,
             return st;
         set_vertex(*out, 0, s);
         if (n == 2) {
-            double ns[3] = {-s[0], -s[1], -s[2]};
+            double ns[3];
+            mfg_neg3(s, ns);
             set_vertex(*out, 1, ns);
         }
         return MFG_OK;
@@ -519,7 +520,7 @@ static int64_t clip_hemisphere(const double *poly, int64_t n, const double nrm[3
         if ((sa >= 0) != (sb >= 0)) {
             double x[3] = {sa * b[0] - sb * a[0], sa * b[1] - sb * a[1], sa * b[2] - sb * a[2]};
             if (sa < 0)
-                x[0] = -x[0], x[1] = -x[1], x[2] = -x[2];
+                mfg_neg3(x, x);
             if (mfg_unit3(x, out + 3 * m))
                 m++;
         }
