@@ -2,9 +2,10 @@
 """View provider of the point classification feature: the points coloured by class, drawn
 as one Coin point set per class (IN, ON, OUT in the colours of mfgeom.palette).
 
-The coordinates go from the feature's Points kernel to Coin through numpy arrays (pivy
-takes them whole), so 10^6 points show in ~0.2 s; per-point colours through a Part
-compound's PointColorArray took seconds.
+The coordinates reach Coin as numpy arrays (pivy takes them whole, ~0.1 us per point):
+right after a recompute the points execute() classified, otherwise the float32 contents of
+the feature's Points kernel under its placement matrix.  Per-point colours through a Part
+compound's PointColorArray took seconds per 10^5 points.
 """
 
 import numpy as np
