@@ -39,6 +39,17 @@ elif grep -q "Traceback" "$app_log"; then
   echo "app tests: traceback in the log:"; grep -n -A12 "Traceback" "$app_log"; failed=1
 fi
 
+echo "--- FreeCAD parting tests (freecadcmd)"
+parting_log="$FREECAD_USER_HOME/parting.log"
+freecadcmd tests/freecad/test_parting_app.py > "$parting_log" 2>&1
+parting_rc=$?
+grep -E "^(FAIL|ERROR): |^freecad-parting: " "$parting_log"
+if [ $parting_rc -ne 0 ] || ! grep -qE "^freecad-parting: [0-9]+ passed, 0 failed$" "$parting_log" ||
+   grep -q "Traceback" "$parting_log"; then
+  echo "parting tests: FAILED (exit $parting_rc)"; grep -n -A12 "Traceback" "$parting_log" | head -120
+  failed=1
+fi
+
 echo "--- FreeCAD GUI tests (freecad under xvfb)"
 bash tests/gui/run_gui_tests.sh || failed=1
 

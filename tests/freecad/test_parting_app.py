@@ -1,0 +1,316 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""FreeCAD App tests of the parting analysis foundation (Gaussian maps of real faces, edge
+kinds, mould / NC answers on the bundled example parts), run by ``freecadcmd``.
+
+Run through tests/run_freecad_tests.sh, or directly:
+``MFGEOM_LIBRARY=build/libmfgeom.so freecadcmd tests/freecad/test_parting_app.py``.
+Prints ``freecad-parting: N passed, M failed`` last and exits non-zero on any failure.
+
+References are independent of the code under test: dense normals from OCCT's
+``Face.normalAt`` on a fine UV grid of each true face (points outside the trimmed face
+dropped) and 10^4 Fibonacci directions counted by brute force."""
+
+import math
+import os
+import sys
+import time
+import unittest
+
+import numpy as np
+
+import FreeCAD as App
+import Part
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+for _path in (os.path.join(REPO, "examples", "parts"), os.path.join(REPO, "workbench")):
+    if _path not in sys.path:
+        sys.path.append(_path)
+
+import bspline_part  # noqa: E402
+import cup  # noqa: E402
+import cup_hole  # noqa: E402
+import draft_flip  # noqa: E402
+import pocket_block  # noqa: E402
+from mfgeom import core, parting  # noqa: E402
+from mfgeom.app import gauss_map  # noqa: E402
+
+X, Y, Z = np.eye(3)
+PLACEMENT = App.Placement(App.Vector(5, -7, 11), App.Rotation(App.Vector(1, 2, 3), 37))
+CONTAINER = App.Placement(App.Vector(-3, 2, 1), App.Rotation(App.Vector(0, 1, -1), 71))
+EXAMPLES = {"cup": cup, "cup_hole": cup_hole, "pocket_block": pocket_block,
+            "draft_flip": draft_flip, "bspline_part": bspline_part}
+TIMES = []
+_SHAPES = {}
+_DENSE = {}
+
+
+def example(name):
+    if name not in _SHAPES:
+        _SHAPES[name] = EXAMPLES[name].make()
+    return _SHAPES[name]
+
+
+def rot_matrix(pl):
+    m = pl.Rotation.toMatrix()
+    return np.array([[m.A11, m.A12, m.A13], [m.A21, m.A22, m.A23], [m.A31, m.A32, m.A33]])
+
+
+def dense_normals(face, k=48):
+    """Normals of the true face on a k x k UV grid (points outside its domain dropped)."""
+    u0, u1, v0, v1 = face.ParameterRange
+    out = []
+    for u in np.linspace(u0, u1, k):
+        for v in np.linspace(v0, v1, k):
+            if face.isPartOfDomain(float(u), float(v)):
+                n = face.normalAt(float(u), float(v))
+                out.append((n.x, n.y, n.z))
+    return np.array(out)
+
+
+def _vec(a):
+    return App.Vector(*[float(c) for c in a])
+
+
+def run(source, mode="Mould", draft=0.0, **kw):
+    t0 = time.perf_counter()
+    faces, adj, shape = gauss_map.part_gauss(source)
+    t1 = time.perf_counter()
+    if mode == "Mould":
+        r = parting.mould_parting(faces, adj, draft_angle=draft, **kw)
+    else:
+        r = parting.nc_setups(faces, adj, tilt=draft, **kw)
+    TIMES.append((len(faces), mode, round(draft, 4), t1 - t0, time.perf_counter() - t1))
+    return r, faces, shape
+
+
+def names(r, surfaces):
+    return sorted(f"Face{f + 1}" for f in r.faces_of(surfaces))
+
+
+class EdgeKinds(unittest.TestCase):
+    def test_box_with_pocket(self):
+        box = Part.makeBox(10, 10, 10).cut(Part.makeBox(4, 4, 5, App.Vector(3, 3, 5)))
+        box.Placement = PLACEMENT
+        self.assertTrue(any(f.Orientation == "Reversed" for f in box.Faces))
+        adj = gauss_map.adjacency(box)
+        kinds = {}
+        for i, j, kind in adj:
+            kinds.setdefault(kind, []).append((i, j))
+        self.assertEqual(len(adj), 12 + 12)
+        # the pocket: four walls and a floor, joined by 8 concave edges
+        pocket = {i for e in kinds["concave"] for i in e}
+        self.assertEqual(len(kinds["concave"]), 8)
+        self.assertEqual(len(pocket), 5)
+        floor = [i for i in pocket if abs(box.Faces[i].Area - 16) < 1e-9]
+        self.assertEqual(len(floor), 1)
+        self.assertNotIn("tangent", kinds)
+
+    def test_fillet_is_tangent_and_groove_concave(self):
+        box = Part.makeBox(10, 10, 10)
+        top_edge = [e for e in box.Edges
+                    if abs(e.BoundBox.ZMin - 10) < 1e-9 and abs(e.BoundBox.ZMax - 10) < 1e-9][0]
+        filleted = box.makeFillet(2, [top_edge])
+        adj = gauss_map.adjacency(filleted)
+        self.assertEqual(sum(k == "tangent" for _, _, k in adj), 2)
+        self.assertEqual(sum(k == "concave" for _, _, k in adj), 0)
+        groove = Part.makeBox(10, 10, 10).cut(
+            Part.makeCylinder(2, 10, App.Vector(5, 0, 10), App.Vector(0, 1, 0)))
+        adj = gauss_map.adjacency(groove)
+        self.assertEqual(sum(k == "concave" for _, _, k in adj), 0)  # a round groove: convex rims
+        groups, _ = parting.concave_surfaces(len(groove.Faces), adj)
+        self.assertEqual(len(groups), len(groove.Faces))
+
+
+class GaussMaps(unittest.TestCase):
+    def assert_valid_bound(self, face, g):
+        """Every direction in the samples' map shrunk by g.shrink sees every dense
+        normal of the true face: the shrink is a real bound."""
+        dense = dense_normals(face)
+        dirs = parting.fibonacci_sphere(4000)
+        ok = (dirs @ g.normals.T).min(axis=1) >= math.sin(g.shrink)
+        if ok.any():
+            worst = (dirs[ok] @ dense.T).min()
+            self.assertGreaterEqual(worst, -1e-9, g.name)
+        # the map's vertices are its extreme directions: the sharpest check
+        vm = core.visibility_map(g.normals, draft_angle=g.shrink)
+        if vm.kind != "null":
+            self.assertGreaterEqual((vm.vertices @ dense.T).min(), -1e-9, g.name)
+        # and the samples are normals of the face: none is outside the dense normals'
+        # spread by more than the grid's resolution
+        self.assertLess(np.arccos(np.clip(g.normals @ dense.T, -1, 1)).min(axis=1).max(), 0.2)
+
+    def test_kinds_and_exactness(self):
+        shapes = {"plane": Part.makeBox(1, 2, 3).Faces[0],
+                  "cylinder": Part.makeCylinder(2, 5, App.Vector(), App.Vector(0, 0, 1), 250).Faces[0],
+                  "cone": Part.makeCone(3, 1, 4).Faces[0],
+                  # patches whose maps are not empty, so the bound check has vertices
+                  "sphere": Part.makeSphere(3, App.Vector(), App.Vector(0, 0, 1), 20, 70, 120).Faces[0],
+                  "torus": Part.makeTorus(5, 1, App.Vector(), App.Vector(0, 0, 1), 20, 70, 120).Faces[0],
+                  "bspline": [f for f in example("bspline_part").Faces
+                              if isinstance(f.Surface, Part.BSplineSurface)][0]}
+        for name, face in shapes.items():
+            face = face.copy()
+            face.Placement = PLACEMENT
+            g = gauss_map.face_gauss(face, name=name)
+            if name in ("plane", "cylinder"):
+                self.assertEqual(g.shrink, 0.0, name)
+            else:
+                self.assertGreater(g.shrink, 0.0, name)
+                self.assertLessEqual(g.shrink, gauss_map.DEFAULT_DEFLECTION, name)
+            if name == "plane":
+                self.assertEqual(len(g.normals), 1)
+            self.assertNotEqual(core.visibility_map(g.normals, draft_angle=g.shrink).kind, "null")
+            self.assert_valid_bound(face, g)
+
+    def test_every_example_face(self):
+        for name in EXAMPLES:
+            shape = example(name)
+            faces, _, _ = gauss_map.part_gauss(shape)
+            for face, g in zip(shape.Faces, faces):
+                self.assert_valid_bound(face, g)
+
+    def test_reversed_face_normals_point_out_of_the_material(self):
+        shape = example("cup_hole")
+        self.assertTrue(any(f.Orientation == "Reversed" for f in shape.Faces))
+        for face, g in zip(shape.Faces, gauss_map.part_gauss(shape)[0]):
+            u0, u1, v0, v1 = face.ParameterRange
+            uv = [(u, v) for u in np.linspace(u0, u1, 7)[1:-1] for v in np.linspace(v0, v1, 7)[1:-1]
+                  if face.isPartOfDomain(float(u), float(v))][0]
+            p = face.valueAt(*uv)
+            n = _vec(g.normals[0]) if len(g.normals) == 1 else face.normalAt(*uv)
+            self.assertFalse(shape.isInside(p + n * 0.1, 1e-6, True), g.name)
+            self.assertTrue(shape.isInside(p - n * 0.1, 1e-6, True), g.name)
+
+
+class Examples(unittest.TestCase):
+    """The answers on the bundled parts; each also rotated, as geometry and as a
+    Placement (of the object and of an App::Part around it)."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.doc = App.newDocument("PartingTest")
+
+    @classmethod
+    def tearDownClass(cls):
+        App.closeDocument(cls.doc.Name)
+
+    def variants(self, name):
+        """(label, source, rotation) for the part as built, rotated geometry, a rotated
+        object and a rotated object inside a rotated App::Part."""
+        shape = example(name)
+        geo = shape.copy()
+        geo.transformShape(PLACEMENT.toMatrix(), True)
+        self.assertTrue(geo.Placement.isIdentity())
+        obj = self.doc.addObject("Part::Feature", name)
+        obj.Shape = shape
+        obj.Placement = PLACEMENT
+        inner = self.doc.addObject("Part::Feature", name + "_inner")
+        inner.Shape = shape
+        inner.Placement = PLACEMENT
+        container = self.doc.addObject("App::Part", name + "_container")
+        container.addObject(inner)
+        container.Placement = CONTAINER
+        self.doc.recompute()
+        return [("built", shape, np.eye(3)), ("geometry", geo, rot_matrix(PLACEMENT)),
+                ("placement", obj, rot_matrix(PLACEMENT)),
+                ("container", inner, rot_matrix(CONTAINER.multiply(PLACEMENT)))]
+
+    def check_mould(self, name, direction, covered, undercuts, side_cores, draft=0.0,
+                    direction_test=None):
+        for label, source, R in self.variants(name):
+            with self.subTest(part=name, variant=label):
+                r, faces, shape = run(source, "Mould", draft)
+                if direction is not None:
+                    np.testing.assert_allclose(r.direction, R @ direction, atol=1e-9)
+                if direction_test is not None:
+                    self.assertTrue(direction_test(R.T @ r.direction), r.direction)
+                self.assertEqual((r.count, r.total), covered)
+                if undercuts is not None:
+                    self.assertEqual([names(r, [s]) for s in r.undercuts], undercuts)
+                self.assertEqual(len(r.side_cores), len(side_cores))
+                for core_dir, want in zip(r.side_cores, side_cores):
+                    # sampled (cone) faces: the region's centre is that of a polygon
+                    np.testing.assert_allclose(core_dir.direction, R @ want, atol=1e-6)
+                self.brute_force(r, shape, draft, True, (name, label))
+
+    def check_nc(self, name, setups):
+        for label, source, R in self.variants(name):
+            with self.subTest(part=name, variant=label):
+                r, faces, shape = run(source, "NC3Axis")
+                got = sorted((tuple(np.round(R.T @ s.direction, 9)), len(s.faces))
+                             for s in r.setups)
+                self.assertEqual(got, sorted((tuple(float(c) for c in d), k) for d, k in setups))
+                self.assertEqual(r.unresolved, [])
+                self.brute_force(r, shape, 0.0, False, (name, label))
+
+    def brute_force(self, r, shape, draft, mould, key):
+        """No Fibonacci direction covers more (dense normals of the true faces), and the
+        returned direction is valid on the dense normals of the surfaces it covers."""
+        if key not in _DENSE:
+            _DENSE[key] = [dense_normals(f, 40) for f in shape.Faces]
+        per_face = _DENSE[key]
+        # repeated normals (planar faces) do not change min/max: drop them (memory)
+        dense = [np.unique(np.round(np.vstack([per_face[f] for f in s.faces]), 13), axis=0)
+                 for s in r.surfaces]
+        dirs = parting.fibonacci_sphere(10000)
+        sin_d = math.sin(draft)
+        counts = np.zeros(len(dirs))
+        for s in r.considered:
+            dots = dirs @ dense[s].T
+            ok = dots.min(axis=1) >= sin_d
+            if mould:
+                ok |= dots.max(axis=1) <= -sin_d
+            counts += r.surfaces[s].weight * ok
+        self.assertLessEqual(counts.max(), r.count + 1e-9)
+        for s in r.covered:
+            dots = dense[s] @ r.direction
+            side = r.side[s] if mould else 1
+            if side == 0:
+                self.assertLess(np.abs(dots).max(), 1e-6)
+            else:
+                self.assertGreaterEqual((side * dots).min(), sin_d - 1e-6, f"surface {s}")
+
+    def test_cup(self):
+        self.check_mould("cup", Z, (4.0, 4.0), [], [])
+        self.check_nc("cup", [(Z, 2)])
+
+    def test_cup_with_hole(self):
+        self.check_mould("cup_hole", Z, (4.0, 5.0), [["Face2", "Face5"]], [X])
+        self.check_nc("cup_hole", [(Z, 2), (X, 2)])
+
+    def test_block_with_three_pockets(self):
+        self.check_nc("pocket_block", [(Z, 5), (X, 5), (-Y, 5)])
+
+    def test_draft_flips_the_answer(self):
+        self.check_mould("draft_flip", Z, (9.0, 11.0), [["Face19", "Face24"], ["Face20", "Face25"]], [X])
+        cos7 = math.cos(math.radians(draft_flip.TAPER_DEG - 3))
+        # with 3 degrees the straight pockets cannot be demoulded at all: no side core
+        self.check_mould("draft_flip", None, (8.0, 11.0), None, [], draft=math.radians(3),
+                         direction_test=lambda d: d @ X > cos7)
+
+    def test_bspline_part(self):
+        faces, _, _ = gauss_map.part_gauss(example("bspline_part"))
+        self.assertTrue(any(0 < f.shrink <= gauss_map.DEFAULT_DEFLECTION for f in faces))
+        self.check_mould("bspline_part", Z, (7.0, 7.0), [], [])
+        self.check_nc("bspline_part", [(Z, 2)])
+
+
+def main():
+    # freecadcmd runs this file with exec(): it is not in sys.modules, so collect by hand
+    loader = unittest.defaultTestLoader
+    suite = unittest.TestSuite(
+        loader.loadTestsFromTestCase(cls) for cls in list(globals().values())
+        if isinstance(cls, type) and issubclass(cls, unittest.TestCase))
+    result = unittest.TextTestRunner(stream=sys.stdout, verbosity=2).run(suite)
+    for nfaces, mode, draft, t_gauss, t_part in TIMES:
+        sys.stdout.write(f"timing: {nfaces} faces {mode} draft {draft}: gauss {t_gauss * 1e3:.1f} ms,"
+                         f" parting {t_part * 1e3:.1f} ms\n")
+    failed = len(result.failures) + len(result.errors)
+    passed = result.testsRun - failed - len(result.skipped)
+    sys.stdout.write(f"freecad-parting: {passed} passed, {failed} failed\n")
+    sys.stdout.flush()
+    return 0 if failed == 0 and result.testsRun > 0 else 1
+
+
+sys.exit(main())
