@@ -456,8 +456,13 @@ static int cmp_key(const void *p, const void *q)
 static int strictly_above(double eau, double eav, double ebu, double ebv, double fau,
                           double fav, double fbu, double fbv)
 {
-    int sl = eau >= fau ? -side_uv(fau, fav, fbu, fbv, eau, eav) : side_uv(eau, eav, ebu, ebv, fau, fav);
-    int sr = ebu <= fbu ? -side_uv(fau, fav, fbu, fbv, ebu, ebv) : side_uv(eau, eav, ebu, ebv, fbu, fbv);
+    /* A shared endpoint (every pair of a spike's edges) is 0 without a predicate. */
+    int sl = eau == fau && eav == fav ? 0
+             : eau >= fau             ? -side_uv(fau, fav, fbu, fbv, eau, eav)
+                                      : side_uv(eau, eav, ebu, ebv, fau, fav);
+    int sr = ebu == fbu && ebv == fbv ? 0
+             : ebu <= fbu             ? -side_uv(fau, fav, fbu, fbv, ebu, ebv)
+                                      : side_uv(eau, eav, ebu, ebv, fbu, fbv);
     return sl >= 0 && sr >= 0 && (sl > 0 || sr > 0);
 }
 
@@ -710,7 +715,7 @@ static mfg_status build_node(mfg_region *g, const nodebox *b, const uint32_t *li
 static mfg_status build_trees(mfg_region *g)
 {
     int64_t ncells = g->nx * g->ny;
-    uint64_t budget = (uint64_t)ENTRY_BUDGET * (uint64_t)g->grid_entries + ((uint64_t)1 << 20);
+    uint64_t budget = (uint64_t)ENTRY_BUDGET * (uint64_t)g->grid_entries + 4096u;
     g->entry_budget = budget < UINT32_MAX / 4 ? budget : UINT32_MAX / 4;
     for (int64_t c = 0; c < ncells; c++) {
         if (!(g->cell[c] & CELL_BUSY))
@@ -947,29 +952,48 @@ mfg_status mfg_region_classify(const mfg_region *g, const double *pts, int64_t n
     mfg_status st = mfg_check_points(pts, npoints, out);
     if (st != MFG_OK)
         return st;
-    for (int64_t k = 0; k < npoints; k++) {
-        double tx = pts[2 * k], ty = pts[2 * k + 1];
-        if (!(tx >= g->gx0 && tx <= g->gx1 && ty >= g->gy0 && ty <= g->gy1)) {
-            out[k] = MFG_OUT;
-            continue;
+    /* Blocks of points: a first pass answers the empty cells and prefetches the roots
+     * of the busy ones, so that the memory latency of several queries overlaps. */
+    enum { BLOCK = 16 };
+    for (int64_t k0 = 0; k0 < npoints; k0 += BLOCK) {
+        int64_t kn = npoints - k0 < BLOCK ? npoints - k0 : BLOCK;
+        const uint64_t *leaf[BLOCK];
+        for (int64_t b = 0; b < kn; b++) {
+            double tx = pts[2 * (k0 + b)], ty = pts[2 * (k0 + b) + 1];
+            leaf[b] = NULL;
+            if (!(tx >= g->gx0 && tx <= g->gx1 && ty >= g->gy0 && ty <= g->gy1)) {
+                out[k0 + b] = MFG_OUT;
+                continue;
+            }
+            int64_t i = (int64_t)((tx - g->gx0) * g->inv_cw);
+            int64_t j = (int64_t)((ty - g->gy0) * g->inv_ch);
+            i = i < g->nx ? i : g->nx - 1;
+            j = j < g->ny ? j : g->ny - 1;
+            int64_t c = j * g->nx + i;
+            unsigned info = g->cell[c];
+            if (!(info & CELL_BUSY)) {
+                out[k0 + b] = (uint8_t)(info & CELL_IN);
+                continue;
+            }
+            leaf[b] = g->tree + (size_t)g->root[c] * TREE_WORDS;
+#if defined(__GNUC__) || defined(__clang__)
+            __builtin_prefetch(leaf[b]);
+            __builtin_prefetch(leaf[b] + TREE_WORDS);
+#endif
         }
-        int64_t i = (int64_t)((tx - g->gx0) * g->inv_cw);
-        int64_t j = (int64_t)((ty - g->gy0) * g->inv_ch);
-        i = i < g->nx ? i : g->nx - 1;
-        j = j < g->ny ? j : g->ny - 1;
-        int64_t c = j * g->nx + i;
-        unsigned info = g->cell[c];
-        if (!(info & CELL_BUSY)) {
-            out[k] = (uint8_t)(info & CELL_IN);
-            continue;
+        for (int64_t b = 0; b < kn; b++) {
+            const uint64_t *hd = leaf[b];
+            if (!hd)
+                continue;
+            double tx = pts[2 * (k0 + b)], ty = pts[2 * (k0 + b) + 1];
+            while ((hd[0] & 0xffu) == NODE_SPLIT) {
+                unsigned q = (unsigned)(tx >= word_double(hd[1])) + 2u * (unsigned)(ty >= word_double(hd[2]));
+                uint32_t kid = (uint32_t)(hd[3 + (q >> 1)] >> (32 * (q & 1u)));
+                hd = g->tree + (size_t)kid * TREE_WORDS;
+            }
+            out[k0 + b] = (hd[0] & 0xffu) == NODE_LIST ? classify_list(g, hd, tx, ty)
+                                                       : classify_ordered(g, hd, tx, ty);
         }
-        const uint64_t *hd = g->tree + (size_t)g->root[c] * TREE_WORDS;
-        while ((hd[0] & 0xffu) == NODE_SPLIT) {
-            unsigned q = (unsigned)(tx >= word_double(hd[1])) + 2u * (unsigned)(ty >= word_double(hd[2]));
-            uint32_t kid = (uint32_t)(hd[3 + (q >> 1)] >> (32 * (q & 1u)));
-            hd = g->tree + (size_t)kid * TREE_WORDS;
-        }
-        out[k] = (hd[0] & 0xffu) == NODE_LIST ? classify_list(g, hd, tx, ty) : classify_ordered(g, hd, tx, ty);
     }
     mfg_clear_error();
     return MFG_OK;
