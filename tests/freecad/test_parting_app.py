@@ -10,6 +10,7 @@ References are independent of the code under test: dense normals from OCCT's
 ``Face.normalAt`` on a fine UV grid of each true face (points outside the trimmed face
 dropped) and 10^4 Fibonacci directions counted by brute force."""
 
+import json
 import math
 import os
 import sys
@@ -294,6 +295,98 @@ class Examples(unittest.TestCase):
         self.assertTrue(any(0 < f.shrink <= gauss_map.DEFAULT_DEFLECTION for f in faces))
         self.check_mould("bspline_part", Z, (7.0, 7.0), [], [])
         self.check_nc("bspline_part", [(Z, 2)])
+
+
+class Feature(unittest.TestCase):
+    """The PartingAnalysis FeaturePython: make, results, recompute on change, reload."""
+
+    def setUp(self):
+        self.doc = App.newDocument("PartingFeature")
+        self.log = []
+        self.part = self.doc.addObject("Part::Feature", "CupHole")
+        self.part.Shape = example("cup_hole")
+        self.part.Placement = PLACEMENT
+        self.doc.recompute()
+
+    def tearDown(self):
+        App.closeDocument(self.doc.Name)
+
+    def assert_clean(self, obj):
+        self.assertTrue(obj.isValid(), obj.getStatusString())
+        self.assertNotIn("Touched", obj.State)
+
+    def test_mould_results(self):
+        import mfgeom
+        obj = mfgeom.make_parting_analysis(self.doc, self.part)
+        self.assert_clean(obj)
+        R = rot_matrix(PLACEMENT)
+        np.testing.assert_allclose(_np(obj.Direction), R @ Z, atol=1e-9)
+        self.assertEqual((obj.CoveredCount, obj.TotalCount), (4, 5))
+        self.assertEqual(list(obj.UncoveredFaces), ["Face2", "Face5"])
+        self.assertEqual(len(obj.SideCoreDirections), 1)
+        np.testing.assert_allclose(_np(obj.SideCoreDirections[0]), R @ X, atol=1e-9)
+        core_faces = json.loads(obj.SideCores[0])["faces"]
+        self.assertEqual(core_faces, ["Face2", "Face5"])
+        self.assertEqual(list(obj.Setups), [])
+        self.assertIn("Face6 Face7", list(obj.Surfaces))
+        self.assertEqual(obj.MarginDeg, 0.0)
+        # bottom on the cavity side, the pocket and the top on the core side
+        self.assertIn("Face3", obj.CavityFaces)
+        self.assertTrue({"Face4", "Face6", "Face7"} <= set(obj.CoreFaces))
+
+    def test_recomputes_when_source_or_parameters_change(self):
+        from mfgeom.app.parting_feature import make_parting_analysis
+        obj = make_parting_analysis(self.doc, self.part, mode="NC3Axis")
+        R = rot_matrix(PLACEMENT)
+        setups = [json.loads(t) for t in obj.Setups]
+        # a tie (one surface each, margin 0) goes to the surface with the lowest faces
+        self.assertEqual([s["faces"] for s in setups], [["Face2", "Face5"], ["Face6", "Face7"]])
+        np.testing.assert_allclose(_np(obj.Direction), R @ X, atol=1e-9)
+        np.testing.assert_allclose(setups[1]["direction"], R @ Z, atol=1e-9)
+        self.part.Placement = App.Placement()
+        self.doc.recompute()
+        self.assert_clean(obj)
+        np.testing.assert_allclose(_np(obj.Direction), X, atol=1e-9)
+        obj.Mode = "Mould"
+        obj.DraftAngle = 2.0
+        self.doc.recompute()
+        self.assert_clean(obj)
+        # with 2 degrees the walls of the cup and of its pocket have no draft
+        self.assertEqual(obj.CoveredCount, 2)
+        self.assertEqual(sorted(obj.InsufficientDraftFaces), ["Face1", "Face6", "Face7"])
+
+    def test_save_and_reload(self):
+        import tempfile
+        from mfgeom.app.parting_feature import make_parting_analysis
+        obj = make_parting_analysis(self.doc, self.part, draft_angle="0 deg", weighting="Area")
+        direction, obj_name = _np(obj.Direction), obj.Name
+        path = os.path.join(tempfile.mkdtemp(), "parting.FCStd")
+        self.doc.saveAs(path)
+        name = self.doc.Name
+        App.closeDocument(name)
+        self.doc = App.openDocument(path)
+        again = self.doc.getObject(obj_name)
+        self.assertEqual(type(again.Proxy).__name__, "PartingAnalysis")
+        np.testing.assert_allclose(_np(again.Direction), direction)
+        again.touch()
+        self.doc.recompute()
+        self.assert_clean(again)
+        np.testing.assert_allclose(_np(again.Direction), direction, atol=1e-12)
+
+    def test_bad_input_leaves_the_document_alone(self):
+        from mfgeom.app.parting_feature import PartingInputError, make_parting_analysis
+        before = len(self.doc.Objects)
+        for kwargs in ({"mode": "Milling"}, {"weighting": "Volume"}, {"draft_angle": -1},
+                       {"draft_angle": "5 mm"}, {"draft_angle": 90}):
+            with self.assertRaises(PartingInputError, msg=str(kwargs)):
+                make_parting_analysis(self.doc, self.part, **kwargs)
+        with self.assertRaises(PartingInputError):
+            make_parting_analysis(self.doc, None)
+        self.assertEqual(len(self.doc.Objects), before)
+
+
+def _np(v):
+    return np.array([v.x, v.y, v.z])
 
 
 def main():
