@@ -293,3 +293,23 @@ def test_antipodal_point_maps_with_weights():
     weights = {s: r.surfaces[s].weight for s in owner}
     d, margin, covered = P._best_region(maps, owner, weights, len(maps))
     assert sorted(covered) == [1, 2, 8, 9, 10]
+
+
+def test_surfaces_within_tol_share_their_directions():
+    """Two pockets whose floors are 1e-8 rad apart (far below tol, far above the library's
+    1e-10): one set-up covers both, in both orders and after rotation."""
+    tilt = np.array([0.0, 1e-8, 1.0])
+    tilt /= np.linalg.norm(tilt)
+    faces, adj = [], []
+    for floor in (Z, tilt):
+        start = len(faces)
+        e1 = np.cross(floor, X)
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(floor, e1)
+        faces += [F([floor])] + [F([w]) for w in (e1, e2, -e1, -e2)]
+        adj += [(start, start + k, "concave") for k in range(1, 5)]
+    for R in (np.eye(3), rotation(RNG)):
+        rotated = [F(f.normals @ R.T) for f in faces]
+        nc = P.nc_setups(rotated, adj)
+        assert len(nc.setups) == 1 and nc.setups[0].surfaces == [0, 1]
+        assert np.allclose(nc.direction, R @ Z, atol=1e-7)

@@ -22,8 +22,16 @@ Tolerances and exactness:
   near-antipodal ones become exact negations, and the great circle carrying the most
   (>= 3 distinct) normal axes within ``tol`` is rotated onto the plane z = 0 of a local
   frame and its normals snapped onto it (z = 0 exactly).  The map is computed in that
-  frame and rotated back.  So the same faces are covered whether the part is rotated or
-  not, directions rotate with the part, and every answer holds up to ``tol``.
+  frame and rotated back.  Before that, the exact faces' normals are snapped across the
+  whole part (a normal within ``tol`` of an earlier face's normal, or of its negation,
+  becomes that normal), so maps of different surfaces meant to meet do meet.  So the
+  same faces are covered whether the part is rotated or not, directions rotate with the
+  part, and every answer holds up to ``tol`` (with a draft, the library's inscribed draft
+  polygons make coverage conservative by up to 1e-4 rad more).
+* Ties (equal weight and margin within 1e-9 rad) go to the region covering the
+  lexicographically smallest list of surfaces (surfaces are numbered by their lowest
+  face), not to the library's coordinate order, so they break the same way for a
+  rotated part.
 * A surface whose normals are all one normal (a plane, coplanar faces) has
   VM u -VM = the whole sphere at zero draft: it is demouldable along any direction and
   is left out of the maximum intersection (always covered).
@@ -239,13 +247,41 @@ def build_surfaces(faces, adjacency, weighting="count", tol=DEFAULT_TOL):
     if weighting not in ("count", "area"):
         raise ValueError(f"weighting must be 'count' or 'area', got {weighting!r}")
     groups, has_concave = concave_surfaces(len(faces), adjacency)
+    exact = [None if f.shrink > tol else f.normals for f in faces]
+    snapped = _snap_across_faces(exact, tol)
     out = []
     for g, hc in zip(groups, has_concave):
-        normals = np.concatenate([faces[f].normals for f in g])
+        normals = np.concatenate([faces[f].normals if snapped[f] is None else snapped[f]
+                                  for f in g])
         weight = 1.0 if weighting == "count" else float(sum(faces[f].area for f in g))
         # a shrink within tol is below what the answer promises anyway: treated as exact
         shrink = max(faces[f].shrink for f in g)
         out.append(Surface(g, weight, hc, normals, shrink if shrink > tol else 0.0))
+    return out
+
+
+def _snap_across_faces(normals, tol):
+    """The exact faces' normals (None for sampled faces) with every normal within tol of
+    an earlier one (in face order) replaced by it, or by its exact negation when
+    antipodal: so faces meant to share a normal (two pockets' floors, a wall and the
+    opposite wall) give maps that meet exactly, not 1e-9 apart, and coverage between
+    surfaces is decided within tol too (the library's own tolerance is 1e-10 rad)."""
+    cos_t = math.cos(tol)
+    reps = np.zeros((0, 3))
+    out = []
+    for n in normals:
+        if n is None:
+            out.append(None)
+            continue
+        snapped = n.copy()
+        for i, v in enumerate(n):
+            dots = reps @ v
+            k = int(np.argmax(np.abs(dots))) if len(reps) else -1
+            if k >= 0 and abs(dots[k]) >= cos_t:
+                snapped[i] = reps[k] if dots[k] > 0 else -reps[k]
+            else:
+                reps = np.vstack([reps, v])
+        out.append(snapped)
     return out
 
 

@@ -9,8 +9,7 @@ containers included) into the shape, so every direction is global.
 What is exact and what is sampled (``FaceGauss.shrink`` is 0 where exact):
 
 * plane: one normal — exact.
-* cylinder (and surfaces of linear extrusion of a line... only true cylinders): the
-  normals form a great-circle arc over the face's u range.  The cone spanned by an arc
+* cylinder: the normals form a great-circle arc over the face's u range.  The cone spanned by an arc
   shorter than pi is spanned by its end normals, and an arc of pi or more has no half of
   the circle containing it; so samples with gaps <= pi/2 span exactly the arc's cone:
   exact (up to the double rounding of normalAt).
