@@ -7,8 +7,6 @@ user, so the GUI can show it in a message box and a macro gets a clear exception
 
 import re
 
-import numpy as np
-
 import Part
 
 from mfgeom.errors import InputError  # noqa: F401  (raised here; refs.InputError for callers)

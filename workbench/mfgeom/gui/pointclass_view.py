@@ -133,28 +133,6 @@ class ViewProviderPointClassification:
                 coords.point.setValues(0, len(selected), selected)
             point_set.numPoints = len(selected)
 
-    # Editing: double click (or Edit) opens the Classify points task panel on the object.
-    def setEdit(self, vobj, mode=0):
-        if mode != 0:
-            return None  # other edit modes (e.g. Transform): FreeCAD's own
-        import FreeCADGui
-        from mfgeom.gui.pointclass_panel import PointClassificationPanel
-        FreeCADGui.Control.showDialog(PointClassificationPanel(obj=vobj.Object))
-        return True
-
-    def unsetEdit(self, vobj, mode=0):
-        if mode != 0:
-            return None
-        import FreeCADGui
-        if FreeCADGui.Control.activeDialog():
-            FreeCADGui.Control.closeDialog()
-        return True
-
-    def doubleClicked(self, vobj):
-        import FreeCADGui
-        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
-        return True
-
     def getIcon(self):
         from mfgeom import paths
         return paths.icon("mfgeom_classify_points.svg")
