@@ -977,8 +977,7 @@ mfg_status mfg_region_classify(const mfg_region *g, const double *pts, int64_t n
             }
             leaf[b] = g->tree + (size_t)g->root[c] * TREE_WORDS;
 #if defined(__GNUC__) || defined(__clang__)
-            __builtin_prefetch(leaf[b]);
-            __builtin_prefetch(leaf[b] + TREE_WORDS);
+            __builtin_prefetch(leaf[b]); /* (a second line: more misses in flight, slower) */
 #endif
         }
         for (int64_t b = 0; b < kn; b++) {
