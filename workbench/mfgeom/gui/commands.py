@@ -35,9 +35,10 @@ class ClassifyPointsCommand(BaseCommand):
 
     icon = "mfgeom_classify_points.svg"
     menu_text = "Classify points"
-    tooltip = ("Classify points against a face with a tolerance: IN (blue), ON the boundary "
-               "(within the tolerance; light cyan) or OUT (wine).\nSelect one face (planar or curved) and "
-               "the points: a Points object, a Mesh, a sketch, a Part object or vertices;\n"
+    tooltip = ("Classify points against a face with a tolerance: IN (blue), ON the "
+               "boundary (within the tolerance; light cyan) or OUT (wine).\nSelect one face "
+               "(planar or curved) and the points: a Points object, a Mesh, a sketch, a Part "
+               "object or vertices;\n"
                "a task panel then asks for the tolerance.")
 
     def Activated(self):
