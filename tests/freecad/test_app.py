@@ -696,6 +696,19 @@ class PointCloudTests(DocTestCase):
                                        err_msg=obj.Name)
         got = refs.resolve_points(box, ["Vertex3", "Vertex1"])
         np.testing.assert_allclose(got, np.array([want["B"][2], want["B"][0]]), atol=1e-12)
+        # A mesh is read through binary PLY (not the per-point fallback) ...
+        fallback = pointcloud.vectors_to_array
+        pointcloud.vectors_to_array = None
+        try:
+            np.testing.assert_allclose(pointcloud.mesh_points(mesh.Mesh), np.array(want["M"]),
+                                       rtol=0, atol=1e-9)
+        finally:
+            pointcloud.vectors_to_array = fallback
+        # ... and anything unexpected in the file falls back.
+        self.assertIsNone(pointcloud._ply_vertices(b"ply\nformat ascii 1.0\nend_header\n"))
+        self.assertIsNone(pointcloud._ply_vertices(
+            b"ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty double x\n"
+            b"property double y\nproperty double z\nend_header\n" + bytes(48)))
 
     def test_a_classification_is_a_point_source(self):
         box = self.doc.addObject("Part::Box", "Box")

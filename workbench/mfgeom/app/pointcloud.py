@@ -88,8 +88,49 @@ def vectors_to_array(vectors):
 
 
 def mesh_points(mesh):
-    """The vertices of a Mesh kernel (placement applied) as an (n, 3) array."""
-    return vectors_to_array(mesh.Topology[0])
+    """The vertices of a Mesh kernel (placement applied) as an (n, 3) array.
+
+    A mesh has no binary content to dump, but it writes binary PLY: the vertices of a copy
+    without placement are read as stored (float32, exact) and the placement is applied
+    here in double precision.  5x faster than ``mesh.Topology``, which stays the fallback
+    should the file not look as expected."""
+    import os
+    import tempfile
+    copy = mesh.copy()
+    matrix = np.array(copy.Placement.toMatrix().A, dtype=np.float64).reshape(4, 4)
+    copy.Placement = FreeCAD.Placement()
+    with tempfile.TemporaryDirectory(prefix="mfgeom-mesh-") as tmp:
+        path = os.path.join(tmp, "points.ply")
+        copy.write(path)
+        with open(path, "rb") as f:
+            data = f.read()
+    local = _ply_vertices(data)
+    if local is None:
+        return vectors_to_array(mesh.Topology[0])
+    return local @ matrix[:3, :3].T + matrix[:3, 3]
+
+
+def _ply_vertices(data):
+    """The vertex block of a binary little-endian PLY whose first element is ``vertex``
+    with exactly float32 x, y, z; None for anything else."""
+    end = data.find(b"end_header\n")
+    if end < 0:
+        return None
+    lines = data[:end].decode("ascii", "replace").splitlines()
+    elements = [i for i, line in enumerate(lines) if line.startswith("element ")]
+    if "format binary_little_endian 1.0" not in lines or not elements or \
+            not lines[elements[0]].startswith("element vertex "):
+        return None
+    first = elements[0]
+    props = lines[first + 1:elements[1] if len(elements) > 1 else len(lines)]
+    if props != ["property float32 x", "property float32 y", "property float32 z"] and \
+            props != ["property float x", "property float y", "property float z"]:
+        return None
+    count = int(lines[first].split()[2])
+    start = end + len(b"end_header\n")
+    if len(data) < start + 12 * count:
+        return None
+    return np.frombuffer(data, "<f4", 3 * count, start).reshape(count, 3).astype(np.float64)
 
 
 def shape_points(shape):
