@@ -297,6 +297,48 @@ class Examples(unittest.TestCase):
         self.check_nc("bspline_part", [(Z, 2)])
 
 
+class RandomRotations(unittest.TestCase):
+    """Every example under random rotations (geometry and Placement): the same surfaces
+    covered, undercut, given side cores or set-ups, and the directions rotated — to
+    1e-9 without draft (1e-6 with sampled faces), to 1e-4 with 3 degrees (the library's draft polygons are
+    inscribed to 1e-4 rad, so symmetric optima differ that much)."""
+
+    def answer(self, shape, R):
+        faces, adj, _ = gauss_map.part_gauss(shape)
+        out = []
+        # sampled faces' maps are draft polygons too: their regions move by ~1e-8
+        exact = 1e-9 if all(f.shrink == 0 for f in faces) else 1e-6
+        for draft, atol in ((0.0, exact), (math.radians(3), 1e-4)):
+            r = parting.mould_parting(faces, adj, draft_angle=draft)
+            out.append(((r.covered, r.undercuts, r.insufficient_draft, r.unresolved,
+                         [c.surfaces for c in r.side_cores]),
+                        [R.T @ r.direction] + [R.T @ c.direction for c in r.side_cores], atol))
+        nc = parting.nc_setups(faces, adj)
+        out.append((([s.surfaces for s in nc.setups], nc.unresolved),
+                    [R.T @ s.direction for s in nc.setups], 1e-6))
+        return out
+
+    def test_examples(self):
+        rng = np.random.default_rng(11)
+        for name in EXAMPLES:
+            shape = example(name)
+            reference = self.answer(shape, np.eye(3))
+            for k in range(3):
+                pl = App.Placement(App.Vector(*rng.normal(size=3) * 50),
+                                   App.Rotation(App.Vector(*rng.normal(size=3)), rng.uniform(0, 360)))
+                for how in ("geometry", "placement"):
+                    moved = shape.copy()
+                    if how == "geometry":
+                        moved.transformShape(pl.toMatrix(), True)
+                    else:
+                        moved.Placement = pl
+                    got = self.answer(moved, rot_matrix(pl))
+                    for (want_sets, want_dirs, atol), (got_sets, got_dirs, _) in zip(reference, got):
+                        with self.subTest(part=name, rotation=k, how=how):
+                            self.assertEqual(got_sets, want_sets)
+                            np.testing.assert_allclose(got_dirs, want_dirs, atol=atol)
+
+
 class Feature(unittest.TestCase):
     """The PartingAnalysis FeaturePython: make, results, recompute on change, reload."""
 

@@ -291,7 +291,7 @@ def test_antipodal_point_maps_with_weights():
     maps = [P.surface_map(s.normals) for s in r.surfaces]
     owner = list(range(len(maps)))
     weights = {s: r.surfaces[s].weight for s in owner}
-    d, margin, covered = P._best_region(maps, owner, weights, len(maps))
+    d, margin, covered = P._best_region(maps, owner, weights)
     assert sorted(covered) == [1, 2, 8, 9, 10]
 
 

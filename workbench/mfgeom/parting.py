@@ -303,7 +303,26 @@ def _split_point_pairs(maps, owner):
     return out_maps, out_owner
 
 
-def _best_region(maps, owner, weights, nsurf):
+# Draft maps are polygons inscribed in small circles (within 1e-4 rad, mfgeom.h), so
+# their regions' margins differ by that much between a part and its rotated copy.
+DRAFT_TIE = 2e-4
+
+
+def _reference_axes(surfaces):
+    """Up to three independent normals of the part, in face order: rotate with the part,
+    so ordering tied directions by them is rotation-invariant."""
+    axes = []
+    for surf in surfaces:
+        for n in surf.normals[:1]:
+            basis = np.array(axes + [n])
+            if np.linalg.matrix_rank(basis, tol=0.1) == len(basis):
+                axes.append(n)
+        if len(axes) == 3:
+            break
+    return axes
+
+
+def _best_region(maps, owner, weights, refs=(), tie_margin=1e-9):
     """The region covering the greatest weight of distinct surfaces (each surface once,
     though it may own two maps).  Returns (direction, margin, covered surface set)
     or None if no map has a direction."""
@@ -327,14 +346,20 @@ def _best_region(maps, owner, weights, nsurf):
         cands = [(true_weight(c), float(m), i)
                  for i, (c, m) in enumerate(zip(regions.covers, regions.margins))]
         best_w = max(c[0] for c in cands)
-    # Heaviest first, then widest margin (equal within 1e-9 rad), then the smallest
-    # set of surfaces: not the library's order, which depends on coordinates, so ties
-    # break the same way when the part is rotated.
+    # Heaviest first, then widest margin (equal within tie_margin), then the smallest
+    # set of surfaces, then the direction most along the part's reference axes: not the
+    # library's order, which depends on coordinates, so ties (symmetric parts) break the
+    # same way when the part is rotated.
     top = max(c[0] for c in cands)
     cands = [c for c in cands if c[0] >= top * (1 - 1e-12)]
     widest = max(c[1] for c in cands)
-    cands = [c for c in cands if c[1] >= widest - 1e-9]
-    i = min(cands, key=lambda c: sorted({owner[k] for k in regions.covers[c[2]]}))[2]
+    cands = [c for c in cands if c[1] >= widest - tie_margin]
+
+    def key(c):
+        d = np.asarray(regions.centres[c[2]], dtype=np.float64)
+        return (sorted({owner[k] for k in regions.covers[c[2]]}),
+                tuple(-round(float(d @ r), 3) for r in refs))
+    i = min(cands, key=key)[2]
     margin = float(regions.margins[i])
     covered = {owner[k] for k in regions.covers[i]}
     return _unit(np.asarray(regions.centres[i], dtype=np.float64)), margin, covered
@@ -354,12 +379,14 @@ def _greedy_cover(surfaces, candidates, draft, tol):
             maps.append(vm)
             owner.append(s)
     weights = {s: surfaces[s].weight for s in candidates}
+    refs = _reference_axes(surfaces)
+    tie_margin = DRAFT_TIE if draft > 0 or any(surfaces[s].shrink for s in candidates) else 1e-9
     out = []
     remaining = list(range(len(maps)))
     while remaining:
         sub_maps = [maps[i] for i in remaining]
         sub_owner = [owner[i] for i in remaining]
-        d, margin, covered = _best_region(sub_maps, sub_owner, weights, len(surfaces))
+        d, margin, covered = _best_region(sub_maps, sub_owner, weights, refs, tie_margin)
         cov = sorted(covered)
         out.append(Direction(d, margin, cov, sorted(f for s in cov for f in surfaces[s].faces),
                              float(sum(weights[s] for s in cov))))
@@ -387,11 +414,14 @@ def _sides(surfaces, covered, d, tol):
 
 
 def _core_score(surfaces, side):
-    """(pocket weight, all weight) on the core side minus that on the cavity side."""
+    """(pocket weight, all weight) on the core side minus that on the cavity side, then
+    the side of the first surface on one (so a tie still picks the same sign for a
+    rotated part)."""
     pockets = sum(surfaces[s].weight * x for s, x in enumerate(side)
                   if x and surfaces[s].has_concave)
     every = sum(surfaces[s].weight * x for s, x in enumerate(side) if x)
-    return (pockets, every)
+    first = next((x for x in side if x), 0)
+    return (pockets, every, first)
 
 
 def mould_parting(faces, adjacency, draft_angle=0.0, weighting="count", tol=DEFAULT_TOL):
@@ -417,7 +447,9 @@ def mould_parting(faces, adjacency, draft_angle=0.0, weighting="count", tol=DEFA
             owner.append(s)
     result = PartingResult("Mould", surfaces, considered=list(range(len(surfaces))),
                            total=float(sum(weights.values())))
-    best = _best_region(maps, owner, weights, len(surfaces)) if maps else None
+    drafted = draft_angle > 0 or any(surf.shrink for surf in surfaces)
+    best = (_best_region(maps, owner, weights, _reference_axes(surfaces),
+                         DRAFT_TIE if drafted else 1e-9) if maps else None)
     if best is None:
         # no map has a direction: every covered surface is free; take the heaviest
         # free surface's normal (any direction would do)
@@ -430,7 +462,7 @@ def mould_parting(faces, adjacency, draft_angle=0.0, weighting="count", tol=DEFA
         d, margin, covered = best
     covered = set(covered) | set(free) if d is not None else set()
     side = _sides(surfaces, covered, d, tol)
-    if d is not None and _core_score(surfaces, side) < (0.0, 0.0):
+    if d is not None and _core_score(surfaces, side) < (0.0, 0.0, 0):
         # +d and -d are the same parting; take the sign that puts the pockets (and then
         # most weight) on the core side, so the answer does not depend on tie order
         d = -d
