@@ -505,33 +505,69 @@ static mfg_status map_on_great_circle(const double *normals, int64_t m, vref q,
 
 /* ---- Draft angle -------------------------------------------------------------------- */
 
-/* Clips convex spherical polygon (n unit vertices in poly, room for n+1 in out) by the
- * hemisphere { d : d.nrm >= 0 }; returns the new vertex count. */
-static int64_t clip_hemisphere(const double *poly, int64_t n, const double nrm[3], double *out)
+/*
+ * The drafted map D = { d : d.u^ >= sin(draft) } over the hull normals u is the
+ * intersection of equal caps of radius rho = pi/2 - draft about the u^ (rho a hair
+ * smaller, so rounding stays inside).  D is empty when no direction lies within rho of
+ * every u^: when the smallest cap around them is wider than rho.  Otherwise equal caps
+ * about points in convex position meet D's boundary in the hull's cyclic order, each at
+ * most once, so the boundary is found like a half-plane intersection sorted by angle, in
+ * O(h): a deque of caps, the last (first) dropped while the corner it makes with its
+ * neighbour lies outside the next cap.  Each boundary arc is then sampled with chords of
+ * sagitta below MFG_DRAFT_TOL; a chord between two points of D stays in every (convex)
+ * cap, so the polygon is conservative.
+ */
+
+/* The corner where D's boundary leaves cap a's circle for cap b's (unit centres, d.u^ =
+ * s on both): the common point on the side of a x b (at draft 0, the map's vertex). */
+static int cap_corner(const double *ua, const double *ub, double s, double out[3])
 {
-    int64_t m = 0;
-    for (int64_t i = 0; i < n; i++) {
-        const double *a = poly + 3 * i, *b = poly + 3 * ((i + 1) % n);
-        double sa = mfg_dot3(a, nrm), sb = mfg_dot3(b, nrm);
-        if (sa >= 0) {
-            memcpy(out + 3 * m, a, 3 * sizeof(double));
-            m++;
-        }
-        if ((sa >= 0) != (sb >= 0)) {
-            double x[3] = {sa * b[0] - sb * a[0], sa * b[1] - sb * a[1], sa * b[2] - sb * a[2]};
-            if (sa < 0)
-                mfg_neg3(x, x);
-            if (mfg_unit3(x, out + 3 * m))
-                m++;
-        }
-    }
-    return m;
+    double g = mfg_dot3(ua, ub), w[3], wu[3];
+    if (!(g > -1.0))
+        return 0;
+    double f = s / (1.0 + g), t2 = 1.0 - 2.0 * s * f; /* |f (ua + ub)|^2 = 2 s f */
+    mfg_cross3_accurate(ua, ub, w);
+    if (!(t2 >= 0.0) || !mfg_unit3(w, wu))
+        return 0;
+    double t = sqrt(t2);
+    for (int i = 0; i < 3; i++)
+        out[i] = f * (ua[i] + ub[i]) + t * wu[i];
+    return 1;
 }
 
-/* Shrinks a POLYGON map to the directions at least draft_angle away from every
- * hemisphere boundary: clipped by, for each hull normal u, a polygon inscribed in the
- * small circle d.u^ = sin(draft) (every chord lies inside that cap, so the result is
- * conservative; the chords' sagitta is below MFG_DRAFT_TOL, mfgeom.h). */
+static int corner_inside(const double *u, int64_t a, int64_t b, int64_t c, double s)
+{
+    double x[3];
+    return cap_corner(u + 3 * a, u + 3 * b, s, x) && mfg_dot3(x, u + 3 * c) >= s;
+}
+
+/* Appends the circle of cap u (cos rho = s, sin rho = sr) from p counter-clockwise about
+ * u through the angle phi (or the whole circle when p is NULL), in chords of at most
+ * `step`, at least min_steps; p itself first, the end point not. */
+static int64_t arc_points(const double *u, double s, double sr, const double *p, double phi,
+                          double step, int64_t min_steps, double *out)
+{
+    double e1[3], e2[3];
+    if (p) {
+        double t[3] = {p[0] - s * u[0], p[1] - s * u[1], p[2] - s * u[2]};
+        mfg_unit3(t, e1);
+    } else {
+        any_orthogonal(u, e1);
+    }
+    mfg_cross3(u, e1, e2);
+    int64_t n = (int64_t)ceil(phi / step);
+    if (n < min_steps)
+        n = min_steps;
+    for (int64_t j = 0; j < n; j++) {
+        double a = phi * (double)j / (double)n, ca = cos(a), sa = sin(a);
+        for (int i = 0; i < 3; i++)
+            out[3 * j + i] = s * u[i] + sr * (ca * e1[i] + sa * e2[i]);
+    }
+    if (p)
+        memcpy(out, p, 3 * sizeof(double));
+    return n;
+}
+
 static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
 {
     vref single[2];
@@ -551,57 +587,84 @@ static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
         nu = k->nh;
     }
     double rho = MFG_PI / 2 - draft - 1e-12; /* cap radius, a hair inside */
-    double sr = sin(rho), cr = cos(rho);
-    int64_t steps = (int64_t)ceil(2.0 * MFG_PI / sqrt(8.0 * MFG_DRAFT_TOL / fmax(sr, 1e-12)));
-    if (steps < 8)
-        steps = 8;
-    int64_t cap = nu * steps + 8;
-    double *a = malloc((size_t)cap * 3 * sizeof(double));
-    double *b = malloc((size_t)cap * 3 * sizeof(double));
-    if (!a || !b) {
-        free(a);
-        free(b);
-        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the draft polygon");
+    double sr = sin(rho), s = cos(rho);
+    double step = sqrt(8.0 * MFG_DRAFT_TOL / fmax(sr, 1e-12)); /* sagitta sr step^2 / 8 */
+    step = fmin(step, 2.0 * MFG_PI / 8.0);
+    double *u = malloc((size_t)nu * 3 * sizeof(double));
+    int64_t *q = malloc((size_t)nu * sizeof(int64_t));
+    double *pts = NULL;
+    mfg_spoly *res = NULL;
+    mfg_status st = MFG_OK;
+    if (!u || !q) {
+        st = mfg_fail(MFG_ERR_NOMEM, "cannot allocate the draft polygon");
+        goto done;
     }
-    /* Start from the first cap's inscribed polygon (not from the map: a hemisphere
-     * clipped by one great circle has antipodal corners, an ambiguous edge), then clip
-     * by the other caps' chords. */
-    int64_t n = 0;
-    for (int64_t j = 0; j < nu && (j == 0 || n >= 3); j++) {
-        double u[3], e1[3], e2[3];
-        mfg_unit3(us[j], u);
-        any_orthogonal(u, e1);
-        mfg_cross3(u, e1, e2);
-        double prev[3] = {0, 0, 0}, first[3] = {0, 0, 0};
-        for (int64_t s = 0; s <= steps && (j == 0 || n >= 3); s++) {
-            double th = 2.0 * MFG_PI * (double)(s % steps) / (double)steps;
-            double w[3];
-            for (int i = 0; i < 3; i++)
-                w[i] = cr * u[i] + sr * (cos(th) * e1[i] + sin(th) * e2[i]);
-            if (j == 0) {
-                if (s < steps)
-                    memcpy(a + 3 * n++, w, sizeof w);
-                continue;
+    for (int64_t i = 0; i < nu; i++)
+        mfg_unit3(us[i], u + 3 * i);
+    double c[3], cosr, wide = 0.0;
+    mfg_enclosing_cap(u, nu, c, &cosr);
+    for (int64_t i = 0; i < nu; i++) /* the cap's true radius, past Welzl's slack */
+        wide = fmax(wide, mfg_angle3(c, u + 3 * i));
+    int64_t head = 0, tail = 0, n = 0;
+    if (wide < rho) {
+        for (int64_t i = 0; i < nu; i++) {
+            while (tail - head >= 2 && !corner_inside(u, q[tail - 2], q[tail - 1], i, s))
+                tail--;
+            while (tail - head >= 2 && !corner_inside(u, q[head], q[head + 1], i, s))
+                head++;
+            q[tail++] = i;
+        }
+        while (tail - head >= 3 && !corner_inside(u, q[tail - 2], q[tail - 1], q[head], s))
+            tail--;
+        while (tail - head >= 3 && !corner_inside(u, q[head], q[head + 1], q[tail - 1], s))
+            head++;
+        /* a corner per arc, and its chords: the arcs turn by at most 2 pi about their
+         * centres in all (D's perimeter is at most a cap's, 2 pi sin rho) */
+        int64_t r = tail - head, total = 3 * r + (int64_t)ceil(3.0 * MFG_PI / step) + 8;
+        pts = malloc((size_t)total * 3 * sizeof(double));
+        if (!pts) {
+            st = mfg_fail(MFG_ERR_NOMEM, "cannot allocate the draft polygon");
+            goto done;
+        }
+        if (r == 1) {
+            n = arc_points(u + 3 * q[head], s, sr, NULL, 2.0 * MFG_PI, step, 8, pts);
+        } else {
+            double first[3], p0[3], p1[3];
+            for (int64_t j = 0; j < r && st == MFG_OK; j++) {
+                int64_t a = q[head + j], b = q[head + (j + 1) % r], cc = q[head + (j + 2) % r];
+                if (j == 0 && !cap_corner(u + 3 * a, u + 3 * b, s, first))
+                    st = mfg_fail(MFG_ERR_INTERNAL, "draft caps do not meet");
+                memcpy(p0, j == 0 ? first : p1, sizeof p0);
+                if (st == MFG_OK && !cap_corner(u + 3 * b, u + 3 * cc, s, p1))
+                    st = mfg_fail(MFG_ERR_INTERNAL, "draft caps do not meet");
+                if (st != MFG_OK)
+                    break;
+                /* the arc of cap b from p0 to p1, counter-clockwise about b */
+                double t0[3], t1[3], e1[3], e2[3];
+                for (int i = 0; i < 3; i++)
+                    t0[i] = p0[i] - s * u[3 * b + i], t1[i] = p1[i] - s * u[3 * b + i];
+                mfg_unit3(t0, e1);
+                mfg_cross3(u + 3 * b, e1, e2);
+                double phi = atan2(mfg_dot3(t1, e2), mfg_dot3(t1, e1));
+                if (phi < 0.0)
+                    phi += 2.0 * MFG_PI;
+                int64_t want = (int64_t)ceil(phi / step) + (r == 2 ? 2 : 1);
+                if (n + want > total) { /* cannot happen for a consistent boundary */
+                    st = mfg_fail(MFG_ERR_INTERNAL, "draft boundary turns too far");
+                    break;
+                }
+                n += arc_points(u + 3 * b, s, sr, p0, phi, step, r == 2 ? 2 : 1, pts + 3 * n);
             }
-            if (s == 0) {
-                memcpy(first, w, sizeof w);
-            } else {
-                double nrm[3];
-                mfg_cross3(prev, s == steps ? first : w, nrm); /* interior on the left */
-                n = clip_hemisphere(a, n, nrm, b);
-                double *sw = a;
-                a = b;
-                b = sw;
-            }
-            memcpy(prev, w, sizeof w);
         }
     }
-    mfg_spoly *res = NULL;
-    mfg_status st = spoly_new(n >= 3 ? MFG_VM_POLYGON : MFG_VM_NULL, n >= 3 ? n : 0, &res);
+    if (st == MFG_OK)
+        st = spoly_new(n >= 3 ? MFG_VM_POLYGON : MFG_VM_NULL, n >= 3 ? n : 0, &res);
     if (st == MFG_OK && n >= 3)
-        memcpy(res->vertices, a, (size_t)n * 3 * sizeof(double));
-    free(a);
-    free(b);
+        memcpy(res->vertices, pts, (size_t)n * 3 * sizeof(double));
+done:
+    free(u);
+    free(q);
+    free(pts);
     if (st != MFG_OK)
         return st;
     mfg_spoly_free(*map);

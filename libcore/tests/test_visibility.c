@@ -1039,6 +1039,75 @@ static void test_large_degenerate(void)
     free(p);
 }
 
+/* Drafted maps of many hull normals against the definition: every vertex meets the draft
+ * for every normal, every direction 2e-4 deeper than the draft is inside, the polygon is
+ * convex and counter-clockwise, and it is empty exactly when the draft exceeds the map's
+ * inscribed radius (up to 1e-6). */
+static void test_draft_many_normals(void)
+{
+    for (int trial = 0; trial < 16; trial++) {
+        int64_t m = (int64_t[]){40, 300, 2000, 5000}[trial % 4];
+        double rot[9], axis[3], r = rng_uniform(0.3, 1.3);
+        random_rotation(rot);
+        for (int k = 0; k < 3; k++)
+            axis[k] = rot[3 * k + 2];
+        double *p;
+        if (trial < 8) { /* a tessellated cone, its map a regular m-gon */
+            p = tessellated_cone(m, r, rot, 0.0);
+        } else { /* normals in a cap squeezed to an ellipse: caps of unequal reach */
+            p = malloc((size_t)m * 3 * sizeof(double));
+            for (int64_t i = 0; i < m; i++) {
+                double t = rng_uniform(0, 2 * M_PI), rr = r * sqrt(rng_uniform(0, 1));
+                double x[3] = {sin(rr) * cos(t), 0.4 * sin(rr) * sin(t), cos(rr)};
+                for (int k = 0; k < 3; k++)
+                    p[3 * i + k] = dot3(rot + 3 * k, x);
+            }
+        }
+        double *pn = normalised(p, m), deepest = -2;
+        /* the map's inscribed radius, from the deepest of dense samples about the axis */
+        for (int k = 0; k < 20000; k++) {
+            double d[3];
+            cap_sample(axis, M_PI / 2 - r + 0.01, d);
+            deepest = fmax(deepest, min_dot(d, pn, m));
+        }
+        double inradius = asin(fmin(1.0, deepest));
+        double alpha = inradius * (trial % 2 ? rng_uniform(0.05, 0.9) : 1.05);
+        double sa = sin(alpha);
+        mfg_spoly *s = vm(p, m, alpha);
+        if (s) {
+            if (alpha > inradius) {
+                CHECK_EQ_INT(s->kind, MFG_VM_NULL);
+            } else if (alpha < inradius - 1e-6) {
+                CHECK_EQ_INT(s->kind, MFG_VM_POLYGON);
+                int64_t n = s->nvertices, missed = 0, deep = 0;
+                for (int64_t i = 0; i < n; i++) {
+                    CHECK(min_dot(s->vertices + 3 * i, pn, m) >= sa - 1e-12);
+                    double e[3];
+                    cross3(s->vertices + 3 * i, s->vertices + 3 * ((i + 1) % n), e);
+                    for (int64_t j = i % 7; j < n; j += 1 + n / 64) /* a sample of them */
+                        CHECK(dot3(s->vertices + 3 * j, e) >= -1e-15);
+                }
+                for (int k = 0; k < 20000; k++) {
+                    double d[3];
+                    cap_sample(axis, M_PI / 2 - r + 0.01, d);
+                    if (min_dot(d, pn, m) >= sa + 2e-4) {
+                        deep++;
+                        missed += !in_polygon(d, s, 1e-12);
+                    }
+                }
+                CHECK_EQ_INT(missed, 0);
+                if (missed)
+                    fprintf(stderr, "  draft trial %d (m = %lld): %lld of %lld deep directions "
+                                    "outside\n", trial, (long long)m, (long long)missed,
+                            (long long)deep);
+            }
+            mfg_spoly_free(s);
+        }
+        free(pn);
+        free(p);
+    }
+}
+
 int main(void)
 {
     test_kinds();
@@ -1051,6 +1120,7 @@ int main(void)
     test_nearly_hemispherical_cones();
     test_large_degenerate();
     test_draft();
+    test_draft_many_normals();
     test_million_normals();
     return mfg_test_report("test_visibility");
 }
