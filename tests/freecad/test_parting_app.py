@@ -290,6 +290,24 @@ class Examples(unittest.TestCase):
         self.check_mould("draft_flip", None, (8.0, 11.0), None, [], draft=math.radians(3),
                          direction_test=lambda d: d @ X > cos7)
 
+    def test_drilled_hole(self):
+        """A real drilled blind hole (exact cylinder + sampled 118 degree drill point):
+        reachable along +z; the cone's shrink must not empty the cylinder's point map."""
+        drill = Part.makeCylinder(3, 12, App.Vector(10, 10, 8)).fuse(
+            Part.makeCone(0, 3, 3 / math.tan(math.radians(59)), App.Vector(10, 10, 8 - 3 / math.tan(math.radians(59)))))
+        shape = Part.makeBox(20, 20, 15).cut(drill)
+        types = sorted(type(f.Surface).__name__ for f in shape.Faces)
+        self.assertIn("Cone", types)
+        self.assertIn("Cylinder", types)
+        r, faces, _ = run(shape, "NC3Axis")
+        self.assertEqual(len(r.setups), 1)
+        self.assertEqual(r.unresolved, [])
+        np.testing.assert_allclose(r.direction, Z, atol=1e-9)
+        self.assertEqual(len(r.setups[0].faces), 2)
+        r, _, _ = run(shape, "Mould")
+        self.assertEqual(r.count, r.total)
+        np.testing.assert_allclose(r.direction, Z, atol=1e-9)
+
     def test_bspline_part(self):
         faces, _, _ = gauss_map.part_gauss(example("bspline_part"))
         self.assertTrue(any(0 < f.shrink <= gauss_map.DEFAULT_DEFLECTION for f in faces))

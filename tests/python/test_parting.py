@@ -328,3 +328,23 @@ def test_library_weighted_two_direction_point_maps():
     best = max(weights[[i for i, m in enumerate(maps) if m.contains(x[None], tol=1e-9)[0]]].sum()
                for x in d[::20])
     assert res.count >= best - 1e-9
+
+
+def test_sampled_face_does_not_shrink_its_exact_neighbours():
+    """A drilled blind hole: exact cylinder (POINT map +-z) and a sampled drill-point cone
+    joined by a concave edge: the hole is machinable along +z.  Shrinking the whole
+    surface by the cone's shrink made it unreachable from every direction."""
+    t = np.linspace(0, 2 * math.pi, 65)[:-1]
+    radial = np.column_stack([np.cos(t), np.sin(t), np.zeros_like(t)])
+    beta = math.radians(31)
+    cone = math.cos(beta) * Z - math.sin(beta) * radial
+    faces = [F(-circle(Z), name="wall"), F(cone, shrink=1e-3, name="point"),
+             F([Z], name="top")]
+    adj = [(0, 1, "concave"), (0, 2, "convex")]
+    for R in (np.eye(3), rotation(RNG)):
+        rotated = [F(f.normals @ R.T, shrink=f.shrink) for f in faces]
+        nc = P.nc_setups(rotated, adj)
+        assert nc.unresolved == [] and len(nc.setups) == 1
+        assert np.allclose(nc.direction, R @ Z, atol=1e-9)
+        r = P.mould_parting(rotated, adj)
+        assert r.covered == [0, 1] and np.allclose(r.direction, R @ Z, atol=1e-9)

@@ -12,9 +12,12 @@ surface is computed by the C library.
 Tolerances and exactness:
 
 * Samples: a direction d with d.s >= sin(shrink) for every sample s satisfies d.n >= 0
-  for every true normal n within ``shrink`` of the samples' cone, so a surface's map is
-  the library's draft map of its samples with draft = user draft + shrink (the largest
-  shrink of its faces: conservative for the exact faces of a mixed surface).
+  for every true normal n within ``shrink`` of the samples' cone, so a sampled face's map
+  is the library's draft map of its samples with draft = user draft + shrink.  A
+  surface's map is the map of its exact faces' normals (one call) intersected with the
+  maps of its sampled faces (the library's maximum intersection, kept if it covers all
+  of them): a drilled hole's cylinder keeps its exact POINT map though its drill-point
+  cone is sampled.
 * Angular tolerance ``tol`` (default 1e-6 rad, far below any draft angle): the library
   decides kinds exactly on the doubles it is given, and the normals of a moved part are
   never exactly on a great circle.  Before calling it, each surface's normals are
@@ -191,12 +194,15 @@ def _is_single_normal(normals, tol):
 @dataclass
 class Surface:
     """A concave-connected surface: its faces (indices), weight, whether a concave
-    edge joins two of its faces, its normals and the shrink of its samples."""
+    edge joins two of its faces, all its normals, the largest shrink of its sampled
+    faces, and its parts: (normals, shrink) — the exact faces' normals together
+    (shrink 0), each sampled face apart."""
     faces: list
     weight: float
     has_concave: bool
     normals: np.ndarray
     shrink: float
+    parts: list = field(default_factory=list)
 
 
 @dataclass
@@ -255,9 +261,31 @@ def build_surfaces(faces, adjacency, weighting="count", tol=DEFAULT_TOL):
                                   for f in g])
         weight = 1.0 if weighting == "count" else float(sum(faces[f].area for f in g))
         # a shrink within tol is below what the answer promises anyway: treated as exact
-        shrink = max(faces[f].shrink for f in g)
-        out.append(Surface(g, weight, hc, normals, shrink if shrink > tol else 0.0))
+        exact_normals = [snapped[f] for f in g if snapped[f] is not None]
+        parts = [(np.concatenate(exact_normals), 0.0)] if exact_normals else []
+        parts += [(faces[f].normals, faces[f].shrink) for f in g if snapped[f] is None]
+        shrink = max(p[1] for p in parts)
+        out.append(Surface(g, weight, hc, normals, shrink, parts))
     return out
+
+
+def surface_vm(surf, draft, tol=DEFAULT_TOL, negative=False):
+    """VM(S) (or -VM(S)) of a :class:`Surface` with a draft: its exact part through
+    :func:`surface_map`, intersected with its sampled faces' maps shrunk by their own
+    shrink (so a sampled face does not shrink its exact neighbours' maps)."""
+    maps = [surface_map(n, draft + shrink, tol, negative) for n, shrink in surf.parts]
+    if len(maps) == 1 or any(m.kind == "null" for m in maps):
+        return maps[0] if len(maps) == 1 else core.VisibilityMap("null", np.zeros((0, 3)))
+    res = core.max_intersection(_split_point_pairs(maps, list(range(len(maps))))[0])
+    if res.count < len(maps):
+        return core.VisibilityMap("null", np.zeros((0, 3)))
+    if len(res.regions) == 1:
+        return core.VisibilityMap(res.kinds[0], res.regions[0], res.closed[0])
+    # Only two antipodal points can be a disconnected intersection: keep their pair.
+    if all(k == "point" for k in res.kinds):
+        return core.VisibilityMap("point", np.vstack(res.regions))
+    raise core.MfgError("internal", f"intersection of one surface's maps has "
+                        f"{len(res.regions)} regions")
 
 
 def _snap_across_faces(normals, tol):
@@ -372,7 +400,7 @@ def _greedy_cover(surfaces, candidates, draft, tol):
     maps, owner = [], []
     unresolved = []
     for s in candidates:
-        vm = surface_map(surfaces[s].normals, draft + surfaces[s].shrink, tol)
+        vm = surface_vm(surfaces[s], draft, tol)
         if vm.kind == "null":
             unresolved.append(s)
         else:
@@ -438,12 +466,11 @@ def mould_parting(faces, adjacency, draft_angle=0.0, weighting="count", tol=DEFA
     weights = {s: surf.weight for s, surf in enumerate(surfaces)}
     maps, owner, free = [], [], []
     for s, surf in enumerate(surfaces):
-        draft = draft_angle + surf.shrink
-        if draft == 0.0 and _is_single_normal(surf.normals, tol):
+        if draft_angle + surf.shrink == 0.0 and _is_single_normal(surf.normals, tol):
             free.append(s)  # VM u -VM is the whole sphere
             continue
         for negative in (False, True):
-            maps.append(surface_map(surf.normals, draft, tol, negative))
+            maps.append(surface_vm(surf, draft_angle, tol, negative))
             owner.append(s)
     result = PartingResult("Mould", surfaces, considered=list(range(len(surfaces))),
                            total=float(sum(weights.values())))
@@ -475,7 +502,7 @@ def mould_parting(faces, adjacency, draft_angle=0.0, weighting="count", tol=DEFA
     if draft_angle > 0 and d is not None:
         for s in uncovered:
             surf = surfaces[s]
-            if any(surface_map(surf.normals, surf.shrink, tol, neg).contains(d, tol=math.sin(tol) * 4)[0]
+            if any(surface_vm(surf, 0.0, tol, neg).contains(d, tol=math.sin(tol) * 4)[0]
                    for neg in (False, True)):
                 result.insufficient_draft.append(s)
     result.undercuts = [s for s in uncovered if s not in result.insufficient_draft]
