@@ -68,8 +68,8 @@ static void make_planar(void)
 /* Spherical: random normals in a cap, normals on one great circle, and maps to
  * intersect: small-circle polygons around nearby centres (they overlap in many ways, so
  * the search subdivides cells and builds several regions), an arc and a point. */
-enum { NNORM = 300, NCIRC = 64, NPOLY = 40, PV = 7 };
-static double normals[3 * NNORM], circle_normals[3 * NCIRC];
+enum { NNORM = 300, NCIRC = 64, NCONE = 200, NPOLY = 40, PV = 7 };
+static double normals[3 * NNORM], circle_normals[3 * NCIRC], cone_normals[3 * NCONE];
 static double sv[3 * (NPOLY * PV + 3 + 1)];
 static int64_t soff[NPOLY + 3];
 static int32_t skinds[NPOLY + 2];
@@ -95,6 +95,12 @@ static void make_spherical(void)
         circle_normals[3 * i] = cos(a);
         circle_normals[3 * i + 1] = sin(a);
         circle_normals[3 * i + 2] = 0.0;
+    }
+    for (int i = 0; i < NCONE; i++) { /* a tessellated cone: every normal a hull vertex */
+        double a = 2 * M_PI * i / NCONE;
+        cone_normals[3 * i] = 0.6 * cos(a);
+        cone_normals[3 * i + 1] = 0.6 * sin(a);
+        cone_normals[3 * i + 2] = 0.8;
     }
     int64_t k = 0;
     for (int p = 0; p < NPOLY; p++) {
@@ -181,6 +187,14 @@ static mfg_status call_vm_circle(slot *o)
 {
     return mfg_visibility_map(circle_normals, NCIRC, 0.0, (mfg_spoly **)&o->ptr);
 }
+static mfg_status call_vm_cone(slot *o)
+{
+    return mfg_visibility_map(cone_normals, NCONE, 0.0, (mfg_spoly **)&o->ptr);
+}
+static mfg_status call_vm_cone_draft(slot *o)
+{
+    return mfg_visibility_map(cone_normals, NCONE, 0.1, (mfg_spoly **)&o->ptr);
+}
 static mfg_status call_max(slot *o)
 {
     return mfg_max_intersection(sv, soff, skinds, NULL, NPOLY + 2, sweights, (mfg_regions **)&o->ptr);
@@ -202,6 +216,8 @@ static const acase CASES[] = {
     {"mfg_visibility_map (cap normals)", OUT_SPOLY, call_vm},
     {"mfg_visibility_map (draft 0.2)", OUT_SPOLY, call_vm_draft},
     {"mfg_visibility_map (normals on a circle)", OUT_SPOLY, call_vm_circle},
+    {"mfg_visibility_map (tessellated cone)", OUT_SPOLY, call_vm_cone},
+    {"mfg_visibility_map (cone, draft 0.1)", OUT_SPOLY, call_vm_cone_draft},
     {"mfg_max_intersection", OUT_REGIONS, call_max},
     {"mfg_level_regions", OUT_REGIONS, call_level},
     {"mfg_min_intersection", OUT_REGIONS, call_min},
