@@ -142,12 +142,13 @@ class GaussMaps(unittest.TestCase):
         self.assertLess(np.arccos(np.clip(g.normals @ dense.T, -1, 1)).min(axis=1).max(), 0.2)
 
     def test_kinds_and_exactness(self):
+        o, z = App.Vector(), App.Vector(0, 0, 1)
         shapes = {"plane": Part.makeBox(1, 2, 3).Faces[0],
-                  "cylinder": Part.makeCylinder(2, 5, App.Vector(), App.Vector(0, 0, 1), 250).Faces[0],
+                  "cylinder": Part.makeCylinder(2, 5, o, z, 250).Faces[0],
                   "cone": Part.makeCone(3, 1, 4).Faces[0],
                   # patches whose maps are not empty, so the bound check has vertices
-                  "sphere": Part.makeSphere(3, App.Vector(), App.Vector(0, 0, 1), 20, 70, 120).Faces[0],
-                  "torus": Part.makeTorus(5, 1, App.Vector(), App.Vector(0, 0, 1), 20, 70, 120).Faces[0],
+                  "sphere": Part.makeSphere(3, o, z, 20, 70, 120).Faces[0],
+                  "torus": Part.makeTorus(5, 1, o, z, 20, 70, 120).Faces[0],
                   "bspline": [f for f in example("bspline_part").Faces
                               if isinstance(f.Surface, Part.BSplineSurface)][0]}
         for name, face in shapes.items():
@@ -284,7 +285,8 @@ class Examples(unittest.TestCase):
         self.check_nc("pocket_block", [(Z, 5), (X, 5), (-Y, 5)])
 
     def test_draft_flips_the_answer(self):
-        self.check_mould("draft_flip", Z, (9.0, 11.0), [["Face19", "Face24"], ["Face20", "Face25"]], [X])
+        self.check_mould("draft_flip", Z, (9.0, 11.0),
+                         [["Face19", "Face24"], ["Face20", "Face25"]], [X])
         cos7 = math.cos(math.radians(draft_flip.TAPER_DEG - 3))
         # with 3 degrees the straight pockets cannot be demoulded at all: no side core
         self.check_mould("draft_flip", None, (8.0, 11.0), None, [], draft=math.radians(3),
@@ -293,8 +295,9 @@ class Examples(unittest.TestCase):
     def test_drilled_hole(self):
         """A real drilled blind hole (exact cylinder + sampled 118 degree drill point):
         reachable along +z; the cone's shrink must not empty the cylinder's point map."""
+        tip = 3 / math.tan(math.radians(59))
         drill = Part.makeCylinder(3, 12, App.Vector(10, 10, 8)).fuse(
-            Part.makeCone(0, 3, 3 / math.tan(math.radians(59)), App.Vector(10, 10, 8 - 3 / math.tan(math.radians(59)))))
+            Part.makeCone(0, 3, tip, App.Vector(10, 10, 8 - tip)))
         shape = Part.makeBox(20, 20, 15).cut(drill)
         types = sorted(type(f.Surface).__name__ for f in shape.Faces)
         self.assertIn("Cone", types)
@@ -318,8 +321,8 @@ class Examples(unittest.TestCase):
 class RandomRotations(unittest.TestCase):
     """Every example under random rotations (geometry and Placement): the same surfaces
     covered, undercut, given side cores or set-ups, and the directions rotated — to
-    1e-9 without draft (1e-6 with sampled faces), to 1e-4 with 3 degrees (the library's draft polygons are
-    inscribed to 1e-4 rad, so symmetric optima differ that much)."""
+    1e-9 without draft (1e-6 with sampled faces), to 1e-4 with 3 degrees (the library's
+    draft polygons are inscribed to 1e-4 rad, so symmetric optima differ that much)."""
 
     def answer(self, shape, R):
         faces, adj, _ = gauss_map.part_gauss(shape)
@@ -342,8 +345,9 @@ class RandomRotations(unittest.TestCase):
             shape = example(name)
             reference = self.answer(shape, np.eye(3))
             for k in range(3):
+                axis = App.Vector(*rng.normal(size=3))
                 pl = App.Placement(App.Vector(*rng.normal(size=3) * 50),
-                                   App.Rotation(App.Vector(*rng.normal(size=3)), rng.uniform(0, 360)))
+                                   App.Rotation(axis, rng.uniform(0, 360)))
                 for how in ("geometry", "placement"):
                     moved = shape.copy()
                     if how == "geometry":
@@ -351,7 +355,8 @@ class RandomRotations(unittest.TestCase):
                     else:
                         moved.Placement = pl
                     got = self.answer(moved, rot_matrix(pl))
-                    for (want_sets, want_dirs, atol), (got_sets, got_dirs, _) in zip(reference, got):
+                    for want, have in zip(reference, got):
+                        (want_sets, want_dirs, atol), (got_sets, got_dirs, _) = want, have
                         with self.subTest(part=name, rotation=k, how=how):
                             self.assertEqual(got_sets, want_sets)
                             np.testing.assert_allclose(got_dirs, want_dirs, atol=atol)
@@ -457,8 +462,8 @@ def main():
         if isinstance(cls, type) and issubclass(cls, unittest.TestCase))
     result = unittest.TextTestRunner(stream=sys.stdout, verbosity=2).run(suite)
     for nfaces, mode, draft, t_gauss, t_part in TIMES:
-        sys.stdout.write(f"timing: {nfaces} faces {mode} draft {draft}: gauss {t_gauss * 1e3:.1f} ms,"
-                         f" parting {t_part * 1e3:.1f} ms\n")
+        sys.stdout.write(f"timing: {nfaces} faces {mode} draft {draft}: "
+                         f"gauss {t_gauss * 1e3:.1f} ms, parting {t_part * 1e3:.1f} ms\n")
     failed = len(result.failures) + len(result.errors)
     passed = result.testsRun - failed - len(result.skipped)
     sys.stdout.write(f"freecad-parting: {passed} passed, {failed} failed\n")

@@ -133,9 +133,8 @@ def canonical_normals(normals, tol=DEFAULT_TOL, max_circle_search=96):
     p = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
     p = p / np.linalg.norm(p, axis=1)[:, None]
     cos_t, sin_t = math.cos(tol), math.sin(tol)
-    # Distinct axes (up to sign) and, per normal, its axis and sign.
-    axes, signs = [], []
-    unique = []
+    # Distinct axes (up to sign) and the distinct (axis, sign) pairs of the normals.
+    axes, unique = [], []
     for n in p:
         if axes:
             dots = np.asarray(axes) @ n

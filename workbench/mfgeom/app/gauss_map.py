@@ -35,7 +35,6 @@ import math
 
 import numpy as np
 
-import FreeCAD as App
 import Part
 
 from mfgeom.parting import FaceGauss

@@ -244,7 +244,8 @@ def make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting=
     first recompute fails the object is removed again.  Returns the new object."""
     if doc is None or not hasattr(doc, "addObject"):
         raise PartingInputError("no document given")
-    if source is None or not hasattr(source, "Shape") or getattr(source, "Document", None) is not doc:
+    if (source is None or not hasattr(source, "Shape")
+            or getattr(source, "Document", None) is not doc):
         raise PartingInputError("the source must be an object with a Shape in this document")
     if source.Shape.isNull() or not source.Shape.Faces:
         raise PartingInputError(f"'{source.Label}' has no faces")
