@@ -28,7 +28,7 @@
  *
  * Why a quadtree with ordered leaves.  A uniform grid cannot separate dense spikes
  * (a star with 50 000 spikes has ~10^-5 between edges over most of its area), so a busy
- * cell with more than LEAF_LIST_MAX edges is
+ * cell with more than ORDER_MIN edges is
  *  - an ORDERED leaf when every edge of its list spans the cell's x-range (or y-range)
  *    grown by reach, and consecutive edges, sorted bottom to top, are exactly verified
  *    not to meet over that range.  The edges then cut the cell into bands; parity is
@@ -40,18 +40,21 @@
  *    ends of the slab; when they separate t from both neighbours by more than their
  *    error bound plus tol (scaled by the steepest edge) the answer is certain without
  *    touching the vertices, otherwise the exact predicates decide.
- *  - otherwise split into four (up to MAX_DEPTH levels, within an entry budget), each
+ *  - otherwise, with more than LEAF_LIST_MAX edges, split into four (up to MAX_DEPTH
+ *    levels, within an entry budget, and only while the split separates edges), each
  *    child keeping only the edges within reach of it.
- * Leaves with few edges keep the plain exact list scan.
+ * Other leaves keep the plain exact list scan against the leaf's reference point.
  * Every decision goes through the exact predicates, so answers equal the one-shot ones.
  *
  * Cost: building is one grid pass plus, per busy cell, a sort of its list and a split
  * where the list cannot be ordered (edges ending or crossing inside).  A quadtree level
  * only splits cells holding vertices or crossings and an edge passes O(1) of them per
- * level, so entries grow by O(n) per level: O(n log n) time and O(n) memory per level,
- * at most MAX_DEPTH levels and capped by the entry budget (ENTRY_BUDGET x grid entries).
+ * level, so entries grow by O(n) per level: O(n log n) time, memory O(n) per level, at
+ * most MAX_DEPTH levels and never more than ENTRY_BUDGET x the grid's entries (which
+ * are O(n): ~64 per edge at most).  Measured: the benchmark's star of 50 000 spikes
+ * holds 5.2M entries (87 MB) built in ~0.5 s; a smooth ring of 100 000 edges 0.13M.
  * A query reads one byte for an empty cell, else descends a few nodes and scans
- * <= LEAF_LIST_MAX edges or bisects an ordered leaf (O(log m)).
+ * <= LEAF_LIST_MAX edges or bisects an ordered leaf (O(log m), one line per 8x).
  */
 
 /* Per-cell byte: bit 0 parity of the reference point, bit 1 list not empty.  One byte
