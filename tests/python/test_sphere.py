@@ -986,3 +986,46 @@ def test_level_regions_and_min_intersection_against_sampling():
         assert strict <= mn.count <= loose
     # maps clustered about +z leave the far side uncovered
     assert mn.count == 0 and counts.min() == 0
+
+
+# --------------------------------------------------------------------------- #
+# Issue 6: malformed maps, unit vertices, weight scale (binding level)          #
+# --------------------------------------------------------------------------- #
+
+OCTANT = np.eye(3)
+
+
+@pytest.mark.parametrize("bad, what", [
+    (core.VisibilityMap("point", np.array([[1.0, 0, 0], [0, 1.0, 0]])), "antipodal"),
+    (core.VisibilityMap("edge", np.array([[1.0, 0, 0], [-1.0, 0, 0]])), "antipodal"),
+    (core.VisibilityMap("edge", np.array([[1.0, 0, 0], [0.6, 0.8, 0], [0, 0.6, 0.8]])),
+     "off the great circle"),
+    (core.VisibilityMap("polygon", np.array([[1.0, 0, 0], [0, 0, 1.0], [0, 1.0, 0]])),
+     "counter-clockwise"),
+    (core.VisibilityMap("polygon", 2 * np.eye(3)), "not a unit vector"),
+])
+def test_malformed_maps_are_refused_by_name(bad, what):
+    with pytest.raises(core.MfgError) as err:
+        core.max_intersection([OCTANT, bad])
+    assert "map 1" in str(err.value) and what in str(err.value)
+
+
+def test_bare_vertex_arrays_may_have_any_length():
+    ref = core.max_intersection([OCTANT, OCTANT @ np.diag([1.0, 1.0, -1.0])[[1, 0, 2]]])
+    scaled = core.max_intersection([3 * OCTANT, 0.5 * OCTANT @ np.diag([1.0, 1.0, -1.0])[[1, 0, 2]]])
+    assert ref.count == scaled.count == 2 and ref.kinds == scaled.kinds == ["edge"]
+    assert np.allclose(ref.regions[0], scaled.regions[0], atol=1e-15)
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-12, 1e-9, 1.0, 1e12, 1e200])
+def test_results_do_not_depend_on_the_weight_scale(scale):
+    rng = np.random.default_rng(7)
+    maps = [random_vm(rng, centre=unit([0, 0, 1.0] + 0.8 * rng.normal(size=3)))
+            for _ in range(15)]
+    w = rng.uniform(0.5, 2.0, size=len(maps))
+    ref = core.max_intersection(maps, weights=w)
+    res = core.max_intersection(maps, weights=w * scale)
+    assert math.isclose(res.count, ref.count * scale, rel_tol=1e-12)
+    assert [sorted(c) for c in res.covers] == [sorted(c) for c in ref.covers]
+    lev = core.level_regions(maps, 0.8 * ref.count * scale, weights=w * scale)
+    assert all(w[list(c)].sum() * scale >= 0.8 * ref.count * scale * (1 - 1e-12) for c in lev.covers)
