@@ -1,37 +1,57 @@
 #!/bin/sh
 # SPDX-License-Identifier: LGPL-2.1-or-later
-# Builds the libFuzzer target for point classification into build-fuzz/ and runs it for $1 seconds (default 30; nightly/long run: tests/fuzz/run_fuzz.sh 3600).
+# Builds the libFuzzer targets (point classification; the raw C API of every entry point) into build-fuzz/ and runs them for $1 seconds in all, split evenly (default 30; nightly/long run: tests/fuzz/run_fuzz.sh 3600).
 #
 # Usage: tests/fuzz/run_fuzz.sh [seconds] [extra libFuzzer args...]
 #   e.g. tests/fuzz/run_fuzz.sh 3600 -jobs=2 -workers=2
-# Exits non-zero when the build fails or the fuzzer finds a crash / failed check;
-# the crashing input is then in build-fuzz/artifacts/ (reproduce with
-# build-fuzz/fuzz_pointclass build-fuzz/artifacts/crash-...).
+# MFG_FUZZ_OUT=dir builds and works in dir instead of build-fuzz/.
+# Exits non-zero when a build fails or a fuzzer finds a crash / failed check; the
+# crashing input is then in build-fuzz/artifacts/ (reproduce with
+# build-fuzz/fuzz_pointclass build-fuzz/artifacts/crash-..., or fuzz_api for api-crash-...).
 set -eu
 
 SECONDS_TO_RUN=${1:-30}
 [ $# -gt 0 ] && shift
 
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
-OUT="$ROOT/build-fuzz"
+OUT=${MFG_FUZZ_OUT:-"$ROOT/build-fuzz"}
 CC=${CC:-clang}
-mkdir -p "$OUT/corpus" "$OUT/artifacts"
+mkdir -p "$OUT/corpus" "$OUT/corpus_api" "$OUT/artifacts"
 
 # -ffp-contract=off: the exact predicates rely on every double operation rounding once.
 # FUZZ_CFLAGS: extra compiler flags.
-# shellcheck disable=SC2086
-"$CC" -g -O1 -ffp-contract=off -fno-fast-math -fno-omit-frame-pointer ${FUZZ_CFLAGS:-} \
-    -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
-    -I"$ROOT/libcore/include" -I"$ROOT/libcore/src" \
-    "$ROOT"/libcore/src/*.c "$ROOT/tests/fuzz/fuzz_pointclass.c" -lm \
-    -o "$OUT/fuzz_pointclass"
+for target in fuzz_pointclass fuzz_api; do
+    # shellcheck disable=SC2086
+    "$CC" -g -O1 -ffp-contract=off -fno-fast-math -fno-omit-frame-pointer ${FUZZ_CFLAGS:-} \
+        -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
+        -I"$ROOT/libcore/include" -I"$ROOT/libcore/src" \
+        "$ROOT"/libcore/src/*.c "$ROOT/tests/fuzz/$target.c" -lm \
+        -o "$OUT/$target"
+done
 
-SEEDS="$ROOT/tests/fuzz/corpus"
-if [ ! -d "$SEEDS" ] || [ -z "$(ls -A "$SEEDS" 2>/dev/null)" ]; then
-    python3 "$ROOT/tests/fuzz/make_seeds.py" "$SEEDS"
-fi
+seeds() {  # seeds DIR GENERATOR: the committed seeds, regenerated if missing
+    if [ ! -d "$1" ] || [ -z "$(ls -A "$1" 2>/dev/null)" ]; then
+        python3 "$ROOT/tests/fuzz/$2" "$1"
+    fi
+}
+seeds "$ROOT/tests/fuzz/corpus" make_seeds.py
+seeds "$ROOT/tests/fuzz/corpus_api" make_seeds_api.py
 
-# New inputs go to build-fuzz/corpus (the first directory); the committed seeds stay as they are.
-exec "$OUT/fuzz_pointclass" "$OUT/corpus" "$SEEDS" \
-    -max_total_time="$SECONDS_TO_RUN" -timeout=20 -rss_limit_mb=2048 -max_len=4096 \
-    -artifact_prefix="$OUT/artifacts/" -print_final_stats=1 "$@"
+# The time budget is shared: half each (at least 1 s).
+FIRST=$((SECONDS_TO_RUN / 2))
+[ "$FIRST" -ge 1 ] || FIRST=1
+SECOND=$((SECONDS_TO_RUN - FIRST))
+[ "$SECOND" -ge 1 ] || SECOND=1
+
+# New inputs go to the work corpus (the first directory); the committed seeds stay as they are.
+run() {  # run TARGET WORK_CORPUS SEEDS SECONDS PREFIX [args...]
+    target=$1 work=$2 seeds=$3 secs=$4 prefix=$5
+    shift 5
+    "$OUT/$target" "$work" "$seeds" \
+        -max_total_time="$secs" -timeout=20 -rss_limit_mb=2048 -max_len=4096 \
+        -artifact_prefix="$OUT/artifacts/$prefix" -print_final_stats=1 "$@"
+}
+status=0
+run fuzz_pointclass "$OUT/corpus" "$ROOT/tests/fuzz/corpus" "$FIRST" "" "$@" || status=1
+run fuzz_api "$OUT/corpus_api" "$ROOT/tests/fuzz/corpus_api" "$SECOND" "api-" "$@" || status=1
+exit $status

@@ -1,0 +1,566 @@
+/* SPDX-License-Identifier: LGPL-2.1-or-later */
+/* fuzz_api.c - libFuzzer target for the raw C API: counts, offsets, kinds, closed flags,
+ * weights, coordinates and NULL pointers decoded from the input and passed to every
+ * entry point, which must answer consistently and never crash or hit undefined behaviour. */
+
+/*
+ * Build (see run_fuzz.sh): like fuzz_pointclass.c, with tests/fuzz/fuzz_api.c.
+ *
+ * The arrays handed to the library are always as long as the counts they are passed
+ * with claim, except for counts and offsets that no caller can own memory for (negative,
+ * or 2^59 and more): those the library must reject before reading through them.  So
+ * every sanitizer report is the library's fault.
+ *
+ * Input: three sections read one after the other (every read past the end gives zero
+ * bytes): planar rings + points, normals, spherical sets.  Each section starts with a
+ * flags byte; counts and offsets use rd_count / rd_offsets below.
+ *
+ * Checked (failure -> __builtin_trap):
+ *  - every status is MFG_OK or an error with a non-empty mfg_last_error(); never
+ *    MFG_ERR_INTERNAL; outputs untouched on failure;
+ *  - point classification and visibility maps: MFG_OK exactly when the input is valid
+ *    by the header's rules (the harness decides validity independently);
+ *  - spherical sets: an input that breaks a structural rule (count, offsets, NULL,
+ *    kind, non-finite value, negative weight or level) is refused, never with NOMEM;
+ *  - results are well formed (classes, region stats, kinds and vertex counts, unit
+ *    vectors, offsets, cover indices, margins) and free cleanly; a prepared region
+ *    answers like the one-shot call; every vertex of a visibility map sees every normal
+ *    (d . p >= sin(draft) up to rounding); a maximum's weight is its cover's weight.
+ */
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mfgeom.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+#define SENTINEL 0xA5
+#define IMPOSSIBLE ((int64_t)1 << 59) /* counts from here on cannot be backed by memory */
+
+typedef struct reader {
+    const uint8_t *p;
+    size_t n;
+} reader;
+
+static uint8_t rd_u8(reader *r)
+{
+    if (r->n == 0)
+        return 0;
+    r->n--;
+    return *r->p++;
+}
+
+static uint64_t rd_u64(reader *r)
+{
+    uint64_t v = 0;
+    for (int i = 0; i < 8; i++)
+        v |= (uint64_t)rd_u8(r) << (8 * i);
+    return v;
+}
+
+static double rd_f64(reader *r)
+{
+    uint64_t u = rd_u64(r);
+    double d;
+    memcpy(&d, &u, sizeof d);
+    return d;
+}
+
+static const char *g_where = "";
+
+static void fail(const char *what)
+{
+    fprintf(stderr, "fuzz_api: check failed in %s: %s (last error: \"%s\")\n", g_where, what,
+            mfg_last_error());
+    __builtin_trap();
+}
+
+#define CHECK(cond, what)  \
+    do {                   \
+        if (!(cond))       \
+            fail(what);    \
+    } while (0)
+
+/* Hostile values for counts and offsets: negative, or beyond any array. */
+static const int64_t HOSTILE[] = {-1, -2, -3, INT64_MIN, INT64_MIN + 1, INT64_MIN + 2,
+                                  -((int64_t)1 << 40), INT64_MAX, INT64_MAX - 1, (int64_t)1 << 62,
+                                  ((int64_t)1 << 61) + 3, ((int64_t)1 << 60) + 4, IMPOSSIBLE};
+#define NHOSTILE (int)(sizeof HOSTILE / sizeof HOSTILE[0])
+
+static int hostile_value(int64_t v) { return v < 0 || v >= IMPOSSIBLE; }
+
+/* A count: mostly 0..max, sometimes hostile (then *hostile is set). */
+static int64_t rd_count(reader *r, int64_t max, int *hostile)
+{
+    uint8_t b = rd_u8(r);
+    if (b >= 0xF0) {
+        *hostile = 1;
+        if (b == 0xFF) { /* any 64-bit value, folded into the hostile range */
+            int64_t v = (int64_t)rd_u64(r);
+            return hostile_value(v) ? v : v | INT64_MIN;
+        }
+        return HOSTILE[(b - 0xF0) % NHOSTILE];
+    }
+    return b % (max + 1);
+}
+
+/*
+ * n + 1 offsets for n items of up to per_item elements each, within cap elements.
+ * Natural ones (0, then cumulative sizes), then optionally a few corrupted: a hostile
+ * value, a step back, a first offset other than 0.  *hostile is set when a value the
+ * library must refuse before reading the arrays appears; *broken when the sequence is
+ * not 0, non-decreasing (a valid but short item is for the caller to judge).
+ */
+static void rd_offsets(reader *r, int64_t n, int64_t per_item, int64_t cap, int64_t *off,
+                       int *hostile, int *broken)
+{
+    off[0] = 0;
+    for (int64_t i = 0; i < n; i++) {
+        int64_t sz = rd_u8(r) % (per_item + 1);
+        off[i + 1] = off[i] + sz <= cap ? off[i] + sz : cap;
+    }
+    uint8_t ncorrupt = rd_u8(r);
+    ncorrupt = ncorrupt >= 0xC0 ? 1 + (ncorrupt & 1) : 0;
+    for (int c = 0; c < ncorrupt; c++) {
+        uint8_t w = rd_u8(r), how = rd_u8(r);
+        int64_t i = w % (n + 1);
+        if (how < 0x80) {
+            off[i] = HOSTILE[how % NHOSTILE];
+        } else if (how < 0xC0) {
+            off[i] = i > 0 ? off[i - 1] - 1 - (how & 3) : 1 + (how & 3); /* step back / not 0 */
+        } else {
+            off[i] = (how & 0x3F) % (cap + 1); /* some small value */
+        }
+    }
+    for (int64_t i = 0; i <= n; i++)
+        if (hostile_value(off[i]))
+            *hostile = 1;
+    if (off[0] != 0)
+        *broken = 1;
+    for (int64_t i = 0; i < n; i++)
+        if (off[i + 1] < off[i])
+            *broken = 1;
+}
+
+/* Coordinates: small values, raw doubles, or the edges of the accepted range. */
+static double rd_coord(reader *r, int mode)
+{
+    static const double special[] = {0.0, -0.0, NAN, INFINITY, -INFINITY, 1e-300, -1e300,
+                                     MFG_MIN_COORD, MFG_MAX_COORD, MFG_MIN_COORD * 0.5,
+                                     MFG_MAX_COORD * 2, 4.9406564584124654e-324, 1.0, -1.0};
+    switch (mode & 3) {
+    case 0:
+        return (double)(int8_t)rd_u8(r) * 0.25;
+    case 1:
+        return rd_f64(r);
+    case 2: {
+        uint8_t b = rd_u8(r);
+        if (b >= 0xF0)
+            return special[(b - 0xF0) % (sizeof special / sizeof special[0])];
+        return (double)(int8_t)b * 0.125;
+    }
+    default:
+        return ldexp((double)(int8_t)rd_u8(r), (int)(rd_u8(r) % 64) - 32);
+    }
+}
+
+static int coord_ok(double v)
+{
+    double a = fabs(v);
+    return v == 0.0 || (a >= MFG_MIN_COORD && a <= MFG_MAX_COORD);
+}
+
+static int untouched(const uint8_t *out, int64_t n)
+{
+    for (int64_t i = 0; i < n; i++)
+        if (out[i] != SENTINEL)
+            return 0;
+    return 1;
+}
+
+/* Any status: known, never internal, a detail on failure. */
+static void check_status(mfg_status st)
+{
+    CHECK(st >= MFG_OK && st <= MFG_ERR_INTERNAL, "unknown status");
+    CHECK(st != MFG_ERR_INTERNAL, "MFG_ERR_INTERNAL (broken invariant)");
+    if (st != MFG_OK)
+        CHECK(mfg_last_error()[0] != '\0', "failure without a detail");
+}
+
+/* ------------------------------------------------------------------------ */
+/* Point classification                                                     */
+/* ------------------------------------------------------------------------ */
+
+#define PC_RINGS 6
+#define PC_VERTS 24
+#define PC_CAP (PC_RINGS * PC_VERTS)
+#define PC_POINTS 32
+
+static void fuzz_pointclass(reader *r)
+{
+    g_where = "point classification";
+    uint8_t flags = rd_u8(r);
+    int cmode = flags & 3, hostile = 0, broken = 0;
+    int64_t nrings = rd_count(r, PC_RINGS, &hostile);
+    static int64_t off[PC_RINGS + 1];
+    int64_t noff = nrings >= 0 && nrings <= PC_RINGS ? nrings : 1; /* array as long as claimed */
+    rd_offsets(r, noff, PC_VERTS, PC_CAP, off, &hostile, &broken);
+    static double xy[2 * PC_CAP];
+    for (int64_t k = 0; k < 2 * PC_CAP; k++)
+        xy[k] = k < 4 * PC_VERTS ? rd_coord(r, cmode) : (double)(k % 7); /* the rest: cheap */
+    double tol = (flags & 4) ? rd_coord(r, 1) : (double)rd_u8(r) * 0.0625;
+    int hostile_np = 0;
+    int64_t np = rd_count(r, PC_POINTS, &hostile_np);
+    static double pts[2 * PC_POINTS];
+    for (int64_t k = 0; k < 2 * PC_POINTS; k++)
+        pts[k] = k < 2 * (np >= 0 && np <= PC_POINTS ? np : 0) ? rd_coord(r, cmode) : 0.0;
+    uint8_t nulls = (flags & 0x80) ? rd_u8(r) : 0;
+    const double *xyp = (nulls & 1) ? NULL : xy, *ptsp = (nulls & 4) ? NULL : pts;
+    const int64_t *offp = (nulls & 2) ? NULL : off;
+    static uint8_t out1[PC_POINTS], out2[PC_POINTS];
+    uint8_t *outp = (nulls & 8) ? NULL : out1;
+
+    /* Valid by the header's rules (checked here independently of the library). */
+    int valid = !hostile && !broken && nrings >= 1 && offp && xyp;
+    for (int64_t i = 0; valid && i < nrings; i++)
+        valid = off[i + 1] - off[i] >= 3;
+    for (int64_t k = 0; valid && k < 2 * off[nrings]; k++)
+        valid = coord_ok(xy[k]);
+    valid = valid && tol >= 0 && coord_ok(tol);
+    int points_valid = !hostile_np && (np == 0 || (ptsp && outp));
+    for (int64_t k = 0; points_valid && k < 2 * np; k++)
+        points_valid = coord_ok(pts[k]);
+
+    memset(out1, SENTINEL, sizeof out1);
+    mfg_status st = mfg_classify_points(xyp, offp, nrings, ptsp, np, tol, outp);
+    check_status(st);
+    CHECK((st == MFG_OK) == (valid && points_valid), "mfg_classify_points: status disagrees with the input's validity");
+    if (hostile || hostile_np)
+        CHECK(st != MFG_ERR_NOMEM, "an impossible count reported as out of memory");
+    if (st != MFG_OK)
+        CHECK(untouched(out1, PC_POINTS), "mfg_classify_points wrote its output on failure");
+    else
+        for (int64_t i = 0; i < np; i++)
+            CHECK(out1[i] <= MFG_ON, "class not OUT/IN/ON");
+
+    mfg_region *sentinel = (mfg_region *)(uintptr_t)&sentinel, *region = sentinel;
+    g_where = "mfg_region_new";
+    st = mfg_region_new(xyp, offp, nrings, tol, (nulls & 16) ? NULL : &region);
+    check_status(st);
+    CHECK((st == MFG_OK) == (valid && !(nulls & 16)), "mfg_region_new: status disagrees with the input's validity");
+    if (st != MFG_OK) {
+        CHECK(region == sentinel, "mfg_region_new wrote out_region on failure");
+        return;
+    }
+    CHECK(region != NULL && region != sentinel, "no region returned");
+    g_where = "mfg_region_classify";
+    memset(out2, SENTINEL, sizeof out2);
+    st = mfg_region_classify((nulls & 32) ? NULL : region, ptsp, np, outp ? out2 : NULL);
+    check_status(st);
+    CHECK((st == MFG_OK) == (points_valid && !(nulls & 32)), "mfg_region_classify: status disagrees with validity");
+    if (st == MFG_OK && valid && points_valid)
+        CHECK(memcmp(out1, out2, (size_t)np) == 0, "prepared answers differ from one-shot answers");
+    if (st != MFG_OK)
+        CHECK(untouched(out2, PC_POINTS), "mfg_region_classify wrote its output on failure");
+    int64_t stats[4] = {-7, -7, -7, -7};
+    st = mfg_region_stats(region, (nulls & 64) ? NULL : stats);
+    check_status(st);
+    if (st == MFG_OK)
+        CHECK(stats[0] >= 1 && stats[1] >= 1 && stats[2] >= 0 && stats[2] <= stats[0] * stats[1] && stats[3] >= 0,
+              "bad region stats");
+    else
+        CHECK(stats[0] == -7 && stats[3] == -7, "mfg_region_stats wrote its output on failure");
+    mfg_region_free(region);
+}
+
+/* ------------------------------------------------------------------------ */
+/* Visibility maps                                                          */
+/* ------------------------------------------------------------------------ */
+
+#define VM_NORMALS 48
+
+/* p / |p| computed without overflow or underflow (components are in range). */
+static void unit_of(const double *p, double *u)
+{
+    double s = fmax(fabs(p[0]), fmax(fabs(p[1]), fabs(p[2])));
+    double a = p[0] / s, b = p[1] / s, c = p[2] / s, n = sqrt(a * a + b * b + c * c);
+    u[0] = a / n;
+    u[1] = b / n;
+    u[2] = c / n;
+}
+
+static int is_unit(const double *v)
+{
+    if (!isfinite(v[0]) || !isfinite(v[1]) || !isfinite(v[2]))
+        return 0;
+    return fabs(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - 1.0) < 1e-9;
+}
+
+static void fuzz_visibility(reader *r)
+{
+    g_where = "mfg_visibility_map";
+    uint8_t flags = rd_u8(r);
+    int hostile = 0;
+    int64_t m = rd_count(r, VM_NORMALS, &hostile);
+    static double nrm[3 * VM_NORMALS];
+    int64_t mm = m >= 0 && m <= VM_NORMALS ? m : 0;
+    int around = flags & 8; /* normals around a random axis: maps of every kind */
+    double axis[3] = {rd_coord(r, 0), rd_coord(r, 0), 1.0 + rd_coord(r, 0)};
+    for (int64_t k = 0; k < 3 * mm; k++)
+        nrm[k] = around ? axis[k % 3] + (double)(int8_t)rd_u8(r) * (1.0 / 64) : rd_coord(r, flags & 3);
+    if (flags & 16) /* some normals exactly on one great circle */
+        for (int64_t i = 0; i < mm; i += 2)
+            nrm[3 * i + 2] = 0.0;
+    double draft = (flags & 4) ? rd_coord(r, 1) : (double)(rd_u8(r) % 16) * 0.1;
+    uint8_t nulls = (flags & 0x80) ? rd_u8(r) : 0;
+
+    int valid = !hostile && m >= 1 && !(nulls & 1) && !(nulls & 2) && draft >= 0 && draft < M_PI / 2;
+    for (int64_t i = 0; valid && i < m; i++) {
+        const double *p = nrm + 3 * i;
+        valid = coord_ok(p[0]) && coord_ok(p[1]) && coord_ok(p[2]) && (p[0] != 0 || p[1] != 0 || p[2] != 0);
+    }
+    /* pi/2 rounds below the true pi/2: the library and the harness compare with the same
+     * double, so they agree */
+    mfg_spoly *sentinel = (mfg_spoly *)(uintptr_t)&sentinel, *map = sentinel;
+    mfg_status st = mfg_visibility_map((nulls & 1) ? NULL : nrm, m, draft, (nulls & 2) ? NULL : &map);
+    check_status(st);
+    CHECK((st == MFG_OK) == valid, "status disagrees with the input's validity");
+    if (hostile)
+        CHECK(st != MFG_ERR_NOMEM, "an impossible count reported as out of memory");
+    if (st != MFG_OK) {
+        CHECK(map == sentinel, "out_map written on failure");
+        return;
+    }
+    CHECK(map != NULL && map != sentinel, "no map returned");
+    int64_t n = map->nvertices;
+    switch (map->kind) {
+    case MFG_VM_NULL: CHECK(n == 0, "NULL map with vertices"); break;
+    case MFG_VM_POINT: CHECK(n == 1 || n == 2, "POINT map without 1 or 2 vertices"); break;
+    case MFG_VM_EDGE: CHECK(n >= 3, "EDGE map with fewer than 3 vertices"); break;
+    case MFG_VM_POLYGON: CHECK(n >= 3, "POLYGON map with fewer than 3 vertices"); break;
+    default: fail("unknown map kind");
+    }
+    CHECK(map->closed == 0 || (map->closed == 1 && map->kind == MFG_VM_EDGE), "closed flag on a non-EDGE map");
+    CHECK(n == 0 || map->vertices != NULL, "vertices missing");
+    double s = draft > 0 ? sin(draft) : 0.0;
+    for (int64_t k = 0; k < n; k++) {
+        const double *d = map->vertices + 3 * k;
+        CHECK(is_unit(d), "map vertex not a unit vector");
+        for (int64_t i = 0; i < m; i++) {
+            double u[3];
+            unit_of(nrm + 3 * i, u);
+            /* a vertex of the map sees every normal (within rounding and the drafted
+             * polygon's documented 1e-4 rad slack is only on the inside) */
+            CHECK(d[0] * u[0] + d[1] * u[1] + d[2] * u[2] >= s - 1e-9, "map vertex outside a normal's hemisphere");
+        }
+    }
+    mfg_spoly_free(map);
+}
+
+/* ------------------------------------------------------------------------ */
+/* Maximum / level / minimum intersection                                   */
+/* ------------------------------------------------------------------------ */
+
+#define SP_SETS 8
+#define SP_VERTS 10
+#define SP_CAP (SP_SETS * SP_VERTS)
+
+/* Appends a convex spherical polygon (vertices on a small circle at increasing angles,
+ * counter-clockwise from outside), an arc or a point of the given size. */
+static void make_set(reader *r, int kind, int64_t nv, double *v)
+{
+    double lon = rd_u8(r) * (2 * M_PI / 256), lat = ((double)rd_u8(r) - 128) * (M_PI / 256);
+    double c[3] = {cos(lat) * cos(lon), cos(lat) * sin(lon), sin(lat)};
+    double e1[3] = {-sin(lon), cos(lon), 0}, e2[3] = {c[1] * e1[2] - c[2] * e1[1], c[2] * e1[0] - c[0] * e1[2],
+                                                      c[0] * e1[1] - c[1] * e1[0]};
+    double rho = 0.05 + rd_u8(r) * (1.4 / 256), a = rd_u8(r) * (2 * M_PI / 256);
+    for (int64_t k = 0; k < nv; k++) {
+        double dx, dy, rr = rho;
+        if (kind == MFG_VM_POLYGON) {
+            a += (2 * M_PI / (double)nv) * (0.2 + 0.6 * rd_u8(r) / 255.0);
+            dx = cos(a);
+            dy = sin(a);
+        } else if (kind == MFG_VM_EDGE) { /* along the great circle through c in direction e1 */
+            rr = (k - 0.5 * (double)(nv - 1)) * rho;
+            dx = 1;
+            dy = 0;
+        } else {
+            rr = 0;
+            dx = dy = 0;
+        }
+        for (int i = 0; i < 3; i++)
+            v[3 * k + i] = cos(rr) * c[i] + sin(rr) * (dx * e1[i] + dy * e2[i]);
+        if (kind == MFG_VM_POINT && k == 1) /* the antipode */
+            for (int i = 0; i < 3; i++)
+                v[3 * k + i] = -v[i];
+    }
+}
+
+static void check_regions(const mfg_regions *res, int mode, int64_t npolys, const int32_t *kinds,
+                          const double *weights, double level)
+{
+    if (mode == 1)
+        CHECK(res->weight == level, "level regions: weight is not the level asked for");
+    else
+        CHECK(isfinite(res->weight) && res->weight >= 0, "weight not finite and >= 0");
+    CHECK(res->nregions >= 0 && res->nregions <= 100000, "bad region count");
+    int64_t n = res->nregions;
+    if (mode != 1)
+        CHECK(n >= 1, "no region for the maximum / minimum");
+    CHECK(res->vertex_offsets[0] == 0 && res->cover_offsets[0] == 0, "offsets not from 0");
+    double total = 0;
+    for (int64_t i = 0; i < npolys; i++)
+        total += kinds[i] == MFG_VM_NULL ? 0.0 : weights ? weights[i] : 1.0;
+    for (int64_t g = 0; g < n; g++) {
+        int64_t v0 = res->vertex_offsets[g], v1 = res->vertex_offsets[g + 1];
+        int64_t c0 = res->cover_offsets[g], c1 = res->cover_offsets[g + 1];
+        CHECK(v1 >= v0 && c1 >= c0, "offsets decrease");
+        int k = res->kinds[g];
+        if (mode == 2)
+            CHECK(k == MFG_VM_FACE && v1 == v0, "a minimum's region is not a FACE without vertices");
+        else
+            CHECK(k == MFG_VM_POINT || k == MFG_VM_EDGE || k == MFG_VM_POLYGON, "bad region kind");
+        CHECK(res->closed[g] == 0 || (res->closed[g] == 1 && k == MFG_VM_EDGE), "closed flag on a non-EDGE region");
+        if (mode != 2) {
+            CHECK(k != MFG_VM_POINT || v1 - v0 == 1 || v1 - v0 == 2, "POINT region without 1 or 2 vertices");
+            CHECK(k == MFG_VM_POINT || v1 - v0 >= 2, "EDGE/POLYGON region with too few vertices");
+        }
+        for (int64_t j = v0; j < v1; j++)
+            CHECK(is_unit(res->vertices + 3 * j), "region vertex not a unit vector");
+        CHECK(is_unit(res->centres + 3 * g), "centre not a unit vector");
+        CHECK(isfinite(res->margins[g]) && res->margins[g] >= 0 && res->margins[g] <= M_PI, "bad margin");
+        double w = 0;
+        for (int64_t j = c0; j < c1; j++) {
+            int64_t s = res->cover[j];
+            CHECK(s >= 0 && s < npolys, "cover index out of range");
+            CHECK(j == c0 || res->cover[j - 1] < s, "cover indices not increasing");
+            if (s >= 0 && s < npolys)
+                w += weights ? weights[s] : 1.0;
+        }
+        double eps = 1e-9 * fmax(total, 1.0);
+        if (mode == 0 || mode == 2)
+            CHECK(fabs(w - res->weight) <= eps, "region cover weight differs from the reported weight");
+        else
+            CHECK(w >= level - eps, "level region below the level");
+    }
+}
+
+static void fuzz_sphere(reader *r)
+{
+    uint8_t flags = rd_u8(r);
+    int hostile = 0, broken = 0, structural = 0;
+    int64_t npolys = rd_count(r, SP_SETS, &hostile);
+    int64_t nn = npolys >= 0 && npolys <= SP_SETS ? npolys : 1;
+    static int64_t off[SP_SETS + 1];
+    static int32_t kinds[SP_SETS], closed[SP_SETS];
+    static double v[3 * SP_CAP], weights[SP_SETS];
+    memset(kinds, 0, sizeof kinds);
+    memset(closed, 0, sizeof closed);
+    for (int64_t i = 0; i < SP_SETS; i++)
+        weights[i] = 1.0;
+    int generated = !(flags & 1);
+    if (generated) { /* well-formed sets of random kinds and sizes */
+        off[0] = 0;
+        for (int64_t i = 0; i < nn; i++) {
+            uint8_t b = rd_u8(r);
+            int kind = b & 3;
+            int64_t nv = kind == MFG_VM_POLYGON ? 3 + (b >> 2) % (SP_VERTS - 2)
+                         : kind == MFG_VM_EDGE  ? 2 + (b >> 2) % 4
+                         : kind == MFG_VM_POINT ? 1 + ((b >> 2) & 1)
+                                                : 0;
+            kinds[i] = kind;
+            make_set(r, kind, nv, v + 3 * off[i]);
+            off[i + 1] = off[i] + nv;
+        }
+        if (rd_u8(r) >= 0xE0) { /* one corrupted offset */
+            uint8_t w = rd_u8(r), how = rd_u8(r);
+            int64_t i = w % (nn + 1);
+            off[i] = how < 0x80 ? HOSTILE[how % NHOSTILE] : (i > 0 ? off[i - 1] - 1 : 1);
+            hostile |= hostile_value(off[i]);
+            broken = 1;
+        }
+    } else { /* raw offsets, kinds and vertices */
+        rd_offsets(r, nn, SP_VERTS, SP_CAP, off, &hostile, &broken);
+        for (int64_t i = 0; i < nn; i++)
+            kinds[i] = rd_u8(r) % 4;
+        for (int64_t k = 0; k < 3 * SP_CAP; k++)
+            v[k] = k < 3 * 2 * SP_VERTS ? rd_coord(r, flags >> 1) : 1.0 / (double)(k + 1);
+    }
+    if (flags & 8) { /* hostile kinds */
+        uint8_t w = rd_u8(r);
+        static const int32_t bad[] = {-1, 4, 5, INT32_MIN, INT32_MAX};
+        kinds[w % SP_SETS] = bad[(w >> 3) % 5];
+        structural |= w % SP_SETS < nn;
+    }
+    if (flags & 16) /* closed flags, including nonsense values */
+        for (int64_t i = 0; i < nn; i++)
+            closed[i] = (int32_t)(int8_t)rd_u8(r) % 3;
+    int use_weights = flags & 32;
+    if (use_weights)
+        for (int64_t i = 0; i < nn; i++) {
+            uint8_t b = rd_u8(r);
+            weights[i] = b >= 0xF8 ? (double[]){NAN, INFINITY, -1.0, -0.0, 0.0, 1e-300, 1e200, -INFINITY}[b - 0xF8]
+                                   : (double)(b % 16) * 0.5;
+            structural |= !(weights[i] >= 0) || isinf(weights[i]);
+        }
+    double level = rd_u8(r) >= 0xF0 ? rd_f64(r) : (double)(rd_u8(r) % 12) * 0.5;
+    uint8_t nulls = (flags & 0x80) ? rd_u8(r) : 0;
+    const double *vp = (nulls & 1) ? NULL : v;
+    const int64_t *offp = (nulls & 2) ? NULL : off;
+    const int32_t *kp = (nulls & 4) ? NULL : kinds;
+    const int32_t *cp = (flags & 16) && !(nulls & 8) ? closed : NULL;
+    const double *wp = use_weights ? weights : NULL;
+
+    structural |= hostile || broken || npolys < 1 || !offp || !kp;
+    /* vertices are read only when the offsets are sound */
+    if (!hostile && !broken && npolys >= 1) {
+        if (off[npolys] > 0 && !vp)
+            structural = 1;
+        for (int64_t k = 0; vp && k < 3 * off[npolys]; k++)
+            structural |= !coord_ok(v[k]);
+    }
+    static const char *const names[3] = {"mfg_max_intersection", "mfg_level_regions", "mfg_min_intersection"};
+    int first = (nulls >> 4) % 3, count = (flags & 64) ? 3 : 1;
+    for (int t = 0; t < count; t++) {
+        int mode = (first + t) % 3;
+        g_where = names[mode];
+        mfg_regions *sentinel = (mfg_regions *)(uintptr_t)&sentinel, *res = sentinel;
+        mfg_regions **outp = (nulls & 64) ? NULL : &res;
+        mfg_status st = mode == 0   ? mfg_max_intersection(vp, offp, kp, cp, npolys, wp, outp)
+                        : mode == 1 ? mfg_level_regions(vp, offp, kp, cp, npolys, wp, level, outp)
+                                    : mfg_min_intersection(vp, offp, kp, cp, npolys, wp, outp);
+        check_status(st);
+        int refused = structural || !outp || (mode == 1 && !(level > -1e300 && level < 1e300));
+        if (refused)
+            CHECK(st != MFG_OK, "a structurally invalid input was accepted");
+        if (hostile)
+            CHECK(st != MFG_ERR_NOMEM, "an impossible count or offset reported as out of memory");
+        if (st != MFG_OK) {
+            CHECK(res == sentinel, "out written on failure");
+            continue;
+        }
+        CHECK(res != NULL && res != sentinel, "no result returned");
+        check_regions(res, mode, npolys, kinds, wp, level);
+        mfg_regions_free(res);
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    reader rd = {data, size};
+    uint8_t which = rd_u8(&rd);
+    /* each section can be skipped, so the fuzzer can spend its input on one of them */
+    if (!(which & 1))
+        fuzz_pointclass(&rd);
+    if (!(which & 2))
+        fuzz_visibility(&rd);
+    if (!(which & 4))
+        fuzz_sphere(&rd);
+    return 0;
+}

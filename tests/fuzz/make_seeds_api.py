@@ -1,0 +1,83 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Writes the seed corpus of fuzz_api (tests/fuzz/corpus_api/) in the target's input format."""
+
+import os
+import struct
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SKIP_PC, SKIP_VM, SKIP_SPH = 1, 2, 4
+PC_VERTS = 24
+# indices into HOSTILE[] of fuzz_api.c
+INT64_MIN_PLUS_2, INT64_MAX = 5, 7
+
+
+def small(v):                       # coordinate mode 0: int8 / 4
+    return struct.pack("b", int(v * 4))
+
+
+def planar(rings, pts, tol_byte=2, corrupt=None, flags=0):
+    out = bytes([flags, len(rings)]) + bytes(len(r) for r in rings)
+    out += bytes([0xC0, corrupt[0], corrupt[1]]) if corrupt else b"\x00"
+    coords = [c for r in rings for xy in r for c in xy]
+    coords += [0] * (4 * PC_VERTS - len(coords))       # the harness reads 4 * PC_VERTS values
+    out += b"".join(small(c) for c in coords[:4 * PC_VERTS])
+    out += bytes([tol_byte, len(pts)]) + b"".join(small(x) + small(y) for x, y in pts)
+    return out
+
+
+def normals_around(m, draft_byte=0, count_byte=None, flags=8):
+    out = bytes([flags, m if count_byte is None else count_byte])
+    out += small(0) + small(0) + small(0)              # axis (0, 0, 1)
+    out += bytes((13 * i % 41 - 20) & 0xFF for i in range(3 * m))   # spread +-0.3
+    return out + bytes([draft_byte])
+
+
+def sphere_generated(kinds, flags=0x40, level_byte=3):
+    out = bytes([flags, len(kinds)])
+    for i, k in enumerate(kinds):
+        size = {3: 2, 2: 1, 1: 0, 0: 0}[k]         # 5-gons, 3-vertex arcs, one-vertex points
+        out += bytes([k | (size << 2)])
+        out += bytes([(40 * i) % 256, 150 + 3 * i, 90, 17 * i % 256])   # lon, lat, rho, start angle
+        if k == 3:
+            out += bytes([128] * (3 + size))
+    return out + b"\x00" + bytes([0, level_byte])      # no corrupted offset; level
+
+
+def sphere_raw_offsets(nsets, sizes, corrupt):
+    out = bytes([0x01, nsets]) + bytes(sizes) + bytes([0xC0, corrupt[0], corrupt[1]])
+    return out + bytes([3] * nsets)
+
+
+def seeds():
+    sq = [(0, 0), (8, 0), (8, 8), (0, 8)]
+    hole = [(2, 2), (2, 6), (6, 6), (6, 2)]
+    pts = [(1, 1), (4, 4), (0, 4), (9, 9)]
+    yield "pc_square_hole", bytes([SKIP_VM | SKIP_SPH]) + planar([sq, hole], pts)
+    # issue 6: offsets {0, 4, INT64_MIN + 2}
+    yield "pc_offsets_wrap", bytes([SKIP_VM | SKIP_SPH]) + planar([sq, hole], pts, corrupt=(2, INT64_MIN_PLUS_2))
+    yield "pc_npoints_huge", bytes([SKIP_VM | SKIP_SPH]) + planar([sq], []) [:-1] + bytes([0xF0 + INT64_MAX])
+    yield "vm_cap", bytes([SKIP_PC | SKIP_SPH]) + normals_around(12)
+    yield "vm_cap_draft", bytes([SKIP_PC | SKIP_SPH]) + normals_around(12, draft_byte=3)
+    yield "vm_circle", bytes([SKIP_PC | SKIP_SPH]) + normals_around(12, flags=8 | 16)
+    yield "vm_m_huge", bytes([SKIP_PC | SKIP_SPH]) + normals_around(0, count_byte=0xF0 + INT64_MAX)
+    yield "sph_polygons", bytes([SKIP_PC | SKIP_VM]) + sphere_generated([3, 3, 3, 3, 3, 3])
+    yield "sph_mixed", bytes([SKIP_PC | SKIP_VM]) + sphere_generated([3, 2, 1, 3, 0, 3])
+    yield "sph_offsets_int64_max", bytes([SKIP_PC | SKIP_VM]) + sphere_raw_offsets(1, [3], (1, INT64_MAX))
+    yield "sph_offsets_wrap", bytes([SKIP_PC | SKIP_VM]) + sphere_raw_offsets(2, [3, 3], (2, INT64_MIN_PLUS_2))
+    yield "sph_npolys_huge", bytes([SKIP_PC | SKIP_VM]) + bytes([0x40, 0xF0 + INT64_MAX])
+    yield "all_sections", (b"\x00" + planar([sq], pts) + normals_around(6)
+                           + sphere_generated([3, 3, 2]))
+
+
+def main():
+    out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(HERE, "corpus_api")
+    os.makedirs(out, exist_ok=True)
+    for name, data in seeds():
+        with open(os.path.join(out, name), "wb") as f:
+            f.write(data)
+
+
+if __name__ == "__main__":
+    main()
