@@ -89,6 +89,34 @@ def names(r, surfaces):
     return sorted(f"Face{f + 1}" for f in r.faces_of(surfaces))
 
 
+def brute_force(test, r, shape, draft, mould, key):
+    """No Fibonacci direction covers more (dense normals of the true faces), and the
+    returned direction is valid on the dense normals of the surfaces it covers."""
+    if key not in _DENSE:
+        _DENSE[key] = [dense_normals(f, 40) for f in shape.Faces]
+    per_face = _DENSE[key]
+    # repeated normals (planar faces) do not change min/max: drop them (memory)
+    dense = [np.unique(np.round(np.vstack([per_face[f] for f in s.faces]), 13), axis=0)
+             for s in r.surfaces]
+    dirs = parting.fibonacci_sphere(10000)
+    sin_d = math.sin(draft)
+    counts = np.zeros(len(dirs))
+    for s in r.considered:
+        dots = dirs @ dense[s].T
+        ok = dots.min(axis=1) >= sin_d
+        if mould:
+            ok |= dots.max(axis=1) <= -sin_d
+        counts += r.surfaces[s].weight * ok
+    test.assertLessEqual(counts.max(), r.count + 1e-9)
+    for s in r.covered:
+        dots = dense[s] @ r.direction
+        side = r.side[s] if mould else 1
+        if side == 0:
+            test.assertLess(np.abs(dots).max(), 1e-6)
+        else:
+            test.assertGreaterEqual((side * dots).min(), sin_d - 1e-6, f"surface {s}")
+
+
 class EdgeKinds(unittest.TestCase):
     def test_box_with_pocket(self):
         box = Part.makeBox(10, 10, 10).cut(Part.makeBox(4, 4, 5, App.Vector(3, 3, 5)))
@@ -234,7 +262,7 @@ class Examples(unittest.TestCase):
                 for core_dir, want in zip(r.side_cores, side_cores):
                     # sampled (cone) faces: the region's centre is that of a polygon
                     np.testing.assert_allclose(core_dir.direction, R @ want, atol=1e-6)
-                self.brute_force(r, shape, draft, True, (name, label))
+                brute_force(self, r, shape, draft, True, (name, label))
 
     def check_nc(self, name, setups):
         for label, source, R in self.variants(name):
@@ -244,34 +272,7 @@ class Examples(unittest.TestCase):
                              for s in r.setups)
                 self.assertEqual(got, sorted((tuple(float(c) for c in d), k) for d, k in setups))
                 self.assertEqual(r.unresolved, [])
-                self.brute_force(r, shape, 0.0, False, (name, label))
-
-    def brute_force(self, r, shape, draft, mould, key):
-        """No Fibonacci direction covers more (dense normals of the true faces), and the
-        returned direction is valid on the dense normals of the surfaces it covers."""
-        if key not in _DENSE:
-            _DENSE[key] = [dense_normals(f, 40) for f in shape.Faces]
-        per_face = _DENSE[key]
-        # repeated normals (planar faces) do not change min/max: drop them (memory)
-        dense = [np.unique(np.round(np.vstack([per_face[f] for f in s.faces]), 13), axis=0)
-                 for s in r.surfaces]
-        dirs = parting.fibonacci_sphere(10000)
-        sin_d = math.sin(draft)
-        counts = np.zeros(len(dirs))
-        for s in r.considered:
-            dots = dirs @ dense[s].T
-            ok = dots.min(axis=1) >= sin_d
-            if mould:
-                ok |= dots.max(axis=1) <= -sin_d
-            counts += r.surfaces[s].weight * ok
-        self.assertLessEqual(counts.max(), r.count + 1e-9)
-        for s in r.covered:
-            dots = dense[s] @ r.direction
-            side = r.side[s] if mould else 1
-            if side == 0:
-                self.assertLess(np.abs(dots).max(), 1e-6)
-            else:
-                self.assertGreaterEqual((side * dots).min(), sin_d - 1e-6, f"surface {s}")
+                brute_force(self, r, shape, 0.0, False, (name, label))
 
     def test_cup(self):
         self.check_mould("cup", Z, (4.0, 4.0), [], [])
@@ -360,6 +361,39 @@ class RandomRotations(unittest.TestCase):
                         with self.subTest(part=name, rotation=k, how=how):
                             self.assertEqual(got_sets, want_sets)
                             np.testing.assert_allclose(got_dirs, want_dirs, atol=atol)
+
+
+class RandomParts(unittest.TestCase):
+    """Blocks cut by random cylinders, cones and rotated boxes (any direction): mould
+    (0 and 2 degrees) and NC (all faces) answers against the brute force."""
+
+    def test_brute_force(self):
+        rng = np.random.default_rng(3)
+        done = 0
+        for trial in range(10):
+            tools = []
+            for _ in range(rng.integers(2, 6)):
+                kind = rng.integers(0, 3)
+                c = App.Vector(*rng.uniform([10, 10, 10], [50, 50, 30]))
+                axis = App.Vector(*rng.normal(size=3))
+                if kind == 0:
+                    t = Part.makeCylinder(rng.uniform(2, 5), 40, c, axis)
+                elif kind == 1:
+                    t = Part.makeCone(rng.uniform(3, 6), rng.uniform(0.5, 2), 40, c, axis)
+                else:
+                    t = Part.makeBox(*rng.uniform(4, 10, 3))
+                    t.Placement = App.Placement(c, App.Rotation(axis, rng.uniform(0, 360)))
+                tools.append(t)
+            shape = Part.makeBox(60, 60, 40).cut(Part.makeCompound(tools))
+            if not shape.isValid() or len(shape.Solids) != 1:
+                continue
+            done += 1
+            for mode, draft, kw in (("Mould", 0.0, {}), ("Mould", math.radians(2), {}),
+                                    ("NC3Axis", 0.0, {"all_faces": True})):
+                with self.subTest(trial=trial, mode=mode, draft=draft):
+                    r, _, _ = run(shape, mode, draft, **kw)
+                    brute_force(self, r, shape, draft, mode == "Mould", ("random", trial))
+        self.assertGreaterEqual(done, 6)
 
 
 class Feature(unittest.TestCase):
