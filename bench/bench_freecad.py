@@ -90,6 +90,7 @@ def _child(out_path, sizes):
         App.closeDocument(doc.Name)
         for path in (before, after):
             os.remove(path)
+    os.rmdir(tmp)
     with open(out_path, "w", encoding="utf-8") as f:
         json.dump(rows, f)
 
