@@ -309,7 +309,9 @@ static void fuzz_visibility(reader *r)
     int hostile = 0;
     int64_t m = rd_count(r, VM_NORMALS, &hostile);
     static double nrm[3 * VM_NORMALS];
-    int64_t mm = m >= 0 && m <= VM_NORMALS ? m : 0;
+    /* with a hostile m every slot holds a valid normal: reading past the array must not
+     * stop early at a bad value */
+    int64_t mm = m >= 0 && m <= VM_NORMALS ? m : VM_NORMALS;
     int around = flags & 8; /* normals around a random axis: maps of every kind */
     double axis[3] = {rd_coord(r, 0), rd_coord(r, 0), 1.0 + rd_coord(r, 0)};
     for (int64_t k = 0; k < 3 * mm; k++)
