@@ -454,6 +454,17 @@ class Feature(unittest.TestCase):
         self.assertEqual(obj.CoveredCount, 2)
         self.assertEqual(sorted(obj.InsufficientDraftFaces), ["Face1", "Face6", "Face7"])
 
+    def test_some_faces(self):
+        import mfgeom
+        # the hole's two faces alone: one surface, covered along the hole's axis
+        obj = mfgeom.make_parting_analysis(self.doc, self.part, faces=["Face5", "Face2"])
+        self.assert_clean(obj)
+        self.assertEqual((obj.CoveredCount, obj.TotalCount), (1, 1))
+        self.assertEqual(list(obj.Surfaces), ["Face2 Face5"])
+        np.testing.assert_allclose(_np(obj.Direction), rot_matrix(PLACEMENT) @ X, atol=1e-9)
+        with self.assertRaises(ValueError):
+            mfgeom.make_parting_analysis(self.doc, self.part, faces=["Face99"])
+
     def test_save_and_reload(self):
         import tempfile
         from mfgeom.app.parting_feature import make_parting_analysis

@@ -204,9 +204,29 @@ def adjacency(shape, tangent_tol=DEFAULT_TANGENT_TOL):
     return sorted(out)
 
 
-def part_gauss(source, deflection=DEFAULT_DEFLECTION, tangent_tol=DEFAULT_TANGENT_TOL):
-    """(faces, adjacency, shape): a FaceGauss per face of ``source`` (named "FaceN"),
-    the edge adjacency with kinds, and the global shape they were computed on."""
+def part_gauss(source, deflection=DEFAULT_DEFLECTION, tangent_tol=DEFAULT_TANGENT_TOL,
+               face_names=None):
+    """(faces, adjacency, shape): a FaceGauss per face of ``source`` (named "FaceN" as
+    in the source's shape), the edge adjacency with kinds (indices into ``faces``), and
+    the global shape they were computed on.  ``face_names`` (e.g. ["Face3", "Face7"]):
+    only those faces, joined only across edges they share with each other."""
     shape = shape_of(source)
-    faces = [face_gauss(f, deflection, f"Face{i + 1}") for i, f in enumerate(shape.Faces)]
-    return faces, adjacency(shape, tangent_tol), shape
+    all_faces = shape.Faces
+    if face_names is None:
+        chosen = list(range(len(all_faces)))
+    else:
+        chosen = []
+        for name in face_names:
+            if not (name.startswith("Face") and name[4:].isdigit()
+                    and 1 <= int(name[4:]) <= len(all_faces)):
+                raise ValueError(f"{name!r} is not a face of a shape with {len(all_faces)} faces")
+            if int(name[4:]) - 1 not in chosen:
+                chosen.append(int(name[4:]) - 1)
+        chosen.sort()
+        if not chosen:
+            raise ValueError("no faces given")
+    faces = [face_gauss(all_faces[i], deflection, f"Face{i + 1}") for i in chosen]
+    index = {i: k for k, i in enumerate(chosen)}
+    adj = [(index[i], index[j], kind) for i, j, kind in adjacency(shape, tangent_tol)
+           if i in index and j in index]
+    return faces, adj, shape

@@ -47,6 +47,8 @@ class PartingAnalysis:
         # (type, name, group, tooltip, read-only output?)
         spec = [
             ("App::PropertyLink", "Source", "Input", "The solid to analyse", False),
+            ("App::PropertyStringList", "Faces", "Input",
+             "Only these faces of the source (e.g. Face3); empty: all faces", False),
             ("App::PropertyEnumeration", "Mode", "Input",
              "Mould: parting direction, undercuts, side cores; NC3Axis: set-up plan", False),
             ("App::PropertyAngle", "DraftAngle", "Input",
@@ -130,7 +132,8 @@ class PartingAnalysis:
         from mfgeom.app import gauss_map
         t0 = time.perf_counter()
         faces, adjacency, _ = gauss_map.part_gauss(obj.Source,
-                                                   math.radians(obj.Deflection.Value))
+                                                   math.radians(obj.Deflection.Value),
+                                                   face_names=list(obj.Faces) or None)
         t1 = time.perf_counter()
         result = analyse(faces, adjacency, obj.Mode, math.radians(obj.DraftAngle.Value),
                          obj.Weighting.lower(), obj.AllFaces, obj.AngularTolerance)
@@ -235,12 +238,13 @@ def _angle_deg(value, what):
 
 
 def make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting="Count",
-                          all_faces=False, name="PartingAnalysis"):
+                          all_faces=False, name="PartingAnalysis", faces=None):
     """Create a parting analysis of ``source`` (a document object with a solid Shape) in
     ``doc`` and compute it.  ``mode``: "Mould" or "NC3Axis"; ``draft_angle``: degrees (a
     number, an angle Quantity or a string such as "3 deg"; NC3Axis: the tilt
     allowance); ``weighting``: "Count" or "Area"; ``all_faces`` (NC3Axis): every
-    surface, not only pockets.  Inputs are checked before anything is created; if the
+    surface, not only pockets; ``faces``: only these faces of the source (names such as
+    "Face3"; None: all).  Inputs are checked before anything is created; if the
     first recompute fails the object is removed again.  Returns the new object."""
     if doc is None or not hasattr(doc, "addObject"):
         raise PartingInputError("no document given")
@@ -254,6 +258,12 @@ def make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting=
     if weighting not in WEIGHTINGS:
         raise PartingInputError(f"weighting must be one of {WEIGHTINGS}, got {weighting!r}")
     draft = _angle_deg(draft_angle, "the draft angle")
+    faces = [str(f) for f in faces] if faces else []
+    count = len(source.Shape.Faces)
+    for f in faces:
+        if not (f.startswith("Face") and f[4:].isdigit() and 1 <= int(f[4:]) <= count):
+            raise PartingInputError(f"{f!r} is not a face of '{source.Label}' "
+                                    f"(Face1 .. Face{count})")
     obj = doc.addObject("App::FeaturePython", name)
     try:
         PartingAnalysis(obj)
@@ -263,6 +273,7 @@ def make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting=
         obj.DraftAngle = draft
         obj.Weighting = weighting
         obj.AllFaces = bool(all_faces)
+        obj.Faces = faces
         obj.recompute(True)
         if not obj.isValid():
             raise MfgeomError(f"parting analysis failed: {obj.getStatusString()}")
