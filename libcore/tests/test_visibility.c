@@ -777,6 +777,12 @@ static void test_reference_hulls(void)
                     p[3 * m + k] = 3 * p[3 * (m - 2) + k];
                 m++;
             }
+            if (shape == 1 && i % 3 == 1) { /* the same doubles again, and 4p */
+                memcpy(p + 3 * m, p + 3 * (m - 1), 3 * sizeof(double));
+                for (int k = 0; k < 3; k++)
+                    p[3 * m + 3 + k] = 4 * p[3 * (m - 1) + k];
+                m += 2;
+            }
             if (shape == 2 && i % 5 == 0) { /* below the circle's plane on one side */
                 double ps = rng_uniform(-0.3, 0.3), o[3] = {cos(ps), sin(ps), -0.05};
                 lattice(rot, R, o, p + 3 * m++);
