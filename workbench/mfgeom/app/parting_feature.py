@@ -105,7 +105,8 @@ class PartingAnalysis:
                     obj.addProperty(ptype, name, group, tip)
 
     def _migrate(self, obj):
-        if "Version" not in obj.PropertiesList or obj.Version < VERSION:
+        if ("Version" not in obj.PropertiesList or obj.Version < VERSION
+                or "Faces" not in obj.PropertiesList):  # Faces came after version 1
             self._add_properties(obj)
             obj.Version = VERSION
 
