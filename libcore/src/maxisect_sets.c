@@ -9,9 +9,11 @@
 
 #include "maxisect.h"
 
-/* 1 - (a.b)^2 below this: the arc's ends are one direction (closer than 1e-15 rad),
- * the "arc" is a point. */
-#define POINT_ARC_DET 1e-30
+/* Arcs shorter than sqrt(SHORT_ARC_DET) = 1e-6 rad are handled as their chord: the
+ * Gram solve below divides by |a x b|^2, which for such arcs amplifies the rounding of
+ * its numerators (~1e-16) beyond any use, while the chord is within len^2 / 8 < 1e-12
+ * rad of the arc. */
+#define SHORT_ARC_DET 1e-12
 
 /* ---- Membership ----------------------------------------------------------------- */
 
@@ -19,14 +21,20 @@
  * returns 0 when y is outside the arc (beyond the tolerance). */
 int mfg_param_on_edge(const double *a, const double *b, const double *y, double *s)
 {
-    /* In the plane of the arc: y = alpha a + beta b (solve with the Gram matrix). */
-    double ab = mfg_dot3(a, b), ya = mfg_dot3(y, a), yb = mfg_dot3(y, b);
-    double det = 1.0 - ab * ab;
-    if (det <= POINT_ARC_DET) { /* a == b: a point */
-        double d[3] = {y[0] - a[0], y[1] - a[1], y[2] - a[2]};
-        *s = 0.0;
+    double ab = mfg_dot3(a, b), ya = mfg_dot3(y, a), yb = mfg_dot3(y, b), g[3];
+    mfg_cross3(a, b, g);
+    double det = mfg_dot3(g, g); /* = 1 - (a.b)^2, but exact 0 for a == b */
+    if (det <= SHORT_ARC_DET) { /* a point, or so short an arc that its chord will do */
+        double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, d[3];
+        double uu = mfg_dot3(u, u);
+        double t = uu > 0.0 ? ((y[0] - a[0]) * u[0] + (y[1] - a[1]) * u[1] + (y[2] - a[2]) * u[2]) / uu : 0.0;
+        t = fmin(fmax(t, 0.0), 1.0);
+        for (int i = 0; i < 3; i++)
+            d[i] = y[i] - (a[i] + t * u[i]);
+        *s = t;
         return sqrt(mfg_dot3(d, d)) <= TOL;
     }
+    /* In the plane of the arc: y = alpha a + beta b (solve with the Gram matrix). */
     double alpha = (ya - ab * yb) / det, beta = (yb - ab * ya) / det;
     /* x(s) is proportional to (1 - s) a + s b: s = beta / (alpha + beta). */
     if (alpha + beta <= 0.0)
