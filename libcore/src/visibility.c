@@ -716,8 +716,10 @@ static void merge_near_duplicates(cone3 *k)
 /*
  * One insertion costs O(h) orientation tests, so normals that are nearly all hull
  * vertices (a finely tessellated cone) would take O(m^2).  Once the hull has more than
- * SMALL_HULL vertices, the remaining normals come in batches as large as everything seen
- * so far.  Let c be a direction with c.u > 0 (exactly) for every hull vertex u: the centre
+ * SMALL_HULL vertices, the remaining normals come in batches three times as large as
+ * everything seen so far (so each normal is sorted about 4/3 times, and a batch has few
+ * normals outside the centre's hemisphere, the prefix being a scrambled sample; repeats
+ * are dropped first).  Let c be a direction with c.u > 0 (exactly) for every hull vertex u: the centre
  * of the smallest cap around the hull, which is the centre of the largest circle inside
  * the map.  The gnomonic projection about c maps the hull and every normal p with c.p > 0
  * to the plane, where the orientation of three projected points is exactly the sign of
@@ -1027,7 +1029,7 @@ static mfg_status add_batch(cone3 *k, batch_work *w, int64_t np)
 }
 
 /* Continues the incremental game in batches once the hull is large: the normals from
- * step on in the scrambled order (index idx, stride), each batch as large as the number
+ * step on in the scrambled order (index idx, stride), each batch three times the number
  * of normals already seen; normals inside the hull's inscribed cap are skipped first. */
 static mfg_status grow_in_batches(cone3 *k, const double *normals, int64_t m, int64_t step,
                                   int64_t idx, int64_t stride)
