@@ -181,6 +181,7 @@ def test_level_and_min_intersection_match_binding():
     res = core.min_intersection(maps)
     _same_result(out, res)
     assert all("vertices" not in reg for reg in out["regions"])
+    assert out["regions"] and all(reg["kind"] == "face" for reg in out["regions"])
 
 
 @pytest.mark.parametrize("args,doc,fragment", [
