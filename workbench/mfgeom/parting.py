@@ -540,3 +540,194 @@ def fibonacci_sphere(n):
     r = np.sqrt(np.maximum(0.0, 1 - z * z))
     phi = k * math.pi * (3 - math.sqrt(5))
     return np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
+
+
+# --------------------------------------------------------------- reports
+REPORT_VERSION = 1
+CSV_COLUMNS = ("face", "surface", "role", "group", "dx", "dy", "dz", "margin_deg",
+               "area", "shrink_deg")
+
+
+def _dir_list(d):
+    return None if d is None else [float(c) for c in np.asarray(d, dtype=np.float64)]
+
+
+def _entry(entry, faces):
+    return {"direction": _dir_list(entry.direction), "margin_deg": math.degrees(entry.margin),
+            "weight": float(entry.weight), "surfaces": list(entry.surfaces),
+            "faces": [faces[f].name or f"#{f}" for f in entry.faces]}
+
+
+def report(result, faces, draft_angle=0.0, weighting="count", all_faces=False,
+           tol=DEFAULT_TOL, source="", timings=None):
+    """The result of :func:`mould_parting` or :func:`nc_setups` as a plain dict (JSON
+    types only), for the Report view, the exports and the CLI.
+
+    ``faces``: the FaceGauss list the result was computed from (names, areas,
+    shrinks); ``draft_angle`` (rad; NC3Axis: the tilt), ``weighting``, ``all_faces``,
+    ``tol`` (rad): the options used; ``source``: a label or file name; ``timings``:
+    optional {stage: seconds}.  Keys: the options, ``direction`` (unit, global) and
+    ``margin_deg``, ``covered_count``/``total_count`` (surfaces), ``covered_weight``/
+    ``total_weight``, ``surfaces`` (each: faces, weight, has_concave, role), ``faces``
+    (each: name, surface, role, group, area, shrink_deg), Mould: ``core_faces``,
+    ``cavity_faces``, ``undercut_faces``, ``insufficient_draft_faces``, ``side_cores``;
+    NC3Axis: ``setups`` (main first); both: ``unresolved_faces``, ``notes``.
+    Face roles: Mould "core" (+d), "cavity" (-d), "either" (parallel to d), "undercut",
+    "insufficient_draft"; NC3Axis "setup", "unresolved", "not_considered"."""
+    r = result
+
+    def names(indices):
+        return [faces[f].name or f"#{f}" for f in sorted(indices)]
+
+    def faces_of(surfs):
+        return names([f for s in surfs for f in r.surfaces[s].faces])
+
+    covered = set(r.covered)
+    role = [None] * len(r.surfaces)
+    group = [""] * len(r.surfaces)
+    if r.mode == "Mould":
+        side_name = {1: "core", -1: "cavity", 0: "either"}
+        for s in range(len(r.surfaces)):
+            if s in covered:
+                role[s], group[s] = side_name[r.side[s]], "main"
+        for s in r.insufficient_draft:
+            role[s] = "insufficient_draft"
+        for s in r.undercuts:
+            role[s] = "undercut"
+        for k, c in enumerate(r.side_cores, 1):
+            for s in c.surfaces:
+                group[s] = f"side_core_{k}"
+    else:
+        considered = set(r.considered)
+        for s in range(len(r.surfaces)):
+            role[s] = "setup" if s in considered else "not_considered"
+        for k, c in enumerate(r.setups, 1):
+            for s in c.surfaces:
+                group[s] = f"setup_{k}"
+    for s in r.unresolved:
+        role[s] = "unresolved"
+    face_rows = []
+    for s, surf in enumerate(r.surfaces):
+        for f in surf.faces:
+            face_rows.append({"name": faces[f].name or f"#{f}", "index": f, "surface": s,
+                              "role": role[s], "group": group[s],
+                              "area": float(faces[f].area),
+                              "shrink_deg": math.degrees(faces[f].shrink)})
+    face_rows.sort(key=lambda row: row["index"])
+    sampled = [f for f in faces if f.shrink > 0]
+    notes = []
+    if sampled:
+        notes.append(f"normals of {len(sampled)} curved faces are sampled; their maps are "
+                     f"shrunk by up to {math.degrees(max(f.shrink for f in sampled)):.3g} deg "
+                     "so every direction holds on the true faces")
+    notes.append(f"answers hold up to the angular tolerance {tol:.3g} rad")
+    rep = {
+        "report_version": REPORT_VERSION,
+        "source": str(source),
+        "mode": r.mode,
+        "draft_angle_deg": math.degrees(draft_angle),
+        "weighting": str(weighting).lower(),
+        "all_faces": bool(all_faces),
+        "angular_tolerance_rad": float(tol),
+        "direction": _dir_list(r.direction),
+        "margin_deg": math.degrees(r.margin),
+        "covered_count": len(covered),
+        "total_count": len(r.considered),
+        "covered_weight": float(r.count),
+        "total_weight": float(r.total),
+        "face_count": len(faces),
+        "surfaces": [{"index": s, "faces": names(surf.faces), "weight": float(surf.weight),
+                      "has_concave": bool(surf.has_concave), "role": role[s],
+                      "group": group[s]} for s, surf in enumerate(r.surfaces)],
+        "faces": face_rows,
+        "unresolved_faces": faces_of(r.unresolved),
+        "max_shrink_deg": math.degrees(max((f.shrink for f in faces), default=0.0)),
+        "sampled_faces": [f.name for f in sampled],
+        "notes": notes,
+    }
+    if r.mode == "Mould":
+        rep.update({
+            "core_faces": faces_of([s for s, x in enumerate(r.side) if x == 1]),
+            "cavity_faces": faces_of([s for s, x in enumerate(r.side) if x == -1]),
+            "either_faces": faces_of([s for s, x in enumerate(r.side) if x == 0]),
+            "undercut_faces": faces_of(r.undercuts),
+            "insufficient_draft_faces": faces_of(r.insufficient_draft),
+            "side_cores": [_entry(c, faces) for c in r.side_cores],
+        })
+    else:
+        rep["setups"] = [_entry(c, faces) for c in r.setups]
+    if timings:
+        rep["timings_s"] = {str(k): float(v) for k, v in timings.items()}
+    return rep
+
+
+def report_text(rep):
+    """A short human-readable summary of a :func:`report` dict (Report view, .txt)."""
+    def vec(d):
+        return "none" if d is None else "(" + ", ".join(f"{c:+.6f}" for c in d) + ")"
+    lines = [f"Parting analysis ({rep['mode']}) of {rep['source'] or 'the part'}: "
+             f"{rep['face_count']} faces, {len(rep['surfaces'])} concave-connected surfaces",
+             f"  options: {'tilt' if rep['mode'] == 'NC3Axis' else 'draft'} "
+             f"{rep['draft_angle_deg']:g} deg, weighting {rep['weighting']}"
+             + (", all faces" if rep["mode"] == "NC3Axis" and rep["all_faces"] else ""),
+             f"  direction {vec(rep['direction'])}, margin {rep['margin_deg']:.4g} deg, "
+             f"covers {rep['covered_count']} of {rep['total_count']} surfaces"]
+    if rep["mode"] == "Mould":
+        for key, label in (("core_faces", "core side (+d)"), ("cavity_faces", "cavity side (-d)"),
+                           ("either_faces", "parallel to d"), ("undercut_faces", "undercuts"),
+                           ("insufficient_draft_faces", "insufficient draft")):
+            if rep[key]:
+                lines.append(f"  {label}: {' '.join(rep[key])}")
+        for k, c in enumerate(rep["side_cores"], 1):
+            lines.append(f"  side core {k}: {vec(c['direction'])}, margin "
+                         f"{c['margin_deg']:.4g} deg: {' '.join(c['faces'])}")
+    else:
+        for k, c in enumerate(rep["setups"], 1):
+            lines.append(f"  set-up {k}: {vec(c['direction'])}, margin {c['margin_deg']:.4g} "
+                         f"deg: {' '.join(c['faces'])}")
+    if rep["unresolved_faces"]:
+        lines.append(f"  no single direction: {' '.join(rep['unresolved_faces'])}")
+    for note in rep["notes"]:
+        lines.append(f"  note: {note}")
+    if rep.get("timings_s"):
+        lines.append("  time: " + ", ".join(f"{k} {1e3 * v:.1f} ms"
+                                            for k, v in rep["timings_s"].items()))
+    return "\n".join(lines) + "\n"
+
+
+def write_report_json(path, rep):
+    """Write a :func:`report` dict (or a list of them) as JSON (indented, UTF-8)."""
+    import json
+    with open(path, "w", encoding="utf-8") as out:
+        json.dump(rep, out, indent=1)
+        out.write("\n")
+
+
+def write_report_csv(path, rep):
+    """Write one row per face (columns :data:`CSV_COLUMNS`, plus ``source`` and ``mode``
+    first) of a :func:`report` dict or a list of them: the face, its concave-connected
+    surface, its role, its group (main, side_core_k, setup_k) and that group's direction
+    and margin."""
+    import csv
+    reps = rep if isinstance(rep, list) else [rep]
+    with open(path, "w", encoding="utf-8", newline="") as out:
+        w = csv.writer(out)
+        w.writerow(("source", "mode") + CSV_COLUMNS)
+        for r in reps:
+            dirs = _group_directions(r)
+            for row in r["faces"]:
+                d, m = dirs.get(row["group"], (None, None))
+                d = d if d is not None else ["", "", ""]
+                w.writerow([r["source"], r["mode"], row["name"], row["surface"], row["role"],
+                            row["group"], *[f"{c:.15g}" if c != "" else "" for c in d],
+                            "" if m is None else f"{m:.9g}", f"{row['area']:.9g}",
+                            f"{row['shrink_deg']:.6g}"])
+
+
+def _group_directions(rep):
+    """{group: (direction, margin_deg)} of a report read back from JSON."""
+    out = {"main": (rep["direction"], rep["margin_deg"])}
+    kind = "side_core" if rep["mode"] == "Mould" else "setup"
+    for k, c in enumerate(rep.get("side_cores" if kind == "side_core" else "setups", []), 1):
+        out[f"{kind}_{k}"] = (c["direction"], c["margin_deg"])
+    return out
