@@ -24,11 +24,25 @@ reader has gone, a full disk).
     mfgeom classify-points  [FILE] [--names]
         in:  {"rings": [[[x, y], ...], ...], "points": [[x, y], ...], "tol": e}
         out: {"codes": [0 | 1 | 2, ...]}   (0 OUT, 1 IN, 2 ON; --names adds "names")
+    mfgeom parting PART.step|.stp|.brep|.FCStd ... [--mode mould|nc3axis] [--draft DEG]
+                   [--weighting count|area] [--all-faces] [--deflection DEG]
+                   [--json OUT] [-j N] [--timeout S]
+        in:  part files (not JSON); each is analysed by its own worker process
+             (mfgeom.app.parting_batch, which needs FreeCAD), N at a time
+        out: {"options": {...}, "parts": [PART, ...], "failed": k} in the order given,
+             PART = {"path", "solids": [{"name", "faces", "mode", "direction",
+             "margin_deg", "covered", "total", "undercut_faces", "side_cores" |
+             "setups", ..., "timings"}], "timings"} or {"path", "error"};
+             with --json the document goes to OUT and stdout gets {"json": OUT,
+             "parts": n, "failed": k}.  A failing part does not stop the others; the
+             exit code is 2 (with {"error": ...} on stderr naming the failed parts)
+             if any part failed, 0 if all succeeded.
 """
 
 import argparse
 import io
 import json
+import math
 import os
 import sys
 
@@ -230,6 +244,118 @@ def cmd_classify_points(args):
     return out
 
 
+# --------------------------------------------------------------------------- #
+# parting: batch of part files, one FreeCAD worker process per part           #
+# --------------------------------------------------------------------------- #
+
+PART_SUFFIXES = (".step", ".stp", ".brep", ".brp", ".fcstd")
+# Where FreeCAD's Python modules are (Debian/Ubuntu's package first); MFGEOM_FREECAD_LIB
+# overrides.  Without them the workers run in freecadcmd.
+FREECAD_LIB_DIRS = ("/usr/lib/freecad-python3/lib", "/usr/lib/freecad/lib",
+                    "/usr/local/lib/freecad/lib", "/opt/freecad/lib")
+
+
+def _freecad_lib():
+    env = os.environ.get("MFGEOM_FREECAD_LIB")
+    cands = [env] if env else list(FREECAD_LIB_DIRS)
+    for d in cands:
+        if d and os.path.isdir(d) and any(n.startswith("FreeCAD.") and n.endswith(".so")
+                                          for n in os.listdir(d)):
+            return d
+    return None
+
+
+def _worker_command(request, result):
+    """argv and environment of a worker: plain python3 with FreeCAD's lib directory on
+    sys.path when it can be found, else freecadcmd."""
+    import shutil
+    workbench = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    env = dict(os.environ)
+    lib = _freecad_lib()
+    paths = [workbench] + ([lib] if lib else [])
+    if env.get("PYTHONPATH"):
+        paths.append(env["PYTHONPATH"])
+    env["PYTHONPATH"] = os.pathsep.join(paths)
+    if lib:
+        return [sys.executable, "-m", "mfgeom.app.parting_batch", request, result], env
+    freecadcmd = shutil.which("freecadcmd") or shutil.which("FreeCADCmd")
+    if not freecadcmd:
+        raise CliError("parting needs FreeCAD: its Python modules were not found in "
+                       f"{', '.join(FREECAD_LIB_DIRS)} (set MFGEOM_FREECAD_LIB) and "
+                       "freecadcmd is not on PATH")
+    code = (f"import sys; sys.path.insert(0, {workbench!r}); "
+            "from mfgeom.app import parting_batch; "
+            f"parting_batch.main([{request!r}, {result!r}])")
+    return [freecadcmd, "-c", code], env
+
+
+def _run_part(path, options, timeout):
+    """One part in its own worker process: its result entry (or {"path", "error"})."""
+    import subprocess
+    import tempfile
+    import time
+    with tempfile.TemporaryDirectory(prefix="mfgeom-parting-") as tmp:
+        request, result = os.path.join(tmp, "request.json"), os.path.join(tmp, "result.json")
+        with open(request, "w", encoding="utf-8") as f:
+            json.dump({"path": os.path.abspath(path), **options}, f)
+        cmd, env = _worker_command(request, result)
+        t0 = time.perf_counter()
+        try:
+            proc = subprocess.run(cmd, env=env, stdin=subprocess.DEVNULL,
+                                  capture_output=True, text=True, errors="replace",
+                                  timeout=timeout)
+        except subprocess.TimeoutExpired:
+            return {"path": path, "error": f"timed out after {timeout:g} s"}
+        wall = time.perf_counter() - t0
+        try:
+            with open(result, encoding="utf-8") as f:
+                out = json.load(f)
+        except (OSError, ValueError):
+            tail = " ".join(proc.stderr.split()[-40:])
+            status = (f"killed by signal {-proc.returncode}" if proc.returncode < 0
+                      else f"exit code {proc.returncode}")
+            return {"path": path, "error": f"the worker failed ({status})"
+                                           + (f": {tail}" if tail else "")}
+    out["path"] = path                     # as the user gave it
+    if "error" not in out:
+        out["timings"]["wall_s"] = wall    # with the worker's start (FreeCAD import)
+    return out
+
+
+def cmd_parting(args):
+    from concurrent.futures import ThreadPoolExecutor
+    if args.jobs < 1:
+        raise CliError("-j must be at least 1")
+    if not 0.0 <= args.draft < 90.0:
+        raise CliError(f"--draft must be in [0, 90) degrees, got {args.draft:g}")
+    if not 0.0 < args.deflection < 90.0:
+        raise CliError(f"--deflection must be in (0, 90) degrees, got {args.deflection:g}")
+    if args.timeout is not None and not args.timeout > 0:
+        raise CliError("--timeout must be positive")
+    if not math.isfinite(args.draft + args.deflection):
+        raise CliError("--draft and --deflection must be finite")
+    options = {"mode": {"mould": "Mould", "nc3axis": "NC3Axis"}[args.mode],
+               "draft_deg": args.draft, "weighting": args.weighting,
+               "all_faces": bool(args.all_faces), "deflection_deg": args.deflection}
+    _worker_command("", "")                # FreeCAD missing: one error, not one per part
+    with ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        parts = list(pool.map(lambda p: _run_part(p, options, args.timeout), args.parts))
+    failed = [p for p in parts if "error" in p]
+    doc = {"options": options, "parts": parts, "failed": len(failed)}
+    if failed:
+        args.failure = (f"{len(failed)} of {len(parts)} parts failed: "
+                        + "; ".join(f"{p['path']}: {p['error']}" for p in failed))
+    if args.json:
+        try:
+            with open(args.json, "w", encoding="utf-8") as f:
+                json.dump(doc, f, indent=args.indent, allow_nan=False)
+                f.write("\n")
+        except OSError as exc:
+            raise CliError(f"cannot write {args.json}: {exc.strerror or exc}") from None
+        return {"json": args.json, "parts": len(parts), "failed": len(failed)}
+    return doc
+
+
 def cmd_version(args):
     from mfgeom import __version__, core
     return {"package": __version__, "library": core.version(), "library_path": core.library_path}
@@ -267,6 +393,26 @@ def build_parser():
     sp = add("classify-points", cmd_classify_points,
              "classify 2-D points against rings (even-odd) as OUT 0 / IN 1 / ON 2")
     sp.add_argument("--names", action="store_true", help="also print OUT/IN/ON names")
+    help_text = ("mould parting direction (undercuts, side cores) or 3-axis NC set-up plan "
+                 "of every solid in the part files, one FreeCAD worker process per part")
+    sp = sub.add_parser("parting", help=help_text, description=help_text)
+    sp.add_argument("parts", nargs="+", metavar="PART",
+                    help="part files: .step/.stp, .brep/.brp or .FCStd")
+    sp.add_argument("--mode", choices=("mould", "nc3axis"), default="mould")
+    sp.add_argument("--draft", type=float, default=0.0, metavar="DEG",
+                    help="mould: draft angle; nc3axis: tool-axis tilt allowance (degrees)")
+    sp.add_argument("--weighting", choices=("count", "area"), default="count")
+    sp.add_argument("--all-faces", action="store_true",
+                    help="nc3axis: plan for every surface, not only the pockets")
+    sp.add_argument("--deflection", type=float, default=math.degrees(1e-3), metavar="DEG",
+                    help="largest shrink of a sampled face's map (degrees, default 1e-3 rad)")
+    sp.add_argument("--json", default=None, metavar="OUT",
+                    help="write the results to OUT; stdout gets a summary")
+    sp.add_argument("-j", "--jobs", type=int, default=1, metavar="N",
+                    help="parts analysed at the same time (worker processes)")
+    sp.add_argument("--timeout", type=float, default=None, metavar="S",
+                    help="give up on a part after S seconds (an error entry)")
+    sp.set_defaults(func=cmd_parting, file=None)
     sv = sub.add_parser("version", help="versions of the package and the loaded library")
     sv.set_defaults(func=cmd_version, file=None)
     return p
@@ -322,6 +468,8 @@ def main(argv=None):
         result = args.func(args)
         text = json.dumps(result, indent=args.indent, allow_nan=False)
         _flush_stdout(text + "\n")
+        if getattr(args, "failure", None):   # parting: some parts failed, the rest printed
+            return _fail(args.failure)
     except (CliError, ImportError, ValueError, TypeError, RuntimeError) as exc:
         # usage and input errors, the library not loadable, core.MfgError (a RuntimeError)
         return _fail(exc)
