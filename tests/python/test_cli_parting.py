@@ -271,3 +271,17 @@ def test_json_output_file_and_usage_errors(files, tmp_path):
         assert rc == 2 and out is None and set(err) == {"error"}, bad_args
     rc, out, err = run([])
     assert rc == 2 and out is None and "PART" in err["error"]
+
+
+def test_freecadcmd_workers_give_the_same_results(files, monkeypatch):
+    """Where FreeCAD's modules are not found for plain python3, the workers run in
+    freecadcmd: same answers."""
+    import shutil
+    if not shutil.which("freecadcmd"):
+        pytest.skip("freecadcmd not on PATH")
+    args = [files["cup_hole"], files["bspline_part"], files["corrupt"]]
+    rc1, out1, _ = run(args)
+    monkeypatch.setenv("MFGEOM_FREECAD_LIB", "/nonexistent")
+    rc2, out2, err2 = run(args)
+    assert rc1 == rc2 == 2 and out2["failed"] == 1 and "corrupt" in err2["error"]
+    assert without_timings(out1) == without_timings(out2)
