@@ -238,6 +238,33 @@ def test_fcstd_objects_in_global_coordinates_and_j2_equals_j1(files):
         App.closeDocument(doc.Name)
 
 
+def test_partdesign_body_is_analysed_not_its_features(tmp_path):
+    """An FCStd of a PartDesign Body (a box minus a cylinder): the Body is analysed, not
+    its features (the worker loads PartDesign as freecadcmd would)."""
+    from mfgeom.app import parting_batch
+    parting_batch.add_module_paths()
+    doc = App.newDocument("cli_parting_body")
+    try:
+        body = doc.addObject("PartDesign::Body", "Body")
+        box = doc.addObject("PartDesign::AdditiveBox", "Box")
+        body.addObject(box)
+        box.Length, box.Width, box.Height = 30, 20, 10
+        hole = doc.addObject("PartDesign::SubtractiveCylinder", "Hole")
+        body.addObject(hole)
+        hole.Radius, hole.Height = 4, 6
+        body.Placement = PLACEMENT
+        doc.recompute()
+        path = str(tmp_path / "body.FCStd")
+        doc.saveAs(path)
+        rc, out, err = run([path])
+        assert rc == 0 and err is None, err
+        solids = out["parts"][0]["solids"]
+        assert [s["name"] for s in solids] == ["Body"] and solids[0]["faces"] == 8
+        assert_same(solids[0], feature_result(doc, body, "Mould"))
+    finally:
+        App.closeDocument(doc.Name)
+
+
 def test_failing_parts_get_error_entries_and_exit_2(files, tmp_path):
     unknown = tmp_path / "part.obj"
     unknown.write_text("v 0 0 0\n")

@@ -85,6 +85,22 @@ def _result_objects(doc):
     return out
 
 
+def add_module_paths():
+    """Puts FreeCAD's module directories (system and user Mod/, and each module in them)
+    on sys.path, as freecadcmd does at start-up: a document whose objects come from a
+    module (PartDesign::Body, an add-on's features) loads that module by importing it,
+    and in plain python3 those objects would otherwise be dropped silently."""
+    bases = [os.path.join(FreeCAD.getResourceDir(), "Mod"),
+             os.path.join(FreeCAD.getHomePath(), "Mod"),
+             os.path.join(FreeCAD.getUserAppDataDir(), "Mod")]
+    for base in bases:
+        if not os.path.isdir(base):
+            continue
+        for d in [base] + [os.path.join(base, n) for n in sorted(os.listdir(base))]:
+            if os.path.isdir(d) and d not in sys.path:
+                sys.path.append(d)
+
+
 def load_sources(path):
     """[(label, source, face names or None)] to analyse in the part file ``path``: a
     source is a Part.Shape (STEP/BREP) or a document object (FCStd); face names select
@@ -107,6 +123,7 @@ def load_sources(path):
             return [(stem, shape, None)], lambda: None
         return [(f"{stem}/Solid{k}", shape, names) for k, names in subsets], lambda: None
     if suffix in FCSTD_SUFFIXES:
+        add_module_paths()
         try:
             doc = FreeCAD.openDocument(path, True)
         except Exception as exc:
