@@ -68,7 +68,8 @@ def run(args, launcher=False):
 
 def without_timings(doc):
     if isinstance(doc, dict):
-        return {k: without_timings(v) for k, v in doc.items() if k != "timings"}
+        return {k: without_timings(v) for k, v in doc.items()
+                if k not in ("timings", "timings_s")}
     if isinstance(doc, list):
         return [without_timings(v) for v in doc]
     return doc
@@ -129,7 +130,8 @@ def assert_same(solid, fa):
     d = np.array(solid["direction"])
     assert np.allclose(d, [fa.Direction.x, fa.Direction.y, fa.Direction.z], atol=1e-9)
     assert math.isclose(solid["margin_deg"], fa.MarginDeg, abs_tol=1e-9)
-    assert solid["covered"] == fa.CoveredCount and solid["total"] == fa.TotalCount
+    assert solid["covered_count"] == fa.CoveredCount
+    assert solid["total_count"] == fa.TotalCount
     assert solid["uncovered_faces"] == list(fa.UncoveredFaces)
     assert solid["unresolved_faces"] == list(fa.UnresolvedFaces)
     if fa.Mode == "Mould":
@@ -170,9 +172,10 @@ def test_step_files_match_the_feature(files, mode, draft, weighting):
             assert solid["name"] == name and solid["mode"] == mode
             obj = doc.addObject("Part::Feature", name)
             obj.Shape = Part.read(files[name])
-            assert solid["faces"] == len(obj.Shape.Faces)
+            assert solid["face_count"] == len(obj.Shape.Faces)
+            assert solid["source"] == f"{files[name]}:{name}"
             assert_same(solid, feature_result(doc, obj, mode, draft, weighting))
-            assert solid["timings"]["gauss_s"] >= 0 and part["timings"]["wall_s"] > 0
+            assert solid["timings_s"]["gauss_maps"] >= 0 and part["timings"]["wall_s"] > 0
     finally:
         App.closeDocument(doc.Name)
     by_name = dict(zip(names, out["parts"]))
@@ -180,9 +183,10 @@ def test_step_files_match_the_feature(files, mode, draft, weighting):
         # what the examples are made to show (examples/parts): the cup is covered
         # entirely along z, the cup with a hole has its hole as the one undercut
         c = by_name["cup"]["solids"][0]
-        assert c["covered"] == c["total"] and abs(abs(c["direction"][2]) - 1) < 1e-12
+        assert c["covered_count"] == c["total_count"]
+        assert abs(abs(c["direction"][2]) - 1) < 1e-12
         h = by_name["cup_hole"]["solids"][0]
-        assert h["covered"] == h["total"] - 1 and len(h["side_cores"]) == 1
+        assert h["covered_count"] == h["total_count"] - 1 and len(h["side_cores"]) == 1
     if mode == "NC3Axis":
         assert len(by_name["pocket_block"]["solids"][0]["setups"]) == 3
 
@@ -200,14 +204,14 @@ def test_several_solids_are_analysed_each(files):
         for k, solid in enumerate(solids):
             names = [f"Face{i + 1}" for i, f in enumerate(shape.Faces)
                      if any(f.isSame(g) for g in shape.Solids[k].Faces)]
-            assert solid["faces"] == len(names)
+            assert solid["face_count"] == len(names)
             assert set(solid["uncovered_faces"] + solid["core_faces"]
                        + solid["cavity_faces"]) <= set(names)
             assert_same(solid, feature_result(doc, obj, "Mould", faces=names))
     finally:
         App.closeDocument(doc.Name)
     # the second solid is the cup with a hole: one undercut surface
-    assert solids[1]["covered"] == solids[1]["total"] - 1
+    assert solids[1]["covered_count"] == solids[1]["total_count"] - 1
 
 
 def test_fcstd_objects_in_global_coordinates_and_j2_equals_j1(files):
@@ -259,7 +263,7 @@ def test_partdesign_body_is_analysed_not_its_features(tmp_path):
         rc, out, err = run([path])
         assert rc == 0 and err is None, err
         solids = out["parts"][0]["solids"]
-        assert [s["name"] for s in solids] == ["Body"] and solids[0]["faces"] == 8
+        assert [s["name"] for s in solids] == ["Body"] and solids[0]["face_count"] == 8
         assert_same(solids[0], feature_result(doc, body, "Mould"))
     finally:
         App.closeDocument(doc.Name)
@@ -284,13 +288,23 @@ def test_failing_parts_get_error_entries_and_exit_2(files, tmp_path):
         assert path in err["error"]
 
 
-def test_json_output_file_and_usage_errors(files, tmp_path):
-    target = tmp_path / "report.json"
-    rc, out, err = run([files["cup"], files["missing"], "--json", str(target)])
-    assert rc == 2 and out == {"json": str(target), "parts": 2, "failed": 1}
+def test_json_and_csv_output_files_and_usage_errors(files, tmp_path):
+    import csv
+    target, table = tmp_path / "report.json", tmp_path / "faces.csv"
+    rc, out, err = run([files["cup"], files["missing"], files["cup_hole"], "--json",
+                        str(target), "--csv", str(table)])
+    assert rc == 2 and out == {"json": str(target), "parts": 3, "failed": 1}
     doc = json.loads(target.read_text())
-    assert doc["parts"][0]["solids"][0]["covered"] == 4 and "error" in doc["parts"][1]
-    assert "1 of 2 parts failed" in err["error"]
+    assert doc["parts"][0]["solids"][0]["covered_count"] == 4 and "error" in doc["parts"][1]
+    rows = list(csv.DictReader(table.open()))
+    # one row per face of the two parts that were analysed, in order, roles as in JSON
+    solids = [doc["parts"][0]["solids"][0], doc["parts"][2]["solids"][0]]
+    assert [(r["source"], r["face"], r["role"]) for r in rows] == \
+        [(s["source"], f["name"], f["role"]) for s in solids for f in s["faces"]]
+    undercuts = {r["face"] for r in rows if r["source"].endswith(":cup_hole")
+                 and r["role"] == "undercut"}
+    assert undercuts == set(solids[1]["undercut_faces"]) and undercuts
+    assert "1 of 3 parts failed" in err["error"]
     for bad_args in (["--draft", "95"], ["--draft", "-1"], ["--deflection", "0"],
                      ["-j", "0"], ["--mode", "milling"], ["--weighting", "volume"],
                      ["--timeout", "0"]):

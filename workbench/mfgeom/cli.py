@@ -26,17 +26,20 @@ reader has gone, a full disk).
         out: {"codes": [0 | 1 | 2, ...]}   (0 OUT, 1 IN, 2 ON; --names adds "names")
     mfgeom parting PART.step|.stp|.brep|.FCStd ... [--mode mould|nc3axis] [--draft DEG]
                    [--weighting count|area] [--all-faces] [--deflection DEG]
-                   [--json OUT] [-j N] [--timeout S]
+                   [--json OUT] [--csv OUT] [-j N] [--timeout S]
         in:  part files (not JSON); each is analysed by its own worker process
              (mfgeom.app.parting_batch, which needs FreeCAD), N at a time
         out: {"options": {...}, "parts": [PART, ...], "failed": k} in the order given,
-             PART = {"path", "solids": [{"name", "faces", "mode", "direction",
-             "margin_deg", "covered", "total", "undercut_faces", "side_cores" |
-             "setups", ..., "timings"}], "timings"} or {"path", "error"};
-             with --json the document goes to OUT and stdout gets {"json": OUT,
-             "parts": n, "failed": k}.  A failing part does not stop the others; the
-             exit code is 2 (with {"error": ...} on stderr naming the failed parts)
-             if any part failed, 0 if all succeeded.
+             PART = {"path", "solids": [REPORT, ...], "timings"} or {"path", "error"};
+             REPORT = mfgeom.parting.report(...) of one solid ("direction",
+             "margin_deg", "covered_count", "total_count", "undercut_faces",
+             "side_cores" | "setups", "faces", "timings_s", ...) with its "name",
+             "source" (PATH:NAME) and "uncovered_faces".  With --json the document
+             goes to OUT and stdout gets {"json": OUT, "parts": n, "failed": k};
+             --csv writes one row per face of every solid (write_report_csv).  A
+             failing part does not stop the others; the exit code is 2 (with
+             {"error": ...} on stderr naming the failed parts) if any part failed, 0
+             if all succeeded.
 """
 
 import argparse
@@ -319,6 +322,8 @@ def _run_part(path, options, timeout):
     out["path"] = path                     # as the user gave it
     if "error" not in out:
         out["timings"]["wall_s"] = wall    # with the worker's start (FreeCAD import)
+        for solid in out["solids"]:
+            solid["source"] = f"{path}:{solid['name']}"
     return out
 
 
@@ -345,6 +350,12 @@ def cmd_parting(args):
     if failed:
         args.failure = (f"{len(failed)} of {len(parts)} parts failed: "
                         + "; ".join(f"{p['path']}: {p['error']}" for p in failed))
+    if args.csv:
+        from mfgeom.parting import write_report_csv   # numpy, no FreeCAD
+        try:
+            write_report_csv(args.csv, [s for p in parts for s in p.get("solids", [])])
+        except OSError as exc:
+            raise CliError(f"cannot write {args.csv}: {exc.strerror or exc}") from None
     if args.json:
         try:
             with open(args.json, "w", encoding="utf-8") as f:
@@ -408,6 +419,8 @@ def build_parser():
                     help="largest shrink of a sampled face's map (degrees, default 1e-3 rad)")
     sp.add_argument("--json", default=None, metavar="OUT",
                     help="write the results to OUT; stdout gets a summary")
+    sp.add_argument("--csv", default=None, metavar="OUT",
+                    help="also write one CSV row per face of every solid to OUT")
     sp.add_argument("-j", "--jobs", type=int, default=1, metavar="N",
                     help="parts analysed at the same time (worker processes)")
     sp.add_argument("--timeout", type=float, default=None, metavar="S",

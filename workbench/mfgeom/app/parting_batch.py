@@ -151,55 +151,14 @@ def load_sources(path):
 
 
 # ------------------------------------------------------------------ results
-def _vec(d):
-    return None if d is None else [float(c) for c in d]
-
-
-def _names(faces, indices):
-    return [faces[i].name for i in sorted(indices)]
-
-
-def _direction_entry(entry, faces):
-    return {"direction": _vec(entry.direction), "margin_deg": math.degrees(entry.margin),
-            "faces": _names(faces, entry.faces)}
-
-
-def result_dict(r, faces):
-    """Plain-JSON summary of a :class:`mfgeom.parting.PartingResult` (face indices as
-    the FaceGauss names)."""
-    surf_faces = [s.faces for s in r.surfaces]
-
-    def faces_of(surfaces):
-        return _names(faces, [f for s in surfaces for f in surf_faces[s]])
-    covered = set(r.covered)
-    out = {
-        "mode": r.mode,
-        "direction": _vec(r.direction),
-        "margin_deg": math.degrees(r.margin),
-        "covered": len(r.covered),
-        "total": len(r.considered),
-        "covered_weight": float(r.count),
-        "total_weight": float(r.total),
-        "surfaces": [_names(faces, g) for g in surf_faces],
-        "uncovered_faces": faces_of([s for s in r.considered if s not in covered]),
-        "unresolved_faces": faces_of(r.unresolved),
-        "max_shrink_deg": math.degrees(max((f.shrink for f in faces), default=0.0)),
-    }
-    if r.mode == "Mould":
-        out["core_faces"] = faces_of([s for s, x in enumerate(r.side) if x == 1])
-        out["cavity_faces"] = faces_of([s for s, x in enumerate(r.side) if x == -1])
-        out["undercut_faces"] = faces_of(r.undercuts)
-        out["insufficient_draft_faces"] = faces_of(r.insufficient_draft)
-        out["side_cores"] = [_direction_entry(c, faces) for c in r.side_cores]
-    else:
-        out["setups"] = [_direction_entry(s, faces) for s in r.setups]
-    return out
-
-
-def analyse_source(source, face_names, mode="Mould", draft_deg=0.0, weighting="count",
-                   all_faces=False, deflection_deg=math.degrees(gauss_map.DEFAULT_DEFLECTION),
+def analyse_source(source, face_names, label="", mode="Mould", draft_deg=0.0,
+                   weighting="count", all_faces=False,
+                   deflection_deg=math.degrees(gauss_map.DEFAULT_DEFLECTION),
                    tol=parting.DEFAULT_TOL):
-    """Parting analysis of one solid: (result dict, timings dict)."""
+    """Parting analysis of one solid: :func:`mfgeom.parting.report` (with
+    ``timings_s`` {"gauss_maps", "analysis"}) plus ``name`` (``label``) and
+    ``uncovered_faces`` (the considered faces the main direction does not cover, as the
+    feature's UncoveredFaces)."""
     t0 = time.perf_counter()
     faces, adj, _ = gauss_map.part_gauss(source, math.radians(deflection_deg),
                                          face_names=face_names)
@@ -211,9 +170,13 @@ def analyse_source(source, face_names, mode="Mould", draft_deg=0.0, weighting="c
         r = parting.nc_setups(faces, adj, tilt=draft, weighting=weighting,
                               all_faces=all_faces, tol=tol)
     t2 = time.perf_counter()
-    out = result_dict(r, faces)
-    out["faces"] = len(faces)
-    return out, {"gauss_s": t1 - t0, "analysis_s": t2 - t1}
+    rep = parting.report(r, faces, draft_angle=draft, weighting=weighting,
+                         all_faces=all_faces, tol=tol, source=label,
+                         timings={"gauss_maps": t1 - t0, "analysis": t2 - t1})
+    covered = set(r.covered)
+    uncovered = [f for s in r.considered if s not in covered for f in r.surfaces[s].faces]
+    return {"name": label, **rep,
+            "uncovered_faces": [faces[f].name for f in sorted(uncovered)]}
 
 
 def check_request(req):
@@ -236,9 +199,9 @@ def check_request(req):
 
 def analyse_file(path, **options):
     """Parting analysis of every solid in the part file ``path`` (see the module
-    docstring).  Returns ``{"path", "solids": [{"name", "faces", result..., "timings"}],
-    "timings": {"load_s", "total_s"}}``; raises PartError (or the analysis' own
-    errors) when the part cannot be analysed."""
+    docstring).  Returns ``{"path", "solids": [REPORT, ...], "timings": {"load_s",
+    "total_s"}}`` (REPORT: :func:`analyse_source`); raises PartError (or the analysis'
+    own errors) when the part cannot be analysed."""
     opts = check_request(options)
     t0 = time.perf_counter()
     sources, close = load_sources(path)
@@ -246,8 +209,7 @@ def analyse_file(path, **options):
         t1 = time.perf_counter()
         solids = []
         for label, source, names in sources:
-            res, timings = analyse_source(source, names, **opts)
-            solids.append({"name": label, **res, "timings": timings})
+            solids.append(analyse_source(source, names, label, **opts))
     finally:
         close()
     t2 = time.perf_counter()
@@ -274,11 +236,11 @@ def main(argv=None):
     path = req.get("path", "")
     try:
         options = {k: v for k, v in req.items() if k != "path"}
-        out = analyse_file(path, **options)
+        text = json.dumps(analyse_file(path, **options), allow_nan=False)
     except Exception as exc:  # one part's failure is its own entry, never the batch's
-        out = {"path": path, "error": _error_text(exc)}
+        text = json.dumps({"path": path, "error": _error_text(exc)})
     with open(argv[1], "w", encoding="utf-8") as f:
-        json.dump(out, f, allow_nan=False)
+        f.write(text)
     return 0
 
 
