@@ -63,6 +63,16 @@ SETUP_COLORS = (
 )
 
 
+# The parting analysis' visibility sphere: coverage count ramps from light grey (no
+# surface sees that direction) to dark blue; the maximum region and the chosen direction
+# in magenta: >= 37 CIELAB units from the ramp's ends and >= 106 from the selection and
+# pre-selection colours for normal, protan and deutan vision (vermillion was 11 from the
+# selection green for a deuteranope).
+SPHERE_LOW = _rgb(235, 235, 235)
+SPHERE_HIGH = _rgb(34, 68, 136)
+SPHERE_MAX = _rgb(255, 0, 255)
+
+
 def setup_color(i):
     """Colour of set-up ``i`` (1-based)."""
     return SETUP_COLORS[(i - 1) % len(SETUP_COLORS)]

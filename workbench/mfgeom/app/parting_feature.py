@@ -5,8 +5,11 @@ An App::FeaturePython linked to a solid; on every recompute it takes the solid's
 global coordinates (:mod:`mfgeom.app.gauss_map`) and computes, with
 :mod:`mfgeom.parting`, either the mould parting direction with its undercuts and
 side cores (Mode "Mould") or a 3-axis set-up plan (Mode "NC3Axis").  Results are plain
-properties (directions global, faces named "FaceN" of the source's shape); no view
-provider yet (colours, arrows and the visibility sphere are the GUI part of issue 7).
+properties (directions global, faces named "FaceN" of the source's shape).  The last
+analysis (faces, result, options) stays on the proxy, not saved, for the view provider
+(mfgeom.gui.parting_view: coloured faces, arrows, visibility sphere) and the reports
+(:func:`feature_report`); after a restore it is recomputed on demand without touching
+the document (:func:`analysis_of`).
 """
 
 import json
@@ -113,6 +116,8 @@ class PartingAnalysis:
     def onDocumentRestored(self, obj):
         self.Type = TYPE
         self._migrate(obj)
+        # A document made headless (freecadcmd) has no saved view provider: give it ours.
+        _attach_view(obj)
 
     def execute(self, obj):
         try:
@@ -131,14 +136,24 @@ class PartingAnalysis:
             raise PartingInputError("the source is gone; set the Source property again")
         # Imported here: it loads libmfgeom, and a document must open without it.
         from mfgeom.app import gauss_map
-        t0 = time.perf_counter()
-        faces, adjacency, _ = gauss_map.part_gauss(obj.Source,
-                                                   math.radians(obj.Deflection.Value),
-                                                   face_names=list(obj.Faces) or None)
-        t1 = time.perf_counter()
-        result = analyse(faces, adjacency, obj.Mode, math.radians(obj.DraftAngle.Value),
-                         obj.Weighting.lower(), obj.AllFaces, obj.AngularTolerance)
-        t2 = time.perf_counter()
+        # FreeCAD's progress bar (status bar; a dialog on long runs) in the GUI.
+        progress = FreeCAD.Base.ProgressIndicator()
+        progress.start(f"Parting analysis of {obj.Source.Label}", 2)
+        try:
+            t0 = time.perf_counter()
+            faces, adjacency, _ = gauss_map.part_gauss(obj.Source,
+                                                       math.radians(obj.Deflection.Value),
+                                                       face_names=list(obj.Faces) or None)
+            t1 = time.perf_counter()
+            progress.next()
+            result = analyse(faces, adjacency, obj.Mode, math.radians(obj.DraftAngle.Value),
+                             obj.Weighting.lower(), obj.AllFaces, obj.AngularTolerance)
+            t2 = time.perf_counter()
+            progress.next()
+        finally:
+            progress.stop()
+        self.last = {"key": _options_key(obj), "faces": faces, "result": result,
+                     "timings": {"gauss_maps": t1 - t0, "parting": t2 - t1}}
         _store(obj, result, faces)
         FreeCAD.Console.PrintLog(
             f"mfgeom: {obj.Label}: {len(faces)} faces, {obj.Mode}, covered "
@@ -157,12 +172,74 @@ class PartingAnalysis:
 
     def __setstate__(self, state):
         self.Type = TYPE
+        self.last = None
 
     def dumps(self):
         return self.__getstate__()
 
     def loads(self, state):
         self.__setstate__(state)
+
+
+def _options_key(obj):
+    """What the last analysis depends on besides the source's geometry."""
+    return (obj.Source.Name if obj.Source else None, tuple(obj.Faces), obj.Mode,
+            obj.DraftAngle.Value, obj.Weighting, bool(obj.AllFaces), obj.Deflection.Value,
+            obj.AngularTolerance)
+
+
+def analysis_of(obj):
+    """(faces, result, timings) of ``obj``'s last analysis; recomputed (the document is
+    left untouched) when the proxy lost it (a restored document) or the options changed."""
+    last = getattr(obj.Proxy, "last", None)
+    if last is None or last["key"] != _options_key(obj):
+        from mfgeom.app import gauss_map
+        faces, adjacency, _ = gauss_map.part_gauss(obj.Source,
+                                                   math.radians(obj.Deflection.Value),
+                                                   face_names=list(obj.Faces) or None)
+        result = analyse(faces, adjacency, obj.Mode, math.radians(obj.DraftAngle.Value),
+                         obj.Weighting.lower(), obj.AllFaces, obj.AngularTolerance)
+        last = {"key": _options_key(obj), "faces": faces, "result": result, "timings": {}}
+        obj.Proxy.last = last
+    return last["faces"], last["result"], last["timings"]
+
+
+def feature_report(obj):
+    """:func:`mfgeom.parting.report` of the feature ``obj`` (a plain dict)."""
+    from mfgeom import parting
+    faces, result, timings = analysis_of(obj)
+    return parting.report(result, faces, math.radians(obj.DraftAngle.Value),
+                          obj.Weighting.lower(), bool(obj.AllFaces), obj.AngularTolerance,
+                          source=obj.Source.Label if obj.Source else "", timings=timings)
+
+
+def sphere_maps(obj):
+    """The visibility maps the analysis intersected, for the view's sphere: a list of
+    (surface index, mfgeom.core.VisibilityMap) in global coordinates — Mould: VM(S) and
+    -VM(S) of every surface (a surface with one normal: the whole sphere, None);
+    NC3Axis: VM(S) of the surfaces considered.  Drafts and shrinks as in the analysis."""
+    from mfgeom import parting
+    _, result, _ = analysis_of(obj)
+    draft = math.radians(obj.DraftAngle.Value)
+    tol = obj.AngularTolerance
+    out = []
+    for s in result.considered:
+        surf = result.surfaces[s]
+        if result.mode == "Mould":
+            if draft + surf.shrink == 0.0 and parting._is_single_normal(surf.normals, tol):
+                out.append((s, None))
+                continue
+            for negative in (False, True):
+                out.append((s, parting.surface_vm(surf, draft, tol, negative)))
+        else:
+            out.append((s, parting.surface_vm(surf, draft, tol)))
+    return out
+
+
+def _attach_view(obj):
+    if FreeCAD.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
+        from mfgeom.gui.parting_view import ViewProviderPartingAnalysis
+        ViewProviderPartingAnalysis(obj.ViewObject)
 
 
 def analyse(faces, adjacency, mode, draft, weighting, all_faces, tol):
@@ -268,6 +345,7 @@ def make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting=
     obj = doc.addObject("App::FeaturePython", name)
     try:
         PartingAnalysis(obj)
+        _attach_view(obj)
         obj.Label = f"{mode} analysis of {source.Label}"
         obj.Source = source
         obj.Mode = mode

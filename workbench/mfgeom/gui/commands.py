@@ -68,7 +68,42 @@ class ClassifyPointsCommand(BaseCommand):
         FreeCADGui.Control.showDialog(PointClassificationPanel(face_ref, points_ref))
 
 
-COMMANDS = {"Mfgeom_ClassifyPoints": ClassifyPointsCommand()}
+class PartingAnalysisCommand(BaseCommand):
+    """Mould parting direction or NC set-up plan of the selected solid (or its faces)."""
+
+    icon = "mfgeom_parting.svg"
+    menu_text = "Parting analysis"
+    tooltip = ("Mould parting direction (core / cavity sides, undercuts, side cores) or a "
+               "3-axis NC set-up plan of a solid.\nSelect a solid, or some of its faces; a "
+               "task panel then asks for the mode, draft angle and weighting.\nThe result: "
+               "the faces coloured, an arrow per direction and a visibility sphere.")
+
+    def Activated(self):
+        title = "Parting analysis"
+        from mfgeom.gui import library
+        if not library.ensure_library(title):
+            return
+        try:
+            importlib.import_module("mfgeom.core")
+            from mfgeom.gui import parting_panel
+        except ImportError as exc:
+            _warn(title, f"The mfgeom library could not be loaded:\n{exc}")
+            return
+        if FreeCADGui.Control.activeDialog():
+            _warn(title, "A task panel is open: close it first (OK or Cancel).")
+            return
+        selection = [(s.Object, list(s.SubElementNames))
+                     for s in FreeCADGui.Selection.getSelectionEx()]
+        try:
+            source, faces = parting_panel.source_from_selection(selection)
+        except parting_panel.PartingInputError as exc:
+            _warn(title, str(exc))
+            return
+        FreeCADGui.Control.showDialog(parting_panel.PartingPanel(source, faces))
+
+
+COMMANDS = {"Mfgeom_PartingAnalysis": PartingAnalysisCommand(),
+            "Mfgeom_ClassifyPoints": ClassifyPointsCommand()}
 
 for _name, _command in COMMANDS.items():
     FreeCADGui.addCommand(_name, _command)

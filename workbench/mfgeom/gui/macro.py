@@ -76,6 +76,38 @@ def make_point_classification(face_ref, points_ref, tolerance, strict=True, name
                                           tolerance, strict, name)
 
 
+def parting_analysis_call(doc, source, mode="Mould", draft_angle=0.0, weighting="Count",
+                          all_faces=False, faces=None, name=None):
+    """Python source of the ``mfgeom.make_parting_analysis`` call for these inputs
+    (``draft_angle`` in degrees, written with its unit)."""
+    args = [document_expr(doc), object_expr(source), f"mode={_text(mode)}",
+            f"draft_angle={_text(f'{float(draft_angle)!r} deg')}",
+            f"weighting={_text(weighting)}"]
+    if all_faces:
+        args.append("all_faces=True")
+    if faces:
+        args.append(f"faces=[{', '.join(_text(f) for f in faces)}]")
+    if name:
+        args.append(f"name={_text(name)}")
+    return f"mfgeom.make_parting_analysis({', '.join(args)})"
+
+
+def echo_make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting="Count",
+                               all_faces=False, faces=None, name=None):
+    """Create a parting analysis through the Python console and return it (arguments as
+    :func:`parting_analysis_call`)."""
+    call = parting_analysis_call(doc, source, mode, draft_angle, weighting, all_faces,
+                                 faces, name)
+    before = {o.Name for o in doc.Objects}
+    FreeCADGui.doCommand("import mfgeom")
+    FreeCADGui.doCommand(call)
+    new = [o for o in doc.Objects if o.Name not in before
+           and getattr(getattr(o, "Proxy", None), "Type", "") == "Mfgeom::PartingAnalysis"]
+    if len(new) != 1:
+        raise RuntimeError(f"'{call}' created {len(new)} parting analyses, expected 1")
+    return new[0]
+
+
 def app_set(obj, prop, value):
     """``obj.prop = value`` through the console (recorded in macros)."""
     FreeCADGui.doCommand(f"{object_expr(obj)}.{prop} = {value!r}")

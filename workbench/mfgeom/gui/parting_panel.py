@@ -1,0 +1,317 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The task panel of "Parting analysis": mode, draft angle (NC: tilt allowance),
+weighting, all faces (NC), deflection of sampled faces; the result after each recompute;
+JSON / CSV export of the report.  For a new analysis (from the command) or an existing
+one (double click: setEdit).
+
+OK (and Apply) run the change through the Python console (``Gui.doCommand``), so the
+Report view and a recorded macro show the exact ``mfgeom.make_parting_analysis(...)``
+call or property assignments, inside one undo transaction; Cancel leaves the document as
+it was since the last Apply.  Apply on a new analysis creates it and the panel then edits
+it.  While the analysis runs FreeCAD's progress bar shows and the cursor waits.
+"""
+
+import math
+
+import FreeCAD
+import FreeCADGui
+from PySide import QtCore, QtGui
+
+from mfgeom.app.parting_feature import MODES, WEIGHTINGS, PartingInputError
+from mfgeom.errors import MfgeomError
+
+TITLE = "Parting analysis"
+MODE_TEXT = {"Mould": "Mould (parting direction)", "NC3Axis": "NC 3-axis (set-ups)"}
+
+
+def source_from_selection(selection):
+    """(object, face names) from ``[(obj, [subnames])]``: one object with a solid (or a
+    shell) shape, whole or some of its faces.  PartingInputError says what is wrong."""
+    if not selection:
+        raise PartingInputError("Select a solid (or some of its faces) first.")
+    objs = {id(o): o for o, _ in selection}
+    if len(objs) != 1:
+        raise PartingInputError("Select one solid (or faces of one solid), not "
+                                f"{len(objs)} objects.")
+    obj = selection[0][0]
+    subs = [s for _, ss in selection for s in ss]
+    shape = getattr(obj, "Shape", None)
+    if shape is None or shape.isNull() or not shape.Faces:
+        raise PartingInputError(f"'{obj.Label}' has no faces: select a solid.")
+    if not (shape.Solids or shape.Shells):
+        raise PartingInputError(f"'{obj.Label}' is not a solid or a shell.")
+    wrong = [s for s in subs if not s.startswith("Face")]
+    if wrong:
+        raise PartingInputError(f"Select a solid or its faces, not {', '.join(wrong)}.")
+    faces = []
+    for s in subs:
+        if s not in faces:
+            faces.append(s)
+    return obj, faces
+
+
+def result_text(obj):
+    """The panel's summary of an analysis' result properties."""
+    if obj is None or not obj.isValid():
+        return "No result yet." if obj is None else f"Failed: {obj.getStatusString()}"
+    d = obj.Direction
+    lines = [f"Direction ({d.x:+.4f}, {d.y:+.4f}, {d.z:+.4f}), margin {obj.MarginDeg:.3g} deg",
+             f"Covers {obj.CoveredCount} of {obj.TotalCount} surfaces"]
+    if obj.Mode == "Mould":
+        if obj.UncoveredFaces:
+            lines.append(f"Undercuts: {' '.join(obj.UncoveredFaces)}")
+        if obj.InsufficientDraftFaces:
+            lines.append(f"Insufficient draft: {' '.join(obj.InsufficientDraftFaces)}")
+        for k, v in enumerate(obj.SideCoreDirections, 1):
+            lines.append(f"Side core {k}: ({v.x:+.4f}, {v.y:+.4f}, {v.z:+.4f})")
+    else:
+        import json
+        for k, entry in enumerate(obj.Setups, 1):
+            e = json.loads(entry)
+            x, y, z = e["direction"]
+            lines.append(f"Set-up {k}: ({x:+.4f}, {y:+.4f}, {z:+.4f}), "
+                         f"{len(e['faces'])} faces")
+    if obj.UnresolvedFaces:
+        lines.append(f"No single direction: {' '.join(obj.UnresolvedFaces)}")
+    return "\n".join(lines)
+
+
+class PartingPanel:
+    """Task panel; ``source``/``faces`` to create an analysis, or ``obj`` to edit one."""
+
+    def __init__(self, source=None, faces=None, obj=None):
+        if obj is None and source is None:
+            raise PartingInputError("the panel needs a source or an analysis to edit")
+        self.obj = obj
+        self.source = obj.Source if obj is not None else source
+        self.faces = list(obj.Faces) if obj is not None else list(faces or [])
+        self.doc = obj.Document if obj is not None else source.Document
+
+        self.form = QtGui.QWidget()
+        self.form.setWindowTitle(TITLE if obj is None else f"Edit {obj.Label}")
+        layout = QtGui.QFormLayout(self.form)
+        self.what = QtGui.QLabel()
+        self.what.setObjectName("what")
+        self.what.setWordWrap(True)
+        layout.addRow(self.what)
+
+        self.mode = QtGui.QComboBox()
+        self.mode.setObjectName("mode")
+        for m in MODES:
+            self.mode.addItem(MODE_TEXT[m], m)
+        self.mode.setToolTip("Mould: parting direction (core +d, cavity -d), undercuts and "
+                             "side cores.\nNC 3-axis: set-up plan for the pockets.")
+        layout.addRow("Mode", self.mode)
+
+        self.draft = QtGui.QDoubleSpinBox()
+        self.draft.setObjectName("draft")
+        self.draft.setRange(0.0, 89.9)
+        self.draft.setDecimals(3)
+        self.draft.setSuffix(" deg")
+        self.draft.setToolTip("Mould: least angle each covered face must make with the "
+                              "parting plane.\nNC 3-axis: tool-axis tilt allowance.")
+        layout.addRow("Draft angle", self.draft)
+
+        self.weighting = QtGui.QComboBox()
+        self.weighting.setObjectName("weighting")
+        for w in WEIGHTINGS:
+            self.weighting.addItem(w, w)
+        self.weighting.setToolTip("Count: each concave-connected surface counts 1; "
+                                  "Area: by its area")
+        layout.addRow("Weighting", self.weighting)
+
+        self.all_faces = QtGui.QCheckBox("Include all faces (not only pockets)")
+        self.all_faces.setObjectName("allFaces")
+        layout.addRow(self.all_faces)
+
+        self.deflection = QtGui.QDoubleSpinBox()
+        self.deflection.setObjectName("deflection")
+        self.deflection.setRange(0.001, 10.0)
+        self.deflection.setDecimals(3)
+        self.deflection.setSuffix(" deg")
+        self.deflection.setToolTip("Sampled (non-analytic) faces: their maps are shrunk by "
+                                   "at most this angle so every direction holds on the "
+                                   "true faces")
+        layout.addRow("Deflection", self.deflection)
+
+        self.result = QtGui.QLabel()
+        self.result.setObjectName("result")
+        self.result.setWordWrap(True)
+        self.result.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
+        layout.addRow(self.result)
+
+        buttons = QtGui.QHBoxLayout()
+        self.export_json_button = QtGui.QPushButton("Export JSON...")
+        self.export_json_button.setObjectName("exportJson")
+        self.export_csv_button = QtGui.QPushButton("Export CSV...")
+        self.export_csv_button.setObjectName("exportCsv")
+        self.export_json_button.clicked.connect(lambda: self.export("json"))
+        self.export_csv_button.clicked.connect(lambda: self.export("csv"))
+        buttons.addWidget(self.export_json_button)
+        buttons.addWidget(self.export_csv_button)
+        layout.addRow(buttons)
+
+        self.message = QtGui.QLabel("")
+        self.message.setObjectName("message")
+        self.message.setWordWrap(True)
+        self.message.setStyleSheet("color: #b00000")
+        layout.addRow(self.message)
+
+        self.mode.currentIndexChanged.connect(self._mode_changed)
+        self._load()
+
+    # ------------------------------------------------------------- values
+    def _load(self):
+        obj = self.obj
+        if obj is not None:
+            self.mode.setCurrentIndex(MODES.index(obj.Mode))
+            self.draft.setValue(obj.DraftAngle.Value)
+            self.weighting.setCurrentIndex(WEIGHTINGS.index(obj.Weighting))
+            self.all_faces.setChecked(bool(obj.AllFaces))
+            self.deflection.setValue(obj.Deflection.Value)
+        else:
+            self.deflection.setValue(math.degrees(1e-3))
+        src = self.source.Label if self.source is not None else "(missing)"
+        which = ", ".join(self.faces) if self.faces else "all faces"
+        self.what.setText(f"Part: {src} ({which})")
+        self.result.setText(result_text(obj))
+        self.export_json_button.setEnabled(obj is not None)
+        self.export_csv_button.setEnabled(obj is not None)
+        self._mode_changed()
+
+    def _mode_changed(self, *_):
+        nc = self.mode.currentData() == "NC3Axis"
+        self.all_faces.setEnabled(nc)
+
+    def values(self):
+        return {"Mode": self.mode.currentData(), "DraftAngle": float(self.draft.value()),
+                "Weighting": self.weighting.currentData(),
+                "AllFaces": bool(self.all_faces.isChecked()),
+                "Deflection": float(self.deflection.value())}
+
+    # ------------------------------------------------------------- task dialog protocol
+    def getStandardButtons(self):
+        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Apply
+                   | QtGui.QDialogButtonBox.Cancel)
+
+    def clicked(self, button):
+        if button == QtGui.QDialogButtonBox.Apply:
+            self.apply()
+
+    def apply(self):
+        """Create or update the analysis; the panel then shows its result."""
+        ok = self._create() if self.obj is None else self._edit()
+        if ok:
+            self._load()
+        return ok
+
+    def accept(self):
+        ok = self.apply()
+        if ok:
+            self._close()
+        return ok
+
+    def reject(self):
+        self._close()
+        return True
+
+    def _close(self):
+        FreeCADGui.Control.closeDialog()
+        if FreeCADGui.ActiveDocument is not None and FreeCADGui.ActiveDocument.getInEdit():
+            FreeCADGui.ActiveDocument.resetEdit()
+
+    def _show_error(self, text):
+        self.message.setText(text)
+        FreeCAD.Console.PrintError(f"mfgeom: {text}\n")
+
+    # ------------------------------------------------------------- create / edit
+    def _create(self):
+        from mfgeom.gui import macro
+        v = self.values()
+        doc = self.doc
+        doc.openTransaction(TITLE)
+        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+        try:
+            obj = macro.echo_make_parting_analysis(doc, self.source, v["Mode"], v["DraftAngle"],
+                                                   v["Weighting"], v["AllFaces"], self.faces)
+            if abs(v["Deflection"] - obj.Deflection.Value) > 1e-12:
+                macro.app_set(obj, "Deflection", v["Deflection"])
+                macro.recompute(obj)
+                if not obj.isValid():
+                    raise PartingInputError(obj.getStatusString())
+            # the analysis shows a coloured copy of the part: hide the source meanwhile
+            macro.app_set(self.source, "Visibility", False)
+        except (MfgeomError, ValueError, TypeError, RuntimeError, ImportError) as exc:
+            doc.abortTransaction()
+            self._show_error(str(exc))
+            return False
+        finally:
+            QtGui.QApplication.restoreOverrideCursor()
+        doc.commitTransaction()
+        self.obj = obj
+        self.message.setText("")
+        FreeCADGui.Selection.clearSelection()
+        report(obj)
+        return True
+
+    def _edit(self):
+        from mfgeom.gui import macro
+        obj, doc = self.obj, self.doc
+        current = {"Mode": obj.Mode, "DraftAngle": obj.DraftAngle.Value,
+                   "Weighting": obj.Weighting, "AllFaces": bool(obj.AllFaces),
+                   "Deflection": obj.Deflection.Value}
+        changes = [(k, v) for k, v in self.values().items() if v != current[k]]
+        if not changes:
+            return True
+        doc.openTransaction(f"Edit {obj.Label}")
+        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+        try:
+            for name, value in changes:
+                macro.app_set(obj, name, value)
+            macro.recompute(obj)
+            if not obj.isValid():
+                raise PartingInputError(obj.getStatusString())
+        except (MfgeomError, ValueError, TypeError, RuntimeError) as exc:
+            doc.abortTransaction()
+            doc.recompute()  # the old values are back: so are their results
+            self._show_error(str(exc))
+            return False
+        finally:
+            QtGui.QApplication.restoreOverrideCursor()
+        doc.commitTransaction()
+        self.message.setText("")
+        report(obj)
+        return True
+
+    # ------------------------------------------------------------- export
+    def export(self, kind, path=None):
+        """Write the report as JSON or CSV to ``path`` (None: ask with a file dialog)."""
+        if self.obj is None:
+            return None
+        if path is None:
+            flt = "JSON (*.json)" if kind == "json" else "CSV (*.csv)"
+            path, _ = QtGui.QFileDialog.getSaveFileName(
+                FreeCADGui.getMainWindow(), f"Export the {kind.upper()} report",
+                f"{self.obj.Name}.{kind}", flt)
+            if not path:
+                return None
+        return export_report(self.obj, path, kind)
+
+
+def export_report(obj, path, kind=None):
+    """Write ``obj``'s report (:func:`mfgeom.parting.report`) to ``path`` as JSON or CSV
+    (by ``kind`` or the file's extension)."""
+    from mfgeom import parting
+    from mfgeom.app.parting_feature import feature_report
+    kind = kind or ("csv" if str(path).lower().endswith(".csv") else "json")
+    rep = feature_report(obj)
+    (parting.write_report_csv if kind == "csv" else parting.write_report_json)(path, rep)
+    FreeCAD.Console.PrintMessage(f"mfgeom: {obj.Label}: report written to {path}\n")
+    return path
+
+
+def report(obj):
+    """The analysis' summary in the Report view (mfgeom.parting.report_text)."""
+    from mfgeom import parting
+    from mfgeom.app.parting_feature import feature_report
+    FreeCAD.Console.PrintMessage("mfgeom: " + parting.report_text(feature_report(obj)))
