@@ -184,23 +184,27 @@ def edge_kind(edge, f1, f2, tangent_tol=DEFAULT_TANGENT_TOL):
 def adjacency(shape, tangent_tol=DEFAULT_TANGENT_TOL):
     """[(i, j, kind)] for every edge shared by faces i < j of ``shape`` (0-based)."""
     faces = shape.Faces
-    owners = {}
-    edges = {}
+    # hash code -> [[edge, owner faces], ...]: different edges may share a hash code
+    # (OCCT's are pointer-based; seen on a 4999-face part), so isSame decides
+    buckets = {}
     for i, f in enumerate(faces):
         for e in f.Edges:
             if e.Degenerated:
                 continue
-            h = e.hashCode()
-            lst = owners.setdefault(h, [])
-            if i not in lst:
-                lst.append(i)
-            edges.setdefault(h, e)
+            bucket = buckets.setdefault(e.hashCode(), [])
+            entry = next((x for x in bucket if x[0].isSame(e)), None)
+            if entry is None:
+                entry = [e, []]
+                bucket.append(entry)
+            if i not in entry[1]:
+                entry[1].append(i)
     out = []
-    for h, lst in owners.items():
-        for a in range(len(lst)):
-            for b in range(a + 1, len(lst)):
-                i, j = lst[a], lst[b]
-                out.append((i, j, edge_kind(edges[h], faces[i], faces[j], tangent_tol)))
+    for bucket in buckets.values():
+        for edge, lst in bucket:
+            for a in range(len(lst)):
+                for b in range(a + 1, len(lst)):
+                    i, j = lst[a], lst[b]
+                    out.append((i, j, edge_kind(edge, faces[i], faces[j], tangent_tol)))
     return sorted(out)
 
 
