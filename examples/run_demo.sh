@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-or-later
-# Runs the point-classification demo headless (freecadcmd), then renders its result with
-# FreeCAD's GUI under a virtual X server; everything lands in $MFGEOM_OUT (default out/).
+# Runs the demos headless (freecadcmd), then renders their results with FreeCAD's GUI under
+# a virtual X server; everything lands in $MFGEOM_OUT (default out/).  First the main job,
+# the parting analysis of the bundled cup with a hole (demo_parting.*), then the
+# point-classification demo on the bracket (demo_pointclass.*).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
@@ -26,6 +28,25 @@ export QTWEBENGINE_DISABLE_SANDBOX=1  # as root the Start page's web engine need
 
 # FreeCAD's console output carries tab-separated progress counters; keep the rest.
 clean() { grep -avE '^  #' | sed -E 's/[\t\r]/ /g; s/ *\([0-9]+ %\)//g; s/^ +//' | grep -vE '^$|\.{6} *$' || true; }
+
+run_step() {  # name, log, command...: the command's output cleaned, or the log on failure
+  local what=$1 log=$2; shift 2
+  if ! "$@" > "$log" 2>&1 || grep -q "Traceback" "$log"; then
+    clean < "$log" >&2
+    echo "run_demo: $what failed (log: $log)" >&2
+    exit 1
+  fi
+}
+
+echo "run_demo: parting analysis of the cup with a hole (freecadcmd)"
+run_step "parting demo" "$MFGEOM_OUT/demo_parting.log" freecadcmd examples/demo_parting.py
+clean < "$MFGEOM_OUT/demo_parting.log" | grep -avE '^(FreeCAD 0|\(c\)|FreeCAD (is|wouldn))|Recompute' || true
+echo "run_demo: rendering the parting analysis (freecad GUI under xvfb)"
+run_step "parting render" "$MFGEOM_OUT/render_parting.log" \
+  timeout 300 xvfb-run -a freecad examples/render_parting.py
+grep -a "render_parting:" "$MFGEOM_OUT/render_parting.log" || true
+echo "run_demo: parting report $MFGEOM_OUT/demo_parting.{txt,json,csv}, document" \
+     "$MFGEOM_OUT/demo_parting.FCStd, images $MFGEOM_OUT/demo_parting.png, demo_parting_nc.png"
 
 echo "run_demo: classifying (freecadcmd)"
 if ! freecadcmd examples/demo_pointclass.py > "$MFGEOM_OUT/demo_pointclass.log" 2>&1; then

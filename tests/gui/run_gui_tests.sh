@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-or-later
-# Runs the GUI tests (tests/gui/test_gui.py) in FreeCAD under a virtual X server and
-# fails on a failed test, a missing summary line or any Python traceback in the log.
+# Runs the GUI tests (tests/gui/test_gui.py, test_gui_parting.py) in FreeCAD under a
+# virtual X server and fails on a failed test, a missing summary line or any Python traceback in the log.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 ROOT=$(pwd)
@@ -28,6 +28,19 @@ grep -E "^(PASS|FAIL): |^screenshot: |^freecad-gui: " "$log"
 if [ $rc -ne 0 ]; then echo "gui tests: freecad exited with $rc (log: $log)"; tail -40 "$log"; exit 1; fi
 if grep -q "Traceback" "$log"; then echo "gui tests: traceback in the log:"; grep -n -A12 "Traceback" "$log"; exit 1; fi
 grep -qE "^freecad-gui: [0-9]+ passed, 0 failed$" "$log" || { echo "gui tests: no clean summary (log: $log)"; exit 1; }
+
+# The parting analysis (issue 7) on the cup with a hole: tests/gui/test_gui_parting.py.
+parting_home=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-parting-home.XXXXXX")
+mkdir -p "$parting_home/Mod"
+ln -s "$ROOT" "$parting_home/Mod/mfgeom"
+parting_log="$MFGEOM_GUI_OUT/gui-parting.log"
+FREECAD_USER_HOME="$parting_home" timeout 300 xvfb-run -a freecad tests/gui/test_gui_parting.py > "$parting_log" 2>&1
+rc=$?
+rm -rf "$parting_home"
+grep -E "^(PASS|FAIL): |^screenshot: |^freecad-gui-parting: " "$parting_log"
+if [ $rc -ne 0 ]; then echo "gui parting tests: freecad exited with $rc (log: $parting_log)"; tail -40 "$parting_log"; exit 1; fi
+if grep -q "Traceback" "$parting_log"; then echo "gui parting tests: traceback in the log:"; grep -n -A12 "Traceback" "$parting_log"; exit 1; fi
+grep -qE "^freecad-gui-parting: [0-9]+ passed, 0 failed$" "$parting_log" || { echo "gui parting tests: no clean summary (log: $parting_log)"; exit 1; }
 
 # The workbench without its library, as after an Addon Manager install: a copy of the
 # working tree without build/ and with MFGEOM_LIBRARY unset; tests/gui/test_gui_library.py

@@ -1,0 +1,352 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""FreeCAD GUI test of the parting analysis (issue 7), run as a macro under a virtual X
+server by tests/gui/run_gui_tests.sh: ``xvfb-run -a freecad tests/gui/test_gui_parting.py``.
+
+On the bundled cup with a radial hole: the command with the part selected opens the task
+panel, OK creates a valid analysis (not Touched) through the console in one undo step;
+the view's DiffuseColor paints the hole's faces (the undercut) in the undercut colour and
+the others by side; the visibility sphere node has per-vertex colours and its maximum
+region holds the chosen direction; the arrows are there; the panel shows the result and
+exports JSON / CSV; undo removes the analysis and shows the source again; a wrong
+selection (an edge, nothing) shows a message and creates nothing; a screenshot is
+saved.  Prints ``freecad-gui-parting: N passed, M failed``; leaves with os._exit(rc).
+"""
+
+import json
+import os
+import sys
+import time
+import traceback
+
+import FreeCAD as App
+import FreeCADGui as Gui
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+for path in (os.path.join(ROOT, "examples", "parts"), os.path.join(ROOT, "workbench")):
+    if path not in sys.path:
+        sys.path.append(path)
+
+WORKBENCH = "MfgeomWorkbench"
+COMMAND = "Mfgeom_PartingAnalysis"
+OUT = os.environ.get("MFGEOM_GUI_OUT") or os.path.join(ROOT, "out", "gui-tests")
+results = []
+state = {}
+
+
+def check(name):
+    def run(fn):
+        try:
+            fn()
+        except Exception:  # any failure is reported, then the next test runs
+            results.append((name, False, traceback.format_exc()))
+        else:
+            results.append((name, True, ""))
+        return fn
+    return run
+
+
+def qt():
+    from PySide import QtCore, QtGui
+    return QtCore, QtGui
+
+
+class DialogCloser:
+    """Closes each modal dialog (the command's message boxes) and keeps its text."""
+
+    def __init__(self):
+        QtCore, _ = qt()
+        self.texts = []
+        self.timer = QtCore.QTimer()
+        self.timer.timeout.connect(self._tick)
+        self.timer.start(100)
+
+    def _tick(self):
+        _, QtGui = qt()
+        box = QtGui.QApplication.activeModalWidget()
+        if box is not None:
+            self.texts.append(box.text() if hasattr(box, "text") else box.windowTitle())
+            box.done(0)
+
+    def take(self):
+        texts, self.texts = self.texts, []
+        return texts
+
+
+dialogs = DialogCloser()
+
+
+def pump(until, seconds):
+    _, QtGui = qt()
+    end = time.monotonic() + seconds
+    while not until() and time.monotonic() < end:
+        QtGui.QApplication.processEvents()
+        time.sleep(0.02)
+    return until()
+
+
+def task_panel():
+    """The open parting panel's widgets by object name, and the task view's buttons."""
+    _, QtGui = qt()
+    Gui.updateGui()
+    mw = Gui.getMainWindow()
+    combos = [w for w in mw.findChildren(QtGui.QComboBox)
+              if w.objectName() == "mode" and w.isVisible()]
+    if not Gui.Control.activeDialog() or not combos:
+        return None
+    panel = combos[0].parentWidget()
+    widgets = {w.objectName(): w for w in panel.findChildren(QtGui.QWidget) if w.objectName()}
+    boxes = [b for b in mw.findChildren(QtGui.QDialogButtonBox)
+             if b.isVisible() and b.button(QtGui.QDialogButtonBox.Ok) is not None]
+    assert len(boxes) == 1, f"{len(boxes)} visible OK button boxes"
+    for key, role in (("ok", QtGui.QDialogButtonBox.Ok), ("cancel", QtGui.QDialogButtonBox.Cancel),
+                      ("apply", QtGui.QDialogButtonBox.Apply)):
+        widgets[key] = boxes[0].button(role)
+    return widgets
+
+
+def press(button):
+    button.click()
+    Gui.updateGui()
+
+
+def analyses(doc):
+    return [o for o in doc.Objects
+            if getattr(getattr(o, "Proxy", None), "Type", "") == "Mfgeom::PartingAnalysis"]
+
+
+def rgb(c):
+    return tuple(round(x, 3) for x in c[:3])
+
+
+@check("workbench activates; command in toolbar")
+def _():
+    _, QtGui = qt()
+    Gui.activateWorkbench(WORKBENCH)
+    assert COMMAND in Gui.listCommands()
+    mw = Gui.getMainWindow()
+    bars = [b for b in mw.findChildren(QtGui.QToolBar)
+            if b.windowTitle() == "Manufacturing Geometry"]
+    texts = [a.text() for a in bars[0].actions()]
+    assert "Parting analysis" in texts and "Classify points" in texts, texts
+    assert os.path.isfile(Gui.Command.get(COMMAND).getInfo()["pixmap"])
+
+
+@check("wrong selection (nothing, an edge) shows a message and creates nothing")
+def _():
+    import cup_hole
+    import Part
+    doc = App.newDocument("PartingGui")
+    Gui.ActiveDocument = Gui.getDocument(doc.Name)
+    part = doc.addObject("Part::Feature", "CupHole")
+    part.Shape = cup_hole.make()
+    doc.recompute()
+    state.update(doc=doc, part=part)
+    assert isinstance(part.Shape, Part.Shape)
+    undo = doc.UndoCount
+    for select in ([], ["Edge1"]):
+        Gui.Selection.clearSelection()
+        if select:
+            Gui.Selection.addSelection(part, select[0])
+        dialogs.take()
+        Gui.runCommand(COMMAND)
+        assert pump(lambda: dialogs.texts, 5), f"no message for selection {select}"
+        texts = dialogs.take()
+        assert task_panel() is None, "a panel opened on a wrong selection"
+        want = "Edge1" if select else "Select a solid"
+        assert any(want in t for t in texts), texts
+        assert analyses(doc) == [] and doc.UndoCount == undo
+
+
+@check("command with the part selected: OK creates a valid analysis in one undo step")
+def _():
+    doc, part = state["doc"], state["part"]
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(part)
+    undo = doc.UndoCount
+    Gui.runCommand(COMMAND)
+    panel = task_panel()
+    assert panel is not None, "no task panel"
+    assert panel["mode"].currentData() == "Mould" and not panel["allFaces"].isEnabled()
+    assert not panel["exportJson"].isEnabled()
+    press(panel["ok"])
+    assert task_panel() is None, "OK left the panel open: " + \
+        (panel["message"].text() if panel else "")
+    new = analyses(doc)
+    assert len(new) == 1, new
+    obj = new[0]
+    assert obj.isValid() and "Touched" not in obj.State, (obj.getStatusString(), obj.State)
+    assert doc.UndoCount == undo + 1, (undo, doc.UndoCount)
+    assert not part.Visibility, "the source stays shown under its coloured copy"
+    # the hole: a cylinder along x and its floor (cup_hole.py's faces)
+    hole = sorted(f"Face{i + 1}" for i, f in enumerate(part.Shape.Faces)
+                  if (f.Surface.TypeId == "Part::GeomCylinder"
+                      and abs(abs(f.Surface.Axis.x) - 1) < 1e-9)
+                  or (f.Surface.TypeId == "Part::GeomPlane"
+                      and abs(f.normalAt(0, 0).x - 1) < 1e-9))
+    assert len(hole) == 2 and sorted(obj.UncoveredFaces) == hole, (obj.UncoveredFaces, hole)
+    state["obj"], state["hole"] = obj, hole
+
+
+@check("undercut faces in the undercut colour, the others by side")
+def _():
+    from mfgeom import palette
+    obj, hole, part = state["obj"], state["hole"], state["part"]
+    colors = obj.ViewObject.DiffuseColor
+    assert len(colors) == len(part.Shape.Faces), (len(colors), len(part.Shape.Faces))
+    for i, c in enumerate(colors):
+        name = f"Face{i + 1}"
+        if name in hole:
+            want = palette.UNDERCUT
+        elif name in obj.CoreFaces:
+            want = palette.CORE_SIDE
+        elif name in obj.CavityFaces:
+            want = palette.CAVITY_SIDE
+        else:
+            want = palette.SHAPE_GREY
+        assert rgb(c) == rgb(want), (name, rgb(c), rgb(want))
+    assert obj.CoreFaces and obj.CavityFaces
+    # what Coin draws: the material of the hole's triangles
+    proxy = obj.ViewObject.Proxy
+    drawn = proxy._material.diffuseColor.getValues()
+    k = int(hole[0][4:]) - 1
+    assert rgb(drawn[k].getValue()) == rgb(palette.UNDERCUT)
+    assert (proxy.triangle_faces == k).any(), "no triangle of the hole is drawn"
+
+
+@check("visibility sphere with per-vertex colours; chosen direction in the maximum region")
+def _():
+    import numpy as np
+    from pivy import coin
+    from mfgeom import palette
+    obj = state["obj"]
+    proxy = obj.ViewObject.Proxy
+    faces = proxy.sphere_faces
+    assert isinstance(faces, coin.SoIndexedFaceSet)
+    # the face set sits under the object's scene graph
+    search = coin.SoSearchAction()
+    search.setNode(faces)
+    search.setInterest(coin.SoSearchAction.FIRST)
+    search.apply(obj.ViewObject.RootNode)
+    assert search.getPath() is not None, "sphere not in the object's scene"
+    path = search.getPath()
+    materials = [path.getNode(i) for i in range(path.getLength())]
+    sep = materials[-2]
+    mats = [sep.getChild(i) for i in range(sep.getNumChildren())
+            if isinstance(sep.getChild(i), coin.SoMaterial)]
+    binding = [sep.getChild(i) for i in range(sep.getNumChildren())
+               if isinstance(sep.getChild(i), coin.SoMaterialBinding)]
+    count = proxy.sphere_count
+    assert len(count) == 2562 and faces.coordIndex.getNum() == 5120 * 4
+    assert binding[0].value.getValue() == coin.SoMaterialBinding.PER_VERTEX_INDEXED
+    assert mats[0].diffuseColor.getNum() == len(count)
+    # Mould on the cup with hole: 5 surfaces, the direction covers 4; the planes (top,
+    # bottom) count everywhere, so the sphere's counts run 2 .. 4
+    assert (int(count.min()), int(count.max())) == (2, 4), (count.min(), count.max())
+    top = np.flatnonzero(count == count.max())
+    cols = mats[0].diffuseColor.getValues()
+    assert all(rgb(cols[i].getValue()) == rgb(palette.SPHERE_MAX) for i in top)
+    from mfgeom.gui.parting_view import icosphere
+    verts, _ = icosphere()
+    d = np.array([obj.Direction.x, obj.Direction.y, obj.Direction.z])
+    assert max(verts[top] @ d) > np.cos(np.radians(2.5)), "maximum region away from d"
+    assert proxy.sphere_radius > 0
+
+
+@check("arrows: +d, -d and the side core along the hole's axis")
+def _():
+    obj = state["obj"]
+    proxy = obj.ViewObject.Proxy
+    assert proxy.arrow_count == 3 and proxy._arrows.getNumChildren() == 3
+    assert len(obj.SideCoreDirections) == 1
+    assert abs(abs(obj.SideCoreDirections[0].x) - 1) < 1e-9
+
+
+@check("display modes switch; double click edits, shows the result, exports")
+def _():
+    obj = state["obj"]
+    vobj = obj.ViewObject
+    assert set(vobj.listDisplayModes()) >= {"Result", "Part", "Sphere", "Surfaces"}
+    vobj.DisplayMode = "Sphere"
+    Gui.updateGui()
+    vobj.DisplayMode = "Result"
+    vobj.Proxy.doubleClicked(vobj)
+    panel = task_panel()
+    assert panel is not None, "double click opened no panel"
+    assert "Undercuts" in panel["result"].text(), panel["result"].text()
+    from mfgeom.gui import parting_panel
+    path_json = os.path.join(OUT, "parting.json")
+    path_csv = os.path.join(OUT, "parting.csv")
+    parting_panel.export_report(obj, path_json)
+    parting_panel.export_report(obj, path_csv)
+    rep = json.load(open(path_json))
+    assert sorted(rep["undercut_faces"]) == state["hole"] and rep["mode"] == "Mould"
+    rows = open(path_csv).read().splitlines()
+    assert len(rows) == 1 + len(state["part"].Shape.Faces), rows
+    # NC 3-axis through the panel: Apply recomputes in one undo step
+    undo = obj.Document.UndoCount
+    panel["mode"].setCurrentIndex(1)
+    assert panel["allFaces"].isEnabled()
+    press(panel["apply"])
+    assert obj.Mode == "NC3Axis" and obj.isValid() and len(obj.Setups) == 2, obj.getStatusString()
+    assert "Set-up 2" in panel["result"].text(), panel["result"].text()
+    assert obj.Document.UndoCount == undo + 1
+    press(panel["cancel"])
+    assert task_panel() is None
+    obj.Document.undo()   # back to Mould
+    obj.Document.recompute()
+    assert obj.Mode == "Mould" and obj.isValid()
+
+
+@check("screenshot")
+def _():
+    os.makedirs(OUT, exist_ok=True)
+    view = Gui.ActiveDocument.ActiveView
+    view.viewIsometric()
+    view.fitAll()
+    Gui.updateGui()
+    path = os.path.join(OUT, "parting.png")
+    view.saveImage(path, 1000, 700, "White")
+    assert os.path.getsize(path) > 10000
+    state["image"] = path
+
+
+@check("undo removes the analysis and shows the source again")
+def _():
+    doc, part = state["doc"], state["part"]
+    doc.undo()   # the creation
+    assert analyses(doc) == [], analyses(doc)
+    assert part.Visibility, "the source stays hidden after undo"
+    doc.redo()
+    assert len(analyses(doc)) == 1 and analyses(doc)[0].isValid()
+    doc.undo()
+    assert analyses(doc) == []
+
+
+@check("make function echoed in the Python console")
+def _():
+    _, QtGui = qt()
+    mw = Gui.getMainWindow()
+    texts = [w.toPlainText() for w in mw.findChildren(QtGui.QPlainTextEdit)
+             + mw.findChildren(QtGui.QTextEdit) if w.objectName() == "Python console"]
+    call = ("mfgeom.make_parting_analysis(App.getDocument('PartingGui'), "
+            "App.getDocument('PartingGui').getObject('CupHole'), mode='Mould', "
+            "draft_angle='0.0 deg', weighting='Count')")
+    assert texts and call in texts[0], texts[0][-600:] if texts else "no console"
+
+
+def finish():
+    failed = [r for r in results if not r[1]]
+    for name, ok, detail in results:
+        sys.stdout.write(f"{'PASS' if ok else 'FAIL'}: {name}\n")
+        if not ok:
+            sys.stdout.write(detail + "\n")
+    if "image" in state:
+        sys.stdout.write(f"screenshot: {state['image']}\n")
+    sys.stdout.write(f"freecad-gui-parting: {len(results) - len(failed)} passed, "
+                     f"{len(failed)} failed\n")
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(1 if failed or not results else 0)
+
+
+finish()
