@@ -13,6 +13,7 @@ saved.  Prints ``freecad-gui-parting: N passed, M failed``; leaves with os._exit
 """
 
 import json
+import math
 import os
 import sys
 import time
@@ -176,6 +177,8 @@ def _():
     obj = new[0]
     assert obj.isValid() and "Touched" not in obj.State, (obj.getStatusString(), obj.State)
     assert doc.UndoCount == undo + 1, (undo, doc.UndoCount)
+    # the panel's deflection box rounds to its decimals; untouched, the default stays exact
+    assert obj.Deflection.Value == math.degrees(1e-3), obj.Deflection.Value
     assert not part.Visibility, "the source stays shown under its coloured copy"
     # the hole: a cylinder along x and its floor (cup_hole.py's faces)
     hole = sorted(f"Face{i + 1}" for i, f in enumerate(part.Shape.Faces)
@@ -318,8 +321,22 @@ def _():
     assert part.Visibility, "the source stays hidden after undo"
     doc.redo()
     assert len(analyses(doc)) == 1 and analyses(doc)[0].isValid()
+    assert not part.Visibility
     doc.undo()
     assert analyses(doc) == []
+
+
+@check("deleting the analysis shows the source again")
+def _():
+    doc, part = state["doc"], state["part"]
+    doc.redo()
+    obj = analyses(doc)[0]
+    assert not part.Visibility
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(obj)
+    Gui.runCommand("Std_Delete")
+    Gui.updateGui()
+    assert analyses(doc) == [] and part.Visibility
 
 
 @check("make function echoed in the Python console")

@@ -168,9 +168,12 @@ class PartingPanel:
             self.draft.setValue(obj.DraftAngle.Value)
             self.weighting.setCurrentIndex(WEIGHTINGS.index(obj.Weighting))
             self.all_faces.setChecked(bool(obj.AllFaces))
-            self.deflection.setValue(obj.Deflection.Value)
+            self._deflection = obj.Deflection.Value
         else:
-            self.deflection.setValue(math.degrees(1e-3))
+            self._deflection = math.degrees(1e-3)
+        # the box rounds to its decimals: an untouched box keeps the exact value
+        self.deflection.setValue(self._deflection)
+        self._deflection_shown = self.deflection.value()
         src = self.source.Label if self.source is not None else "(missing)"
         which = ", ".join(self.faces) if self.faces else "all faces"
         self.what.setText(f"Part: {src} ({which})")
@@ -187,7 +190,8 @@ class PartingPanel:
         return {"Mode": self.mode.currentData(), "DraftAngle": float(self.draft.value()),
                 "Weighting": self.weighting.currentData(),
                 "AllFaces": bool(self.all_faces.isChecked()),
-                "Deflection": float(self.deflection.value())}
+                "Deflection": (self._deflection if self.deflection.value() == self._deflection_shown
+                               else float(self.deflection.value()))}
 
     # ------------------------------------------------------------- task dialog protocol
     def getStandardButtons(self):

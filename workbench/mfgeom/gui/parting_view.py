@@ -203,7 +203,7 @@ class ViewProviderPartingAnalysis:
         if "DiffuseColor" not in vobj.PropertiesList:
             vobj.addProperty("App::PropertyColorList", "DiffuseColor", "Display",
                              "Colour of each face of the source (Face1 first), by result",
-                             4)  # read-only: written from the result
+                             1)  # read-only in the editor: written from the result
         if "ShowSphere" not in vobj.PropertiesList:
             vobj.addProperty("App::PropertyBool", "ShowSphere", "Display",
                              "Show the visibility sphere beside the part")
