@@ -436,8 +436,11 @@ class ViewProviderPartingAnalysis:
         faces.coordIndex.setValues(0, len(index), index)
         faces.materialIndex.setValues(0, len(index), index)
         self.sphere_faces = faces
-        for node in (xf, hints, mat, binding, coords, faces):
-            self._sphere.addChild(node)
+        self._sphere.addChild(xf)
+        mesh = coin.SoSeparator()  # its per-vertex binding must not reach the lines below
+        for node in (hints, mat, binding, coords, faces):
+            mesh.addChild(node)
+        self._sphere.addChild(mesh)
         # the maximum region's vertices drawn as dots, so a point or arc region shows
         top = int(count.max()) if len(count) else 0
         best = verts[count == top] * radius * 1.003 if top else np.zeros((0, 3))
