@@ -109,6 +109,18 @@ def map_outlines(maps):
     return lines, np.array(dots).reshape(-1, 3)
 
 
+def sphere_side(directions):
+    """The global axis (+x, -x, +y, -y, in that order of preference) along which the
+    sphere sits beside the part: the one the arrows point along least, so no arrow runs
+    into it."""
+    sides = [np.array(v, float) for v in ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0))]
+    dirs = [np.asarray(d, float) for d in directions if np.linalg.norm(d) > 0.5]
+
+    def score(v):
+        return max((float(v @ d) / np.linalg.norm(d) for d in dirs), default=0.0)
+    return min(sides, key=score)  # min keeps the first of equal scores
+
+
 def coverage_colors(count):
     """Per-vertex colours: SPHERE_LOW at the least count on the sphere (surfaces every
     direction sees, such as planes in Mould mode, add nothing to look at) ..
@@ -417,7 +429,10 @@ class ViewProviderPartingAnalysis:
         box = shape.BoundBox
         diag = max(box.DiagonalLength, 1e-9)
         radius = 0.3 * diag
-        centre = np.array([box.XMax + 0.35 * diag + radius, box.Center.y, box.Center.z])
+        side = sphere_side([d for _, d, _ in arrows_of(obj, shape)])
+        mid = np.array([box.Center.x, box.Center.y, box.Center.z])
+        half = np.array([box.XLength, box.YLength, box.ZLength]) / 2
+        centre = mid + side * (float(np.abs(side) @ half) + 0.35 * diag + radius)
         self.sphere_centre, self.sphere_radius = centre, radius
         xf = coin.SoTranslation()
         xf.translation.setValue(*[float(c) for c in centre])
