@@ -138,15 +138,18 @@ def _child(out_path, grids):
         t_gauss, t_ours = best
         t_draft = time_sampled_maps(faces, adj)
         # the peer: same normals, same surfaces
-        t0 = time.perf_counter()
-        surfaces = parting.build_surfaces(faces, adj)
-        count, best_dir = grid_best(directions, surfaces)
-        t_grid = time.perf_counter() - t0
+        t_grid = math.inf
+        for _ in range(repeats):   # the same best-of as ours
+            t0 = time.perf_counter()
+            surfaces = parting.build_surfaces(faces, adj)
+            count, best_dir = grid_best(directions, surfaces)
+            t_grid = min(t_grid, time.perf_counter() - t0)
         # our direction checked on the same normals (independent of the library)
         d = np.asarray(res.direction)
         ours_on_samples = sum(1 for s in surfaces if _demouldable(s.normals, d))
         rows.append({
-            "per_side": grid, "orientation": orientation, "faces": len(faces), "surfaces": len(surfaces),
+            "per_side": grid, "orientation": orientation, "faces": len(faces),
+            "surfaces": len(surfaces),
             "sampled_faces": sum(1 for f in faces if f.shrink > 0),
             "normals": int(sum(len(f.normals) for f in faces)),
             "make_s": t_make, "gauss_s": t_gauss, "ours_s": t_ours, "grid_s": t_grid,
@@ -258,12 +261,13 @@ def main():
           "both totals. Ours = mfgeom.parting.mould_parting (exact maximum intersection "
           f"of the surfaces' maps); grid = the {GRID_DEG} deg equal-area grid of "
           f"{rows[0]['directions']} directions tested with numpy against the same "
-          "normals and surfaces. Best of 3 below 1000 faces, one run above. Count = "
+          "normals and surfaces. Both: best of 3 below 1000 faces, one run above. Count = "
           "demouldable concave-connected surfaces along the best direction (\"on "
           "samples\": ours re-checked on the normals by the grid's own test). Load "
           f"average at the end: {load} on {os.cpu_count()} CPUs.\n")
-    print("| faces | orientation | surfaces | sampled faces / normals | Gauss maps s | ours s (of which "
-          "sampled faces' draft maps) | ours total s | grid s | grid total s | grid total / "
+    print("| faces | orientation | surfaces | sampled faces / normals | Gauss maps s | "
+          "ours s (draft maps of "
+          "sampled faces, instrumented run) | ours total s | grid s | grid total s | grid total / "
           "ours total | count ours (on samples) | count grid | target |")
     print("|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
     targets = []
@@ -271,19 +275,20 @@ def main():
         ours_total = r["gauss_s"] + r["ours_s"]
         grid_total = r["gauss_s"] + r["grid_s"]
         ratio = grid_total / ours_total
+        name = f"{r['faces']} faces ({r['orientation']})"
         notes = []
         if 300 <= r["faces"] <= 1000:
             ok_t = ours_total < TARGET_500_S
             ok_r = ratio >= TARGET_RATIO
-            targets.append((f"{r['faces']} faces ({r['orientation']}) end to end {ours_total:.2f} s "
+            targets.append((f"{name} end to end {ours_total:.2f} s "
                             f"(target < {TARGET_500_S:g} s)", ok_t))
             notes.append(f"< {TARGET_500_S:g} s: {'MET' if ok_t else 'MISSED'}")
         ok_r = ratio >= TARGET_RATIO
-        targets.append((f"{r['faces']} faces ({r['orientation']}): {ratio:.1f}x faster than the {GRID_DEG} deg "
+        targets.append((f"{name}: {ratio:.1f}x faster than the {GRID_DEG} deg "
                         f"grid (target >= {TARGET_RATIO:g}x)", ok_r))
         notes.append(f">= {TARGET_RATIO:g}x: {'MET' if ok_r else 'MISSED'}")
         ok_c = r["ours_count"] >= r["grid_count"] and r["ours_on_samples"] >= r["ours_count"]
-        targets.append((f"{r['faces']} faces ({r['orientation']}): ours {r['ours_count']:g} >= grid "
+        targets.append((f"{name}: ours {r['ours_count']:g} >= grid "
                         f"{r['grid_count']} and valid on the samples", ok_c))
         if r["grid_count"] < r["ours_count"]:
             notes.append("grid misses the maximum")
