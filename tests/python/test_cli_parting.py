@@ -312,6 +312,10 @@ def test_json_and_csv_output_files_and_usage_errors(files, tmp_path):
         assert rc == 2 and out is None and set(err) == {"error"}, bad_args
     rc, out, err = run([])
     assert rc == 2 and out is None and "PART" in err["error"]
+    # a worker that takes longer than --timeout (here: shorter than its start) is an
+    # error entry
+    rc, out, err = run([files["cup"], "--timeout", "0.001"])
+    assert rc == 2 and out["parts"][0]["error"] == "timed out after 0.001 s"
 
 
 def test_freecadcmd_workers_give_the_same_results(files, monkeypatch):
