@@ -199,6 +199,11 @@ MFG_API void mfg_spoly_free(mfg_spoly *poly);
  *   weights[i]                 finite, >= 0 (NULL: all 1); 0 ignores the set.  Only the
  *                              ratios matter: the result is the same for all weights
  *                              scaled by any factor (up to rounding of the factor).
+ *                              Weights and sums closer than 2^-44 (n + 1) W count as
+ *                              equal (W: the total weight of the n sets taking part,
+ *                              i.e. not NULL and not of weight 0; ignored sets enter
+ *                              nothing): a set far lighter than that is a tie, it
+ *                              decides no maximum but still covers.
  * Each set must have the shape its kind says, within 1e-9 rad, or the call fails with
  * MFG_ERR_INVALID and a message naming the set: a POINT's two vertices antipodal; an
  * EDGE's vertices on one great circle, each piece shorter than pi and turning the same
@@ -209,7 +214,7 @@ MFG_API void mfg_spoly_free(mfg_spoly *poly);
  * (common for faces with a common normal) overlap along it.
  *
  * Output (mfg_regions, released with mfg_regions_free):
- *   weight          the maximum covered weight (or the level asked for)
+ *   weight          the maximum covered weight (levels: exactly the level asked for)
  *   nregions        number of regions; for region r:
  *   kinds[r]        MFG_VM_POLYGON, MFG_VM_EDGE or MFG_VM_POINT (MFG_VM_FACE: minimum)
  *   closed[r]       1 for an EDGE region that is a whole great circle (as in mfg_spoly)
@@ -263,6 +268,96 @@ MFG_API mfg_status mfg_min_intersection(const double *vertices, const int64_t *o
 
 /* Releases a result of the three functions above. NULL is allowed. */
 MFG_API void mfg_regions_free(mfg_regions *regions);
+
+/* ------------------------------------------------------------------------- */
+/* Closed triangle meshes (input of the rotational sweep and the medial surface) */
+/* ------------------------------------------------------------------------- */
+
+/*
+ * A triangle mesh is given as
+ *   xyz[3*k ..]        x, y, z of vertex k (0 <= k < nvertices)
+ *   triangles[3*t ..]  the vertex indices of triangle t, counter-clockwise seen from
+ *                      outside (right-hand rule: the normal points out of the solid)
+ * Counts are 0 .. 2^40; a coordinate outside the accepted range (NaN, Inf, 1e300) or an
+ * index outside 0 .. nvertices-1 is rejected with MFG_ERR_INVALID naming it.
+ *
+ * The rotational sweep and the medial surface take a closed solid: a closed, consistently
+ * oriented 2-manifold triangle mesh.  mfg_mesh_check measures how far a mesh is from
+ * that; mfg_mesh_check_closed refuses what is not one, saying what is wrong first.
+ * The terms (an edge is an unordered pair of vertex indices used by a triangle side):
+ *   boundary edge        used by one triangle side only (the mesh has a hole there)
+ *   non-manifold edge    used by more than two triangle sides
+ *   inconsistent edge    used by two triangles that run along it the same way (one of
+ *                        them is flipped)
+ *   non-manifold vertex  its triangles form more than one fan, counting as joined two
+ *                        triangles that share an edge at the vertex used by exactly two
+ *                        sides (two solids touching at a corner; the ends of a
+ *                        non-manifold edge count too)
+ *   degenerate triangle  zero area, decided exactly (the three coordinate projections of
+ *                        the triangle are all collinear), or a vertex index repeated;
+ *                        a triangle with a repeated index has no sides (it is left out
+ *                        of the edge counts, the volume and the area)
+ *   component            a set of triangles connected through shared edges
+ * volume: the signed volume enclosed, the sum of the signed tetrahedra of the triangles
+ * with a common apex (outward triangles: positive).  Its sign is trusted only beyond
+ * an error bound of 2^-47 times the sum of the absolute values of the products of the
+ * determinants (a few units of rounding each); within it the volume counts as zero.
+ * area: the sum of the triangle areas.  bbox: min x, min y, min z, max x, max y, max z
+ * of the vertices used by triangles (all zero when there is none).
+ * Every count and the volume's sign are independent of the order of the triangles and
+ * of the vertex a triangle starts with.  Time O(n log n), memory O(n).
+ */
+typedef struct mfg_mesh_report {
+    int64_t nvertices, ntriangles;
+    int64_t boundary_edges;
+    int64_t nonmanifold_edges;
+    int64_t inconsistent_edges;
+    int64_t nonmanifold_vertices;
+    int64_t degenerate_triangles;
+    int64_t unused_vertices;   /* vertices no triangle uses (harmless) */
+    int64_t components;
+    double volume;
+    double area;
+    double bbox[6];
+} mfg_mesh_report;
+
+/* Fills *out for any mesh with valid counts, coordinates and indices (MFG_OK even when
+ * the mesh is open, non-manifold or flipped): the report says what it is. */
+MFG_API mfg_status mfg_mesh_check(const double *xyz, int64_t nvertices,
+                                  const int64_t *triangles, int64_t ntriangles,
+                                  mfg_mesh_report *out);
+
+/* Like mfg_mesh_check, but succeeds (and fills *out) only for a closed solid: at least
+ * one triangle, no repeated index in a triangle, not every triangle of zero area, no
+ * boundary, non-manifold or inconsistent edge, no non-manifold vertex, and a positive
+ * volume.  Otherwise MFG_ERR_INVALID (MFG_ERR_DEGENERATE for no triangles, zero-area
+ * triangles only and zero volume) with a detail naming the first problem in that order
+ * and how many there are, e.g. "mesh is not closed: 12 boundary edges (first: vertices
+ * 3-7)" or "negative volume -1: the triangles face inward".  Zero-area triangles
+ * among others, unused vertices and several components are accepted (a solid with
+ * a cavity has an inward inner shell: only the total volume must be positive). */
+MFG_API mfg_status mfg_mesh_check_closed(const double *xyz, int64_t nvertices,
+                                         const int64_t *triangles, int64_t ntriangles,
+                                         mfg_mesh_report *out);
+
+/* An indexed triangle mesh returned by the library (released with mfg_mesh_free). */
+typedef struct mfg_mesh {
+    int64_t nvertices;
+    int64_t ntriangles;
+    double *vertices;    /* 3 * nvertices */
+    int64_t *triangles;  /* 3 * ntriangles */
+} mfg_mesh;
+
+/* Welds a triangle soup (as read from STL): xyz_soup holds 9 doubles per triangle (its
+ * three corners).  Corners with exactly the same coordinates (the same doubles; -0 and
+ * +0 are the same) become one vertex; nothing else is merged.  Vertices are numbered in
+ * the order of their first appearance in the soup and the triangles keep their order
+ * and corner order, so a soup cut from an indexed mesh welds back to it.  A triangle
+ * whose corners coincide keeps its repeated index (mfg_mesh_check counts it degenerate). */
+MFG_API mfg_status mfg_mesh_weld(const double *xyz_soup, int64_t ntriangles,
+                                 mfg_mesh **out_mesh);
+/* Releases a result of mfg_mesh_weld. NULL is allowed. */
+MFG_API void mfg_mesh_free(mfg_mesh *mesh);
 
 #ifdef __cplusplus
 }

@@ -50,6 +50,10 @@ static mfg_status run(int mode, const double *vertices, const int64_t *offsets,
         st = mfg_cell_search(&W, mode, lev, eps);
     if (st == MFG_OK)
         st = mfg_regions_of(&W, mode == MODE_LEVEL, mode == MODE_LEVEL ? lev : W.best, eps, out);
+    /* A level is reported as asked for: scaled to a subnormal (or scaled back) it would
+     * lose bits, and only the comparisons, which have the tolerance, use the scaled one. */
+    if (st == MFG_OK && mode == MODE_LEVEL)
+        (*out)->weight = level;
     mfg_sets_free(&W);
     if (st == MFG_OK)
         mfg_clear_error();

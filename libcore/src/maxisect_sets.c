@@ -231,28 +231,43 @@ static mfg_status check_vertices(const double *vertices, const int64_t *offsets,
     return MFG_OK;
 }
 
-/* Step 3: the weights, scaled by one power of two so the largest is in [0.5, 1).  A
- * power of two scales every sum exactly, so the answer is the same for weights scaled by
- * any factor (up to rounding of the factor itself), and tiny or huge weights neither
- * underflow nor overflow in the sums; W->scale maps back.  The tolerance for equal
- * weights is relative to the total: sums of n weights in any order differ by at most
- * ~2 n u total, and WEIGHT_REL_EPS per set covers that with room. */
+/* A map takes part when it has a kind and a positive weight; every other one is
+ * ignored everywhere, in the scale and the tolerance too (an ignored NULL map of weight
+ * 1e200 must not make every real weight look equal). */
+static int takes_part(const int32_t *kinds, const double *weights, int64_t i)
+{
+    return kinds[i] != MFG_VM_NULL && (weights ? weights[i] : 1.0) > 0.0;
+}
+
+/* Step 3: the weights of the maps taking part, scaled by one power of two so the
+ * largest is in [0.5, 1).  A power of two scales every sum exactly, so the answer is the
+ * same for weights scaled by any factor (up to rounding of the factor itself), and tiny
+ * or huge weights neither underflow nor overflow in the sums; W->scale_exp maps back.
+ * The tolerance for equal weights is relative to the total: sums of n weights in any
+ * order differ by at most ~2 n u total, and WEIGHT_REL_EPS per set covers that with
+ * room.  A weight below that tolerance is a tie: its set still covers (see load_set). */
 #define WEIGHT_REL_EPS 0x1p-44
-static mfg_status scale_weights(const double *weights, int64_t npolys, work *W)
+static mfg_status scale_weights(const int32_t *kinds, const double *weights, int64_t npolys,
+                                work *W)
 {
     double wmax = 0.0;
+    int64_t n = 0;
     for (int64_t i = 0; i < npolys; i++)
-        wmax = fmax(wmax, weights ? weights[i] : 1.0);
+        if (takes_part(kinds, weights, i)) {
+            wmax = fmax(wmax, weights ? weights[i] : 1.0);
+            n++;
+        }
     int e = 0;
     if (wmax > 0.0)
         frexp(wmax, &e); /* wmax = f 2^e, f in [0.5, 1) */
     W->scale_exp = e;
     double total = 0.0;
     for (int64_t i = 0; i < npolys; i++)
-        total += ldexp(weights ? weights[i] : 1.0, -e);
+        if (takes_part(kinds, weights, i))
+            total += ldexp(weights ? weights[i] : 1.0, -e);
     if (!isfinite(ldexp(total, e)))
         return mfg_fail(MFG_ERR_INVALID, "the total weight overflows a double (largest weight %g)", wmax);
-    W->eps = WEIGHT_REL_EPS * (double)(npolys + 1) * total;
+    W->eps = WEIGHT_REL_EPS * (double)(n + 1) * total;
     return MFG_OK;
 }
 
@@ -406,10 +421,14 @@ static mfg_status load_set(work *W, const double *vertices, const int64_t *offse
                            const int32_t *kinds, const int32_t *closed, const double *weights,
                            int64_t i)
 {
-    double w = ldexp(weights ? weights[i] : 1.0, -W->scale_exp);
-    int64_t nv = offsets[i + 1] - offsets[i];
-    if (kinds[i] == MFG_VM_NULL || w <= 0.0)
+    if (!takes_part(kinds, weights, i))
         return MFG_OK; /* contributes nothing anywhere */
+    /* A weight more than 2^1074 times lighter than the heaviest underflows when scaled;
+     * it is a tie like any weight below the tolerance, and its set still covers (whether
+     * a set counts must not depend on the scale of the weights), so it keeps the least
+     * positive weight. */
+    double w = fmax(ldexp(weights ? weights[i] : 1.0, -W->scale_exp), DBL_TRUE_MIN);
+    int64_t nv = offsets[i + 1] - offsets[i];
     sset *S = &W->sets[W->nsets++];
     S->kind = kinds[i];
     S->closed = kinds[i] == MFG_VM_EDGE && closed && closed[i];
@@ -459,7 +478,7 @@ mfg_status mfg_sets_prepare(const double *vertices, const int64_t *offsets, cons
     if (st == MFG_OK)
         st = check_vertices(vertices, offsets, kinds, npolys);
     if (st == MFG_OK)
-        st = scale_weights(weights, npolys, W);
+        st = scale_weights(kinds, weights, npolys, W);
     if (st != MFG_OK)
         return st;
     W->sets = calloc((size_t)npolys, sizeof(sset));

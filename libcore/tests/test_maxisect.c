@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
 /* test_maxisect.c - maximum / level / minimum intersection: API errors, hand-made cases
  * with known answers, and agreement with brute-force coverage counting on samples. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -414,6 +415,93 @@ static void test_weight_scale(void)
     }
 }
 
+/* Fuzz (fuzz_api) finding: an ignored set (NULL kind, or weight 0) entered the weight
+ * scale and the tolerance, so a NULL map of weight 1e200 made every real weight a tie
+ * and the maximum came out as 7.5 with covers of weight 5.5.  Sets 0 and 1 overlap, set
+ * 2 is elsewhere: the maximum is the overlap, weight 2, whatever the ignored set weighs.
+ * And a set far below the tolerance is a tie that still covers, the same whether its
+ * weight is 1e-20 of the others or so small (1e-330) that it underflows when scaled:
+ * set 3 holds the overlap, so the maximum's cover is {0, 1, 3} in both cases. */
+static void test_ignored_and_tiny_weights(void)
+{
+    const double t = 0.1;
+    double v[36] = {1, 0, 0, 0, 1, 0, 0, 0, 1,
+                    cos(t), sin(t), 0, -sin(t), cos(t), 0, 0, 0, 1,
+                    -1, 0, 0, 0, 0, -1, 0, -1, 0,
+                    1, 0, 0, 0, 1, 0, 0, 0, 1};
+    int64_t off[] = {0, 3, 6, 9, 9, 12};
+    const double ignored[] = {1e200, 1.0, 0.0, DBL_MAX};
+    for (int null_kind = 0; null_kind < 2; null_kind++)
+        for (size_t i = 0; i < sizeof ignored / sizeof *ignored; i++) {
+            /* set 3 ignored: NULL kind with the weight, or a POLYGON of weight 0 */
+            int32_t kinds[] = {3, 3, 3, 0, 3};
+            double w[] = {1, 1, 1.5, ignored[i], 0};
+            if (!null_kind) {
+                off[4] = 12;
+                kinds[3] = 3;
+                w[3] = 0;
+                kinds[4] = 0;
+                w[4] = ignored[i];
+            } else {
+                off[4] = 9;
+            }
+            mfg_regions *r = NULL;
+            CHECK_EQ_INT(mfg_max_intersection(v, off, kinds, NULL, 5, w, &r), MFG_OK);
+            if (!r)
+                continue;
+            CHECK(r->weight == 2.0);
+            CHECK_EQ_INT(r->nregions, 1);
+            CHECK(r->nregions == 1 && r->cover_offsets[1] == 2 && r->cover[0] == 0 && r->cover[1] == 1);
+            mfg_regions_free(r);
+            r = NULL;
+            CHECK_EQ_INT(mfg_level_regions(v, off, kinds, NULL, 5, w, 1.2, &r), MFG_OK);
+            if (r) /* the overlap and set 2 (set 0 and 1 alone are inside the overlap's sets) */
+                CHECK_EQ_INT(r->nregions, 2);
+            mfg_regions_free(r);
+        }
+    off[4] = 9;
+    const double heavy[] = {1.0, 1e300};
+    for (size_t i = 0; i < 2; i++) {
+        const double s = heavy[i];
+        int32_t kinds[] = {3, 3, 3, 0, 3};
+        double w[] = {s, s, 1.5 * s, 0, s * 1e-20};
+        if (i == 1)
+            w[4] = 1e-30; /* 1e-330 of the others */
+        mfg_regions *r = NULL;
+        CHECK_EQ_INT(mfg_max_intersection(v, off, kinds, NULL, 5, w, &r), MFG_OK);
+        if (!r)
+            continue;
+        CHECK(r->weight == 2 * s);
+        CHECK_EQ_INT(r->nregions, 1);
+        CHECK(r->nregions == 1 && r->cover_offsets[1] == 3 && r->cover[0] == 0 && r->cover[1] == 1 &&
+              r->cover[2] == 4);
+        mfg_regions_free(r);
+    }
+}
+
+/* Fuzz (fuzz_api) finding: a level is reported exactly as asked for.  Scaled with the
+ * weights, a subnormal level lost its last bits (0x0.0ffffffcbffffp-1022 came back as
+ * 0x0.0ffffffccp-1022); a huge level with tiny weights scales to infinity. */
+static void test_level_reported_exactly(void)
+{
+    int64_t off[] = {0, 3};
+    int32_t kinds[] = {3};
+    const double levels[] = {0x0.0ffffffcbffffp-1022, 3e-310, -3e-310, 0x1p-1074, 0.7, 1e299, -1e299};
+    const double weights[] = {1.0, 3.0, 1e-300};
+    for (size_t i = 0; i < sizeof levels / sizeof *levels; i++)
+        for (size_t j = 0; j < sizeof weights / sizeof *weights; j++) {
+            mfg_regions *r = NULL;
+            CHECK_EQ_INT(mfg_level_regions(OCT, off, kinds, NULL, 1, &weights[j], levels[i], &r), MFG_OK);
+            if (!r)
+                continue;
+            CHECK(r->weight == levels[i]);
+            if (r->weight != levels[i])
+                fprintf(stderr, "level %a, weight %g: reported %a\n", levels[i], weights[j], r->weight);
+            CHECK_EQ_INT(r->nregions, weights[j] >= levels[i] ? 1 : 0);
+            mfg_regions_free(r);
+        }
+}
+
 /* Issue 6, item 7: two large polygons (random vertices on two overlapping small
  * circles): one POLYGON region, equal to their intersection on 20000 sample directions
  * (away from the boundary by 1e-9), whose centre is its margin away from every edge of
@@ -559,6 +647,8 @@ static void test_point_sets_at_point_pieces(void)
 
 int main(void)
 {
+    test_ignored_and_tiny_weights();
+    test_level_reported_exactly();
     test_point_sets_at_point_pieces();
     test_two_large_polygons();
     test_weight_scale();

@@ -2,6 +2,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Writes the seed corpus of fuzz_api (tests/fuzz/corpus_api/) in the target's input format."""
 
+import base64
 import os
 import struct
 import sys
@@ -34,7 +35,7 @@ def normals_around(m, draft_byte=0, count_byte=None, flags=8):
     return out + bytes([draft_byte])
 
 
-def sphere_generated(kinds, flags=0x40, level_byte=3):
+def sphere_generated(kinds, flags=0x40, level_byte=3, level=None):
     out = bytes([flags, len(kinds)])
     for i, k in enumerate(kinds):
         size = {3: 2, 2: 1, 1: 0, 0: 0}[k]         # 5-gons, 3-vertex arcs, one-vertex points
@@ -42,7 +43,10 @@ def sphere_generated(kinds, flags=0x40, level_byte=3):
         out += bytes([(40 * i) % 256, 150 + 3 * i, 90, 17 * i % 256])   # lon, lat, rho, start angle
         if k == 3:
             out += bytes([128] * (3 + size))
-    return out + b"\x00" + bytes([0, level_byte])      # no corrupted offset; level
+    out += b"\x00"                                      # no corrupted offset
+    if level is not None:                               # a level given as a double
+        return out + b"\xF0" + struct.pack("<d", level)
+    return out + bytes([0, level_byte])
 
 
 def sphere_raw_offsets(nsets, sizes, corrupt):
@@ -67,6 +71,13 @@ def seeds():
     yield "sph_offsets_int64_max", bytes([SKIP_PC | SKIP_VM]) + sphere_raw_offsets(1, [3], (1, INT64_MAX))
     yield "sph_offsets_wrap", bytes([SKIP_PC | SKIP_VM]) + sphere_raw_offsets(2, [3, 3], (2, INT64_MIN_PLUS_2))
     yield "sph_npolys_huge", bytes([SKIP_PC | SKIP_VM]) + bytes([0x40, 0xF0 + INT64_MAX])
+    # found by fuzzing: a NULL set of weight 1e200 entered the weight scale and tolerance,
+    # and the maximum (7.5) disagreed with its covers (5.5)
+    yield "sph_ignored_heavy_weight", base64.b64decode(
+        "A2JhLv8BLi4uLi4uLkQLyKUDgFpAVYAuLv78/P38gIAAgACA8QQAEfH+C+8LyKVaVf//////////////////LgAu")
+    # a subnormal level came back rounded by the weights' scale
+    yield "sph_subnormal_level", bytes([SKIP_PC | SKIP_VM]) + sphere_generated(
+        [3, 3], level=float.fromhex("0x0.0ffffffcbffffp-1022"))
     yield "all_sections", (b"\x00" + planar([sq], pts) + normals_around(6)
                            + sphere_generated([3, 3, 2]))
 
