@@ -295,8 +295,8 @@ MFG_API void mfg_regions_free(mfg_regions *regions);
  *                        non-manifold edge count too)
  *   degenerate triangle  zero area, decided exactly (the three coordinate projections of
  *                        the triangle are all collinear), or a vertex index repeated;
- *                        a triangle with a repeated index has no sides (it is left out
- *                        of the edge counts, the volume and the area)
+ *                        a triangle with a repeated index has no sides (it counts
+ *                        only here: not in the edges, components, volume or area)
  *   component            a set of triangles connected through shared edges
  * volume: the signed volume enclosed, the sum of the signed tetrahedra of the triangles
  * with a common apex (outward triangles: positive).  Its sign is trusted only beyond

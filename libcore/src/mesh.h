@@ -1,0 +1,28 @@
+/* SPDX-License-Identifier: LGPL-2.1-or-later */
+/* mesh.h - private: the closed-solid check every mesh algorithm (rotsweep.c, medial.c)
+ * runs on its input, and the edge adjacency it finds on the way. */
+#ifndef MFG_MESH_H
+#define MFG_MESH_H
+
+#include <stdint.h>
+
+#include "mfgeom.h"
+
+/*
+ * The check of mfg_mesh_check_closed (mfgeom.h), for the library's own entry points:
+ * validates the arguments (NULL, counts, coordinates, indices), then refuses anything but
+ * a closed, consistently and outward oriented 2-manifold with MFG_ERR_INVALID or
+ * MFG_ERR_DEGENERATE and a detail naming the first problem and the counts.
+ * On success (MFG_OK):
+ *  - *report (when report is not NULL) is filled as by mfg_mesh_check;
+ *  - *out_neighbours (when not NULL) gets a malloc'd array of 3 * ntriangles indices:
+ *    neighbours[3t + k] is the triangle on the other side of the side from
+ *    triangles[3t + k] to triangles[3t + (k+1)%3] (every side has exactly one, since
+ *    the mesh is closed and manifold).  The caller releases it with free().
+ * On failure neither is written.
+ */
+mfg_status mfg_mesh_require_closed(const double *xyz, int64_t nvertices,
+                                   const int64_t *triangles, int64_t ntriangles,
+                                   mfg_mesh_report *report, int64_t **out_neighbours);
+
+#endif
