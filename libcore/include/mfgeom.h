@@ -304,8 +304,8 @@ MFG_API void mfg_regions_free(mfg_regions *regions);
  * determinants (a few units of rounding each); within it the volume counts as zero.
  * area: the sum of the triangle areas.  bbox: min x, min y, min z, max x, max y, max z
  * of the vertices used by triangles (all zero when there is none).
- * Every count and the volume's sign are independent of the order of the triangles and
- * of the vertex a triangle starts with.  Time O(n log n), memory O(n).
+ * Every count is independent of the order of the triangles and of the vertex a triangle
+ * starts with (the volume and area only up to rounding).  Time O(n log n), memory O(n).
  */
 typedef struct mfg_mesh_report {
     int64_t nvertices, ntriangles;
