@@ -405,6 +405,20 @@ static void test_degenerate(void)
     expect_refused(&m, MFG_ERR_DEGENERATE, "zero volume");
     tmesh_free(&m);
 
+    /* A very thin but real solid far from the origin: the volume bound scales with the
+     * solid's own products (apex at the box centre), so the volume still counts. */
+    add_vertex(&m, 1000, 1000, 0);
+    add_vertex(&m, 1001, 1000, 0);
+    add_vertex(&m, 1000, 1001, 0);
+    add_vertex(&m, 1000, 1000, 0x1p-70);
+    add_tri(&m, 0, 2, 1);
+    add_tri(&m, 0, 1, 3);
+    add_tri(&m, 0, 3, 2);
+    add_tri(&m, 1, 2, 3);
+    CHECK_EQ_INT(mfg_mesh_check_closed(m.xyz, m.nv, m.tri, m.nt, &r), MFG_OK);
+    CHECK(near(r.volume, 0x1p-70 / 6, 1e-15 * 0x1p-70));
+    tmesh_free(&m);
+
     /* A repeated index: degenerate, no sides; refused by name. */
     add_box(&m, 0, 0, 0, 1, 1, 1);
     add_tri(&m, 3, 3, 5);
