@@ -51,7 +51,10 @@
  * only splits cells holding vertices or crossings and an edge passes O(1) of them per
  * level, so entries grow by O(n) per level: O(n log n) time, memory O(n) per level, at
  * most MAX_DEPTH levels and never more than ENTRY_BUDGET x the grid's entries (which
- * are O(n): ~16 per edge at most).  Measured: the benchmark's star of 50 000 spikes
+ * are O(n): ~16 per edge at most).  Lists that splitting cannot part (copies of a
+ * segment, overlapping collinear edges) would otherwise double at every level up to
+ * that budget: a list of at most LEAF_LIST_MAX distinct segments is a leaf, and a node
+ * stops after STALL_MAX splits that copied most of its list to a sibling too.  Measured: the benchmark's star of 50 000 spikes
  * holds 3.7M entries (64 MB) built in ~0.4 s; a smooth ring of 100 000 edges 0.13M.
  * A query reads one byte for an empty cell, else descends a few nodes and scans
  * <= LEAF_LIST_MAX edges or bisects an ordered leaf (O(log m), one line per 8x).
@@ -68,6 +71,16 @@
 #define ORDER_MIN 2
 #define LEAF_LIST_MAX 8
 #define MAX_DEPTH 16
+/* A split that hands most of its list (more than 3/4) to two or more children
+ * separated little and copied much: overlapping collinear edges (or a bundle of copies
+ * of one segment) part only at their ends, if at all, and splitting them on to
+ * MAX_DEPTH costs up to 2^MAX_DEPTH nodes (the bundle lies in two or three children at
+ * every level), each sorting and scanning its whole list.  A child that got most of the
+ * list along with a sibling is one step "stalled"; after STALL_MAX such steps in a row
+ * it stays a list leaf.  A split that hands most of the list to one child only
+ * (zooming in on a small feature, or on a vertex many edges share) costs one node per
+ * level and is not counted. */
+#define STALL_MAX 2
 /* Subdivision stops once the quadtree holds this many times the grid's entries. */
 #define ENTRY_BUDGET 8
 
@@ -353,6 +366,7 @@ typedef struct nodebox {
     double rx, ry;
     unsigned par;
     int depth;
+    int stall; /* splits in a row that copied most of the list into it and a sibling */
 } nodebox;
 
 /* Makes room for `need` elements of `elem` bytes in *arr (capacity *cap, doubling);
@@ -620,6 +634,58 @@ static mfg_status make_list_leaf(mfg_region *g, const nodebox *b, const uint32_t
 
 static uint64_t entries_used(const mfg_region *g) { return (uint64_t)g->nlist + g->nord; }
 
+/* 1 when a child's list of mc edges holds most (more than 3/4) of its parent's m. */
+static inline int mostly(uint32_t mc, uint32_t m) { return 4 * (uint64_t)mc > 3 * (uint64_t)m; }
+
+/* Edge e's endpoints, the lexicographically smaller first, so that copies of one
+ * segment (in either direction) give the same four numbers. */
+static inline void seg_ends(const mfg_region *g, uint32_t e, double k[4])
+{
+    const double *X = g->rs.x, *Y = g->rs.y;
+    int swap = X[e + 1] < X[e] || (X[e + 1] == X[e] && Y[e + 1] < Y[e]);
+    uint32_t a = swap ? e + 1 : e, b = swap ? e : e + 1;
+    k[0] = X[a], k[1] = Y[a], k[2] = X[b], k[3] = Y[b];
+}
+
+/* The number of geometrically distinct segments in the list (copies of one segment, in
+ * either direction, and zero-length edges at one point count once): no split can ever
+ * part copies, so this is what splitting can reduce.  A hash set over the endpoints'
+ * bits (+0.0 for -0.0, so equal numbers hash alike): O(m).  -1 when out of memory
+ * (recorded). */
+static int64_t distinct_segments(const mfg_region *g, const uint32_t *list, uint32_t m)
+{
+    uint64_t size = 16;
+    while (size < 2 * (uint64_t)m)
+        size *= 2;
+    uint32_t *slot = malloc((size_t)size * sizeof *slot);
+    if (!slot) {
+        mfg_fail(MFG_ERR_NOMEM, "cannot allocate a table of %u segments", m);
+        return -1;
+    }
+    memset(slot, 0xFF, (size_t)size * sizeof *slot); /* UINT32_MAX: empty */
+    int64_t n = 0;
+    for (uint32_t p = 0; p < m; p++) {
+        double k[4], o[4];
+        seg_ends(g, list[p], k);
+        uint64_t h = UINT64_C(0x9E3779B97F4A7C15);
+        for (int i = 0; i < 4; i++)
+            h = (h ^ double_word(k[i] + 0.0)) * UINT64_C(0xBF58476D1CE4E5B9);
+        uint64_t i = (h ^ (h >> 31)) & (size - 1);
+        for (;; i = (i + 1) & (size - 1)) {
+            if (slot[i] == UINT32_MAX) {
+                slot[i] = list[p];
+                n++;
+                break;
+            }
+            seg_ends(g, slot[i], o);
+            if (o[0] == k[0] && o[1] == k[1] && o[2] == k[2] && o[3] == k[3])
+                break; /* a copy */
+        }
+    }
+    free(slot);
+    return n;
+}
+
 /* Builds the object for box b and its list (every edge within reach of b); *out
  * receives its line. */
 static mfg_status build_node(mfg_region *g, const nodebox *b, const uint32_t *list, uint32_t m,
@@ -651,8 +717,16 @@ static mfg_status build_node(mfg_region *g, const nodebox *b, const uint32_t *li
     if (r > 0)
         return MFG_OK;
     double w = b->x1 - b->x0, h = b->y1 - b->y0;
-    if (m <= LEAF_LIST_MAX || b->depth >= MAX_DEPTH || entries_used(g) + m > g->entry_budget ||
+    if (m <= LEAF_LIST_MAX || b->depth >= MAX_DEPTH || b->stall >= STALL_MAX ||
+        entries_used(g) + m > g->entry_budget ||
         !(w >= 64.0 * g->margin && h >= 64.0 * g->margin))
+        return make_list_leaf(g, b, list, m, out);
+    /* Copies of a segment stay together in every child: a list of few distinct
+     * segments is as short as splitting can make it. */
+    int64_t nd = distinct_segments(g, list, m);
+    if (nd < 0)
+        return MFG_ERR_NOMEM;
+    if (nd <= LEAF_LIST_MAX)
         return make_list_leaf(g, b, list, m, out);
 
     /* Split into four: each child keeps the edges within reach of it and a reference
@@ -679,6 +753,11 @@ static mfg_status build_node(mfg_region *g, const nodebox *b, const uint32_t *li
                 sub[(size_t)q * m + cm[q]++] = list[p];
         sum += cm[q];
     }
+    int nfull = 0;
+    for (int q = 0; q < 4; q++)
+        nfull += mostly(cm[q], m);
+    for (int q = 0; q < 4; q++)
+        c[q].stall = !mostly(cm[q], m) ? 0 : b->stall + (nfull >= 2);
     if (sum > 3 * (uint64_t)m) {
         free(sub);
         return make_list_leaf(g, b, list, m, out);
@@ -738,6 +817,7 @@ static mfg_status build_trees(mfg_region *g)
         ref_point(g, i, j, g->refk[c], &b.rx, &b.ry);
         b.par = g->cell[c] & CELL_IN;
         b.depth = 0;
+        b.stall = 0;
         mfg_status st = build_node(g, &b, g->edges + g->start[c], g->start[c + 1] - g->start[c], &g->root[c]);
         if (st != MFG_OK)
             return st;

@@ -632,6 +632,52 @@ static void test_prepared_fan(void)
     free(s.xy);
 }
 
+/* Fuzz (fuzz_api) finding: degenerate lists the quadtree cannot separate.  Copies of one
+ * segment, and overlapping collinear edges, lie in two or three children at every level,
+ * so splitting them ran to the depth limit and filled the entry budget (~10 times the
+ * grid's entries, 10^4 nodes for 116 vertices; 6 s a build under ASan).  The answers must
+ * stay the one-shot ones, and the quadtree small:
+ *  - the fuzz input: five rings repeating a 7-point cycle (7 distinct segments in all,
+ *    many copies of each) after a vertex (12, 0) and a run of (0, 0) vertices
+ *    (zero-length edges): at most 7 distinct segments per cell, so no cell is split;
+ *  - a square and a ring of 200 collinear, overlapping edges (all distinct): at most 5
+ *    times the grid's entries (was 9.6). */
+static void test_prepared_degenerate_bundles(void)
+{
+    shape s;
+    memset(&s, 0, sizeof s);
+    for (int64_t k = 0; k < 116; k++) /* the harness: 96 coordinates read, then k % 7 */
+        shape_vertex(&s, 2 * k < 96 ? (k == 0 ? 12.0 : 0.0) : (double)((2 * k) % 7),
+                     2 * k + 1 < 96 ? 0.0 : (double)((2 * k + 1) % 7));
+    const int64_t ends[] = {23, 46, 69, 92, 116};
+    for (int r = 0; r < 5; r++) {
+        s.nrings++;
+        s.off[s.nrings] = ends[r];
+    }
+    for (int ti = 0; ti < 2; ti++) {
+        struct mfg_region_info info = check_shape("bundles", &s, ti ? 0.0625 : 0.0, 5000);
+        CHECK_EQ_INT(info.edge_entries, info.grid_entries);
+        CHECK_EQ_INT(info.max_depth, 0);
+    }
+    free(s.xy);
+
+    memset(&s, 0, sizeof s);
+    shape_vertex(&s, -1, -1);
+    shape_vertex(&s, 11, -1);
+    shape_vertex(&s, 11, 1);
+    shape_vertex(&s, -1, 1);
+    shape_close_ring(&s);
+    for (int k = 0; k < 200; k++)
+        shape_vertex(&s, k % 2 ? 10.0 - (k / 2) * 0.037 : (k / 2) * 0.041, 0.3137);
+    shape_close_ring(&s);
+    struct mfg_region_info info = check_shape("collinear", &s, 0.0, 5000);
+    CHECK(info.edge_entries <= 5 * info.grid_entries);
+    if (info.edge_entries > 5 * info.grid_entries)
+        fprintf(stderr, "collinear: %lld entries for %lld in the grid\n", (long long)info.edge_entries,
+                (long long)info.grid_entries);
+    free(s.xy);
+}
+
 /* A dense integer star against the independent integer reference (exact arithmetic):
  * checks the prepared answers themselves, not only their agreement.  Coordinates stay
  * below 2^15 so the reference's squared cross products fit in int64. */
@@ -714,6 +760,7 @@ int main(void)
     test_prepared_spiky();
     test_prepared_deep_cell();
     test_prepared_fan();
+    test_prepared_degenerate_bundles();
     test_prepared_star_reference();
     test_region_info_errors();
     return mfg_test_report("test_pointclass");

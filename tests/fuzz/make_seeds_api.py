@@ -75,6 +75,9 @@ def seeds():
     # and the maximum (7.5) disagreed with its covers (5.5)
     yield "sph_ignored_heavy_weight", base64.b64decode(
         "A2JhLv8BLi4uLi4uLkQLyKUDgFpAVYAuLv78/P38gIAAgACA8QQAEfH+C+8LyKVaVf//////////////////LgAu")
+    # found by fuzzing: rings repeating a 7-point cycle after a run of (0, 0): copies of a
+    # few segments that the prepared region's quadtree split to its depth limit
+    yield "pc_copied_segments", base64.b64decode("UgZgFxcXF8cAYA==")
     # a subnormal level came back rounded by the weights' scale
     yield "sph_subnormal_level", bytes([SKIP_PC | SKIP_VM]) + sphere_generated(
         [3, 3], level=float.fromhex("0x0.0ffffffcbffffp-1022"))
