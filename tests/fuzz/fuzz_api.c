@@ -133,7 +133,8 @@ static void rd_offsets(reader *r, int64_t n, int64_t per_item, int64_t cap, int6
         if (how < 0x80) {
             off[i] = HOSTILE[how % NHOSTILE];
         } else if (how < 0xC0) {
-            off[i] = i > 0 ? off[i - 1] - 1 - (how & 3) : 1 + (how & 3); /* step back / not 0 */
+            /* step back (wrapping: off[i - 1] may already be a hostile INT64_MIN) / not 0 */
+            off[i] = i > 0 ? (int64_t)((uint64_t)off[i - 1] - 1 - (how & 3)) : 1 + (how & 3);
         } else {
             off[i] = (how & 0x3F) % (cap + 1); /* some small value */
         }

@@ -78,6 +78,8 @@ def seeds():
     # found by fuzzing: rings repeating a 7-point cycle after a run of (0, 0): copies of a
     # few segments that the prepared region's quadtree split to its depth limit
     yield "pc_copied_segments", base64.b64decode("UgZgFxcXF8cAYA==")
+    # found by fuzzing (a harness bug): a step back from an offset already INT64_MIN
+    yield "sph_offsets_step_back_from_min", base64.b64decode("AwEDYmEu/wFrLrsGLgIjA3oRwPE=")
     # a subnormal level came back rounded by the weights' scale
     yield "sph_subnormal_level", bytes([SKIP_PC | SKIP_VM]) + sphere_generated(
         [3, 3], level=float.fromhex("0x0.0ffffffcbffffp-1022"))
