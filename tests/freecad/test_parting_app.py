@@ -150,6 +150,39 @@ class EdgeKinds(unittest.TestCase):
         groups, _ = parting.concave_surfaces(len(groove.Faces), adj)
         self.assertEqual(len(groups), len(groove.Faces))
 
+    def test_adjacency_agrees_with_edge_by_edge_kinds(self):
+        """adjacency's linear path (how each shared edge runs in each face recorded while
+        listing the faces' edges; a plane's normal evaluated once) finds every shared
+        edge once, with the kind edge_kind gives on its own (searching the face's edges,
+        normals at the edge's point), on a turned plate with pockets, holes, a drill
+        point, a filleted pocket and a boss."""
+        plate = Part.makeBox(40, 30, 10)
+        cuts = [Part.makeBox(6, 5, 4, App.Vector(3, 3, 7)),
+                Part.makeCylinder(2.5, 5, App.Vector(15, 6, 6)),
+                Part.makeCylinder(2, 5, App.Vector(25, 6, 6)).fuse(
+                    Part.makeCone(0, 2, 1.2, App.Vector(25, 6, 4.8))).removeSplitter(),
+                Part.makeCylinder(1.5, 40, App.Vector(5, 20, 5), App.Vector(1, 0, 0.3))]
+        box = Part.makeBox(7, 6, 4, App.Vector(28, 18, 7))
+        cuts.append(box.makeFillet(1.2, [e for e in box.Edges if e.BoundBox.ZLength > 1]))
+        part = plate
+        for tool in cuts:
+            part = part.cut(tool)
+        part = part.fuse(Part.makeCylinder(2.5, 3, App.Vector(15, 22, 10)))
+        part.Placement = PLACEMENT
+        faces = part.Faces
+        adj = gauss_map.adjacency(part)
+        shared = [e for e in part.Edges
+                  if not e.Degenerated and len(part.ancestorsOfType(e, Part.Face)) == 2]
+        self.assertEqual(len(adj), len(shared))
+        self.assertEqual({k for _, _, k in adj}, {"concave", "convex", "tangent"})
+        found = {}
+        for i, j, kind in adj:
+            found.setdefault((i, j), []).append(kind)
+        for (i, j), kinds in found.items():   # a pair of faces may share several edges
+            edges = [e for e in faces[i].Edges if any(e.isSame(x) for x in faces[j].Edges)]
+            alone = sorted(gauss_map.edge_kind(e, faces[i], faces[j]) for e in edges)
+            self.assertEqual(sorted(kinds), alone, (i, j))
+
 
 class GaussMaps(unittest.TestCase):
     def assert_valid_bound(self, face, g):
@@ -192,6 +225,24 @@ class GaussMaps(unittest.TestCase):
                 self.assertEqual(len(g.normals), 1)
             self.assertNotEqual(core.visibility_map(g.normals, draft_angle=g.shrink).kind, "null")
             self.assert_valid_bound(face, g)
+
+    def test_cone_samples_are_the_normals_at_their_parameters(self):
+        """A cone's samples, refined by doubling with the coarser levels' normals kept,
+        are Face.normalAt at the returned parameters bit for bit (linspace of 2k + 1
+        points holds that of k + 1 exactly), and face_gauss returns them."""
+        face = Part.makeCone(3, 1, 4).Faces[0].copy()
+        face.Placement = PLACEMENT
+        u0, u1, v0, v1 = face.ParameterRange
+        vm = (v0 + v1) / 2
+        us, normals, dev = gauss_map._small_circle_samples(face, u0, u1, vm, 1e-3)
+        self.assertGreater(len(us), 17)   # several doublings
+        self.assertLessEqual(dev, 1e-3)
+        ref = np.array([tuple(face.normalAt(float(u), vm)) for u in us])
+        np.testing.assert_array_equal(normals, ref)
+        np.testing.assert_array_equal(us, np.linspace(u0, u1, len(us)))
+        # FaceGauss scales its normals to unit length, the same operation on both
+        np.testing.assert_array_equal(gauss_map.face_gauss(face).normals,
+                                      parting.FaceGauss(ref).normals)
 
     def test_every_example_face(self):
         for name in EXAMPLES:

@@ -55,40 +55,50 @@ def shape_of(source):
     return shape
 
 
-def _vec(v):
-    return np.array([v.x, v.y, v.z], dtype=np.float64)
-
-
 def _normals(face, uv):
-    return np.array([_vec(face.normalAt(float(u), float(v))) for u, v in uv])
+    """(k, 3) normals at the (u, v) pairs: one array built at the end, not one per
+    normal (Face.normalAt's own cost is most of what is left)."""
+    normal_at = face.normalAt
+    return np.array([(n.x, n.y, n.z) for n in (normal_at(float(u), float(v)) for u, v in uv)],
+                    dtype=np.float64).reshape(-1, 3)
 
 
 def _pieces(length, gap):
     return max(1, int(math.ceil(length / gap - 1e-12)))
 
 
-def _arc_deviation(a, m, b):
-    """Angle of the middle sample m from the great circle through a and b."""
+def _arc_deviations(a, m, b):
+    """Angles of the middle samples m from the great circles through a and b (row-wise
+    over (k, 3) arrays; where a and b are parallel, the angle of m from a)."""
     c = np.cross(a, b)
-    nc = np.linalg.norm(c)
-    if nc < 1e-15:
-        return math.acos(max(-1.0, min(1.0, float(a @ m))))
-    return math.asin(min(1.0, abs(float(m @ c)) / nc))
+    nc = np.sqrt(np.einsum("ij,ij->i", c, c))
+    far = np.arccos(np.clip(np.einsum("ij,ij->i", a, m), -1.0, 1.0))
+    near = np.arcsin(np.minimum(1.0, np.abs(np.einsum("ij,ij->i", m, c))
+                                / np.maximum(nc, 1e-300)))
+    return np.where(nc < 1e-15, far, near)
 
 
 def _small_circle_samples(face, u0, u1, v, deflection):
     """u values along a small circle (v fixed) whose pieces deviate <= deflection from
-    great arcs; returns (us, deviation)."""
+    great arcs; returns (us, normals at us, deviation).  Each doubling of the pieces
+    keeps the normals already evaluated: linspace(u0, u1, 2k + 1)[::2] equals
+    linspace(u0, u1, k + 1) exactly (the step is halved, a power of two), so only the
+    new samples and the new middles cost Face.normalAt calls."""
     k = _pieces(u1 - u0, math.pi / 2)
+    us = np.linspace(u0, u1, k + 1)
+    a = _normals(face, [(u, v) for u in us])
     while True:
-        us = np.linspace(u0, u1, k + 1)
         mids = (us[:-1] + us[1:]) / 2
-        a = _normals(face, [(u, v) for u in us])
         m = _normals(face, [(u, v) for u in mids])
-        dev = max(_arc_deviation(a[i], m[i], a[i + 1]) for i in range(k))
+        dev = float(_arc_deviations(a[:-1], m, a[1:]).max())
         if dev <= deflection or k >= 4096:
-            return us, dev
+            return us, a, dev
         k *= 2
+        finer = np.linspace(u0, u1, k + 1)
+        fresh = np.empty((k + 1, 3))
+        fresh[::2] = a
+        fresh[1::2] = _normals(face, [(u, v) for u in finer[1::2]])
+        us, a = finer, fresh
 
 
 def face_gauss(face, deflection=DEFAULT_DEFLECTION, name=""):
@@ -105,8 +115,8 @@ def face_gauss(face, deflection=DEFAULT_DEFLECTION, name=""):
         return FaceGauss(_normals(face, [(u, vm) for u in us]), 0.0, area, name)
     if isinstance(surf, Part.Cone):
         vm = (v0 + v1) / 2
-        us, dev = _small_circle_samples(face, u0, u1, vm, deflection)
-        return FaceGauss(_normals(face, [(u, vm) for u in us]), dev, area, name)
+        _us, normals, dev = _small_circle_samples(face, u0, u1, vm, deflection)
+        return FaceGauss(normals, dev, area, name)
     if isinstance(surf, (Part.Sphere, Part.Toroid)):
         # meridians are great circles: gaps <= pi/2 are exact along v
         vs = np.linspace(v0, v1, _pieces(v1 - v0, math.pi / 2) + 1)
@@ -115,7 +125,7 @@ def face_gauss(face, deflection=DEFAULT_DEFLECTION, name=""):
         v_worst = max(vs.tolist() + [c for c in (math.pi / 4, -math.pi / 4, 3 * math.pi / 4,
                                                  -3 * math.pi / 4) if v0 <= c <= v1],
                       key=lambda v: abs(math.sin(v) * math.cos(v)))
-        us, dev = _small_circle_samples(face, u0, u1, v_worst, deflection)
+        us, _, dev = _small_circle_samples(face, u0, u1, v_worst, deflection)
         uv = [(u, v) for u in us for v in vs]
         return FaceGauss(_normals(face, uv), dev, area, name)
     return _grid_gauss(face, deflection, name, area)
@@ -153,39 +163,79 @@ def _grid_gauss(face, deflection, name, area):
         k *= 2
 
 
-def _oriented_tangent(edge, face, t):
+def _oriented_tangent(edge, face, t, in_face=None):
     """Tangent of ``edge`` at t as the edge runs in ``face`` (face on its left, seen
-    from the face's outward normal): OCCT orients a face's edges that way."""
-    for e in face.Edges:
-        if e.isSame(edge):
-            tan = _vec(e.tangentAt(t))
-            return -tan if e.Orientation == "Reversed" else tan
-    raise ValueError("edge not in face")
+    from the face's outward normal): OCCT orients a face's edges that way.
+    ``in_face``: the edge as ``face.Edges`` lists it (its first occurrence), when the
+    caller already has it (else the face's edges are searched: O(edges of the face))."""
+    if in_face is None:
+        in_face = next((e for e in face.Edges if e.isSame(edge)), None)
+        if in_face is None:
+            raise ValueError("edge not in face")
+    tan = in_face.tangentAt(t)
+    sign = -1.0 if in_face.Orientation == "Reversed" else 1.0
+    return (sign * tan.x, sign * tan.y, sign * tan.z)
 
 
-def edge_kind(edge, f1, f2, tangent_tol=DEFAULT_TANGENT_TOL):
+def _normal_at_point(face, p, surface=None):
+    """Outward normal of ``face`` at the point p of it (its surface's parameters of p)."""
+    u, v = (surface if surface is not None else face.Surface).parameter(p)
+    n = face.normalAt(u, v)
+    return (n.x, n.y, n.z)
+
+
+class _FaceNormals:
+    """Outward normals of one face at points on it, for :func:`adjacency`: the face's
+    Surface is fetched once, and a plane's normal is evaluated once.  Face.normalAt
+    builds a surface adaptor that bounds the face's parameters from all of its edges,
+    so one call on a cube side with 600 holes costs ~0.1 ms; a plane's normal is the
+    same at every point (the cross product of its constant first derivatives, oriented
+    by the face)."""
+
+    def __init__(self, face):
+        self.face = face
+        self.surface = face.Surface
+        self.plane = isinstance(self.surface, Part.Plane)
+        self.normal = None
+
+    def at(self, p):
+        if not self.plane:
+            return _normal_at_point(self.face, p, self.surface)
+        if self.normal is None:
+            self.normal = _normal_at_point(self.face, p, self.surface)
+        return self.normal
+
+
+def edge_kind(edge, f1, f2, tangent_tol=DEFAULT_TANGENT_TOL, in_f1=None, normals=None):
     """'concave', 'convex' or 'tangent' for the edge shared by faces f1 and f2, from
     their outward normals at the edge's middle: with T the edge's tangent as it runs in
-    f1, the dihedral is convex when (n1 x n2) . T > 0 (f2 turns away from the material)."""
+    f1, the dihedral is convex when (n1 x n2) . T > 0 (f2 turns away from the material).
+    ``in_f1`` (the edge as f1.Edges lists it) and ``normals`` (a :class:`_FaceNormals`
+    of f1 and one of f2) spare the searches and repeated OCCT evaluations when the
+    caller has them (:func:`adjacency`).  Plain float arithmetic on 3-vectors: numpy's
+    per-call overhead was most of the cost."""
     t0, t1 = edge.ParameterRange
     t = (t0 + t1) / 2
     p = edge.valueAt(t)
-    n = []
-    for f in (f1, f2):
-        u, v = f.Surface.parameter(p)
-        n.append(_vec(f.normalAt(u, v)))
-    c = np.cross(n[0], n[1])
-    if math.atan2(np.linalg.norm(c), float(n[0] @ n[1])) <= tangent_tol:
+    n1, n2 = normals if normals is not None else (_FaceNormals(f1), _FaceNormals(f2))
+    a, b = n1.at(p), n2.at(p)
+    c = (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+    if math.atan2(math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
+                  a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) <= tangent_tol:
         return "tangent"
-    tan = _oriented_tangent(edge, f1, t)
-    return "convex" if float(c @ tan) > 0 else "concave"
+    tan = _oriented_tangent(edge, f1, t, in_f1)
+    return "convex" if c[0] * tan[0] + c[1] * tan[1] + c[2] * tan[2] > 0 else "concave"
 
 
 def adjacency(shape, tangent_tol=DEFAULT_TANGENT_TOL):
-    """[(i, j, kind)] for every edge shared by faces i < j of ``shape`` (0-based)."""
+    """[(i, j, kind)] for every edge shared by faces i < j of ``shape`` (0-based).
+    Linear in the number of edges: each face's edges are listed once, and each shared
+    edge remembers how it runs in each of its faces (no search of a face's edges per
+    shared edge, which was quadratic on faces with many holes)."""
     faces = shape.Faces
-    # hash code -> [[edge, owner faces], ...]: different edges may share a hash code
-    # (OCCT's are pointer-based; seen on a 4999-face part), so isSame decides
+    # hash code -> [[edge, {owner face: the edge as that face lists it}], ...]: different
+    # edges may share a hash code (OCCT's are pointer-based; seen on a 4999-face part),
+    # so isSame decides
     buckets = {}
     for i, f in enumerate(faces):
         for e in f.Edges:
@@ -194,17 +244,24 @@ def adjacency(shape, tangent_tol=DEFAULT_TANGENT_TOL):
             bucket = buckets.setdefault(e.hashCode(), [])
             entry = next((x for x in bucket if x[0].isSame(e)), None)
             if entry is None:
-                entry = [e, []]
+                entry = [e, {}]
                 bucket.append(entry)
-            if i not in entry[1]:
-                entry[1].append(i)
+            entry[1].setdefault(i, e)   # the first occurrence, as face.Edges lists it
+    normals = {}
+
+    def normals_of(i):
+        if i not in normals:
+            normals[i] = _FaceNormals(faces[i])
+        return normals[i]
     out = []
     for bucket in buckets.values():
-        for edge, lst in bucket:
+        for edge, owners in bucket:
+            lst = list(owners)
             for a in range(len(lst)):
                 for b in range(a + 1, len(lst)):
                     i, j = lst[a], lst[b]
-                    out.append((i, j, edge_kind(edge, faces[i], faces[j], tangent_tol)))
+                    out.append((i, j, edge_kind(edge, faces[i], faces[j], tangent_tol,
+                                                owners[i], (normals_of(i), normals_of(j)))))
     return sorted(out)
 
 
