@@ -513,7 +513,10 @@ static mfg_status map_on_great_circle(const double *normals, int64_t m, vref q,
  * about points in convex position meet D's boundary in the hull's cyclic order, each at
  * most once, so the boundary is found like a half-plane intersection sorted by angle, in
  * O(h): a deque of caps, the last (first) dropped while the corner it makes with its
- * neighbour lies outside the next cap.  Each boundary arc is then sampled with chords of
+ * neighbour lies outside the next cap.  That analogy with half-planes is not exact for
+ * caps wide against the hull (long thin hulls gave corners far outside other caps), so
+ * the deque's boundary is certified against the caps (draft_boundary_ok, O(h)) and, when
+ * it fails, D is computed the slow plain way (draft_by_clipping).  Each boundary arc is then sampled with chords of
  * sagitta below MFG_DRAFT_TOL; a chord between two points of D stays in every (convex)
  * cap, so the polygon is conservative.
  */
@@ -568,6 +571,158 @@ static int64_t arc_points(const double *u, double s, double sr, const double *p,
     return n;
 }
 
+/* Checks the deque's boundary (caps q[0..r-1], a subsequence of the hull order) against
+ * what D's boundary must be.  The deque mimics a half-plane intersection, but the analogy
+ * breaks for equal caps that are wide against the hull's spread (a long thin hull, a few
+ * normals far apart): a cap may be dropped although it bounds D, or kept although its arc
+ * is empty, and the corners then lie outside other caps (a fuzz case: d.p^ = -0.73 where
+ * the draft asks 0.2955).  D's arcs do follow the hull order, so a cap i cutting the
+ * candidate region removes a piece of its boundary holding the corner x_j of the caps
+ * q_j, q_j+1 between which i lies in that order; hence it suffices that every corner lies
+ * in the caps from q_j-1 to q_j+2 (O(h) in all), and that the corners go once round
+ * counter-clockwise.  Returns 0 when the boundary is not certified. */
+static int draft_boundary_ok(const double *u, int64_t nu, const int64_t *q, int64_t r, double s)
+{
+    if (r < 2)
+        return nu == 1;
+    const double slack = 1e-13; /* rounding of a corner on its own two circles */
+    double g[3] = {0, 0, 0};
+    for (int64_t j = 0; j < r; j++) {
+        double x[3];
+        if (!cap_corner(u + 3 * q[j], u + 3 * q[(j + 1) % r], s, x))
+            return 0;
+        int64_t from = q[(j + r - 1) % r], to = q[(j + 2) % r];
+        int64_t len = (to - from + nu) % nu + 1;
+        if (r <= 3)
+            len = nu, from = 0; /* the ranges wrap: every cap */
+        for (int64_t t = 0; t < len; t++)
+            if (mfg_dot3(x, u + 3 * ((from + t) % nu)) < s - slack)
+                return 0;
+        g[0] += x[0], g[1] += x[1], g[2] += x[2];
+    }
+    if (r == 2)
+        return 1; /* a lens: its two corners, on the sides of a x b and b x a */
+    double gu[3], turn = 0.0;
+    if (!mfg_unit3(g, gu))
+        return 0;
+    for (int64_t j = 0; j < r; j++) {
+        double xa[3], xb[3], c[3];
+        if (!cap_corner(u + 3 * q[j], u + 3 * q[(j + 1) % r], s, xa) ||
+            !cap_corner(u + 3 * q[(j + 1) % r], u + 3 * q[(j + 2) % r], s, xb))
+            return 0;
+        if (mfg_dot3(xa, gu) <= 0.0)
+            return 0;
+        /* the angle from xa to xb seen from gu, counter-clockwise */
+        double pa[3], pb[3];
+        double da = mfg_dot3(xa, gu), db = mfg_dot3(xb, gu);
+        for (int i = 0; i < 3; i++)
+            pa[i] = xa[i] - da * gu[i], pb[i] = xb[i] - db * gu[i];
+        mfg_cross3(pa, pb, c);
+        double ang = atan2(mfg_dot3(c, gu), mfg_dot3(pa, pb));
+        if (ang < 0.0) /* corners out of order (equal ones, ang = 0, are fine) */
+            return 0;
+        turn += ang;
+    }
+    return fabs(turn - 2.0 * MFG_PI) < 1e-6; /* once round */
+}
+
+/* Clips convex spherical polygon (n unit vertices in poly, room for n+1 in out) by the
+ * hemisphere { d : d.nrm >= 0 }; returns the new vertex count. */
+static int64_t clip_hemisphere(const double *poly, int64_t n, const double nrm[3], double *out)
+{
+    int64_t m = 0;
+    for (int64_t i = 0; i < n; i++) {
+        const double *a = poly + 3 * i, *b = poly + 3 * ((i + 1) % n);
+        double sa = mfg_dot3(a, nrm), sb = mfg_dot3(b, nrm);
+        if (sa >= 0) {
+            memcpy(out + 3 * m, a, 3 * sizeof(double));
+            m++;
+        }
+        if ((sa >= 0) != (sb >= 0)) {
+            double x[3] = {sa * b[0] - sb * a[0], sa * b[1] - sb * a[1], sa * b[2] - sb * a[2]};
+            if (sa < 0)
+                x[0] = -x[0], x[1] = -x[1], x[2] = -x[2];
+            if (mfg_unit3(x, out + 3 * m))
+                m++;
+        }
+    }
+    return m;
+}
+
+/* The slow, plainly correct way (used when the deque's boundary is not certified): the
+ * first cap's inscribed polygon clipped by the chords of every other cap's inscribed
+ * polygon (each chord lies inside its cap, so the result is conservative; the chords'
+ * sagitta is below MFG_DRAFT_TOL).  O(h x steps x n) time; *out: n unit vertices, or
+ * NULL with *n_out = 0 when empty. */
+static mfg_status draft_by_clipping(const double *u, int64_t nu, double s, double sr,
+                                    double step, double **out, int64_t *n_out)
+{
+    int64_t steps = (int64_t)ceil(2.0 * MFG_PI / step);
+    if (steps < 8)
+        steps = 8;
+    int64_t cap = 2 * steps + 8; /* grown below: a clip adds at most one vertex */
+    double *a = malloc((size_t)cap * 3 * sizeof(double));
+    double *b = malloc((size_t)cap * 3 * sizeof(double));
+    *out = NULL;
+    *n_out = 0;
+    if (!a || !b) {
+        free(a);
+        free(b);
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the draft polygon");
+    }
+    int64_t n = 0;
+    for (int64_t j = 0; j < nu && (j == 0 || n >= 3); j++) {
+        const double *uj = u + 3 * j;
+        double e1[3], e2[3];
+        any_orthogonal(uj, e1);
+        mfg_cross3(uj, e1, e2);
+        double prev[3] = {0, 0, 0}, first[3] = {0, 0, 0};
+        for (int64_t t = 0; t <= steps && (j == 0 || n >= 3); t++) {
+            double th = 2.0 * MFG_PI * (double)(t % steps) / (double)steps, w[3];
+            for (int i = 0; i < 3; i++)
+                w[i] = s * uj[i] + sr * (cos(th) * e1[i] + sin(th) * e2[i]);
+            if (j == 0) {
+                if (t < steps)
+                    memcpy(a + 3 * n++, w, sizeof w);
+                continue;
+            }
+            if (t == 0) {
+                memcpy(first, w, sizeof w);
+            } else {
+                double nrm[3];
+                if (n + 1 > cap) {
+                    double *na = realloc(a, (size_t)(2 * cap) * 3 * sizeof(double));
+                    if (na)
+                        a = na;
+                    double *nb = realloc(b, (size_t)(2 * cap) * 3 * sizeof(double));
+                    if (nb)
+                        b = nb;
+                    if (!na || !nb) {
+                        free(a);
+                        free(b);
+                        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the draft polygon");
+                    }
+                    cap *= 2;
+                }
+                mfg_cross3(prev, t == steps ? first : w, nrm); /* interior on the left */
+                n = clip_hemisphere(a, n, nrm, b);
+                double *sw = a;
+                a = b;
+                b = sw;
+            }
+            memcpy(prev, w, sizeof w);
+        }
+    }
+    free(b);
+    if (n < 3) {
+        free(a);
+        return MFG_OK;
+    }
+    *out = a;
+    *n_out = n;
+    return MFG_OK;
+}
+
 static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
 {
     vref single[2];
@@ -590,7 +745,7 @@ static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
     double sr = sin(rho), s = cos(rho);
     double step = sqrt(8.0 * MFG_DRAFT_TOL / fmax(sr, 1e-12)); /* sagitta sr step^2 / 8 */
     step = fmin(step, 2.0 * MFG_PI / 8.0);
-    double *u = malloc((size_t)nu * 3 * sizeof(double));
+    double *u = calloc((size_t)nu * 3, sizeof(double)); /* calloc: quiets a false gcc warning */
     int64_t *q = malloc((size_t)nu * sizeof(int64_t));
     double *pts = NULL;
     mfg_spoly *res = NULL;
@@ -618,6 +773,9 @@ static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
             tail--;
         while (tail - head >= 3 && !corner_inside(u, q[head], q[head + 1], q[tail - 1], s))
             head++;
+        if (!draft_boundary_ok(u, nu, q + head, tail - head, s)) {
+            st = draft_by_clipping(u, nu, s, sr, step, &pts, &n);
+        } else {
         /* a corner per arc, and its chords: the arcs turn by at most 2 pi about their
          * centres in all (D's perimeter is at most a cap's, 2 pi sin rho) */
         int64_t r = tail - head, total = 3 * r + (int64_t)ceil(3.0 * MFG_PI / step) + 8;
@@ -655,6 +813,7 @@ static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
                 }
                 n += arc_points(u + 3 * b, s, sr, p0, phi, step, r == 2 ? 2 : 1, pts + 3 * n);
             }
+        }
         }
     }
     if (st == MFG_OK)

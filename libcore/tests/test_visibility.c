@@ -1114,6 +1114,107 @@ static void test_draft_many_normals(void)
     }
 }
 
+/* Checks a drafted map against its definition D = { d : d.p^ >= sin a }: every vertex in
+ * D (within 1e-12), the polygon convex and counter-clockwise, and every sample of D deeper
+ * than 2e-4 (a margin of twice MFG_DRAFT_TOL) inside it; a NULL map has no such sample.
+ * Samples: uniform directions and directions about centre.  Returns 1 when all hold. */
+static int drafted_map_ok(const double *p, int64_t m, double a, const mfg_spoly *s,
+                          const double *centre, int nsamp)
+{
+    double *pn = normalised(p, m), sa = sin(a), deep_s = sin(fmin(a + 2e-4, M_PI / 2));
+    int ok = 1;
+    int64_t n = s->kind == MFG_VM_POLYGON ? s->nvertices : 0;
+    if (s->kind != MFG_VM_POLYGON && s->kind != MFG_VM_NULL)
+        ok = 0;
+    for (int64_t i = 0; i < n && ok; i++) {
+        if (min_dot(s->vertices + 3 * i, pn, m) < sa - 1e-12)
+            ok = 0;
+        double e[3];
+        cross3(s->vertices + 3 * i, s->vertices + 3 * ((i + 1) % n), e);
+        for (int64_t j = 0; j < n; j++)
+            if (dot3(s->vertices + 3 * j, e) < -1e-15)
+                ok = 0;
+    }
+    for (int k = 0; k < nsamp && ok; k++) {
+        double d[3];
+        if (k % 2)
+            random_dir(d);
+        else
+            cap_sample(centre, rng_uniform(0, M_PI / 2), d);
+        if (min_dot(d, pn, m) >= deep_s && (n == 0 || !in_polygon(d, s, 1e-12)))
+            ok = 0;
+    }
+    free(pn);
+    return ok;
+}
+
+/* The raw-API fuzz case: 12 normals of a long, thin hull, draft 0.3.  The deque of caps
+ * (commit e4acd45) kept caps whose corners lay outside other caps and returned a
+ * 188-gon with a vertex at d.p^ = -0.73, where the draft asks sin 0.3 = 0.2955. */
+static void test_draft_fuzz_case(void)
+{
+    static const double p[36] = {
+        -0x1.4p-2, -0x1.cp-4, 0x1.18p+0, 0x1.3p-2, -0x1.2p-3, 0x1.1p+0,
+        0x1.1p-2, -0x1.6p-3, 0x1.08p+0, -0x1.c4p+0, -0x1.ap-3, 1,
+        0x1.ap-3, -0x1.ep-3, 0x1.fp-1, 0x1.6p-3, -0x1.1p-2, 0x1.ep-1,
+        0x1.2p-3, -0x1.3p-2, 0x1.dp-1, 0x1.cp-4, 0x1.4p-2, 0x1.cp-1,
+        0x1.4p-4, 0x1.2p-2, 0x1.bp-1, 0x1.8p-5, 0x1p-2, 0x1.ap-1,
+        0x1p-6, 0x1.cp-3, 0x1.9p-1, 0x1.fcp+0, 0x1.8p-3, 0x1.8p-1};
+    mfg_spoly *s = vm(p, 12, 0.3);
+    if (s) {
+        CHECK_EQ_INT(s->kind, MFG_VM_POLYGON);
+        double c[3] = {0, 0, 1};
+        CHECK(drafted_map_ok(p, 12, 0.3, s, c, 200000));
+        mfg_spoly_free(s);
+    }
+}
+
+/* Drafted maps of random hulls (3..200 normals) against the definition, random drafts
+ * in [0, pi/2): caps, long thin hulls (where the deque failed), hulls near a hemisphere
+ * and loose clusters. */
+static void test_draft_random_hulls(void)
+{
+    int failed = 0;
+    for (int trial = 0; trial < 240; trial++) {
+        int64_t m = 3 + (int64_t)rng_uniform(0, 197.99);
+        double rot[9], x[3], *p = malloc((size_t)m * 3 * sizeof(double));
+        random_rotation(rot);
+        double len = rng_uniform(0.2, 1.5), wid = pow(10.0, rng_uniform(-4, -0.5));
+        double rad = rng_uniform(0.05, 1.5), zmax = rng_uniform(0.001, 0.3);
+        for (int64_t i = 0; i < m; i++) {
+            double t = rng_uniform(0, 2 * M_PI), rr = rad * sqrt(rng_uniform(0, 1));
+            switch (trial % 4) {
+            case 0: /* a cap */
+                x[0] = sin(rr) * cos(t), x[1] = sin(rr) * sin(t), x[2] = cos(rr);
+                break;
+            case 1: /* long and thin */
+                x[0] = rng_uniform(-len, len), x[1] = rng_uniform(-wid, wid), x[2] = 1;
+                break;
+            case 2: /* near a hemisphere's rim */
+                x[0] = cos(t), x[1] = sin(t), x[2] = rng_uniform(0.001, zmax);
+                break;
+            default: /* a loose cluster */
+                x[0] = rng_uniform(-1, 1) * rad, x[1] = rng_uniform(-1, 1) * rad;
+                x[2] = fmax(0.05, 1 + rng_uniform(-1, 1) * rad);
+            }
+            for (int k = 0; k < 3; k++)
+                p[3 * i + k] = dot3(rot + 3 * k, x);
+        }
+        double axis[3] = {rot[2], rot[5], rot[8]};
+        double a = rng_uniform(0, 1.5) * rng_uniform(0, 1);
+        mfg_spoly *s = vm(p, m, a);
+        if (s) {
+            int ok = drafted_map_ok(p, m, a, s, axis, 6000);
+            CHECK(ok);
+            if (!ok && failed++ < 5)
+                fprintf(stderr, "  random draft trial %d (m = %lld, a = %.17g) wrong\n", trial,
+                        (long long)m, a);
+            mfg_spoly_free(s);
+        }
+        free(p);
+    }
+}
+
 int main(void)
 {
     test_kinds();
@@ -1127,6 +1228,8 @@ int main(void)
     test_large_degenerate();
     test_draft();
     test_draft_many_normals();
+    test_draft_fuzz_case();
+    test_draft_random_hulls();
     test_million_normals();
     return mfg_test_report("test_visibility");
 }
