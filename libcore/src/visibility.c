@@ -469,7 +469,15 @@ static mfg_status map_on_great_circle(const double *normals, int64_t m, vref q,
         mfg_cross3_accurate(q, lo, t);
         mfg_cross3(t, qu, bu);
         mfg_unit3(bu, bu);
+        /* The bisector cancels when the wedge is nearly a half-plane (its projections a'
+         * and b' all but antipodal; the fuzz case: normals of sizes 2^37 and 2^-23): the
+         * arc is then short and its midpoint is that of its ends.  Of the two sums,
+         * |a' + b'| = 2 sin(L/2) and |s + e| = 2 cos(L/2) for an arc of length L, one
+         * is at least sqrt 2 (a half circle, L = pi, has s = -e). */
         double sum[3] = {au[0] + bu[0], au[1] + bu[1], au[2] + bu[2]};
+        double ends[3] = {s[0] + e[0], s[1] + e[1], s[2] + e[2]};
+        if (mfg_dot3(ends, ends) > mfg_dot3(sum, sum))
+            memcpy(sum, ends, sizeof sum);
         if (!mfg_unit3(sum, mid))
             return mfg_fail(MFG_ERR_INTERNAL, "degenerate arc");
         if ((st = spoly_new(MFG_VM_EDGE, 3, out)) != MFG_OK)

@@ -1215,6 +1215,40 @@ static void test_draft_random_hulls(void)
     }
 }
 
+/* Found by fuzzing: normals q and -q (so the map lies on GC(q)) and others whose
+ * projections onto the plane of GC(q) form a wedge all but a half-plane (sizes 2^37 and
+ * 2^-23).  The arc's midpoint, taken as the bisector of the wedge's sides, cancelled to
+ * zero: MFG_ERR_INTERNAL "degenerate arc".  Now a short arc on GC(q) in the map. */
+static void test_nearly_half_plane_arc(void)
+{
+    const double t = 0x1.0cp-23, w = -0x1.78p-10;
+    double p[22 * 3] = {-0x1.88p+2, -0x1.88p+4, -0x1.88p+4, -0x1.88p+37, -0x1p-29, t};
+    int64_t m = 2;
+    for (int i = 0; i < 8; i++, m++) {
+        p[3 * m] = t, p[3 * m + 1] = t;
+        p[3 * m + 2] = i == 3 ? 0x1.6cp-23 : i == 7 ? 0x1.0cp-9 : t;
+    }
+    for (int i = 0; i < 12; i++, m++)
+        p[3 * m] = p[3 * m + 1] = p[3 * m + 2] = w;
+    mfg_spoly *s = vm(p, m, 0.0);
+    if (s) {
+        CHECK_EQ_INT(s->kind, MFG_VM_EDGE);
+        double *pn = normalised(p, m), q[3] = {1, 1, 1};
+        unit3(q);
+        for (int64_t i = 0; i < s->nvertices; i++) {
+            CHECK(min_dot(s->vertices + 3 * i, pn, m) >= -1e-12);
+            CHECK(fabs(dot3(s->vertices + 3 * i, q)) < 1e-12);
+        }
+        free(pn);
+        mfg_spoly_free(s);
+    }
+    s = vm(p, m, 0.3); /* no direction strictly inside: drafted, empty */
+    if (s) {
+        CHECK_EQ_INT(s->kind, MFG_VM_NULL);
+        mfg_spoly_free(s);
+    }
+}
+
 int main(void)
 {
     test_kinds();
@@ -1230,6 +1264,7 @@ int main(void)
     test_draft_many_normals();
     test_draft_fuzz_case();
     test_draft_random_hulls();
+    test_nearly_half_plane_arc();
     test_million_normals();
     return mfg_test_report("test_visibility");
 }

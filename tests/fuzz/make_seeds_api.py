@@ -83,6 +83,18 @@ def seeds():
     # a subnormal level came back rounded by the weights' scale
     yield "sph_subnormal_level", bytes([SKIP_PC | SKIP_VM]) + sphere_generated(
         [3, 3], level=float.fromhex("0x0.0ffffffcbffffp-1022"))
+    # found by fuzzing: 12 normals about (0, 0, 1), draft 0.3; the deque of draft caps
+    # returned a vertex at d.p^ = -0.73 (the draft asks sin 0.3)
+    offs = [(-20, -7, 6), (19, -9, 4), (17, -11, 2), (-113, -13, 0), (13, -15, -2), (11, -17, -4),
+            (9, -19, -6), (7, 20, -8), (5, 18, -10), (3, 16, -12), (1, 14, -14), (127, 12, -16)]
+    yield "vm_draft_thin_hull", (bytes([SKIP_PC | SKIP_SPH, 8, 12, 0, 0, 0])
+                                 + bytes(c & 0xFF for o in offs for c in o) + bytes([3]))
+    # found by fuzzing: a map on a great circle whose projected wedge is all but a
+    # half-plane (normals of sizes 2^37 and 2^-23): "degenerate arc"
+    yield "vm_arc_nearly_half_plane", base64.b64decode(
+        "CUNDQ0Oenpyenp6env//Q0NDQ0NDQ0NDQ0NDQ1tDQ0NDQ0NDQ0NDQ0PR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR"
+        "0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR0dHR"
+        "0dHR0dFDQ0NDQ0NDQ0NDQwCgoloABAAARC3IpT2AAAAACAQAAC2iWkQLyKVa")
     yield "all_sections", (b"\x00" + planar([sq], pts) + normals_around(6)
                            + sphere_generated([3, 3, 2]))
 
