@@ -635,8 +635,11 @@ static int draft_boundary_ok(const double *u, int64_t nu, const int64_t *q, int6
 }
 
 /* Clips convex spherical polygon (n unit vertices in poly, room for n+1 in out) by the
- * hemisphere { d : d.nrm >= 0 }; returns the new vertex count. */
-static int64_t clip_hemisphere(const double *poly, int64_t n, const double nrm[3], double *out)
+ * hemisphere { d : d.nrm >= 0 }; returns the new vertex count.  lab[i] names the cap whose
+ * chord the edge poly[i] -> poly[i+1] lies on; the new labels go to olab, the new chord's
+ * being `cap`. */
+static int64_t clip_hemisphere(const double *poly, const int64_t *lab, int64_t n,
+                               const double nrm[3], int64_t cap, double *out, int64_t *olab)
 {
     int64_t m = 0;
     for (int64_t i = 0; i < n; i++) {
@@ -644,14 +647,14 @@ static int64_t clip_hemisphere(const double *poly, int64_t n, const double nrm[3
         double sa = mfg_dot3(a, nrm), sb = mfg_dot3(b, nrm);
         if (sa >= 0) {
             memcpy(out + 3 * m, a, 3 * sizeof(double));
-            m++;
+            olab[m++] = lab[i];
         }
         if ((sa >= 0) != (sb >= 0)) {
             double x[3] = {sa * b[0] - sb * a[0], sa * b[1] - sb * a[1], sa * b[2] - sb * a[2]};
             if (sa < 0)
                 x[0] = -x[0], x[1] = -x[1], x[2] = -x[2];
             if (mfg_unit3(x, out + 3 * m))
-                m++;
+                olab[m++] = sa >= 0 ? cap : lab[i]; /* leaving: along the chord */
         }
     }
     return m;
@@ -660,10 +663,13 @@ static int64_t clip_hemisphere(const double *poly, int64_t n, const double nrm[3
 /* The slow, plainly correct way (used when the deque's boundary is not certified): the
  * first cap's inscribed polygon clipped by the chords of every other cap's inscribed
  * polygon (each chord lies inside its cap, so the result is conservative; the chords'
- * sagitta is below MFG_DRAFT_TOL).  O(h x steps x n) time; *out: n unit vertices, or
- * NULL with *n_out = 0 when empty. */
+ * sagitta is below MFG_DRAFT_TOL).  O(h x steps x n) time.  *out: n unit vertices, or
+ * NULL with *n_out = 0 when empty; q[0..*nq-1]: the caps along its boundary in order
+ * (consecutive repeats merged), for the caller to certify and redo with exact corners
+ * (near a sharp corner of D the chords cut off more than their sagitta). */
 static mfg_status draft_by_clipping(const double *u, int64_t nu, double s, double sr,
-                                    double step, double **out, int64_t *n_out)
+                                    double step, double **out, int64_t *n_out, int64_t *q,
+                                    int64_t *nq)
 {
     int64_t steps = (int64_t)ceil(2.0 * MFG_PI / step);
     if (steps < 8)
@@ -671,15 +677,15 @@ static mfg_status draft_by_clipping(const double *u, int64_t nu, double s, doubl
     int64_t cap = 2 * steps + 8; /* grown below: a clip adds at most one vertex */
     double *a = malloc((size_t)cap * 3 * sizeof(double));
     double *b = malloc((size_t)cap * 3 * sizeof(double));
+    int64_t *la = malloc((size_t)cap * sizeof(int64_t)), *lb = malloc((size_t)cap * sizeof(int64_t));
+    mfg_status st = MFG_OK;
     *out = NULL;
     *n_out = 0;
-    if (!a || !b) {
-        free(a);
-        free(b);
-        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the draft polygon");
-    }
+    *nq = 0;
     int64_t n = 0;
-    for (int64_t j = 0; j < nu && (j == 0 || n >= 3); j++) {
+    if (!a || !b || !la || !lb)
+        st = mfg_fail(MFG_ERR_NOMEM, "cannot allocate the draft polygon");
+    for (int64_t j = 0; st == MFG_OK && j < nu && (j == 0 || n >= 3); j++) {
         const double *uj = u + 3 * j;
         double e1[3], e2[3];
         any_orthogonal(uj, e1);
@@ -690,8 +696,10 @@ static mfg_status draft_by_clipping(const double *u, int64_t nu, double s, doubl
             for (int i = 0; i < 3; i++)
                 w[i] = s * uj[i] + sr * (cos(th) * e1[i] + sin(th) * e2[i]);
             if (j == 0) {
-                if (t < steps)
+                if (t < steps) {
+                    la[n] = 0;
                     memcpy(a + 3 * n++, w, sizeof w);
+                }
                 continue;
             }
             if (t == 0) {
@@ -700,35 +708,65 @@ static mfg_status draft_by_clipping(const double *u, int64_t nu, double s, doubl
                 double nrm[3];
                 if (n + 1 > cap) {
                     double *na = realloc(a, (size_t)(2 * cap) * 3 * sizeof(double));
-                    if (na)
-                        a = na;
+                    a = na ? na : a;
                     double *nb = realloc(b, (size_t)(2 * cap) * 3 * sizeof(double));
-                    if (nb)
-                        b = nb;
-                    if (!na || !nb) {
-                        free(a);
-                        free(b);
-                        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate the draft polygon");
+                    b = nb ? nb : b;
+                    int64_t *nla = realloc(la, (size_t)(2 * cap) * sizeof(int64_t));
+                    la = nla ? nla : la;
+                    int64_t *nlb = realloc(lb, (size_t)(2 * cap) * sizeof(int64_t));
+                    lb = nlb ? nlb : lb;
+                    if (!na || !nb || !nla || !nlb) {
+                        st = mfg_fail(MFG_ERR_NOMEM, "cannot allocate the draft polygon");
+                        break;
                     }
                     cap *= 2;
                 }
                 mfg_cross3(prev, t == steps ? first : w, nrm); /* interior on the left */
-                n = clip_hemisphere(a, n, nrm, b);
+                n = clip_hemisphere(a, la, n, nrm, j, b, lb);
                 double *sw = a;
                 a = b;
                 b = sw;
+                int64_t *sl = la;
+                la = lb;
+                lb = sl;
             }
             memcpy(prev, w, sizeof w);
         }
     }
-    free(b);
-    if (n < 3) {
-        free(a);
-        return MFG_OK;
+    if (st == MFG_OK && n >= 3) {
+        for (int64_t i = 0; i < n; i++) /* the runs of labels; at most nu of them */
+            if (la[i] != la[(i + n - 1) % n] && *nq < nu)
+                q[(*nq)++] = la[i];
+        if (*nq == 0)
+            q[(*nq)++] = la[0];
+        *out = a;
+        *n_out = n;
+        a = NULL;
     }
-    *out = a;
-    *n_out = n;
-    return MFG_OK;
+    free(a);
+    free(b);
+    free(la);
+    free(lb);
+    return st;
+}
+
+/* Rotates q[0..r-1] to start at its smallest cap; 1 when it then increases strictly (a
+ * subsequence of the hull order, as draft_boundary_ok needs). */
+static int hull_ordered(int64_t *q, int64_t r)
+{
+    int64_t lo = 0;
+    for (int64_t j = 1; j < r; j++)
+        if (q[j] < q[lo])
+            lo = j;
+    for (int64_t k = 0; k < lo; k++) { /* r is small here: rotate by one, lo times */
+        int64_t t = q[0];
+        memmove(q, q + 1, (size_t)(r - 1) * sizeof *q);
+        q[r - 1] = t;
+    }
+    for (int64_t j = 1; j < r; j++)
+        if (q[j] <= q[j - 1])
+            return 0;
+    return 1;
 }
 
 static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
@@ -781,9 +819,22 @@ static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
             tail--;
         while (tail - head >= 3 && !corner_inside(u, q[head], q[head + 1], q[tail - 1], s))
             head++;
-        if (!draft_boundary_ok(u, nu, q + head, tail - head, s)) {
-            st = draft_by_clipping(u, nu, s, sr, step, &pts, &n);
-        } else {
+        int exact = draft_boundary_ok(u, nu, q + head, tail - head, s);
+        if (!exact) {
+            int64_t nq;
+            st = draft_by_clipping(u, nu, s, sr, step, &pts, &n, q, &nq);
+            head = 0;
+            tail = nq;
+            /* the clipped polygon's caps, when certified, give D with exact corners */
+            if (st == MFG_OK && nq > 0 && hull_ordered(q, nq) &&
+                draft_boundary_ok(u, nu, q, nq, s)) {
+                free(pts);
+                pts = NULL;
+                n = 0;
+                exact = 1;
+            }
+        }
+        if (exact) {
         /* a corner per arc, and its chords: the arcs turn by at most 2 pi about their
          * centres in all (D's perimeter is at most a cap's, 2 pi sin rho) */
         int64_t r = tail - head, total = 3 * r + (int64_t)ceil(3.0 * MFG_PI / step) + 8;
