@@ -663,7 +663,8 @@ static int64_t clip_hemisphere(const double *poly, const int64_t *lab, int64_t n
 /* The slow, plainly correct way (used when the deque's boundary is not certified): the
  * first cap's inscribed polygon clipped by the chords of every other cap's inscribed
  * polygon (each chord lies inside its cap, so the result is conservative; the chords'
- * sagitta is below MFG_DRAFT_TOL).  O(h x steps x n) time.  *out: n unit vertices, or
+ * sagitta is below MFG_DRAFT_TOL); a cap holding every vertex is skipped.  O(h x n)
+ * time, and O(steps x n) more per cap that cuts the polygon.  *out: n unit vertices, or
  * NULL with *n_out = 0 when empty; q[0..*nq-1]: the caps along its boundary in order
  * (consecutive repeats merged), for the caller to certify and redo with exact corners
  * (near a sharp corner of D the chords cut off more than their sagitta). */
@@ -687,6 +688,11 @@ static mfg_status draft_by_clipping(const double *u, int64_t nu, double s, doubl
         st = mfg_fail(MFG_ERR_NOMEM, "cannot allocate the draft polygon");
     for (int64_t j = 0; st == MFG_OK && j < nu && (j == 0 || n >= 3); j++) {
         const double *uj = u + 3 * j;
+        int out_of_cap = j == 0;
+        for (int64_t i = 0; i < n && !out_of_cap; i++)
+            out_of_cap = mfg_dot3(a + 3 * i, uj) < s;
+        if (!out_of_cap)
+            continue; /* every vertex in the cap, so the polygon (convex cap): no chord */
         double e1[3], e2[3];
         any_orthogonal(uj, e1);
         mfg_cross3(uj, e1, e2);
