@@ -524,7 +524,8 @@ static mfg_status map_on_great_circle(const double *normals, int64_t m, vref q,
  * neighbour lies outside the next cap.  That analogy with half-planes is not exact for
  * caps wide against the hull (long thin hulls gave corners far outside other caps), so
  * the deque's boundary is certified against the caps (draft_boundary_ok, O(h)) and, when
- * it fails, D is computed the slow plain way (draft_by_clipping).  Each boundary arc is then sampled with chords of
+ * it fails, D is computed the slow plain way (draft_by_clipping), whose caps, certified
+ * in turn, give D's exact corners.  Each boundary arc is then sampled with chords of
  * sagitta below MFG_DRAFT_TOL; a chord between two points of D stays in every (convex)
  * cap, so the polygon is conservative.
  */
@@ -678,7 +679,8 @@ static mfg_status draft_by_clipping(const double *u, int64_t nu, double s, doubl
     int64_t cap = 2 * steps + 8; /* grown below: a clip adds at most one vertex */
     double *a = malloc((size_t)cap * 3 * sizeof(double));
     double *b = malloc((size_t)cap * 3 * sizeof(double));
-    int64_t *la = malloc((size_t)cap * sizeof(int64_t)), *lb = malloc((size_t)cap * sizeof(int64_t));
+    int64_t *la = malloc((size_t)cap * sizeof(int64_t));
+    int64_t *lb = malloc((size_t)cap * sizeof(int64_t));
     mfg_status st = MFG_OK;
     *out = NULL;
     *n_out = 0;
@@ -764,10 +766,14 @@ static int hull_ordered(int64_t *q, int64_t r)
     for (int64_t j = 1; j < r; j++)
         if (q[j] < q[lo])
             lo = j;
-    for (int64_t k = 0; k < lo; k++) { /* r is small here: rotate by one, lo times */
-        int64_t t = q[0];
-        memmove(q, q + 1, (size_t)(r - 1) * sizeof *q);
-        q[r - 1] = t;
+    /* rotate left by lo: reverse both parts, then the whole */
+    for (int64_t pass = 0; pass < 3; pass++) {
+        int64_t i = pass == 1 ? lo : 0, j = (pass == 0 ? lo : r) - 1;
+        for (; i < j; i++, j--) {
+            int64_t t = q[i];
+            q[i] = q[j];
+            q[j] = t;
+        }
     }
     for (int64_t j = 1; j < r; j++)
         if (q[j] <= q[j - 1])
