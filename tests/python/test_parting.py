@@ -348,3 +348,49 @@ def test_sampled_face_does_not_shrink_its_exact_neighbours():
         assert np.allclose(nc.direction, R @ Z, atol=1e-9)
         r = P.mould_parting(rotated, adj)
         assert r.covered == [0, 1] and np.allclose(r.direction, R @ Z, atol=1e-9)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_memo_of_equal_surfaces_changes_no_answer(seed, monkeypatch):
+    """mould_parting and nc_setups map equal surfaces (repeated features) once and VM and
+    -VM of one surface with one canonical frame (a memo per analysis): every answer is
+    the one computed without the memo, exactly, on parts with repeated pockets, drilled
+    holes (sampled cones) and random caps, at draft 0 and 2 degrees."""
+    rng = np.random.default_rng(300 + seed)
+    faces, adj = block(rotation(rng), sides=(Z, Z, X, -Y, X))
+    caps, _ = random_part(rng, 6)
+    t = np.linspace(0, 2 * math.pi, 65)[:-1]
+    tip = math.cos(0.5) * Y - math.sin(0.5) * np.column_stack(
+        [np.cos(t), np.zeros_like(t), np.sin(t)])
+    for copy in range(3):   # three equal drilled holes and three equal caps
+        start = len(faces)
+        faces += [F(-circle(Y)), F(tip, shrink=1e-3)]
+        adj += [(start, start + 1, "concave"), (start, 0, "convex")]
+        faces += [F(c.normals) for c in caps[copy % 2::2]]
+    plain = P.surface_vm
+
+    def without_memo(surf, draft, tol=P.DEFAULT_TOL, negative=False, memo=None):
+        return plain(surf, draft, tol, negative)
+
+    def answers():
+        out = []
+        for draft in (0.0, math.radians(2)):
+            for r in (P.mould_parting(faces, adj, draft_angle=draft),
+                      P.nc_setups(faces, adj, tilt=draft, all_faces=True)):
+                out.append((r.direction.tolist(), r.margin, r.covered, r.count, r.side,
+                            r.undercuts, r.insufficient_draft, r.unresolved,
+                            [(d.direction.tolist(), d.margin, d.surfaces)
+                             for d in r.side_cores + r.setups]))
+        return out
+    inner, computed = P._surface_vm, []
+
+    def counted(*args):
+        computed.append(1)
+        return inner(*args)
+    monkeypatch.setattr(P, "_surface_vm", counted)
+    with_memo = answers()
+    monkeypatch.undo()
+    monkeypatch.setattr(P, "surface_vm", without_memo)
+    assert answers() == with_memo
+    surfaces = P.build_surfaces(faces, adj)
+    assert len(computed) < 4 * 2 * len(surfaces)   # equal surfaces were shared

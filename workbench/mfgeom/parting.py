@@ -172,16 +172,42 @@ def canonical_normals(normals, tol=DEFAULT_TOL, max_circle_search=96):
     return R, local
 
 
-def surface_map(normals, draft=0.0, tol=DEFAULT_TOL, negative=False):
+def _memo_key(normals):
+    """Key of an array of normals for an analysis' memo: equal doubles, equal key."""
+    n = np.ascontiguousarray(normals, dtype=np.float64)
+    return n.shape, n.tobytes()
+
+
+def surface_map(normals, draft=0.0, tol=DEFAULT_TOL, negative=False, memo=None):
     """VM (or -VM) of a surface's normals with a draft (rad) as a core.VisibilityMap in
     global coordinates.  At zero draft the normals are canonicalised first (see
     :func:`canonical_normals`); a positive draft map {d : d.p >= sin(draft)} moves
-    continuously with the normals, so there they are used as given."""
+    continuously with the normals, so there they are used as given.  ``memo``: a dict
+    shared by the calls of one analysis (the answers are those without it): equal
+    normals (a pattern of equal holes or pockets) are mapped once, and VM and -VM of
+    the same normals share their canonical frame."""
     if draft > 0.0:
-        return core.visibility_map(normals, draft_angle=draft, negative=negative)
-    R, local = canonical_normals(normals, tol)
+        if memo is None:
+            return core.visibility_map(normals, draft_angle=draft, negative=negative)
+        key = ("map", _memo_key(normals), draft, negative)
+        if key not in memo:
+            memo[key] = core.visibility_map(normals, draft_angle=draft, negative=negative)
+        return memo[key]
+    if memo is None:
+        R, local = canonical_normals(normals, tol)
+    else:
+        key = ("canonical", _memo_key(normals), tol)
+        if key not in memo:
+            memo[key] = canonical_normals(normals, tol)
+        R, local = memo[key]
+        key = ("map", key, negative)
+        if key in memo:
+            return memo[key]
     vm = core.visibility_map(local, draft_angle=draft, negative=negative)
-    return core.VisibilityMap(vm.kind, vm.vertices @ R, vm.closed)
+    vm = core.VisibilityMap(vm.kind, vm.vertices @ R, vm.closed)
+    if memo is not None:
+        memo[key] = vm
+    return vm
 
 
 def _is_single_normal(normals, tol):
@@ -268,11 +294,22 @@ def build_surfaces(faces, adjacency, weighting="count", tol=DEFAULT_TOL):
     return out
 
 
-def surface_vm(surf, draft, tol=DEFAULT_TOL, negative=False):
+def surface_vm(surf, draft, tol=DEFAULT_TOL, negative=False, memo=None):
     """VM(S) (or -VM(S)) of a :class:`Surface` with a draft: its exact part through
     :func:`surface_map`, intersected with its sampled faces' maps shrunk by their own
-    shrink (so a sampled face does not shrink its exact neighbours' maps)."""
-    maps = [surface_map(n, draft + shrink, tol, negative) for n, shrink in surf.parts]
+    shrink (so a sampled face does not shrink its exact neighbours' maps).  ``memo``
+    (see :func:`surface_map`): surfaces with equal parts are mapped once."""
+    if memo is not None:
+        key = ("vm", tuple((_memo_key(n), shrink) for n, shrink in surf.parts), draft, tol,
+               negative)
+        if key not in memo:
+            memo[key] = _surface_vm(surf, draft, tol, negative, memo)
+        return memo[key]
+    return _surface_vm(surf, draft, tol, negative, None)
+
+
+def _surface_vm(surf, draft, tol, negative, memo):
+    maps = [surface_map(n, draft + shrink, tol, negative, memo) for n, shrink in surf.parts]
     if len(maps) == 1 or any(m.kind == "null" for m in maps):
         return maps[0] if len(maps) == 1 else core.VisibilityMap("null", np.zeros((0, 3)))
     res = core.max_intersection(_split_point_pairs(maps, list(range(len(maps))))[0])
@@ -392,14 +429,15 @@ def _best_region(maps, owner, weights, refs=(), tie_margin=1e-9):
     return _unit(np.asarray(regions.centres[i], dtype=np.float64)), margin, covered
 
 
-def _greedy_cover(surfaces, candidates, draft, tol):
+def _greedy_cover(surfaces, candidates, draft, tol, memo=None):
     """Greedy cover of ``candidates`` (surface indices) with positive maps: repeated
     maximum intersection on the surfaces not yet covered.  Returns (directions,
-    unresolved) — unresolved: surfaces whose map is empty."""
+    unresolved) — unresolved: surfaces whose map is empty.  ``memo``: see
+    :func:`surface_map`."""
     maps, owner = [], []
     unresolved = []
     for s in candidates:
-        vm = surface_vm(surfaces[s], draft, tol)
+        vm = surface_vm(surfaces[s], draft, tol, memo=memo)
         if vm.kind == "null":
             unresolved.append(s)
         else:
@@ -463,13 +501,14 @@ def mould_parting(faces, adjacency, draft_angle=0.0, weighting="count", tol=DEFA
     _check_common(draft_angle, tol, "draft_angle")
     surfaces = build_surfaces(faces, adjacency, weighting, tol)
     weights = {s: surf.weight for s, surf in enumerate(surfaces)}
+    memo = {}   # equal surfaces (repeated features) mapped once
     maps, owner, free = [], [], []
     for s, surf in enumerate(surfaces):
         if draft_angle + surf.shrink == 0.0 and _is_single_normal(surf.normals, tol):
             free.append(s)  # VM u -VM is the whole sphere
             continue
         for negative in (False, True):
-            maps.append(surface_vm(surf, draft_angle, tol, negative))
+            maps.append(surface_vm(surf, draft_angle, tol, negative, memo))
             owner.append(s)
     result = PartingResult("Mould", surfaces, considered=list(range(len(surfaces))),
                            total=float(sum(weights.values())))
@@ -501,12 +540,12 @@ def mould_parting(faces, adjacency, draft_angle=0.0, weighting="count", tol=DEFA
     if draft_angle > 0 and d is not None:
         for s in uncovered:
             surf = surfaces[s]
-            if any(surface_vm(surf, 0.0, tol, neg).contains(d, tol=math.sin(tol) * 4)[0]
+            if any(surface_vm(surf, 0.0, tol, neg, memo).contains(d, tol=math.sin(tol) * 4)[0]
                    for neg in (False, True)):
                 result.insufficient_draft.append(s)
     result.undercuts = [s for s in uncovered if s not in result.insufficient_draft]
     result.side_cores, result.unresolved = _greedy_cover(surfaces, result.undercuts,
-                                                         draft_angle, tol)
+                                                         draft_angle, tol, memo)
     return result
 
 
@@ -524,7 +563,7 @@ def nc_setups(faces, adjacency, tilt=0.0, weighting="count", all_faces=False,
     considered = [s for s, surf in enumerate(surfaces) if all_faces or surf.has_concave]
     result = PartingResult("NC3Axis", surfaces, considered=considered,
                            total=float(sum(surfaces[s].weight for s in considered)))
-    result.setups, result.unresolved = _greedy_cover(surfaces, considered, tilt, tol)
+    result.setups, result.unresolved = _greedy_cover(surfaces, considered, tilt, tol, {})
     if result.setups:
         main = result.setups[0]
         result.direction, result.margin = main.direction, main.margin
