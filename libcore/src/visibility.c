@@ -589,13 +589,14 @@ static int64_t arc_points(const double *u, double s, double sr, const double *p,
  * candidate region removes a piece of its boundary holding the corner x_j of the caps
  * q_j, q_j+1 between which i lies in that order; hence it suffices that every corner lies
  * in the caps from q_j-1 to q_j+2 (O(h) in all), and that the corners go once round
- * counter-clockwise.  Returns 0 when the boundary is not certified. */
-static int draft_boundary_ok(const double *u, int64_t nu, const int64_t *q, int64_t r, double s)
+ * counter-clockwise about c, the centre of the smallest cap around the u (inside D, as
+ * its radius is below rho).  Returns 0 when the boundary is not certified. */
+static int draft_boundary_ok(const double *u, int64_t nu, const int64_t *q, int64_t r, double s,
+                             const double c[3])
 {
     if (r < 2)
         return nu == 1;
     const double slack = 1e-13; /* rounding of a corner on its own two circles */
-    double g[3] = {0, 0, 0};
     for (int64_t j = 0; j < r; j++) {
         double x[3];
         if (!cap_corner(u + 3 * q[j], u + 3 * q[(j + 1) % r], s, x))
@@ -607,32 +608,26 @@ static int draft_boundary_ok(const double *u, int64_t nu, const int64_t *q, int6
         for (int64_t t = 0; t < len; t++)
             if (mfg_dot3(x, u + 3 * ((from + t) % nu)) < s - slack)
                 return 0;
-        g[0] += x[0], g[1] += x[1], g[2] += x[2];
     }
     if (r == 2)
         return 1; /* a lens: its two corners, on the sides of a x b and b x a */
-    double gu[3], turn = 0.0;
-    if (!mfg_unit3(g, gu))
-        return 0;
+    /* the corners' azimuths about c, a point inside D, turn once round */
+    double turn = 0.0;
     for (int64_t j = 0; j < r; j++) {
-        double xa[3], xb[3], c[3];
+        double xa[3], xb[3], pa[3], pb[3], w[3];
         if (!cap_corner(u + 3 * q[j], u + 3 * q[(j + 1) % r], s, xa) ||
             !cap_corner(u + 3 * q[(j + 1) % r], u + 3 * q[(j + 2) % r], s, xb))
             return 0;
-        if (mfg_dot3(xa, gu) <= 0.0)
-            return 0;
-        /* the angle from xa to xb seen from gu, counter-clockwise */
-        double pa[3], pb[3];
-        double da = mfg_dot3(xa, gu), db = mfg_dot3(xb, gu);
+        double da = mfg_dot3(xa, c), db = mfg_dot3(xb, c);
         for (int i = 0; i < 3; i++)
-            pa[i] = xa[i] - da * gu[i], pb[i] = xb[i] - db * gu[i];
-        mfg_cross3(pa, pb, c);
-        double ang = atan2(mfg_dot3(c, gu), mfg_dot3(pa, pb));
-        if (ang < 0.0) /* corners out of order (equal ones, ang = 0, are fine) */
-            return 0;
+            pa[i] = xa[i] - da * c[i], pb[i] = xb[i] - db * c[i];
+        mfg_cross3(pa, pb, w);
+        double ang = atan2(mfg_dot3(w, c), mfg_dot3(pa, pb));
+        if (ang < 0.0) /* one arc may span more than pi; corners out of order add 2 pi */
+            ang += 2.0 * MFG_PI;
         turn += ang;
     }
-    return fabs(turn - 2.0 * MFG_PI) < 1e-6; /* once round */
+    return fabs(turn - 2.0 * MFG_PI) < 1e-6;
 }
 
 /* Clips convex spherical polygon (n unit vertices in poly, room for n+1 in out) by the
@@ -831,7 +826,7 @@ static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
             tail--;
         while (tail - head >= 3 && !corner_inside(u, q[head], q[head + 1], q[tail - 1], s))
             head++;
-        int exact = draft_boundary_ok(u, nu, q + head, tail - head, s);
+        int exact = draft_boundary_ok(u, nu, q + head, tail - head, s, c);
         if (!exact) {
             int64_t nq;
             st = draft_by_clipping(u, nu, s, sr, step, &pts, &n, q, &nq);
@@ -839,7 +834,7 @@ static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
             tail = nq;
             /* the clipped polygon's caps, when certified, give D with exact corners */
             if (st == MFG_OK && nq > 0 && hull_ordered(q, nq) &&
-                draft_boundary_ok(u, nu, q, nq, s)) {
+                draft_boundary_ok(u, nu, q, nq, s, c)) {
                 free(pts);
                 pts = NULL;
                 n = 0;

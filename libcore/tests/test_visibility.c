@@ -1261,6 +1261,35 @@ static void test_draft_sharp_corner(void)
     }
 }
 
+/* Three close normals and a wide drafted map (cap radius 1.1 rad): its corners are far
+ * apart and unevenly spread, so their mean was no centre to measure their order about,
+ * the certified boundary was refused twice and the clipped polygon (4e-5 rad short of
+ * D's corners) came back.  About the centre of the smallest cap around the normals (a
+ * point of D) the boundary is certified and D's three corners are vertices. */
+static void test_draft_wide_map_corners(void)
+{
+    static const double p[9] = {
+        -0x1.ce7dd62ffc1e4p-2, -0x1.e6d2e039cd892p-1, 0x1.abb82df21f1f0p-2,
+        -0x1.36c193a97d8e5p-1, -0x1.6d237966a700bp-1, 0x1.b7847a0945d3ap-2,
+        -0x1.b4ffdbe1ed34cp-2, -0x1.f864e608d5846p-1, 0x1.ae450db3ab0abp-2};
+    const double a = 0x1.d30473f80adc8p-2;
+    mfg_spoly *s = vm(p, 3, a);
+    if (s) {
+        CHECK_EQ_INT(s->kind, MFG_VM_POLYGON);
+        if (s->kind == MFG_VM_POLYGON) {
+            double *pn = normalised(p, 3), c[3] = {0, 0, 0};
+            for (int i = 0; i < 9; i++)
+                c[i % 3] += pn[i];
+            unit3(c);
+            /* 1e-6: the caps' 1e-12 hair moves a corner of nearly tangent circles more */
+            CHECK(worst_corner_distance(pn, 3, sin(a), s) < 1e-6);
+            CHECK(drafted_map_ok(p, 3, a, s, c, 100000));
+            free(pn);
+        }
+        mfg_spoly_free(s);
+    }
+}
+
 /* Drafted maps of random hulls (3..200 normals) against the definition, random drafts
  * in [0, pi/2): caps, long thin hulls (where the deque failed), hulls near a hemisphere
  * and loose clusters. */
@@ -1356,6 +1385,7 @@ int main(void)
     test_draft_many_normals();
     test_draft_fuzz_case();
     test_draft_sharp_corner();
+    test_draft_wide_map_corners();
     test_draft_random_hulls();
     test_nearly_half_plane_arc();
     test_million_normals();
