@@ -315,9 +315,9 @@ def test_surfaces_within_tol_share_their_directions():
         assert np.allclose(nc.direction, R @ Z, atol=1e-7)
 
 
-@pytest.mark.xfail(reason="libmfgeom: weighted max_intersection misses the maximum when "
-                          "two-direction POINT maps are among the inputs (parting splits "
-                          "them; remove _split_point_pairs once this passes)", strict=False)
+# Regression: weighted max_intersection used to miss the maximum when two-direction
+# POINT maps were among the inputs (the sweep took a point for a short arc); parting
+# split such maps as a workaround until the library was fixed (commit 2331822).
 def test_library_weighted_two_direction_point_maps():
     rng = np.random.default_rng(100)
     faces, _ = random_part(rng, 12)

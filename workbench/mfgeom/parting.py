@@ -312,7 +312,7 @@ def _surface_vm(surf, draft, tol, negative, memo):
     maps = [surface_map(n, draft + shrink, tol, negative, memo) for n, shrink in surf.parts]
     if len(maps) == 1 or any(m.kind == "null" for m in maps):
         return maps[0] if len(maps) == 1 else core.VisibilityMap("null", np.zeros((0, 3)))
-    res = core.max_intersection(_split_point_pairs(maps, list(range(len(maps))))[0])
+    res = core.max_intersection(maps)
     if res.count < len(maps):
         return core.VisibilityMap("null", np.zeros((0, 3)))
     if len(res.regions) == 1:
@@ -349,24 +349,6 @@ def _snap_across_faces(normals, tol):
     return out
 
 
-def _split_point_pairs(maps, owner):
-    """A POINT map made of two antipodal directions becomes two one-direction maps of
-    the same owner (they never overlap, so nothing is counted twice).  Works around a
-    libmfgeom bug (HEAD 667a42d): with weights, such maps among hemispheres and polygons
-    made mfg_max_intersection return less than the maximum (tests/python/test_parting.py,
-    test_antipodal_point_maps_with_weights)."""
-    out_maps, out_owner = [], []
-    for m, o in zip(maps, owner):
-        if m.kind == "point" and len(m.vertices) == 2:
-            for v in m.vertices:
-                out_maps.append(core.VisibilityMap("point", v[None, :]))
-                out_owner.append(o)
-        else:
-            out_maps.append(m)
-            out_owner.append(o)
-    return out_maps, out_owner
-
-
 # Draft maps are polygons inscribed in small circles (within 1e-4 rad, mfgeom.h), so
 # their regions' margins differ by that much between a part and its rotated copy.
 DRAFT_TIE = 2e-4
@@ -392,7 +374,6 @@ def _best_region(maps, owner, weights, refs=(), tie_margin=1e-9):
     or None if no map has a direction."""
     if not any(m.kind != "null" for m in maps):
         return None
-    maps, owner = _split_point_pairs(maps, owner)
     w_maps = np.array([weights[o] for o in owner], dtype=np.float64)
     res = core.max_intersection(maps, weights=w_maps)
 
