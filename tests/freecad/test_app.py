@@ -625,7 +625,7 @@ class ParametricTests(DocTestCase):
         self.assertIn("Classes of Face6 of Box: 'Box' has no Face9 (it has 6 faces)", said[0])
         frames = [line for line in report.splitlines() if line.strip().startswith("File ")]
         self.assertEqual(len(frames), 1, report)
-        self.assertIn("pointclass.py", frames[0])
+        self.assertIn("feature_base.py", frames[0])  # the shared execute()
         self.assertIn("=== end valid=False others=[True, True, True]", out)
 
 

@@ -15,11 +15,11 @@ the document (:func:`analysis_of`).
 import json
 import math
 import time
-import traceback
 
 import FreeCAD
 
-from mfgeom.errors import MfgeomError
+from mfgeom.app.feature_base import FeatureProxy, add_properties
+from mfgeom.errors import InputError, MfgeomError
 
 # 1: first release.  Bump when properties change and migrate in _migrate().
 VERSION = 1
@@ -28,12 +28,15 @@ MODES = ["Mould", "NC3Axis"]
 WEIGHTINGS = ["Count", "Area"]
 
 
-class PartingInputError(MfgeomError, ValueError):
+class PartingInputError(InputError):
     """A bad source or parameter given to the parting analysis."""
 
 
-class PartingAnalysis:
+class PartingAnalysis(FeatureProxy):
     """App proxy: recomputes the parting analysis of its Source."""
+
+    TYPE = TYPE
+    VERSION = VERSION
 
     def __init__(self, obj):
         obj.Proxy = self
@@ -100,12 +103,7 @@ class PartingAnalysis:
             ("App::PropertyInteger", "Version", "Base",
              "Version of this object's properties, for migrating old documents", True),
         ]
-        for ptype, name, group, tip, output in spec:
-            if name not in obj.PropertiesList:
-                if output:
-                    obj.addProperty(ptype, name, group, tip, 8, True)
-                else:
-                    obj.addProperty(ptype, name, group, tip)
+        add_properties(obj, spec)
 
     def _migrate(self, obj):
         if ("Version" not in obj.PropertiesList or obj.Version < VERSION
@@ -118,17 +116,6 @@ class PartingAnalysis:
         self._migrate(obj)
         # A document made headless (freecadcmd) has no saved view provider: give it ours.
         _attach_view(obj)
-
-    def execute(self, obj):
-        try:
-            self._execute(obj)
-        except Exception as exc:  # one clear line; the details go to the log
-            FreeCAD.Console.PrintLog(f"mfgeom: {obj.Label}: {traceback.format_exc()}")
-            text = " ".join(str(exc).split()) or type(exc).__name__
-            error = MfgeomError(f"{obj.Label}: {text} ({type(exc).__name__})")
-        else:
-            return
-        raise error
 
     def _execute(self, obj):
         self._migrate(obj)
@@ -166,19 +153,8 @@ class PartingAnalysis:
                 f"maps are shrunk by up to {obj.MaxShrinkDeg:.3g} deg so every direction "
                 "holds on the true faces\n")
 
-    # Persistence: 0.20 calls __getstate__/__setstate__, 0.21+ dumps/loads.
-    def __getstate__(self):
-        return {"Type": TYPE, "Version": VERSION}
-
-    def __setstate__(self, state):
-        self.Type = TYPE
+    def _restored(self):
         self.last = None
-
-    def dumps(self):
-        return self.__getstate__()
-
-    def loads(self, state):
-        self.__setstate__(state)
 
 
 def _options_key(obj):

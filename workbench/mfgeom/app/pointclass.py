@@ -10,13 +10,11 @@ seconds per 10^5 points to build, colour and save.  The geometry lives in
 :mod:`mfgeom.app.face_domain`.
 """
 
-import traceback
-
-
 import FreeCAD
 import Part
 
 from mfgeom.app import preferences, refs
+from mfgeom.app.feature_base import FeatureProxy, add_properties
 
 # 1: first release; 2: Strict; 3: points in the Points kernel property, Shape empty.
 # Bump when properties change and migrate in _migrate().
@@ -25,8 +23,11 @@ VERSION = 3
 TYPE = "Mfgeom::PointClassification"
 
 
-class PointClassification:
+class PointClassification(FeatureProxy):
     """App proxy: classifies the point source against the face on every recompute."""
+
+    TYPE = TYPE
+    VERSION = VERSION
 
     def __init__(self, obj):
         obj.Proxy = self
@@ -70,13 +71,7 @@ class PointClassification:
             ("App::PropertyInteger", "Version", "Base",
              "Version of this object's properties, for migrating old documents", True),
         ]
-        for ptype, name, group, tip, output in spec:
-            if name not in obj.PropertiesList:
-                if output:
-                    # Output: setting it does not touch the object; read-only in the editor
-                    obj.addProperty(ptype, name, group, tip, 8, True)
-                else:
-                    obj.addProperty(ptype, name, group, tip)
+        add_properties(obj, spec)
 
     def _migrate(self, obj):
         if "Version" not in obj.PropertiesList or obj.Version < VERSION:
@@ -107,18 +102,6 @@ class PointClassification:
         if FreeCAD.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
             from mfgeom.gui.pointclass_view import ViewProviderPointClassification
             ViewProviderPointClassification(obj.ViewObject)
-
-    def execute(self, obj):
-        try:
-            self._execute(obj)
-        except Exception as exc:  # whatever failed: one clear line, details in the log
-            FreeCAD.Console.PrintLog(f"mfgeom: {obj.Label}: {traceback.format_exc()}")
-            error = _one_line_error(obj, exc)
-        else:
-            return
-        # Raised here, outside the except block and with no context, so the traceback
-        # FreeCAD 0.20 prints (it always does) has this one frame only.
-        raise error
 
     def _execute(self, obj):
         self._migrate(obj)
@@ -159,31 +142,6 @@ class PointClassification:
             FreeCAD.Console.PrintWarning(f"mfgeom: {obj.Label}: {text}\n")
         elif result.far_count:
             FreeCAD.Console.PrintMessage(f"mfgeom: {obj.Label}: {text}\n")
-
-    # Persistence: 0.20 calls __getstate__/__setstate__, 0.21+ dumps/loads.  Nothing but
-    # the type is kept: all state is in properties (and no C handle lives here).
-    def __getstate__(self):
-        return {"Type": TYPE, "Version": VERSION}
-
-    def __setstate__(self, state):
-        self.Type = TYPE
-
-    def dumps(self):
-        return self.__getstate__()
-
-    def loads(self, state):
-        self.__setstate__(state)
-
-
-def _one_line_error(obj, exc):
-    """The exception a failed recompute raises: same class when it is ours (so callers can
-    catch InputError), message prefixed with the object's label, on one line."""
-    text = " ".join(str(exc).split()) or type(exc).__name__
-    message = f"{obj.Label}: {text}"
-    if isinstance(exc, refs.InputError):
-        return refs.InputError(message)
-    from mfgeom.errors import MfgeomError
-    return MfgeomError(f"{message} ({type(exc).__name__})")
 
 
 def _check_tolerance(tolerance):

@@ -7,10 +7,15 @@ import FreeCAD
 import FreeCADGui
 
 from mfgeom import paths
+from mfgeom.errors import InputError
 
 
 class BaseCommand:
-    """Supplies GetResources() from class attributes and a default IsActive()."""
+    """Supplies GetResources() from class attributes, a default IsActive(), and the
+    steps every command takes before its task panel: the library is there (or offered
+    to be built), no other panel is open, the selection is usable.  Subclasses set
+    ``icon``, ``menu_text``, ``tooltip`` and implement ``panel_for(selection)``, which
+    returns the task panel or raises an InputError whose text is shown."""
 
     icon = ""
     menu_text = ""
@@ -22,6 +27,32 @@ class BaseCommand:
 
     def IsActive(self):
         return FreeCAD.ActiveDocument is not None
+
+    def panel_for(self, selection):
+        raise NotImplementedError
+
+    def Activated(self):
+        title = self.menu_text
+        from mfgeom.gui import library    # no libmfgeom.so: offer to build it, or say why
+        if not library.ensure_library(title):
+            return
+        # Loaded here so a missing libmfgeom.so is reported, not a dead workbench.
+        try:
+            importlib.import_module("mfgeom.core")
+        except ImportError as exc:
+            _warn(title, f"The mfgeom library could not be loaded:\n{exc}")
+            return
+        if FreeCADGui.Control.activeDialog():
+            _warn(title, "A task panel is open: close it first (OK or Cancel).")
+            return
+        selection = [(s.Object, list(s.SubElementNames))
+                     for s in FreeCADGui.Selection.getSelectionEx()]
+        try:
+            panel = self.panel_for(selection)
+        except InputError as exc:
+            _warn(title, str(exc))
+            return
+        FreeCADGui.Control.showDialog(panel)
 
 
 def _warn(title, text):
@@ -41,31 +72,12 @@ class ClassifyPointsCommand(BaseCommand):
                "object or vertices;\n"
                "a task panel then asks for the tolerance.")
 
-    def Activated(self):
-        title = "Classify points"
-        from mfgeom.gui import library    # no libmfgeom.so: offer to build it, or say why
-        if not library.ensure_library(title):
-            return
-        # Loaded here so a missing libmfgeom.so is reported, not a dead workbench.
-        try:
-            importlib.import_module("mfgeom.core")
-            from mfgeom.app import refs
-            from mfgeom.gui.pointclass_panel import PointClassificationPanel
-        except ImportError as exc:
-            _warn(title, f"The mfgeom library could not be loaded:\n{exc}")
-            return
-        if FreeCADGui.Control.activeDialog():
-            _warn(title, "A task panel is open: close it first (OK or Cancel).")
-            return
-        selection = [(s.Object, list(s.SubElementNames))
-                     for s in FreeCADGui.Selection.getSelectionEx()]
-        try:
-            face_ref, points_ref = refs.refs_from_selection(selection)
-        except refs.InputError as exc:
-            _warn(title, str(exc))
-            return
+    def panel_for(self, selection):
+        from mfgeom.app import refs
+        from mfgeom.gui.pointclass_panel import PointClassificationPanel
+        face_ref, points_ref = refs.refs_from_selection(selection)
         # The panel asks for tolerance, Strict and point size; its OK creates the feature.
-        FreeCADGui.Control.showDialog(PointClassificationPanel(face_ref, points_ref))
+        return PointClassificationPanel(face_ref, points_ref)
 
 
 class PartingAnalysisCommand(BaseCommand):
@@ -78,28 +90,10 @@ class PartingAnalysisCommand(BaseCommand):
                "task panel then asks for the mode, draft angle and weighting.\nThe result: "
                "the faces coloured, an arrow per direction and a visibility sphere.")
 
-    def Activated(self):
-        title = "Parting analysis"
-        from mfgeom.gui import library
-        if not library.ensure_library(title):
-            return
-        try:
-            importlib.import_module("mfgeom.core")
-            from mfgeom.gui import parting_panel
-        except ImportError as exc:
-            _warn(title, f"The mfgeom library could not be loaded:\n{exc}")
-            return
-        if FreeCADGui.Control.activeDialog():
-            _warn(title, "A task panel is open: close it first (OK or Cancel).")
-            return
-        selection = [(s.Object, list(s.SubElementNames))
-                     for s in FreeCADGui.Selection.getSelectionEx()]
-        try:
-            source, faces = parting_panel.source_from_selection(selection)
-        except parting_panel.PartingInputError as exc:
-            _warn(title, str(exc))
-            return
-        FreeCADGui.Control.showDialog(parting_panel.PartingPanel(source, faces))
+    def panel_for(self, selection):
+        from mfgeom.gui import parting_panel
+        source, faces = parting_panel.source_from_selection(selection)
+        return parting_panel.PartingPanel(source, faces)
 
 
 COMMANDS = {"Mfgeom_PartingAnalysis": PartingAnalysisCommand(),

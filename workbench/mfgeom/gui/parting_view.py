@@ -30,6 +30,7 @@ import math
 import numpy as np
 
 from mfgeom import palette
+from mfgeom.gui.view_base import PanelViewProvider
 
 MODES = ("Result", "Part", "Sphere", "Surfaces")
 SPHERE_LEVEL = 4            # icosphere subdivisions: 10 * 4**4 + 2 = 2562 vertices
@@ -235,8 +236,10 @@ def arrows_of(obj, shape):
 
 
 # ------------------------------------------------------------------ view provider
-class ViewProviderPartingAnalysis:
+class ViewProviderPartingAnalysis(PanelViewProvider):
     """Coloured part, arrows and visibility sphere of a PartingAnalysis (see module doc)."""
+
+    icon = "mfgeom_parting.svg"
 
     def __init__(self, vobj):
         vobj.Proxy = self
@@ -528,43 +531,9 @@ class ViewProviderPartingAnalysis:
                                               0.035 * radius))
 
     # -------------------------------------------------------------- editing
-    def getIcon(self):
-        from mfgeom import paths
-        return paths.icon("mfgeom_parting.svg")
-
-    def doubleClicked(self, vobj):
-        import FreeCADGui
-        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
-        return True
-
-    def setEdit(self, vobj, mode=0):
-        if mode != 0:
-            return None
-        import FreeCADGui
-        if FreeCADGui.Control.activeDialog():
-            return False
+    def make_panel(self, obj):
         from mfgeom.gui.parting_panel import PartingPanel
-        FreeCADGui.Control.showDialog(PartingPanel(obj=vobj.Object))
-        return True
-
-    def unsetEdit(self, vobj, mode=0):
-        if mode != 0:
-            return None
-        import FreeCADGui
-        FreeCADGui.Control.closeDialog()
-        return True
-
-    def __getstate__(self):
-        return None
-
-    def __setstate__(self, state):
-        return None
-
-    def dumps(self):
-        return None
-
-    def loads(self, state):
-        return None
+        return PartingPanel(obj=obj)
 
 
 @functools.lru_cache(maxsize=1)

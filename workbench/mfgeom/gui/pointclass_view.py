@@ -12,14 +12,17 @@ import numpy as np
 
 from mfgeom import names, palette
 from mfgeom.app import preferences
+from mfgeom.gui.view_base import PanelViewProvider
 
 DISPLAY_MODE = "Classes"
 # Drawn in this order: ON last, so boundary points stay on top where classes overlap.
 DRAW_ORDER = (names.OUT, names.IN, names.ON)
 
 
-class ViewProviderPointClassification:
+class ViewProviderPointClassification(PanelViewProvider):
     """Shows the classified points coloured by class (see mfgeom.palette.CLASS_COLORS)."""
+
+    icon = "mfgeom_classify_points.svg"
 
     def __init__(self, vobj):
         vobj.Proxy = self
@@ -133,41 +136,6 @@ class ViewProviderPointClassification:
                 coords.point.setValues(0, len(selected), selected)
             point_set.numPoints = len(selected)
 
-    def getIcon(self):
-        from mfgeom import paths
-        return paths.icon("mfgeom_classify_points.svg")
-
-    # Double click or Edit opens the task panel of the command (default edit mode 0).
-    def doubleClicked(self, vobj):
-        import FreeCADGui
-        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
-        return True
-
-    def setEdit(self, vobj, mode=0):
-        if mode != 0:
-            return None  # other modes (transform, ...) stay FreeCAD's
-        import FreeCADGui
-        if FreeCADGui.Control.activeDialog():
-            return False
+    def make_panel(self, obj):
         from mfgeom.gui.pointclass_panel import PointClassificationPanel
-        FreeCADGui.Control.showDialog(PointClassificationPanel(obj=vobj.Object))
-        return True
-
-    def unsetEdit(self, vobj, mode=0):
-        if mode != 0:
-            return None
-        import FreeCADGui
-        FreeCADGui.Control.closeDialog()
-        return True
-
-    def __getstate__(self):
-        return None
-
-    def __setstate__(self, state):
-        return None
-
-    def dumps(self):
-        return None
-
-    def loads(self, state):
-        return None
+        return PointClassificationPanel(obj=obj)
