@@ -50,16 +50,17 @@ CAVITY_SIDE = _rgb(238, 102, 119)  # Tol red
 UNDERCUT = _rgb(51, 34, 136)       # Tol indigo
 # Set-ups 1..n of a multi-set-up plan, in this order (cycled beyond 8): a qualitative list
 # picked greedily, each colour the farthest from the earlier ones and from the FreeCAD
-# colours under normal, protan and deutan vision (minimum 18 CIELAB units).
+# colours under normal, protan and deutan vision (minimum 18 CIELAB units), then ordered
+# so the common plans (2-4 set-ups) get colours that read as surface colours.
 SETUP_COLORS = (
     _rgb(0, 114, 178),    # blue
-    _rgb(0, 0, 0),        # black
     _rgb(120, 60, 20),    # brown
-    _rgb(110, 110, 110),  # dark grey
     _rgb(221, 204, 119),  # sand
     _rgb(102, 204, 238),  # cyan
     _rgb(51, 34, 136),    # indigo
     _rgb(238, 102, 170),  # pink
+    _rgb(110, 110, 110),  # dark grey
+    _rgb(0, 0, 0),        # black: last, a black face reads as a hole or a shadow
 )
 
 
