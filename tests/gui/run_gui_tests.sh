@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-or-later
-# Runs the GUI tests (tests/gui/test_gui.py, test_gui_parting.py) in FreeCAD under a
-# virtual X server and fails on a failed test, a missing summary line or any Python traceback in the log.
+# Runs the GUI tests (tests/gui/test_gui.py, test_gui_parting.py, test_gui_library.py) in
+# FreeCAD under a virtual X server and fails on a failed test, a missing summary line or any Python traceback in the log.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 ROOT=$(pwd)
@@ -19,15 +19,22 @@ if [ -z "${FREECAD_USER_HOME:-}" ]; then
 fi
 export MFGEOM_GUI_OUT=${MFGEOM_GUI_OUT:-$ROOT/out/gui-tests}  # screenshot and log stay for a look
 mkdir -p "$MFGEOM_GUI_OUT"
-log="$MFGEOM_GUI_OUT/gui.log"
+# report LABEL LOG RC: prints the results, fails on a bad exit, a traceback or a missing
+# clean summary line "LABEL: N passed, 0 failed".
+report() {
+  local label=$1 log=$2 rc=$3
+  grep -E "^(PASS|FAIL): |^screenshot: |^$label: " "$log"
+  if [ "$rc" -ne 0 ]; then echo "$label: freecad exited with $rc (log: $log)"; tail -40 "$log"; exit 1; fi
+  if grep -q "Traceback" "$log"; then echo "$label: traceback in the log:"; grep -n -A12 "Traceback" "$log"; exit 1; fi
+  grep -qE "^$label: [0-9]+ passed, 0 failed$" "$log" || { echo "$label: no clean summary (log: $log)"; exit 1; }
+}
 
+# Point classification: tests/gui/test_gui.py.
+log="$MFGEOM_GUI_OUT/gui.log"
 timeout 300 xvfb-run -a freecad tests/gui/test_gui.py > "$log" 2>&1
 rc=$?
 [ -n "$own_home" ] && rm -rf "$own_home"
-grep -E "^(PASS|FAIL): |^screenshot: |^freecad-gui: " "$log"
-if [ $rc -ne 0 ]; then echo "gui tests: freecad exited with $rc (log: $log)"; tail -40 "$log"; exit 1; fi
-if grep -q "Traceback" "$log"; then echo "gui tests: traceback in the log:"; grep -n -A12 "Traceback" "$log"; exit 1; fi
-grep -qE "^freecad-gui: [0-9]+ passed, 0 failed$" "$log" || { echo "gui tests: no clean summary (log: $log)"; exit 1; }
+report freecad-gui "$log" $rc
 
 # The parting analysis (issue 7) on the cup with a hole: tests/gui/test_gui_parting.py.
 parting_home=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-parting-home.XXXXXX")
@@ -37,10 +44,7 @@ parting_log="$MFGEOM_GUI_OUT/gui-parting.log"
 FREECAD_USER_HOME="$parting_home" timeout 300 xvfb-run -a freecad tests/gui/test_gui_parting.py > "$parting_log" 2>&1
 rc=$?
 rm -rf "$parting_home"
-grep -E "^(PASS|FAIL): |^screenshot: |^freecad-gui-parting: " "$parting_log"
-if [ $rc -ne 0 ]; then echo "gui parting tests: freecad exited with $rc (log: $parting_log)"; tail -40 "$parting_log"; exit 1; fi
-if grep -q "Traceback" "$parting_log"; then echo "gui parting tests: traceback in the log:"; grep -n -A12 "Traceback" "$parting_log"; exit 1; fi
-grep -qE "^freecad-gui-parting: [0-9]+ passed, 0 failed$" "$parting_log" || { echo "gui parting tests: no clean summary (log: $parting_log)"; exit 1; }
+report freecad-gui-parting "$parting_log" $rc
 
 # The workbench without its library, as after an Addon Manager install: a copy of the
 # working tree without build/ and with MFGEOM_LIBRARY unset; tests/gui/test_gui_library.py
@@ -56,7 +60,4 @@ lib_log="$MFGEOM_GUI_OUT/gui-library.log"
    timeout 900 xvfb-run -a freecad tests/gui/test_gui_library.py) > "$lib_log" 2>&1
 rc=$?
 rm -rf "$lib_copy" "$lib_home"
-grep -E "^(PASS|FAIL): |^freecad-gui-library: " "$lib_log"
-if [ $rc -ne 0 ]; then echo "gui library tests: freecad exited with $rc (log: $lib_log)"; tail -40 "$lib_log"; exit 1; fi
-if grep -q "Traceback" "$lib_log"; then echo "gui library tests: traceback in the log:"; grep -n -A12 "Traceback" "$lib_log"; exit 1; fi
-grep -qE "^freecad-gui-library: [0-9]+ passed, 0 failed$" "$lib_log" || { echo "gui library tests: no clean summary (log: $lib_log)"; exit 1; }
+report freecad-gui-library "$lib_log" $rc

@@ -11,7 +11,6 @@ Prints ``freecad-gui: N passed, M failed`` and leaves with os._exit(rc).
 import os
 import sys
 import tempfile
-import traceback
 
 import FreeCAD as App
 import FreeCADGui as Gui
@@ -19,6 +18,8 @@ import FreeCADGui as Gui
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.append(os.path.join(REPO, "examples"))
+sys.path.insert(0, HERE)
+from gui_harness import DialogCloser, check, finish, press, qt, state  # noqa: E402
 
 OUT = os.environ.get("MFGEOM_GUI_OUT") or tempfile.mkdtemp(prefix="mfgeom-gui-")
 os.makedirs(OUT, exist_ok=True)
@@ -26,55 +27,11 @@ WORKBENCH = "MfgeomWorkbench"
 COMMAND = "Mfgeom_ClassifyPoints"
 PARAMS = "User parameter:BaseApp/Preferences/Mod/mfgeom"
 
-results = []  # (name, ok, detail)
-state = {}
-
-
-def check(name):
-    """Decorator: run a test function now, record pass/fail with the reason."""
-    def run(fn):
-        try:
-            fn()
-        except Exception:  # any failure of a test is reported, then the next one runs
-            results.append((name, False, traceback.format_exc()))
-        else:
-            results.append((name, True, ""))
-        return fn
-    return run
 
 
 def bracket_top(part):
     import bracket
     return bracket.top_face_name(part)
-
-
-def qt():
-    from PySide import QtCore, QtGui
-    return QtCore, QtGui
-
-
-class DialogCloser:
-    """Closes every modal dialog (the command's message boxes) shortly after it opens and
-    keeps its text: a bad selection can be tested without a human, and an unexpected
-    dialog fails a test instead of hanging the run."""
-
-    def __init__(self):
-        QtCore, _QtGui = qt()
-        self.texts = []
-        self.timer = QtCore.QTimer()
-        self.timer.timeout.connect(self._tick)
-        self.timer.start(100)
-
-    def _tick(self):
-        _QtCore, QtGui = qt()
-        box = QtGui.QApplication.activeModalWidget()
-        if box is not None:
-            self.texts.append(box.text() if hasattr(box, "text") else box.windowTitle())
-            box.done(0)
-
-    def take(self):
-        texts, self.texts = self.texts, []
-        return texts
 
 
 dialogs = DialogCloser()
@@ -99,11 +56,6 @@ def task_panel():
     widgets["cancel"] = boxes[0].button(QtGui.QDialogButtonBox.Cancel)
     widgets["tolerance_text"] = spins[0].findChild(QtGui.QLineEdit)
     return widgets
-
-
-def press(button):
-    button.click()
-    Gui.updateGui()
 
 
 def dock_text(name):
@@ -508,18 +460,4 @@ def _():
         App.closeDocument(doc.Name)
 
 
-def finish():
-    failed = [r for r in results if not r[1]]
-    for name, ok, detail in results:
-        sys.stdout.write(f"{'PASS' if ok else 'FAIL'}: {name}\n")
-        if not ok:
-            sys.stdout.write(detail + "\n")
-    if "image" in state:
-        sys.stdout.write(f"screenshot: {state['image']}\n")
-    sys.stdout.write(f"freecad-gui: {len(results) - len(failed)} passed, {len(failed)} failed\n")
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(1 if failed or not results else 0)
-
-
-finish()
+finish("freecad-gui")

@@ -11,42 +11,19 @@ Prints ``freecad-gui-library: N passed, M failed`` and leaves with os._exit(rc).
 
 import os
 import sys
-import time
-import traceback
 
 import FreeCAD as App
 import FreeCADGui as Gui
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gui_harness import check, finish, pump  # noqa: E402
+
 WORKBENCH = "MfgeomWorkbench"
 COMMAND = "Mfgeom_ClassifyPoints"
 
-results = []   # (name, ok, detail)
 asked = []     # the texts of the build offers
 warned = []    # the texts of the warning boxes
 answer = {"build": False}
-
-
-def check(name):
-    """Decorator: run a test function now, record pass/fail with the reason."""
-    def run(fn):
-        try:
-            fn()
-        except Exception:  # any failure of a test is reported, then the next one runs
-            results.append((name, False, traceback.format_exc()))
-        else:
-            results.append((name, True, ""))
-        return fn
-    return run
-
-
-def pump(until, seconds):
-    """Processes GUI events until ``until()`` is true or ``seconds`` have passed."""
-    from PySide import QtGui
-    end = time.monotonic() + seconds
-    while not until() and time.monotonic() < end:
-        QtGui.QApplication.processEvents()
-        time.sleep(0.02)
-    return until()
 
 
 def snapshot(doc):
@@ -207,17 +184,4 @@ def _():
     assert obj.CountIn == 4 and obj.CountOut == 8, (obj.CountIn, obj.CountOn, obj.CountOut)
 
 
-def finish():
-    failed = [r for r in results if not r[1]]
-    for name, ok, detail in results:
-        sys.stdout.write(f"{'PASS' if ok else 'FAIL'}: {name}\n")
-        if not ok:
-            sys.stdout.write(detail + "\n")
-    sys.stdout.write(f"freecad-gui-library: {len(results) - len(failed)} passed, "
-                     f"{len(failed)} failed\n")
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(1 if failed or not results else 0)
-
-
-finish()
+finish("freecad-gui-library")

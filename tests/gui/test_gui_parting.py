@@ -16,8 +16,6 @@ import json
 import math
 import os
 import sys
-import time
-import traceback
 
 import FreeCAD as App
 import FreeCADGui as Gui
@@ -26,63 +24,15 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 for path in (os.path.join(ROOT, "examples", "parts"), os.path.join(ROOT, "workbench")):
     if path not in sys.path:
         sys.path.append(path)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gui_harness import DialogCloser, check, finish, press, pump, qt, state  # noqa: E402
 
 WORKBENCH = "MfgeomWorkbench"
 COMMAND = "Mfgeom_PartingAnalysis"
 OUT = os.environ.get("MFGEOM_GUI_OUT") or os.path.join(ROOT, "out", "gui-tests")
-results = []
-state = {}
-
-
-def check(name):
-    def run(fn):
-        try:
-            fn()
-        except Exception:  # any failure is reported, then the next test runs
-            results.append((name, False, traceback.format_exc()))
-        else:
-            results.append((name, True, ""))
-        return fn
-    return run
-
-
-def qt():
-    from PySide import QtCore, QtGui
-    return QtCore, QtGui
-
-
-class DialogCloser:
-    """Closes each modal dialog (the command's message boxes) and keeps its text."""
-
-    def __init__(self):
-        QtCore, _ = qt()
-        self.texts = []
-        self.timer = QtCore.QTimer()
-        self.timer.timeout.connect(self._tick)
-        self.timer.start(100)
-
-    def _tick(self):
-        _, QtGui = qt()
-        box = QtGui.QApplication.activeModalWidget()
-        if box is not None:
-            self.texts.append(box.text() if hasattr(box, "text") else box.windowTitle())
-            box.done(0)
-
-    def take(self):
-        texts, self.texts = self.texts, []
-        return texts
 
 
 dialogs = DialogCloser()
-
-
-def pump(until, seconds):
-    _, QtGui = qt()
-    end = time.monotonic() + seconds
-    while not until() and time.monotonic() < end:
-        QtGui.QApplication.processEvents()
-        time.sleep(0.02)
-    return until()
 
 
 def task_panel():
@@ -103,11 +53,6 @@ def task_panel():
                       ("apply", QtGui.QDialogButtonBox.Apply)):
         widgets[key] = boxes[0].button(role)
     return widgets
-
-
-def press(button):
-    button.click()
-    Gui.updateGui()
 
 
 def analyses(doc):
@@ -351,19 +296,4 @@ def _():
     assert texts and call in texts[0], texts[0][-600:] if texts else "no console"
 
 
-def finish():
-    failed = [r for r in results if not r[1]]
-    for name, ok, detail in results:
-        sys.stdout.write(f"{'PASS' if ok else 'FAIL'}: {name}\n")
-        if not ok:
-            sys.stdout.write(detail + "\n")
-    if "image" in state:
-        sys.stdout.write(f"screenshot: {state['image']}\n")
-    sys.stdout.write(f"freecad-gui-parting: {len(results) - len(failed)} passed, "
-                     f"{len(failed)} failed\n")
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(1 if failed or not results else 0)
-
-
-finish()
+finish("freecad-gui-parting")

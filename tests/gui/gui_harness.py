@@ -1,0 +1,86 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""What the GUI test scripts (run inside FreeCAD under Xvfb) share: the check decorator
+and its results, GUI event pumping, the modal-dialog closer, and the summary line and
+exit code that tests/gui/run_gui_tests.sh reads."""
+
+import os
+import sys
+import time
+import traceback
+
+results = []  # (name, ok, detail)
+state = {}    # "image": the screenshot's path, printed by finish()
+
+
+def check(name):
+    """Decorator: run a test function now, record pass/fail with the reason."""
+    def run(fn):
+        try:
+            fn()
+        except Exception:  # any failure of a test is reported, then the next one runs
+            results.append((name, False, traceback.format_exc()))
+        else:
+            results.append((name, True, ""))
+        return fn
+    return run
+
+
+def qt():
+    from PySide import QtCore, QtGui
+    return QtCore, QtGui
+
+
+def pump(until, seconds):
+    """Processes GUI events until ``until()`` is true or ``seconds`` have passed."""
+    _QtCore, QtGui = qt()
+    end = time.monotonic() + seconds
+    while not until() and time.monotonic() < end:
+        QtGui.QApplication.processEvents()
+        time.sleep(0.02)
+    return until()
+
+
+def press(button):
+    import FreeCADGui as Gui
+    button.click()
+    Gui.updateGui()
+
+
+class DialogCloser:
+    """Closes every modal dialog (the commands' message boxes) shortly after it opens and
+    keeps its text: a bad selection can be tested without a human, and an unexpected
+    dialog fails a test instead of hanging the run."""
+
+    def __init__(self):
+        QtCore, _QtGui = qt()
+        self.texts = []
+        self.timer = QtCore.QTimer()
+        self.timer.timeout.connect(self._tick)
+        self.timer.start(100)
+
+    def _tick(self):
+        _QtCore, QtGui = qt()
+        box = QtGui.QApplication.activeModalWidget()
+        if box is not None:
+            self.texts.append(box.text() if hasattr(box, "text") else box.windowTitle())
+            box.done(0)
+
+    def take(self):
+        texts, self.texts = self.texts, []
+        return texts
+
+
+def finish(label):
+    """Prints every result and ``<label>: N passed, M failed``, then leaves FreeCAD with
+    the exit code (os._exit: a normal exit of the GUI can hang or crash under Xvfb)."""
+    failed = [r for r in results if not r[1]]
+    for name, ok, detail in results:
+        sys.stdout.write(f"{'PASS' if ok else 'FAIL'}: {name}\n")
+        if not ok:
+            sys.stdout.write(detail + "\n")
+    if "image" in state:
+        sys.stdout.write(f"screenshot: {state['image']}\n")
+    sys.stdout.write(f"{label}: {len(results) - len(failed)} passed, {len(failed)} failed\n")
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(1 if failed or not results else 0)
