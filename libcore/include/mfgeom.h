@@ -359,6 +359,42 @@ MFG_API mfg_status mfg_mesh_weld(const double *xyz_soup, int64_t ntriangles,
 /* Releases a result of mfg_mesh_weld. NULL is allowed. */
 MFG_API void mfg_mesh_free(mfg_mesh *mesh);
 
+/* ------------------------------------------------------------------------------------ */
+/* Rotational swept volume (seed 003)                                                    */
+/* ------------------------------------------------------------------------------------ */
+/*
+ * The volume SV = union over t in [0, angle] of R(t)*O swept by the closed solid O (a
+ * closed, consistently outward oriented 2-manifold triangle mesh, as accepted by
+ * mfg_mesh_check_closed) rotated about the axis through axis_point along axis_direction
+ * (right-handed: counter-clockwise seen from the tip of axis_direction) by angles 0 .. angle.
+ *
+ *   angle      radians, 0 < angle <= 2*pi (values within 1e-12 of 2*pi mean a full turn:
+ *              the solid of revolution)
+ *   tolerance  absolute, in model units, > 0: the result's boundary lies within tolerance
+ *              of the boundary of SV (chords of the swept curves, cells of the meridian
+ *              decomposition; see rotsweep.c for what is exact and what is not)
+ *
+ * On MFG_OK, *out_mesh is a closed, outward oriented triangle mesh of SV (released with
+ * mfg_mesh_free) and, when out_stats is not NULL, *out_stats holds its volume, area and
+ * bounding box.  Errors: MFG_ERR_NULL, MFG_ERR_INVALID (NaN/Inf, axis direction of zero
+ * length, angle or tolerance out of range, an open / non-manifold / inconsistently
+ * oriented mesh: the detail says what and how many, as mfg_mesh_check_closed does),
+ * MFG_ERR_DEGENERATE (no triangles, zero volume), MFG_ERR_NOMEM.  Nothing is written on
+ * failure.
+ */
+typedef struct mfg_sweep_stats {
+    double volume;   /* enclosed by the result mesh */
+    double area;     /* of the result mesh */
+    double bbox[6];  /* xmin, ymin, zmin, xmax, ymax, zmax of the result mesh */
+} mfg_sweep_stats;
+
+MFG_API mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices,
+                                        const int64_t *triangles, int64_t ntriangles,
+                                        const double axis_point[3],
+                                        const double axis_direction[3], double angle,
+                                        double tolerance, mfg_mesh **out_mesh,
+                                        mfg_sweep_stats *out_stats);
+
 #ifdef __cplusplus
 }
 #endif
