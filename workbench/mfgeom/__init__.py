@@ -58,3 +58,19 @@ def make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting=
     from mfgeom.app.parting_feature import make_parting_analysis as _make
     return _make(doc, source, mode=mode, draft_angle=draft_angle, weighting=weighting,
                  all_faces=all_faces, name=name, faces=faces)
+
+
+def check_clearance(doc_or_sweep, others=None, tolerance=None):
+    """Clearance check of issue 8: for each solid of ``others`` the interference volume
+    with the swept volume (0: none) and the minimum distance to it.
+
+    ``doc_or_sweep``: the sweep object (the sweep feature, or any object with a solid
+    Shape or a closed Mesh) or a document holding one sweep feature; ``others``: an object
+    or a list of them (default: every other solid of the document except the sweep's
+    source).  ``tolerance``: mm or a length Quantity (default: preference
+    DefaultTolerance).  Returns a list of :class:`mfgeom.app.clearance.ClearanceResult`;
+    non-solids get status "invalid" and a message.  Changes nothing in the document.
+    See :func:`mfgeom.app.clearance.check_clearance`."""
+    from mfgeom.app import clearance
+    sweep, objs = clearance.resolve(doc_or_sweep, others)
+    return clearance.check_clearance(sweep, objs, tolerance=tolerance)

@@ -1,0 +1,409 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""FreeCAD App tests of the clearance check (issue 8, section 3), run by ``freecadcmd``.
+
+Run through tests/run_freecad_tests.sh, or directly:
+``MFGEOM_LIBRARY=build/libmfgeom.so freecadcmd tests/freecad/test_clearance_app.py``.
+Prints ``freecad-clearance: N passed, M failed`` last and exits non-zero on any failure.
+
+The stand-in for the sweep is the exact swept volume of a box a x b x c turned by 90 deg
+about its edge on the z axis, built from Part primitives: the box at 0 and at 90 deg and
+the cylinder sector of radius sqrt(a^2 + b^2) between them (its volume is
+c (a b + (a^2 + b^2) pi / 4), checked).  References are analytic: distances from the box
+faces and the cylinder (spheres placed at a known gap), common volumes of axis-aligned
+boxes, and the common with a ring around the axis from a dense integral of the swept
+angle at each radius.  With the library's sweep (once it lands) the same box is swept by
+mfgeom.core.rotational_sweep and checked against the same references."""
+
+import csv
+import math
+import os
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+
+import FreeCAD as App
+import Mesh
+import Part
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+if os.path.join(REPO, "workbench") not in sys.path:
+    sys.path.append(os.path.join(REPO, "workbench"))
+
+import mfgeom  # noqa: E402
+from mfgeom.app import clearance  # noqa: E402
+from mfgeom.errors import InputError  # noqa: E402
+
+A, B, C = 20.0, 10.0, 5.0           # the box swept about its edge on the z axis
+R = math.hypot(A, B)                 # outer radius of the swept quarter annulus
+THETA = math.pi / 2
+TOL = 0.01
+V = App.Vector
+
+
+def swept_box_solid():
+    """The exact swept volume of [0,A]x[0,B]x[0,C] turned by THETA about the z axis."""
+    box0 = Part.makeBox(A, B, C)
+    box1 = box0.copy()
+    box1.rotate(V(0, 0, 0), V(0, 0, 1), math.degrees(THETA))
+    sector = Part.makeCylinder(R, C, V(0, 0, 0), V(0, 0, 1), math.degrees(THETA))
+    sector.rotate(V(0, 0, 0), V(0, 0, 1), math.degrees(math.atan2(B, A)))
+    return box0.fuse([box1, sector]).removeSplitter()
+
+
+def swept_angle(r):
+    """Angle of the circle of radius r (> A) inside the swept volume: the box meets it on
+    [acos(A/r), asin(B/r)], turned by THETA that becomes one arc THETA longer."""
+    return math.asin(B / r) + THETA - math.acos(A / r)
+
+
+def ring_common_volume(r1):
+    """C * area of the swept region outside radius r1 (A < r1 < R): the integral of
+    r * swept_angle(r) dr, by a dense trapezoid rule."""
+    r = np.linspace(r1, R, 200001)
+    w = np.array([swept_angle(x) for x in r[:-1]] + [THETA])  # at R the arc is THETA
+    f = r * w
+    return C * float(np.sum((f[1:] + f[:-1]) * np.diff(r)) / 2.0)
+
+
+def sphere_beyond_arc(gap, radius=2.0, angle_deg=70.0, z=C / 2):
+    """A sphere whose surface is ``gap`` beyond the swept cylinder, in the direction
+    angle_deg (inside the sector's angular range) at height z."""
+    d = R + gap + radius
+    a = math.radians(angle_deg)
+    return Part.makeSphere(radius, V(d * math.cos(a), d * math.sin(a), z))
+
+
+def by_label(results):
+    return {r.label: r for r in results}
+
+
+class Base(unittest.TestCase):
+    def setUp(self):
+        self.doc = App.newDocument("Clearance")
+
+    def tearDown(self):
+        App.closeDocument(self.doc.Name)
+
+    def add(self, name, shape, placement=None):
+        obj = self.doc.addObject("Part::Feature", name)
+        obj.Shape = shape
+        if placement is not None:
+            obj.Placement = placement
+        return obj
+
+    def add_mesh(self, name, mesh):
+        obj = self.doc.addObject("Mesh::Feature", name)
+        obj.Mesh = mesh
+        return obj
+
+
+class StandIn(unittest.TestCase):
+    def test_stand_in_is_the_analytic_swept_volume(self):
+        s = swept_box_solid()
+        self.assertTrue(s.isValid())
+        self.assertAlmostEqual(s.Volume, C * (A * B + (A * A + B * B) * THETA / 2), places=6)
+
+
+class PartSweep(Base):
+    """Part solids around the exact stand-in sweep."""
+
+    def setUp(self):
+        super().setUp()
+        self.sweep = self.add("Sweep", swept_box_solid())
+        self.objs = [
+            # beyond the +x face of the box at t = 0: gap 10 (the sector ends at x <= A)
+            self.add("FarBox", Part.makeBox(5, 5, 5, V(A + 10, 0, 0))),
+            # above the box at t = 0, over it: gap 3
+            self.add("AboveBox", Part.makeBox(4, 4, 2, V(2, 2, C + 3))),
+            # beyond the cylinder, gap 1.5
+            self.add("Sphere", sphere_beyond_arc(1.5)),
+            # overlapping the box at t = 0: common [15,20]x[2,6]x[3,5] (the sector stays at
+            # x <= 2y <= 12 there)
+            self.add("Overlap", Part.makeBox(10, 4, 5, V(15, 2, 3))),
+            # wholly inside the box at 90 deg ([-B,0]x[0,A]x[0,C])
+            self.add("Inside", Part.makeBox(4, 3, 1, V(-5, 12, 1))),
+            # sharing the face x = A
+            self.add("Touching", Part.makeBox(5, 5, 5, V(A, 0, 0))),
+            # overlapping by 0.004 (< TOL): a film, counted as touching
+            self.add("Film", Part.makeBox(5, 5, 5, V(A - 0.004, 0, 0))),
+            # overlapping by 0.05 (> TOL): interference 0.05 * 5 * 5
+            self.add("Thin", Part.makeBox(5, 5, 5, V(A - 0.05, 0, 0))),
+            # a gap of 0.005 (< TOL): touching, at its distance
+            self.add("NearGap", Part.makeBox(5, 5, 5, V(A + 0.005, 0, 0))),
+            # a ring around the axis from radius 21 out: the outer part of the sweep
+            self.add("Ring", Part.makeCylinder(30, C + 2, V(0, 0, -1)).cut(
+                Part.makeCylinder(21, C + 2, V(0, 0, -1)))),
+        ]
+        self.doc.recompute()
+
+    def test_statuses_volumes_and_distances(self):
+        res = by_label(clearance.check_clearance(self.sweep, self.objs, tolerance=TOL))
+        self.assertEqual(len(res), len(self.objs))
+        want = {  # label: (status, volume, distance)
+            "FarBox": ("clear", 0.0, 10.0),
+            "AboveBox": ("clear", 0.0, 3.0),
+            "Sphere": ("clear", 0.0, 1.5),
+            "Overlap": ("interference", 5 * 4 * 2, 0.0),
+            "Inside": ("interference", 4 * 3 * 1, 0.0),
+            "Touching": ("touching", 0.0, 0.0),
+            "Film": ("touching", 0.0, 0.0),
+            "Thin": ("interference", 0.05 * 5 * 5, 0.0),
+            "NearGap": ("touching", 0.0, 0.005),
+            "Ring": ("interference", ring_common_volume(21.0), 0.0),
+        }
+        for label, (status, volume, distance) in want.items():
+            r = res[label]
+            with self.subTest(label=label):
+                self.assertEqual(r.status, status, r)
+                self.assertEqual(r.interferes, status == "interference")
+                self.assertAlmostEqual(r.interference_volume, volume, delta=1e-6 * max(1, volume))
+                self.assertAlmostEqual(r.min_distance, distance, delta=1e-7)
+                self.assertEqual(r.message, "")
+                self.assertEqual(r.name, label)
+        # the ring's reference is not the code's: 5 * integral of r * swept angle
+        self.assertGreater(res["Ring"].interference_volume, 100.0)
+
+    def test_closest_points_are_on_both_solids_at_the_distance(self):
+        sweep = self.sweep.Shape
+        for r in clearance.check_clearance(self.sweep, self.objs, tolerance=TOL):
+            with self.subTest(label=r.label):
+                p, q = r.point_on_sweep, r.point_on_object
+                self.assertAlmostEqual((p - q).Length, r.min_distance, delta=1e-7)
+                # in (or on) both solids: where they interfere, a point of the common
+                obj = self.doc.getObject(r.name)
+                self.assertTrue(sweep.isInside(p, 1e-7, True), p)
+                self.assertTrue(obj.Shape.isInside(q, 1e-7, True), q)
+                if r.interferes:
+                    self.assertTrue(obj.Shape.isInside(p, 1e-7, True), p)
+        far = by_label(clearance.check_clearance(self.sweep, self.objs[:1], TOL))["FarBox"]
+        self.assertAlmostEqual(far.point_on_sweep.x, A, delta=1e-9)
+        self.assertAlmostEqual(far.point_on_object.x, A + 10, delta=1e-9)
+
+    def test_the_floor_follows_the_tolerance(self):
+        # with a tolerance of 0.1 the 0.05 overlap is a film and the 0.005 gap touching;
+        # with 0.001 the 0.004 film interferes and the 0.005 gap is clear
+        coarse = by_label(clearance.check_clearance(self.sweep, self.objs, tolerance=0.1))
+        self.assertEqual(coarse["Thin"].status, "touching")
+        self.assertEqual(coarse["Thin"].interference_volume, 0.0)
+        fine = by_label(clearance.check_clearance(self.sweep, self.objs, tolerance=0.001))
+        self.assertEqual(fine["Film"].status, "interference")
+        self.assertAlmostEqual(fine["Film"].interference_volume, 0.004 * 25, delta=1e-8)
+        self.assertEqual(fine["NearGap"].status, "clear")
+
+    def test_placements_of_objects_and_containers_count(self):
+        # a box at the origin moved by its placement and by an App::Part around it
+        box = self.add("Moved", Part.makeBox(2, 2, 2),
+                       App.Placement(V(A + 3, 0, 0), App.Rotation()))
+        part = self.doc.addObject("App::Part", "Container")
+        part.addObject(box)
+        part.Placement = App.Placement(V(0, 0, C + 4), App.Rotation())
+        self.doc.recompute()
+        r = clearance.check_clearance(self.sweep, [box], TOL)[0]
+        self.assertEqual(r.status, "clear")
+        self.assertAlmostEqual(r.min_distance, math.hypot(3, 4), delta=1e-9)
+
+    def test_tolerance_arguments(self):
+        one = self.objs[:1]
+        for tol in ("0.01 mm", App.Units.Quantity("10 um"), 0.01):
+            self.assertEqual(clearance.check_clearance(self.sweep, one, tol)[0].status, "clear")
+        for bad in (0, -1, float("nan"), "5 deg", App.Units.Quantity("5 deg")):
+            with self.subTest(tol=bad), self.assertRaises(InputError):
+                clearance.check_clearance(self.sweep, one, bad)
+
+    def test_report_table_and_csv(self):
+        res = clearance.check_clearance(self.sweep, self.objs, tolerance=TOL)
+        text = clearance.report_text(res, "Sweep", TOL)
+        lines = text.splitlines()
+        self.assertIn("Clearance check against 'Sweep' (tolerance 0.01 mm)", lines[0])
+        self.assertEqual(len(lines), 1 + 1 + len(res) + 1)
+        self.assertEqual(lines[-1], "4 of 10 object(s) interfere.")
+        row = [ln for ln in lines if ln.startswith("Overlap ")][0].split()
+        self.assertEqual(row[1:4], ["interference", "40.0000", "0.0000"])
+        row = [ln for ln in lines if ln.startswith("FarBox ")][0].split()
+        self.assertEqual(row[1:4], ["clear", "none", "10.0000"])
+        path = os.path.join(tempfile.mkdtemp(), "clearance.csv")
+        clearance.write_csv(res, path)
+        rows = list(csv.DictReader(open(path, newline="")))
+        self.assertEqual([r["label"] for r in rows], [r.label for r in res])
+        sphere = [r for r in rows if r["name"] == "Sphere"][0]
+        self.assertAlmostEqual(float(sphere["min_distance_mm"]), 1.5, delta=1e-7)
+        self.assertEqual(float(sphere["interference_volume_mm3"]), 0.0)
+
+
+class MeshSweep(Base):
+    """A Mesh::Feature as the sweep: planar, so its solid is exact."""
+
+    def box_mesh(self, x0, flip=False):
+        mesh = Mesh.Mesh(Part.makeBox(10, 10, 10, V(x0, 0, 0)).tessellate(0.1))
+        if flip:
+            mesh.flipNormals()
+        return mesh
+
+    def test_mesh_sweep_with_placement(self):
+        sweep = self.add_mesh("MeshSweep", self.box_mesh(0))
+        sweep.Placement = App.Placement(V(0, 0, 100), App.Rotation())
+        near = self.add("Near", Part.makeBox(5, 5, 5, V(13, 0, 100)))
+        hit = self.add("Hit", Part.makeBox(5, 5, 5, V(8, 2, 103)))
+        self.doc.recompute()
+        res = by_label(clearance.check_clearance(sweep, [near, hit], TOL))
+        self.assertEqual(res["Near"].status, "clear")
+        self.assertAlmostEqual(res["Near"].min_distance, 3.0, delta=1e-7)
+        self.assertEqual(res["Hit"].status, "interference")
+        self.assertAlmostEqual(res["Hit"].interference_volume, 2 * 5 * 5, delta=1e-6)
+
+    def test_mesh_in_a_container(self):
+        sweep = self.add_mesh("MeshSweep", self.box_mesh(0))
+        sweep.Placement = App.Placement(V(0, 0, 100), App.Rotation())
+        part = self.doc.addObject("App::Part", "Container")
+        part.addObject(sweep)
+        part.Placement = App.Placement(V(0, 50, 0), App.Rotation(V(0, 0, 1), 90))
+        # the mesh box lies at [-10,0]x[50,60]x[100,110]; a box 4 beyond its -x face
+        box = self.add("Box", Part.makeBox(2, 2, 2, V(-16, 52, 102)))
+        self.doc.recompute()
+        r = clearance.check_clearance(sweep, [box], TOL)[0]
+        self.assertEqual(r.status, "clear")
+        self.assertAlmostEqual(r.min_distance, 4.0, delta=1e-7)
+
+    def test_inward_mesh_is_turned_out(self):
+        sweep = self.add_mesh("Inward", self.box_mesh(0, flip=True))
+        hit = self.add("Hit", Part.makeBox(5, 5, 5, V(8, 0, 0)))
+        self.doc.recompute()
+        r = clearance.check_clearance(sweep, [hit], TOL)[0]
+        self.assertAlmostEqual(r.interference_volume, 2 * 5 * 5, delta=1e-6)
+
+    def test_mesh_obstacle(self):
+        sweep = self.add("Solid", Part.makeBox(10, 10, 10))
+        obst = self.add_mesh("MeshBox", self.box_mesh(12))
+        self.doc.recompute()
+        r = clearance.check_clearance(sweep, [obst], TOL)[0]
+        self.assertEqual((r.status, r.interference_volume), ("clear", 0.0))
+        self.assertAlmostEqual(r.min_distance, 2.0, delta=1e-7)
+
+    def test_open_mesh(self):
+        mesh = self.box_mesh(0)
+        mesh.removeFacets([0, 1])
+        open_mesh = self.add_mesh("Open", mesh)
+        solid = self.add("Solid", Part.makeBox(1, 1, 1))
+        self.doc.recompute()
+        r = clearance.check_clearance(solid, [open_mesh], TOL)[0]
+        self.assertEqual(r.status, "invalid")
+        self.assertIn("not closed", r.message)
+        self.assertIn("Open", r.message)
+        with self.assertRaises(InputError) as ctx:
+            clearance.check_clearance(open_mesh, [solid], TOL)
+        self.assertIn("not closed", str(ctx.exception))
+
+
+class NonSolids(Base):
+    def setUp(self):
+        super().setUp()
+        self.sweep = self.add("Sweep", Part.makeBox(10, 10, 10))
+        box = Part.makeBox(3, 3, 3, V(20, 0, 0))
+        self.shell = self.add("OpenShell", Part.Shell(box.Faces[:5]))
+        self.face = self.add("Face", box.Faces[0])
+        sketch = self.doc.addObject("Sketcher::SketchObject", "Sketch")
+        sketch.addGeometry(Part.Circle(V(0, 0, 0), V(0, 0, 1), 4))
+        self.sketch = sketch
+        self.closed_shell = self.add("ClosedShell", Part.Shell(box.Faces))
+        self.group = self.doc.addObject("App::DocumentObjectGroup", "Group")
+        self.doc.recompute()
+
+    def test_each_non_solid_gets_a_message(self):
+        others = [self.shell, self.face, self.sketch, self.group, self.sweep,
+                  self.closed_shell]
+        res = by_label(clearance.check_clearance(self.sweep, others, TOL))
+        want = {"OpenShell": "1 of them open", "Face": "face(s) without a closed shell",
+                "Sketch": "edge(s)", "Group": "neither a Shape nor a Mesh",
+                "Sweep": "the sweep itself"}
+        for label, text in want.items():
+            with self.subTest(label=label):
+                self.assertEqual(res[label].status, "invalid")
+                self.assertIsNone(res[label].min_distance)
+                self.assertIn(text, res[label].message)
+        # a closed shell bounds a volume: it is checked as a solid
+        self.assertEqual(res["ClosedShell"].status, "clear")
+        self.assertAlmostEqual(res["ClosedShell"].min_distance, 10.0, delta=1e-7)
+        text = clearance.report_text(list(res.values()))
+        self.assertIn("0 of 6 object(s) interfere.", text)
+
+    def test_deleted_object(self):
+        box = self.add("Gone", Part.makeBox(1, 1, 1))
+        self.doc.removeObject("Gone")
+        r = clearance.check_clearance(self.sweep, [box], TOL)[0]
+        self.assertEqual(r.status, "invalid")
+        self.assertIn("deleted", r.message)
+
+    def test_no_sweep_or_a_sketch_as_sweep(self):
+        with self.assertRaises(InputError) as ctx:
+            clearance.check_clearance(None, [self.sweep], TOL)
+        self.assertIn("select the swept volume first", str(ctx.exception))
+        with self.assertRaises(InputError) as ctx:
+            clearance.check_clearance(self.sketch, [self.sweep], TOL)
+        self.assertIn("the sweep: Sketch is not a solid", str(ctx.exception))
+
+
+class MacroApi(Base):
+    def test_sweep_object_and_document_obstacles(self):
+        source = self.add("Source", Part.makeBox(20, 10, 5))
+        sweep = self.doc.addObject("Part::Feature", "Sweep")
+        sweep.Shape = swept_box_solid()
+        # the sweep's source is left out of the default obstacles: make Sweep depend on it
+        sweep.addProperty("App::PropertyLink", "Source")
+        sweep.Source = source
+        a = self.add("A", Part.makeBox(5, 5, 5, V(A + 1, 0, 0)))
+        b = self.add("B", Part.makeBox(5, 5, 5, V(A - 1, 0, 0)))
+        cut = self.doc.addObject("Part::Cut", "Cut")
+        cut.Base, cut.Tool = a, self.add("Tool", Part.makeBox(1, 1, 1, V(A + 1, 0, 0)))
+        sketch = self.doc.addObject("Sketcher::SketchObject", "Sketch")
+        sketch.addGeometry(Part.LineSegment(V(0, 0, 0), V(1, 0, 0)))
+        self.doc.recompute()
+        res = mfgeom.check_clearance(sweep, tolerance=TOL)
+        # Source (the sweep's input), A and Tool (the Cut's inputs) and the sketch are out
+        self.assertEqual(sorted(r.name for r in res), ["B", "Cut"])
+        res = by_label(res)
+        self.assertEqual(res["B"].status, "interference")
+        self.assertAlmostEqual(res["B"].interference_volume, 25.0, delta=1e-6)
+        self.assertAlmostEqual(res["Cut"].min_distance, 1.0, delta=1e-7)
+        # explicit others, one object alone
+        one = mfgeom.check_clearance(sweep, a, tolerance=TOL)
+        self.assertEqual([r.name for r in one], ["A"])
+        # a document without a sweep feature
+        with self.assertRaises(InputError):
+            mfgeom.check_clearance(self.doc)
+
+    def test_document_with_one_sweep_feature(self):
+        class FakeSweep:   # a FeaturePython whose proxy says it is a sweep
+            Type = "Mfgeom::RotationalSweep"
+
+            def execute(self, obj):
+                pass
+        sweep = self.doc.addObject("Part::FeaturePython", "RotationalSweep")
+        sweep.Proxy = FakeSweep()
+        sweep.Shape = Part.makeBox(10, 10, 10)
+        hit = self.add("Hit", Part.makeBox(5, 5, 5, V(8, 0, 0)))
+        self.doc.recompute()
+        res = mfgeom.check_clearance(self.doc, tolerance=TOL)
+        self.assertEqual([r.name for r in res], ["Hit"])
+        self.assertAlmostEqual(res[0].interference_volume, 50.0, delta=1e-6)
+        self.assertIs(res, res)   # results are plain objects, no document change
+        self.assertEqual(len(self.doc.Objects), 2)
+
+
+def main():
+    # freecadcmd runs this file with exec(): it is not in sys.modules, so collect by hand
+    loader = unittest.defaultTestLoader
+    suite = unittest.TestSuite(
+        loader.loadTestsFromTestCase(cls) for cls in list(globals().values())
+        if isinstance(cls, type) and issubclass(cls, unittest.TestCase))
+    result = unittest.TextTestRunner(stream=sys.stdout, verbosity=2).run(suite)
+    failed = len(result.failures) + len(result.errors)
+    passed = result.testsRun - failed - len(result.skipped)
+    sys.stdout.write(f"freecad-clearance: {passed} passed, {failed} failed\n")
+    sys.stdout.flush()
+    return 0 if failed == 0 and result.testsRun > 0 else 1
+
+
+sys.exit(main())

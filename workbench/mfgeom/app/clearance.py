@@ -1,0 +1,359 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Clearance check of issue 8: will the rotating part (its swept volume) hit anything?
+For each other solid, the volume of its interference with the sweep and the minimum
+distance between the two.  FreeCAD App only (Part, Mesh), no GUI.
+
+How it is decided (all lengths in mm, ``tolerance`` absolute):
+
+* The sweep is any object with a solid Shape (a Part solid, the sweep feature shown as a
+  Solid) or with a closed Mesh (the sweep feature shown as a Mesh, a Mesh::Feature): the
+  mesh becomes a Part solid of its triangles (``makeShapeFromMesh`` + ``Part.Solid``).
+* Interference volume = volume of OCCT's Boolean common of the sweep and the solid.  Two
+  solids that touch (a shared face, a box resting on the sweep) and a tessellated sweep
+  whose facets stand up to ``tolerance`` proud of the true surface (the library's sweep is
+  conservative by that much) give a common that is a film: zero volume, or a sliver no
+  thicker than the tolerance.  So the common counts as interference only when it is
+  thicker than the tolerance on average: V > tolerance * S / 2, S its surface area (a
+  slab of thickness t over a contact area A has V = t A and S ~ 2 A).  Below that floor
+  the volume is reported as 0.
+* Minimum distance = ``Shape.distToShape`` (BRepExtrema; 0 when the solids touch, overlap
+  or one holds the other), with the closest points on the sweep and on the solid.
+* Status: "interference" (volume above the floor), else "touching" (distance <= the
+  tolerance), else "clear".  The sweep mesh lies on or up to ``tolerance`` outside the
+  true swept volume, so a "clear" distance d means the true clearance is in [d, d + tol].
+* An object that is not a solid (a sketch, an open shell, an open mesh, a deleted object)
+  gets status "invalid" and a message saying what it is; one bad object never stops the
+  others.  A sweep that is not a solid raises InputError.
+"""
+
+import csv
+
+import FreeCAD
+import Part
+
+from mfgeom.errors import InputError
+
+INTERFERENCE = "interference"
+TOUCHING = "touching"
+CLEAR = "clear"
+INVALID = "invalid"
+
+# Sewing tolerance of mesh vertices into a shell: far below any machining tolerance, so
+# the solid is the mesh's triangles as they are.
+_MESH_SEWING = 1e-7
+
+
+class ClearanceResult:
+    """The answer for one object: ``name``, ``label``, ``status`` (INTERFERENCE, TOUCHING,
+    CLEAR or INVALID), ``interference_volume`` (mm^3, 0 when none), ``min_distance`` (mm,
+    0 when touching or overlapping; None when invalid), ``point_on_sweep`` and
+    ``point_on_object`` (App.Vector, the closest points; None when invalid), ``message``
+    (why an object is invalid, or a Boolean failure), ``common`` (the interference solid,
+    a Part.Shape, or None)."""
+
+    __slots__ = ("name", "label", "status", "interference_volume", "min_distance",
+                 "point_on_sweep", "point_on_object", "message", "common")
+
+    def __init__(self, name, label, status, interference_volume=0.0, min_distance=None,
+                 point_on_sweep=None, point_on_object=None, message="", common=None):
+        self.name = name
+        self.label = label
+        self.status = status
+        self.interference_volume = interference_volume
+        self.min_distance = min_distance
+        self.point_on_sweep = point_on_sweep
+        self.point_on_object = point_on_object
+        self.message = message
+        self.common = common
+
+    @property
+    def interferes(self):
+        return self.status == INTERFERENCE
+
+    def __repr__(self):
+        return (f"ClearanceResult({self.label!r}, {self.status}, volume="
+                f"{self.interference_volume:.6g}, distance={self.min_distance!r})")
+
+
+def _label(obj):
+    try:
+        return obj.Label
+    except (AttributeError, RuntimeError, ReferenceError):  # a deleted object
+        return "<deleted object>"
+
+
+def _name(obj):
+    try:
+        return obj.Name
+    except (AttributeError, RuntimeError, ReferenceError):
+        return ""
+
+
+def _alive(obj):
+    try:
+        doc = obj.Document
+        return doc is not None and doc.getObject(obj.Name) is not None
+    except (AttributeError, RuntimeError, ReferenceError):
+        return False
+
+
+def mesh_solid(mesh):
+    """A Part solid of the triangles of closed Mesh kernel ``mesh`` (its placement
+    applied), outward oriented; InputError when the mesh does not bound a volume."""
+    if mesh.CountFacets == 0:
+        raise InputError("the mesh is empty")
+    if not mesh.isSolid():
+        raise InputError(f"the mesh is not closed ({mesh.CountFacets} triangles with "
+                         "free edges or non-manifold edges): it bounds no volume")
+    shell = Part.Shape()
+    shell.makeShapeFromMesh(mesh.Topology, _MESH_SEWING)
+    solid = Part.Solid(Part.Shell(shell.Faces))
+    if solid.Volume < 0:   # a mesh oriented inward: the same volume, turned out
+        solid.reverse()
+    return solid
+
+
+def _describe(shape):
+    """What a shape without solids is, for a message."""
+    if shape.isNull():
+        return "an empty shape"
+    if shape.Shells:
+        free = sum(1 for s in shape.Shells if not s.isClosed())
+        return f"{len(shape.Shells)} shell(s), {free} of them open"
+    if shape.Faces:
+        return f"{len(shape.Faces)} face(s) without a closed shell"
+    if shape.Edges:
+        return f"{len(shape.Edges)} edge(s) (a sketch or a wire?)"
+    if shape.Vertexes:
+        return f"{len(shape.Vertexes)} vertex/vertices"
+    return f"a {shape.ShapeType} with no geometry"
+
+
+def solid_of(obj):
+    """The solid(s) of document object ``obj`` in global coordinates, as one Part shape:
+    its Shape's solids, its closed shells made solid, or its closed Mesh as a solid.
+    InputError (with what the object is instead) otherwise."""
+    if not _alive(obj):
+        raise InputError(f"{_label(obj)} is not in a document (deleted?)")
+    outer = _container_placement(obj)
+    shape = None
+    if hasattr(obj, "Shape"):
+        shape = obj.Shape.copy()
+        shape.Placement = outer.multiply(shape.Placement)
+    if shape is not None and not shape.isNull():
+        solids = list(shape.Solids)
+        if not solids:
+            solids = [Part.Solid(s) for s in shape.Shells if s.isClosed()]
+        if solids:
+            for s in solids:
+                if s.Volume < 0:
+                    s.reverse()
+            return solids[0] if len(solids) == 1 else Part.makeCompound(solids)
+    mesh = getattr(obj, "Mesh", None)
+    if mesh is not None and hasattr(mesh, "Topology"):
+        mesh = mesh.copy()
+        mesh.Placement = outer.multiply(mesh.Placement)
+        try:
+            return mesh_solid(mesh)
+        except InputError as exc:
+            raise InputError(f"{_label(obj)}: {exc}") from None
+    if shape is not None:
+        raise InputError(f"{_label(obj)} is not a solid: {_describe(shape)}")
+    raise InputError(f"{_label(obj)} is not a solid: it has neither a Shape nor a Mesh")
+
+
+def _container_placement(obj):
+    """The placement of the containers (App::Part, ...) around ``obj``: its global
+    placement less its own, which its Shape or Mesh already carries."""
+    try:
+        return obj.getGlobalPlacement().multiply(obj.Placement.inverse())
+    except AttributeError:   # no Placement: nothing around it moves it
+        return FreeCAD.Placement()
+
+
+def interference_floor(common, tolerance):
+    """Volume below which a common counts as touching: a film of thickness ``tolerance``
+    over half the common's surface (see the module's text)."""
+    return tolerance * common.Area / 2.0
+
+
+def _check_one(sweep, obj, tolerance):
+    name, label = _name(obj), _label(obj)
+    try:
+        solid = solid_of(obj)
+    except InputError as exc:
+        return ClearanceResult(name, label, INVALID, message=str(exc))
+    message = ""
+    volume, common = 0.0, None
+    try:
+        common = sweep.common(solid)
+        if common.Volume > interference_floor(common, tolerance):
+            volume = common.Volume
+        else:
+            common = None
+    except (Part.OCCError, RuntimeError) as exc:  # OCCT gave up: say so, keep the distance
+        message = f"Boolean common failed: {exc}"
+        common = None
+    try:
+        distance, pairs, _info = sweep.distToShape(solid)
+    except (Part.OCCError, RuntimeError) as exc:
+        return ClearanceResult(name, label, INVALID, volume, message=(
+            f"{label}: distance failed: {exc}" + (f"; {message}" if message else "")))
+    p_sweep, p_obj = pairs[0] if pairs else (None, None)
+    if volume > 0.0:
+        status = INTERFERENCE
+        distance = 0.0
+        # BRepExtrema's points for nested solids are not on both shapes; a vertex of the
+        # common (the one nearest its centre) is, and shows where they interfere.
+        centre = common.BoundBox.Center
+        p_sweep = p_obj = min((v.Point for v in common.Vertexes),
+                              key=lambda p: (p - centre).Length)
+    elif distance <= tolerance:
+        status = TOUCHING
+    else:
+        status = CLEAR
+    return ClearanceResult(name, label, status, volume, distance, p_sweep, p_obj,
+                           message, common)
+
+
+def _tolerance(tolerance):
+    if tolerance is None:
+        from mfgeom.app import preferences
+        return preferences.default_tolerance()
+    if hasattr(tolerance, "Unit"):       # a Quantity: must be a length
+        if tolerance.Unit != FreeCAD.Units.Length:
+            raise InputError(f"the tolerance must be a length, got {tolerance.UserString}")
+        tolerance = tolerance.getValueAs("mm")
+    elif isinstance(tolerance, str):
+        q = FreeCAD.Units.Quantity(tolerance)
+        return _tolerance(q if q.Unit != FreeCAD.Units.Unit() else float(q.Value))
+    tolerance = float(tolerance)
+    if not tolerance > 0.0 or tolerance != tolerance or tolerance == float("inf"):
+        raise InputError(f"the tolerance must be a positive length in mm, got {tolerance!r}")
+    return tolerance
+
+
+def check_clearance(sweep_obj, others, tolerance=None):
+    """Clearance of each object of ``others`` from the swept volume ``sweep_obj``.
+
+    ``sweep_obj``: a document object with a solid Shape or a closed Mesh (the sweep
+    feature, or any solid standing in for it); ``others``: document objects.
+    ``tolerance``: mm, a length Quantity or a string such as "0.01 mm" (default: the
+    preference DefaultTolerance).  Returns one :class:`ClearanceResult` per object, in
+    order; an object that is not a solid (or is the sweep itself) gets status INVALID
+    with a message.  Raises InputError when ``sweep_obj`` is missing or not a solid."""
+    tol = _tolerance(tolerance)
+    if sweep_obj is None:
+        raise InputError("no sweep selected: select the swept volume first, then the "
+                         "solids to check against it")
+    try:
+        sweep = solid_of(sweep_obj)
+    except InputError as exc:
+        raise InputError(f"the sweep: {exc}") from None
+    results = []
+    for obj in others:
+        if obj is sweep_obj:
+            results.append(ClearanceResult(_name(obj), _label(obj), INVALID,
+                                           message="this is the sweep itself"))
+            continue
+        results.append(_check_one(sweep, obj, tol))
+    return results
+
+
+def _is_sweep(obj):
+    return "Sweep" in getattr(getattr(obj, "Proxy", None), "Type", "")
+
+
+def _has_volume(obj):
+    try:
+        solid_of(obj)
+    except (InputError, Part.OCCError, RuntimeError, ValueError):
+        return False
+    return True
+
+
+def document_obstacles(sweep_obj):
+    """The solids of the sweep's document to check by default: every object with a solid
+    (or a closed mesh) except the sweep, what it is made from (its source) and what is
+    made from it, and objects used by another candidate (a Cut's inputs, a Body's
+    features: only the finished result counts once)."""
+    doc = sweep_obj.Document
+    skip = {sweep_obj.Name}
+    skip.update(o.Name for o in sweep_obj.OutListRecursive)
+    skip.update(o.Name for o in sweep_obj.InListRecursive)
+    candidates = [o for o in doc.Objects if o.Name not in skip and _has_volume(o)]
+    names = {o.Name for o in candidates}
+    return [o for o in candidates if not any(p.Name in names for p in o.InList)]
+
+
+def resolve(doc_or_sweep, others=None):
+    """(sweep object, others) from the macro API's arguments: a document (its one sweep
+    feature) or the sweep object; ``others`` None: :func:`document_obstacles`."""
+    if doc_or_sweep is None:
+        raise InputError("no sweep given")
+    if isinstance(doc_or_sweep, FreeCAD.Document):
+        sweeps = [o for o in doc_or_sweep.Objects if _is_sweep(o)]
+        if len(sweeps) != 1:
+            raise InputError(f"document {doc_or_sweep.Name} has {len(sweeps)} sweep "
+                             "features: pass the sweep object instead")
+        sweep_obj = sweeps[0]
+    else:
+        sweep_obj = doc_or_sweep
+    if others is None:
+        others = document_obstacles(sweep_obj)
+    elif hasattr(others, "TypeId"):
+        others = [others]
+    return sweep_obj, list(others)
+
+
+def _fmt(value, digits=4):
+    return "-" if value is None else f"{value:.{digits}f}"
+
+
+def report_rows(results):
+    """Rows (lists of strings) of the results table, the header first."""
+    rows = [["Object", "Status", "Interference volume (mm^3)", "Min distance (mm)",
+             "Closest point on sweep", "Closest point on object", "Note"]]
+    for r in results:
+        volume = "none" if r.status != INVALID and r.interference_volume == 0.0 \
+            else ("-" if r.status == INVALID else _fmt(r.interference_volume))
+        rows.append([r.label, r.status, volume, _fmt(r.min_distance),
+                     _point(r.point_on_sweep), _point(r.point_on_object), r.message])
+    return rows
+
+
+def _point(p):
+    return "-" if p is None else f"({p.x:.3f}, {p.y:.3f}, {p.z:.3f})"
+
+
+def report_text(results, sweep_label="", tolerance=None):
+    """The results as a fixed-width table (the Report view's text)."""
+    rows = report_rows(results)
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]) - 1)]
+    lines = []
+    if sweep_label:
+        tol = "" if tolerance is None else f" (tolerance {tolerance:g} mm)"
+        lines.append(f"Clearance check against '{sweep_label}'{tol}:")
+    for row in rows:
+        cells = [c.ljust(w) for c, w in zip(row[:-1], widths)]
+        lines.append("  ".join(cells + [row[-1]]).rstrip())
+    n = sum(1 for r in results if r.interferes)
+    lines.append(f"{n} of {len(results)} object(s) interfere.")
+    return "\n".join(lines) + "\n"
+
+
+def write_csv(results, path):
+    """Writes the results table to a CSV file (the header first; numbers unrounded)."""
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        w = csv.writer(f)
+        w.writerow(["name", "label", "status", "interference_volume_mm3",
+                    "min_distance_mm", "sweep_x", "sweep_y", "sweep_z", "object_x",
+                    "object_y", "object_z", "message"])
+        for r in results:
+            ps = [r.point_on_sweep.x, r.point_on_sweep.y, r.point_on_sweep.z] \
+                if r.point_on_sweep is not None else ["", "", ""]
+            po = [r.point_on_object.x, r.point_on_object.y, r.point_on_object.z] \
+                if r.point_on_object is not None else ["", "", ""]
+            w.writerow([r.name, r.label, r.status, repr(r.interference_volume),
+                        "" if r.min_distance is None else repr(r.min_distance)]
+                       + [repr(v) if v != "" else "" for v in ps + po] + [r.message])
