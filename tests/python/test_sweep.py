@@ -1,0 +1,513 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""core.rotational_sweep (issue 8) against references that share no code with libmfgeom.
+
+- argument errors: the library's messages come through MfgError;
+- analytic volumes: the unit cube spun a full turn about its long diagonal (pi/sqrt(3)), a
+  box turned about one of its edges (c (ab + (a^2 + b^2) theta / 2)), full-turn solids of
+  revolution (annulus, cylinder);
+- the membership oracle (sweep_oracle.inside_swept: analytic circle/triangle crossings)
+  against the generalized winding number of the result mesh at random points away from
+  the result's surface;
+- every result is a closed, outward oriented solid (core.mesh_check) whose reported
+  volume, area and box match numpy sums over its triangles, and small results do not
+  intersect themselves (a numpy triangle-triangle test);
+- invariance: rigid motions, scaling by 1e-6 / 1e6 (tolerance alike), triangle order.
+
+The volume bound.  The result's boundary lies within ``tol`` of the true boundary, so the
+two volumes differ by the region between the two surfaces: at most ``tol`` thick over the
+surface, i.e. |V_result - V| <= tol * area (to first order in tol / curvature radius; the
+tests keep tol / radius <= 1e-2, where the second-order term is far below the slack
+factor 1.05 used).  Relative to the volume: tol * area / V.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from mfgeom import core
+from mfgeom.core import MfgError
+from sweep_oracle import box_mesh, inside_swept, prism_mesh
+
+TWO_PI = 2.0 * math.pi
+SLACK = 1.05
+
+
+# --------------------------------------------------------------------------- #
+# Calling the sweep                                                          #
+# --------------------------------------------------------------------------- #
+
+def sweep(v, t, point, direction, angle, tol):
+    """core.rotational_sweep, skipping the test while the algorithm has not landed."""
+    try:
+        return core.rotational_sweep(v, t, point, direction, angle, tol)
+    except MfgError as exc:
+        if "not implemented" in str(exc):
+            pytest.skip("mfg_rotational_sweep: the algorithm has not landed yet")
+        raise
+
+
+# --------------------------------------------------------------------------- #
+# Test shapes (closed, outward)                                               #
+# --------------------------------------------------------------------------- #
+
+def extrude(xy, cap, loops, z0, z1):
+    """The prism over a planar region: ``xy`` (n, 2) points, ``cap`` (k, 3) its triangles
+    counter-clockwise, ``loops`` its boundary loops with the region on the left (outer
+    counter-clockwise, holes clockwise), from z0 to z1."""
+    xy = np.asarray(xy, dtype=np.float64)
+    n = len(xy)
+    v = np.vstack([np.column_stack([xy, np.full(n, z0)]), np.column_stack([xy, np.full(n, z1)])])
+    cap = np.asarray(cap, dtype=np.int64)
+    tris = [cap[:, ::-1], cap + n]                   # bottom faces -z, top +z
+    for loop in loops:
+        for a, b in zip(loop, loop[1:] + loop[:1]):  # wall: outward = edge x z
+            tris.append(np.array([[a, b, b + n], [a, b + n, a + n]]))
+    return v, np.vstack(tris)
+
+
+def l_bracket():
+    """An L: [0,3]x[0,1] u [0,1]x[0,2] in xy, 1.5 high (volume 6)."""
+    xy = [(0, 0), (3, 0), (3, 1), (1, 1), (1, 2), (0, 2)]
+    return extrude(xy, [[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5]], [[0, 1, 2, 3, 4, 5]],
+                   0.0, 1.5)
+
+
+def holed_block():
+    """[0,3]^2 x [0,1] with the square through hole [1,2]^2 (volume 8, genus 1)."""
+    xy = [(0, 0), (3, 0), (3, 3), (0, 3), (1, 1), (2, 1), (2, 2), (1, 2)]
+    cap = []
+    for k in range(4):
+        o0, o1, i0, i1 = k, (k + 1) % 4, 4 + k, 4 + (k + 1) % 4
+        cap += [[o0, o1, i1], [o0, i1, i0]]
+    return extrude(xy, cap, [[0, 1, 2, 3], [7, 6, 5, 4]], 0.0, 1.0)
+
+
+def random_rotation(rng):
+    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
+    q *= np.sign(np.diag(r))
+    return q if np.linalg.det(q) > 0 else -q
+
+
+# --------------------------------------------------------------------------- #
+# Independent geometry in numpy                                               #
+# --------------------------------------------------------------------------- #
+
+def volume_area(v, t):
+    """Signed tetrahedra from the centroid of the vertices; half cross norms."""
+    o = v.mean(axis=0)
+    a, b, c = v[t[:, 0]] - o, v[t[:, 1]] - o, v[t[:, 2]] - o
+    return (np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6,
+            np.linalg.norm(np.cross(b - a, c - a), axis=1).sum() / 2)
+
+
+def winding_numbers(points, v, t, chunk=400_000):
+    """Generalized winding number of the closed mesh about each point (van Oosterom &
+    Strackee's solid angle of each triangle / 4 pi): 1 inside an outward mesh, 0 outside,
+    robust for points away from the surface."""
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    tri = v[t]
+    out = np.empty(len(p))
+    step = max(1, chunk // max(1, len(t)))
+    for s in range(0, len(p), step):
+        d = tri[None, :, :, :] - p[s:s + step, None, None, :]      # (P, T, 3, 3)
+        a, b, c = d[:, :, 0], d[:, :, 1], d[:, :, 2]
+        la, lb, lc = (np.linalg.norm(x, axis=2) for x in (a, b, c))
+        num = np.einsum("ptk,ptk->pt", a, np.cross(b, c))
+        den = (la * lb * lc + np.einsum("ptk,ptk->pt", a, b) * lc
+               + np.einsum("ptk,ptk->pt", a, c) * lb + np.einsum("ptk,ptk->pt", b, c) * la)
+        out[s:s + step] = 2.0 * np.arctan2(num, den).sum(axis=1) / (4.0 * math.pi)
+    return out
+
+
+def _segment_distance(p, a, b):
+    ab = b - a
+    den = np.einsum("...k,...k->...", ab, ab)
+    s = np.einsum("...k,...k->...", p - a, ab) / np.where(den > 0, den, 1.0)
+    s = np.clip(s, 0.0, 1.0)
+    return np.linalg.norm(p - a - s[..., None] * ab, axis=-1)
+
+
+def surface_distance(points, v, t, chunk=300_000):
+    """Distance of each point to the nearest triangle of the mesh."""
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    a, b, c = v[t[:, 0]], v[t[:, 1]], v[t[:, 2]]
+    n = np.cross(b - a, c - a)
+    nn = np.einsum("ij,ij->i", n, n)
+    ok = nn > 0
+    out = np.empty(len(p))
+    step = max(1, chunk // max(1, len(t)))
+    for s in range(0, len(p), step):
+        q = p[s:s + step, None, :]                                    # (P, 1, 3)
+        d = np.minimum(np.minimum(_segment_distance(q, a, b), _segment_distance(q, b, c)),
+                       _segment_distance(q, c, a))
+        # where the foot of the perpendicular lies inside the triangle: the plane distance
+        h = np.einsum("ptk,tk->pt", q - a, n) / np.where(ok, nn, 1.0)
+        foot = q - h[..., None] * n                                   # (P, T, 3)
+        inside = np.broadcast_to(ok, h.shape).copy()
+        for e0, e1 in ((a, b), (b, c), (c, a)):
+            inside &= np.einsum("ptk,tk->pt", np.cross(e1 - e0, foot - e0), n) >= 0
+        plane = np.abs(h) * np.sqrt(nn)
+        out[s:s + step] = np.where(inside, np.minimum(d, plane), d).min(axis=1)
+    return out
+
+
+def self_intersections(v, t, eps=1e-9):
+    """Pairs of triangles sharing no vertex that cross: an edge of one passes through the
+    interior of the other (strictly, beyond eps relative to the mesh size)."""
+    tri = v[t]
+    lo, hi = tri.min(axis=1), tri.max(axis=1)
+    scale = float(np.max(hi.max(axis=0) - lo.min(axis=0)))
+    pad = eps * scale
+    overlap = np.all((lo[:, None, :] <= hi[None, :, :] + pad)
+                     & (lo[None, :, :] <= hi[:, None, :] + pad), axis=2)
+    i, j = np.nonzero(np.triu(overlap, 1))
+    share = (t[i][:, :, None] == t[j][:, None, :]).any(axis=(1, 2))
+    i, j = i[~share], j[~share]
+    bad = np.zeros(len(i), dtype=bool)
+    for first, second in ((i, j), (j, i)):
+        a, b, c = tri[second, 0], tri[second, 1], tri[second, 2]
+        n = np.cross(b - a, c - a)
+        area2 = np.linalg.norm(n, axis=1)
+        for k in range(3):
+            p, q = tri[first, k], tri[first, (k + 1) % 3]
+            dp = np.einsum("ij,ij->i", p - a, n)
+            dq = np.einsum("ij,ij->i", q - a, n)
+            tol = eps * scale * area2
+            crosses = ((dp > tol) & (dq < -tol)) | ((dp < -tol) & (dq > tol))
+            s = dp / np.where(crosses, dp - dq, 1.0)
+            x = p + s[:, None] * (q - p)
+            inside = crosses.copy()
+            for e0, e1 in ((a, b), (b, c), (c, a)):
+                inside &= np.einsum("ij,ij->i", np.cross(e1 - e0, x - e0), n) > tol * scale
+            bad |= inside
+    return list(zip(i[bad].tolist(), j[bad].tolist()))
+
+
+# --------------------------------------------------------------------------- #
+# Checks every result passes                                                  #
+# --------------------------------------------------------------------------- #
+
+def check_result(res, tol):
+    """Closed, outward, reported numbers those of its triangles; returns the report."""
+    assert res.vertices.dtype == np.float64 and res.vertices.shape[1:] == (3,)
+    assert res.triangles.dtype == np.int64 and res.triangles.shape[1:] == (3,)
+    rep = core.mesh_check(res.vertices, res.triangles, require_closed=True)
+    assert rep.nonmanifold_vertices == 0 and rep.degenerate_triangles == 0
+    vol, area = volume_area(res.vertices, res.triangles)
+    assert res.volume == pytest.approx(vol, rel=1e-9)
+    assert res.area == pytest.approx(area, rel=1e-9)
+    used = res.vertices[np.unique(res.triangles)]
+    assert np.allclose(res.bbox, [used.min(axis=0), used.max(axis=0)], rtol=0, atol=1e-12 * (
+        1 + np.abs(used).max()))
+    return rep
+
+
+def assert_volume(res, want, tol, area=None):
+    """|V - want| <= tol * area (see the module docstring), area the result's."""
+    area = res.area if area is None else area
+    bound = SLACK * tol * area
+    err = abs(res.volume - want)
+    assert err <= bound, (f"volume {res.volume!r} vs analytic {want!r}: error {err:.3e} > "
+                          f"tol*area {bound:.3e} (relative {err / want:.3e} > "
+                          f"{bound / want:.3e})")
+    return err / bound
+
+
+# --------------------------------------------------------------------------- #
+# Argument errors (no result needed)                                          #
+# --------------------------------------------------------------------------- #
+
+V, T = box_mesh()
+AXIS = ((0.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+
+
+def sweep_error(v=V, t=T, point=AXIS[0], direction=AXIS[1], angle=1.0, tol=1e-3):
+    with pytest.raises(MfgError) as info:
+        core.rotational_sweep(v, t, point, direction, angle, tol)
+    return info.value
+
+
+def test_open_mesh():
+    e = sweep_error(t=T[:-1])
+    assert e.status == "invalid argument"
+    assert "not closed" in e.detail and "3 boundary edges" in e.detail
+
+
+def test_flipped_and_inward_meshes():
+    flipped = T.copy()
+    flipped[0] = flipped[0, ::-1]
+    assert "inconsistent" in sweep_error(t=flipped).detail
+    assert "negative volume" in sweep_error(t=T[:, ::-1]).detail
+
+
+def test_nonmanifold_mesh():
+    v2, t2 = box_mesh((1, 0, 0), (2, 1, 1))      # shares the face x = 1 with the unit box
+    v = np.vstack([V, v2])
+    t = np.vstack([T, t2 + 8])
+    w = core.weld(v[t])
+    assert sweep_error(*w).status == "invalid argument"
+
+
+def test_degenerate_meshes():
+    assert sweep_error(t=np.zeros((0, 3), dtype=np.int64)).status == "degenerate input"
+    flat = V.copy()
+    flat[:, 2] = 0.0                              # every triangle in one plane: zero volume
+    assert sweep_error(v=flat).status in ("degenerate input", "invalid argument")
+
+
+@pytest.mark.parametrize("direction", [(0, 0, 0), (0.0, -0.0, 0.0)])
+def test_zero_axis(direction):
+    assert "zero vector" in sweep_error(direction=direction).detail
+
+
+@pytest.mark.parametrize("angle", [0.0, -0.0, -1.0, TWO_PI + 1e-9, 7.0, math.inf, math.nan])
+def test_angle_out_of_range(angle):
+    e = sweep_error(angle=angle)
+    assert e.status == "invalid argument" and "angle" in e.detail and "(0, 2*pi]" in e.detail
+
+
+@pytest.mark.parametrize("tol", [0.0, -1e-3, math.inf, math.nan])
+def test_tolerance_out_of_range(tol):
+    e = sweep_error(tol=tol)
+    assert e.status == "invalid argument" and "tolerance" in e.detail
+
+
+def test_nan_and_inf():
+    v = V.copy()
+    v[5, 2] = math.nan
+    assert sweep_error(v=v).status == "invalid argument"
+    assert "axis point coordinate 1" in sweep_error(point=(0, math.nan, 0)).detail
+    assert "axis direction component 2" in sweep_error(direction=(0, 0, math.inf)).detail
+
+
+def test_bad_shapes_and_types():
+    with pytest.raises(ValueError, match="axis_point must have shape"):
+        core.rotational_sweep(V, T, (0, 0), (0, 0, 1), 1.0, 1e-3)
+    with pytest.raises(ValueError, match="axis_direction must have shape"):
+        core.rotational_sweep(V, T, (0, 0, 0), [[0, 0, 1]], 1.0, 1e-3)
+    with pytest.raises(TypeError):
+        core.rotational_sweep(V, T.astype(float), (0, 0, 0), (0, 0, 1), 1.0, 1e-3)
+    with pytest.raises(TypeError):
+        core.rotational_sweep(V, T, (0, 0, 0), (0, 0, 1), "1", 1e-3)
+    with pytest.raises(TypeError):
+        core.rotational_sweep(V, T, (0, 0, 0), (0, 0, 1), 1.0, [1e-3])
+
+
+def test_index_out_of_range():
+    e = sweep_error(t=np.vstack([T, [[0, 1, 99]]]))
+    assert e.status == "invalid argument"
+
+
+# --------------------------------------------------------------------------- #
+# Analytic volumes                                                            #
+# --------------------------------------------------------------------------- #
+
+def test_unit_cube_about_its_long_diagonal():
+    tol = 1e-3
+    res = sweep(V, T, (0, 0, 0), (1, 1, 1), TWO_PI, tol)
+    check_result(res, tol)
+    assert_volume(res, math.pi / math.sqrt(3.0), tol)
+    # the solid of revolution: radius sqrt(2/3) at heights 1/sqrt3 .. 2/sqrt3 along the axis
+    r = np.linalg.norm(np.cross(res.vertices, np.ones(3) / math.sqrt(3)), axis=1)
+    assert r.max() <= math.sqrt(2.0 / 3.0) + 1e-9
+
+
+@pytest.mark.parametrize("deg", [1.0, 30.0, 90.0])
+def test_box_about_an_edge(deg):
+    a, b, c = 2.0, 1.0, 1.5
+    v, t = box_mesh((0, 0, -0.5), (a, b, c - 0.5))
+    theta = math.radians(deg)
+    tol = 1e-3
+    res = sweep(v, t, (0, 0, 0), (0, 0, 1), theta, tol)
+    check_result(res, tol)
+    want = c * (a * b + (a * a + b * b) * theta / 2.0)
+    # only the far edge's cylinder (radius sqrt(a^2 + b^2), angle theta) is curved:
+    # the error is within tol times that area (the planar parts are exact)
+    curved = math.hypot(a, b) * theta * c
+    assert_volume(res, want, tol, area=curved)
+    # the box of SV: x from the final position of the corner (0, b), y up to the far corner
+    lo, hi = res.bbox
+    assert lo[2] == -0.5 and hi[2] == c - 0.5
+    assert lo[0] == pytest.approx(min(0.0, -b * math.sin(theta)), abs=tol)
+    assert hi[1] == pytest.approx(math.hypot(a, b) if theta > math.atan2(a, b)
+                                  else a * math.sin(theta) + b * math.cos(theta), abs=tol)
+
+
+def test_full_turn_of_a_box_off_the_axis_is_an_annulus():
+    v, t = box_mesh((1.0, -0.5, 0.0), (2.0, 0.5, 1.0))
+    tol = 1e-3
+    res = sweep(v, t, (0, 0, 0), (0, 0, 1), TWO_PI, tol)
+    check_result(res, tol)
+    r, big = 1.0, math.hypot(2.0, 0.5)
+    assert_volume(res, math.pi * (big * big - r * r) * 1.0, tol)
+    radii = np.hypot(res.vertices[:, 0], res.vertices[:, 1])
+    assert radii.min() >= r - tol and radii.max() <= big + 1e-9
+
+
+def test_full_turn_of_a_coaxial_prism_is_a_cylinder():
+    n, radius, h = 7, 1.25, 2.0
+    v, t = prism_mesh((0.0, 0.0), radius, h, n)
+    tol = 1e-3
+    res = sweep(v, t, (0, 0, 0.3), (0, 0, -2.0), TWO_PI, tol)     # axis down: same solid
+    check_result(res, tol)
+    assert_volume(res, math.pi * radius * radius * h, tol)
+
+
+def test_angle_within_1e_12_of_two_pi_is_a_full_turn():
+    v, t = box_mesh((1.0, -0.5, 0.0), (2.0, 0.5, 1.0))
+    full = sweep(v, t, (0, 0, 0), (0, 0, 1), TWO_PI, 1e-2)
+    near = sweep(v, t, (0, 0, 0), (0, 0, 1), TWO_PI - 5e-13, 1e-2)
+    check_result(near, 1e-2)
+    assert near.volume == pytest.approx(full.volume, rel=1e-12)
+
+
+def test_turns_right_handed():
+    """Turning +90 degrees about +z takes +x to +y (seen from the tip: counter-clockwise)."""
+    v, t = box_mesh((1.0, -0.1, 0.0), (2.0, 0.1, 1.0))
+    res = sweep(v, t, (0, 0, 0), (0, 0, 1), math.pi / 2, 1e-3)
+    w = winding_numbers([[0.0, 1.5, 0.5], [0.0, -1.5, 0.5], [1.06, 1.06, 0.5]],
+                        res.vertices, res.triangles)
+    assert np.round(w).tolist() == [1.0, 0.0, 1.0]
+
+
+# --------------------------------------------------------------------------- #
+# The membership oracle                                                       #
+# --------------------------------------------------------------------------- #
+
+# name: (mesh, axis point, axis direction)
+CASES = {
+    "box-axis-through": (box_mesh((-0.5, -0.3, 0), (1.0, 0.7, 0.8)), (0.1, 0.2, 0), (0.3, -0.2, 1)),
+    "box-axis-outside": (box_mesh((0.5, 0.2, 0), (1.5, 0.9, 0.6)), (0, 0, 0), (0.2, 0.1, 1)),
+    "L-axis-through-vertex": (l_bracket(), (3.0, 1.0, 1.5), (0.3, 1.0, 0.4)),
+    "L-axis-along-edge": (l_bracket(), (1.0, 1.0, 0.0), (0, 0, 1)),
+    "L-axis-outside": (l_bracket(), (-1.0, 0.5, 0.0), (0, 1, 0)),
+    "hole-axis-through-hole": (holed_block(), (1.5, 1.5, 0), (0, 0, 1)),
+    "hole-axis-tilted-through-hole": (holed_block(), (1.5, 1.6, 0.5), (0.3, 0.2, 1)),
+    "hole-axis-along-edge": (holed_block(), (0.0, 0.0, 0.0), (1, 0, 0)),
+}
+ORACLE = [("box-axis-through", d) for d in (1, 180, 359, 360)] + [
+    ("box-axis-outside", 180), ("box-axis-outside", 360),
+    ("L-axis-through-vertex", 1), ("L-axis-through-vertex", 359),
+    ("L-axis-along-edge", 180), ("L-axis-outside", 360), ("L-axis-outside", 359),
+    ("hole-axis-through-hole", 90), ("hole-axis-through-hole", 360),
+    ("hole-axis-tilted-through-hole", 180), ("hole-axis-along-edge", 1),
+    ("hole-axis-along-edge", 360)]
+
+
+def membership(res, mesh, point, direction, theta, tol, n=1200, seed=0):
+    """Points in the result's box enlarged by 10 %, those farther than 2 tol from the
+    result's surface (so farther than tol from the true one: classified the same by both
+    when the result honours its tolerance), oracle vs winding number of the result."""
+    rng = np.random.default_rng(seed)
+    lo, hi = res.bbox
+    pad = 0.1 * (hi - lo) + 4 * tol
+    p = rng.uniform(lo - pad, hi + pad, size=(n, 3))
+    p = p[surface_distance(p, res.vertices, res.triangles) > 2.0 * tol]
+    w = winding_numbers(p, res.vertices, res.triangles)
+    assert np.all(np.abs(w - np.round(w)) < 1e-6), "winding number not an integer: open mesh"
+    assert set(np.round(w).tolist()) <= {0.0, 1.0}, "winding number not 0 or 1"
+    got = np.round(w) == 1.0
+    want = inside_swept(p, mesh[0], mesh[1], point, direction, theta)
+    return p, got, want
+
+
+@pytest.mark.parametrize("name, deg", ORACLE, ids=[f"{n}-{d}deg" for n, d in ORACLE])
+def test_membership_oracle(name, deg):
+    mesh, point, direction = CASES[name]
+    theta = TWO_PI if deg == 360 else math.radians(deg)
+    size = float(np.max(mesh[0].max(axis=0) - mesh[0].min(axis=0)))
+    tol = 5e-3 * size
+    res = sweep(mesh[0], mesh[1], point, direction, theta, tol)
+    check_result(res, tol)
+    p, got, want = membership(res, mesh, point, direction, theta, tol)
+    wrong = np.nonzero(got != want)[0]
+    assert len(p) > 600 and 0 < want.sum() < len(p)
+    assert not len(wrong), (
+        f"{len(wrong)} of {len(p)} points classified differently (result vs oracle), e.g. "
+        + "; ".join(f"{p[k].round(4).tolist()} result {'IN' if got[k] else 'OUT'}"
+                    for k in wrong[:5]))
+
+
+def test_no_self_intersection_small_results():
+    for name, deg in [("L-axis-through-vertex", 359), ("hole-axis-through-hole", 90),
+                      ("box-axis-through", 180)]:
+        mesh, point, direction = CASES[name]
+        theta = math.radians(deg)
+        res = sweep(mesh[0], mesh[1], point, direction, theta, 5e-2)
+        check_result(res, 5e-2)
+        if len(res.triangles) > 3000:
+            continue
+        bad = self_intersections(res.vertices, res.triangles)
+        assert not bad, f"{name} {deg} deg: {len(bad)} crossing triangle pairs, e.g. {bad[:3]}"
+
+
+def test_self_intersection_helper_finds_crossings():
+    """The helper itself: two boxes that overlap cross, two apart do not."""
+    v1, t1 = box_mesh((0, 0, 0), (1, 1, 1))
+    v2, t2 = box_mesh((0.5, 0.4, 0.3), (1.5, 1.3, 1.7))
+    v = np.vstack([v1, v2])
+    assert self_intersections(v, np.vstack([t1, t2 + 8]))
+    v3, t3 = box_mesh((2, 0, 0), (3, 1, 1))
+    assert not self_intersections(np.vstack([v1, v3]), np.vstack([t1, t3 + 8]))
+
+
+def test_geometry_helpers():
+    """Winding number and surface distance on the unit cube, against known values."""
+    pts = np.array([[0.5, 0.5, 0.5], [2.0, 0.5, 0.5], [0.5, 0.5, 1.25], [1.5, 1.5, 0.5],
+                    [0.5, 0.1, 0.5]])
+    w = winding_numbers(pts, V, T)
+    assert np.allclose(w, [1, 0, 0, 0, 1], atol=1e-12)
+    d = surface_distance(pts, V, T)
+    assert np.allclose(d, [0.5, 1.0, 0.25, math.sqrt(0.5), 0.1], atol=1e-12)
+
+
+# --------------------------------------------------------------------------- #
+# Invariance                                                                  #
+# --------------------------------------------------------------------------- #
+
+def _case(name="L-axis-through-vertex", deg=200.0):
+    mesh, point, direction = CASES[name]
+    return mesh[0], mesh[1], np.asarray(point, float), np.asarray(direction, float), \
+        math.radians(deg)
+
+
+def test_rigid_motion_moves_the_result():
+    v, t, point, direction, theta = _case()
+    tol = 1e-2
+    ref = sweep(v, t, point, direction, theta, tol)
+    rng = np.random.default_rng(7)
+    for _ in range(2):
+        rot, shift = random_rotation(rng), rng.uniform(-50, 50, size=3)
+        moved = sweep(v @ rot.T + shift, t, rot @ point + shift, rot @ direction, theta, tol)
+        check_result(moved, tol)
+        assert abs(moved.volume - ref.volume) <= SLACK * 2 * tol * ref.area
+        # both boundaries lie within tol of the (moved) true one: within 2 tol of each other
+        ref_moved = ref.vertices @ rot.T + shift
+        d1 = surface_distance(moved.vertices, ref_moved, ref.triangles)
+        d2 = surface_distance(ref_moved, moved.vertices, moved.triangles)
+        assert max(d1.max(), d2.max()) <= 2 * tol * SLACK
+
+
+@pytest.mark.parametrize("scale", [1e-6, 1e6])
+def test_scaling(scale):
+    v, t, point, direction, theta = _case("hole-axis-tilted-through-hole", 120.0)
+    tol = 1e-2
+    ref = sweep(v, t, point, direction, theta, tol)
+    res = sweep(v * scale, t, point * scale, direction, theta, tol * scale)
+    check_result(res, tol * scale)
+    assert res.volume / scale ** 3 == pytest.approx(ref.volume, abs=SLACK * 2 * tol * ref.area)
+    assert np.allclose(res.bbox / scale, ref.bbox, rtol=0, atol=2 * tol)
+
+
+def test_triangle_order_and_start_corner_do_not_matter():
+    v, t, point, direction, theta = _case("hole-axis-through-hole", 250.0)
+    tol = 1e-2
+    ref = sweep(v, t, point, direction, theta, tol)
+    rng = np.random.default_rng(3)
+    perm = rng.permutation(len(t))
+    rolled = np.array([np.roll(row, k) for row, k in zip(t[perm], rng.integers(0, 3, len(t)))])
+    res = sweep(v, rolled, point, direction, theta, tol)
+    check_result(res, tol)
+    assert res.volume == pytest.approx(ref.volume, rel=1e-9)
+    assert res.area == pytest.approx(ref.area, rel=1e-9)
