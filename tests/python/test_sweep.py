@@ -83,6 +83,20 @@ def holed_block():
     return extrude(xy, cap, [[0, 1, 2, 3], [7, 6, 5, 4]], 0.0, 1.0)
 
 
+def hollow_box():
+    """[0,2]^3 with the cavity [0.5,1.5]^3 (its shell faces inward; volume 7)."""
+    v, t = box_mesh((0, 0, 0), (2, 2, 2))
+    vi, ti = box_mesh((0.5, 0.5, 0.5), (1.5, 1.5, 1.5))
+    return np.vstack([v, vi]), np.vstack([t, ti[:, ::-1] + 8])
+
+
+def two_boxes():
+    """Two disjoint boxes (two components)."""
+    v, t = box_mesh((0.5, -0.2, 0), (1.5, 0.2, 0.5))
+    v2, t2 = box_mesh((-1.2, 0.3, 0.2), (-0.4, 0.9, 1.0))
+    return np.vstack([v, v2]), np.vstack([t, t2 + 8])
+
+
 def random_rotation(rng):
     q, r = np.linalg.qr(rng.normal(size=(3, 3)))
     q *= np.sign(np.diag(r))
@@ -385,6 +399,8 @@ CASES = {
     "hole-axis-through-hole": (holed_block(), (1.5, 1.5, 0), (0, 0, 1)),
     "hole-axis-tilted-through-hole": (holed_block(), (1.5, 1.6, 0.5), (0.3, 0.2, 1)),
     "hole-axis-along-edge": (holed_block(), (0.0, 0.0, 0.0), (1, 0, 0)),
+    "cavity-axis-through": (hollow_box(), (1.1, 0.9, 1.0), (0.2, 1.0, 0.1)),
+    "two-components": (two_boxes(), (0.0, 0.0, 0.0), (0.1, 0.0, 1.0)),
 }
 ORACLE = [("box-axis-through", d) for d in (1, 180, 359, 360)] + [
     ("box-axis-outside", 180), ("box-axis-outside", 360),
@@ -392,7 +408,8 @@ ORACLE = [("box-axis-through", d) for d in (1, 180, 359, 360)] + [
     ("L-axis-along-edge", 180), ("L-axis-outside", 360), ("L-axis-outside", 359),
     ("hole-axis-through-hole", 90), ("hole-axis-through-hole", 360),
     ("hole-axis-tilted-through-hole", 180), ("hole-axis-along-edge", 1),
-    ("hole-axis-along-edge", 360)]
+    ("hole-axis-along-edge", 360), ("cavity-axis-through", 60),
+    ("cavity-axis-through", 360), ("two-components", 150)]
 
 
 def membership(res, mesh, point, direction, theta, tol, n=1200, seed=0):
@@ -511,3 +528,14 @@ def test_triangle_order_and_start_corner_do_not_matter():
     check_result(res, tol)
     assert res.volume == pytest.approx(ref.volume, rel=1e-9)
     assert res.area == pytest.approx(ref.area, rel=1e-9)
+
+
+def test_axis_point_along_the_axis_and_direction_length_do_not_matter():
+    v, t, point, direction, theta = _case("L-axis-outside", 300.0)
+    tol = 1e-2
+    ref = sweep(v, t, point, direction, theta, tol)
+    res = sweep(v, t, point + 2.5 * direction, 7.0 * direction, theta, tol)
+    check_result(res, tol)
+    assert res.volume == pytest.approx(ref.volume, abs=SLACK * 2 * tol * ref.area)
+    d1 = surface_distance(res.vertices, ref.vertices, ref.triangles)
+    assert d1.max() <= 2 * tol * SLACK
