@@ -47,7 +47,7 @@ def algorithm_landed():
 
 
 needs_algorithm = pytest.mark.skipif(not algorithm_landed(),
-                                     reason="mfg_rotational_sweep: the algorithm has not landed yet")
+                                     reason="the sweep algorithm has not landed yet")
 
 A, B, C = 2.0, 1.0, 1.5          # box about its edge on the z axis
 

@@ -201,7 +201,8 @@ def err(path):
     return e
 
 
-FACET = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n"
+FACET = ("facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+         "endloop\nendfacet\n")
 
 
 @pytest.mark.parametrize("text, line, words", [

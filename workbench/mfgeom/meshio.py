@@ -105,7 +105,7 @@ def _stl_ascii_soup(path, data):
         raise MeshFileError(path, f"not an ASCII STL: byte {exc.start} is not ASCII "
                                   "(and the size does not fit a binary STL)") from None
     corners = []
-    state = "solid"          # expected next: solid, facet|endsolid, outer, vertex, endloop, endfacet
+    state = "solid"          # what comes next: solid, facet, outer, vertex, endfacet, end
     nvert = 0
     line_no = 0
     for line_no, line in enumerate(text.splitlines(), 1):
