@@ -75,9 +75,9 @@ def _is_binary_stl(data):
         if len(data) == 84 + 50 * count:
             head = data[:1024]
             textual = all(32 <= b < 127 or b in (9, 10, 13) for b in head)
-            return not (textual and data.lstrip()[:5].lower() == b"solid"
+            return not (textual and head.lstrip()[:5].lower() == b"solid"
                         and b"facet" in head)
-    return not data.lstrip()[:5].lower() == b"solid"
+    return not data[:1024].lstrip()[:5].lower() == b"solid"
 
 
 def _stl_binary_soup(path, data):
