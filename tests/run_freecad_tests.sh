@@ -50,6 +50,17 @@ if [ $parting_rc -ne 0 ] || ! grep -qE "^freecad-parting: [0-9]+ passed, 0 faile
   failed=1
 fi
 
+echo "--- FreeCAD clearance tests (freecadcmd)"
+clearance_log="$FREECAD_USER_HOME/clearance.log"
+freecadcmd tests/freecad/test_clearance_app.py > "$clearance_log" 2>&1
+clearance_rc=$?
+grep -E "^(FAIL|ERROR): |^freecad-clearance: " "$clearance_log"
+if [ $clearance_rc -ne 0 ] || ! grep -qE "^freecad-clearance: [0-9]+ passed, 0 failed$" "$clearance_log" ||
+   grep -q "Traceback" "$clearance_log"; then
+  echo "clearance tests: FAILED (exit $clearance_rc)"; grep -n -A12 "Traceback" "$clearance_log" | head -120
+  failed=1
+fi
+
 echo "--- FreeCAD GUI tests (freecad under xvfb)"
 bash tests/gui/run_gui_tests.sh || failed=1
 

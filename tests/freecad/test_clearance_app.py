@@ -392,6 +392,34 @@ class MacroApi(Base):
         self.assertEqual(len(self.doc.Objects), 2)
 
 
+class DefaultTolerance(Base):
+    def test_the_sweeps_own_tolerance_sets_the_floor(self):
+        sweep = self.add("Sweep", Part.makeBox(10, 10, 10))
+        sweep.addProperty("App::PropertyLength", "Tolerance")
+        sweep.Tolerance = 0.1
+        film = self.add("Film", Part.makeBox(5, 5, 5, V(10 - 0.05, 0, 0)))
+        self.doc.recompute()
+        self.assertEqual(clearance.default_tolerance(sweep), 0.1)
+        r = clearance.check_clearance(sweep, [film])[0]   # 0.05 < 0.1: a film
+        self.assertEqual((r.status, r.interference_volume), ("touching", 0.0))
+        r = clearance.check_clearance(sweep, [film], tolerance=0.01)[0]
+        self.assertAlmostEqual(r.interference_volume, 0.05 * 25, delta=1e-8)
+        plain = self.add("Plain", Part.makeBox(1, 1, 1))
+        from mfgeom.app import preferences
+        self.assertEqual(clearance.default_tolerance(plain), preferences.default_tolerance())
+
+
+class Palette(unittest.TestCase):
+    def test_interference_colour_stands_apart(self):
+        from mfgeom import palette
+
+        def worst(others):
+            return min(palette.contrast(palette.INTERFERENCE, o, v)
+                       for v in palette.VISIONS for o in others)
+        self.assertGreater(worst([palette.SELECTION, palette.PRESELECTION]), 100)
+        self.assertGreater(worst([palette.SHAPE_GREY, *palette.BACKGROUND]), 40)
+
+
 def main():
     # freecadcmd runs this file with exec(): it is not in sys.modules, so collect by hand
     loader = unittest.defaultTestLoader

@@ -46,6 +46,16 @@ rc=$?
 rm -rf "$parting_home"
 report freecad-gui-parting "$parting_log" $rc
 
+# The clearance check (issue 8) on a swept box and obstacles: tests/gui/test_gui_clearance.py.
+clearance_home=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-clearance-home.XXXXXX")
+mkdir -p "$clearance_home/Mod"
+ln -s "$ROOT" "$clearance_home/Mod/mfgeom"
+clearance_log="$MFGEOM_GUI_OUT/gui-clearance.log"
+FREECAD_USER_HOME="$clearance_home" timeout 300 xvfb-run -a freecad tests/gui/test_gui_clearance.py > "$clearance_log" 2>&1
+rc=$?
+rm -rf "$clearance_home"
+report freecad-gui-clearance "$clearance_log" $rc
+
 # The workbench without its library, as after an Addon Manager install: a copy of the
 # working tree without build/ and with MFGEOM_LIBRARY unset; tests/gui/test_gui_library.py
 # checks the offer to build, that the document stays valid, then builds and loads.

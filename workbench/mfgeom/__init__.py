@@ -67,9 +67,10 @@ def check_clearance(doc_or_sweep, others=None, tolerance=None):
     ``doc_or_sweep``: the sweep object (the sweep feature, or any object with a solid
     Shape or a closed Mesh) or a document holding one sweep feature; ``others``: an object
     or a list of them (default: every other solid of the document except the sweep's
-    source).  ``tolerance``: mm or a length Quantity (default: preference
-    DefaultTolerance).  Returns a list of :class:`mfgeom.app.clearance.ClearanceResult`;
-    non-solids get status "invalid" and a message.  Changes nothing in the document.
+    source).  ``tolerance``: mm or a length Quantity (default: the sweep's own Tolerance,
+    else the preference DefaultTolerance).  Returns a list of
+    :class:`mfgeom.app.clearance.ClearanceResult`; non-solids get status "invalid" and a
+    message.  Changes nothing in the document.
     See :func:`mfgeom.app.clearance.check_clearance`."""
     from mfgeom.app import clearance
     sweep, objs = clearance.resolve(doc_or_sweep, others)

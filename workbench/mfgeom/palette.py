@@ -74,6 +74,16 @@ SPHERE_HIGH = _rgb(34, 68, 136)
 SPHERE_MAX = _rgb(255, 0, 255)
 
 
+# The clearance check (issue 8): solids that interfere with a swept volume.  Magenta, the
+# clash colour of interference checks, and the farthest of the warm hues from FreeCAD's
+# colours: >= 106 CIELAB units from the selection and pre-selection colours and >= 44
+# from the default shape grey and both ends of the background gradient, for normal,
+# protan and deutan vision (Tol red, the cavity side, is 29 from the selection green for
+# a deuteranope).  tests/freecad/test_clearance_app.py keeps these floors.
+INTERFERENCE = _rgb(255, 0, 255)
+BACKGROUND = (_rgb(51, 51, 101), _rgb(151, 151, 170))  # FreeCAD 0.20's gradient ends
+
+
 def setup_color(i):
     """Colour of set-up ``i`` (1-based)."""
     return SETUP_COLORS[(i - 1) % len(SETUP_COLORS)]

@@ -162,6 +162,27 @@ def solid_of(obj):
     raise InputError(f"{_label(obj)} is not a solid: it has neither a Shape nor a Mesh")
 
 
+def check_volume_source(obj, what="the sweep"):
+    """Raises InputError unless ``obj`` has a solid (or closed-shell) Shape or a closed
+    Mesh: the cheap test of :func:`solid_of`, without building a mesh's solid."""
+    if obj is None:
+        raise InputError("no sweep selected: select the swept volume first, then the "
+                         "solids to check against it")
+    if not _alive(obj):
+        raise InputError(f"{what}: {_label(obj)} is not in a document (deleted?)")
+    shape = getattr(obj, "Shape", None)
+    if shape is not None and not shape.isNull() and (
+            shape.Solids or any(s.isClosed() for s in shape.Shells)):
+        return
+    mesh = getattr(obj, "Mesh", None)
+    if mesh is not None and hasattr(mesh, "isSolid") and mesh.CountFacets and mesh.isSolid():
+        return
+    try:
+        solid_of(obj)
+    except InputError as exc:
+        raise InputError(f"{what}: {exc}") from None
+
+
 def _container_placement(obj):
     """The placement of the containers (App::Part, ...) around ``obj``: its global
     placement less its own, which its Shape or Mesh already carries."""
@@ -216,10 +237,19 @@ def _check_one(sweep, obj, tolerance):
                            message, common)
 
 
+def default_tolerance(sweep_obj):
+    """The sweep's own Tolerance (the sweep feature's boundary is only that exact, so a
+    finer floor would count its facets as interference), else the preference
+    DefaultTolerance."""
+    own = getattr(sweep_obj, "Tolerance", None)
+    value = getattr(own, "Value", own)
+    if isinstance(value, (int, float)) and value > 0.0:
+        return float(value)
+    from mfgeom.app import preferences
+    return preferences.default_tolerance()
+
+
 def _tolerance(tolerance):
-    if tolerance is None:
-        from mfgeom.app import preferences
-        return preferences.default_tolerance()
     if hasattr(tolerance, "Unit"):       # a Quantity: must be a length
         if tolerance.Unit != FreeCAD.Units.Length:
             raise InputError(f"the tolerance must be a length, got {tolerance.UserString}")
@@ -238,14 +268,12 @@ def check_clearance(sweep_obj, others, tolerance=None):
 
     ``sweep_obj``: a document object with a solid Shape or a closed Mesh (the sweep
     feature, or any solid standing in for it); ``others``: document objects.
-    ``tolerance``: mm, a length Quantity or a string such as "0.01 mm" (default: the
-    preference DefaultTolerance).  Returns one :class:`ClearanceResult` per object, in
+    ``tolerance``: mm, a length Quantity or a string such as "0.01 mm" (default:
+    :func:`default_tolerance`).  Returns one :class:`ClearanceResult` per object, in
     order; an object that is not a solid (or is the sweep itself) gets status INVALID
     with a message.  Raises InputError when ``sweep_obj`` is missing or not a solid."""
-    tol = _tolerance(tolerance)
-    if sweep_obj is None:
-        raise InputError("no sweep selected: select the swept volume first, then the "
-                         "solids to check against it")
+    check_volume_source(sweep_obj)
+    tol = _tolerance(default_tolerance(sweep_obj) if tolerance is None else tolerance)
     try:
         sweep = solid_of(sweep_obj)
     except InputError as exc:

@@ -99,6 +99,10 @@ class PartingAnalysisCommand(BaseCommand):
 COMMANDS = {"Mfgeom_PartingAnalysis": PartingAnalysisCommand(),
             "Mfgeom_ClassifyPoints": ClassifyPointsCommand()}
 
+# The clearance check of a swept volume (issue 8); last, after the sweep it checks.
+from mfgeom.gui.clearance_command import ClearanceCheckCommand  # noqa: E402
+COMMANDS["Mfgeom_ClearanceCheck"] = ClearanceCheckCommand()
+
 for _name, _command in COMMANDS.items():
     FreeCADGui.addCommand(_name, _command)
 
