@@ -75,3 +75,16 @@ def check_clearance(doc_or_sweep, others=None, tolerance=None):
     from mfgeom.app import clearance
     sweep, objs = clearance.resolve(doc_or_sweep, others)
     return clearance.check_clearance(sweep, objs, tolerance=tolerance)
+
+
+@needs_library
+def make_rotational_sweep(doc, source, axis_point=(0.0, 0.0, 0.0), axis_dir=(0.0, 0.0, 1.0),
+                          angle_deg=90.0, tolerance=0.01, **kwargs):
+    """Create the parametric volume swept by ``source`` (a solid) turning by 0 ..
+    ``angle_deg`` about the axis through ``axis_point`` along ``axis_dir`` (global),
+    within ``tolerance`` mm.  Keywords: ``deflection`` (mm, curved faces), ``representation``
+    ("Mesh" or "Solid"), ``axis`` (an edge ``(obj, "EdgeN")``, datum line or origin axis
+    instead of point and direction), ``reverse``, ``name``.
+    See :func:`mfgeom.app.sweep_feature.make_rotational_sweep`."""
+    from mfgeom.app.sweep_feature import make_rotational_sweep as _make
+    return _make(doc, source, axis_point, axis_dir, angle_deg, tolerance, **kwargs)

@@ -1,0 +1,529 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The parametric "rotational sweep" feature (issue 8): App proxy and make function.
+
+The volume a solid sweeps while it turns about an axis by 0 .. Angle (right-handed about
+the axis direction), computed by libmfgeom (:func:`mfgeom.core.rotational_sweep`) from a
+closed triangle mesh of the solid, and recomputed whenever the source, the axis or a
+parameter changes.
+
+Which FreeCAD object: a ``Part::FeaturePython`` with a ``Mesh`` property
+(``Mesh::PropertyMeshKernel``) and its own view provider (mfgeom.gui.sweep_view), not a
+``Mesh::FeaturePython``.  In FreeCAD 0.20 a Mesh feature's extra ``Shape`` property is
+invisible to Part (``Part.getShape`` returns a null shape, Part's Boolean and export
+commands refuse it), so a Mesh feature could not give the Solid representation to Part
+tools; a Part feature can, and a Mesh property is stored (binary, in the FCStd), exported
+and read back by FreeCAD like a Mesh feature's.  The view provider draws the Mesh
+representation itself with one Coin indexed face set (display mode "Mesh": fast for
+millions of triangles, no OCCT shape per triangle) and shows the Solid representation
+with Part's own display modes.
+
+* Mesh (default): ``Mesh`` holds the result, ``Shape`` is empty.  FreeCAD's mesh kernel
+  stores single-precision coordinates (~1e-7 relative); Volume, Area and the bounding box
+  are the library's, in double precision.
+* Solid: ``Shape`` is a Part solid of the same triangles with coplanar ones merged into
+  faces (``makeShapeFromMesh``, ``removeSplitter``, ``Part.Solid``); it must be valid
+  and its volume must agree with the library's (an error otherwise).  Building it costs
+  OCCT time per triangle: seconds for ~10^4 triangles.
+
+Inputs are in global coordinates: the source's global placement (containers included)
+is applied to its shape, so the answer moves with the part; an AxisObject (a straight
+edge, a datum line, a Part / Body origin axis) is also read in global coordinates and
+then overrides AxisPoint / AxisDirection (which show the axis used).  The feature's own
+Placement stays the identity (hidden): the result is already placed.
+
+Curved sources are tessellated with ``Deflection`` and the mesh made conservative by
+:func:`conservative_offset` (see there); planar faces stay exact.
+"""
+
+import math
+import time
+
+import numpy as np
+
+import FreeCAD
+
+from mfgeom.app.feature_base import FeatureProxy, add_properties
+from mfgeom.errors import InputError, MfgeomError
+
+# 1: first release.  Bump when properties change and migrate in _migrate().
+VERSION = 1
+TYPE = "Mfgeom::RotationalSweep"
+REPRESENTATIONS = ["Mesh", "Solid"]
+DEFAULT_ANGLE = 90.0          # degrees
+DEFAULT_TOLERANCE = 0.01      # mm
+DEFAULT_DEFLECTION = 0.01     # mm
+# A vertex is never pushed further than this many deflections (see conservative_offset).
+MAX_OFFSET_FACTOR = 10.0
+# Solid representation: sewing tolerance of the mesh's vertices (they are shared exactly)
+# and the largest relative difference between the solid's and the library's volume.
+_SEWING = 1e-7
+_VOLUME_AGREEMENT = 1e-6
+
+
+class SweepInputError(InputError):
+    """A bad source, axis or parameter given to the rotational sweep."""
+
+
+# ---------------------------------------------------------------------------- geometry
+def conservative_offset(vertices, triangles, curved, deflection):
+    """The mesh ``vertices`` moved so the tessellation of a curved solid holds the true
+    solid: returns (new vertices (n, 3), largest displacement).
+
+    Why: OCCT's tessellation of a curved face lies within ``deflection`` of the face, and
+    on convex parts (a cylinder's side, a fillet) its chords cut *inside* the material, so
+    the swept volume of the mesh would miss up to ``deflection`` of the true one.  Every
+    vertex of a curved (``curved[t]`` true) triangle is pushed outward along its
+    angle-weighted normal N (weights: the triangle's corner angle at the vertex; curved
+    triangles only) by ``deflection / min(N . n_t)`` over its curved triangles t, so each
+    of its curved triangles' corners, hence the whole moved triangle, lies at least
+    ``deflection`` beyond that triangle's old plane: the true surface, within
+    ``deflection`` of the old triangle, is inside.  A vertex also on planar faces (a
+    cylinder's rim) keeps to their planes: N is projected onto the plane (one plane) or
+    onto the line of two planes; on three or more planes it stays.  So planar faces stay
+    exact and only curved parts grow, by at most ``MAX_OFFSET_FACTOR * deflection``
+    (when N . n_t is small, the cap applies: a very sharp curved crease is then not fully
+    covered).  On concave parts (a hole) the chords already lie outside the material;
+    pushing them further only adds up to ``deflection`` there.
+    """
+    v = np.asarray(vertices, dtype=np.float64)
+    tri = np.asarray(triangles, dtype=np.int64)
+    curved = np.asarray(curved, dtype=bool)
+    out = v.copy()
+    if deflection <= 0.0 or not curved.any() or not len(tri):
+        return out, 0.0
+    p0, p1, p2 = v[tri[:, 0]], v[tri[:, 1]], v[tri[:, 2]]
+    normals = np.cross(p1 - p0, p2 - p0)
+    lengths = np.linalg.norm(normals, axis=1)
+    good = lengths > 0.0
+    normals[good] /= lengths[good, None]
+
+    def corner_angle(a, b, c):
+        u, w = b - a, c - a
+        return np.arctan2(np.linalg.norm(np.cross(u, w), axis=1), np.einsum("ij,ij->i", u, w))
+    angles = np.stack([corner_angle(p0, p1, p2), corner_angle(p1, p2, p0),
+                       corner_angle(p2, p0, p1)], axis=1)
+    n = len(v)
+    acc = np.zeros((n, 3))
+    is_curved = curved & good
+    for k in range(3):
+        np.add.at(acc, tri[is_curved, k], normals[is_curved] * angles[is_curved, k, None])
+    moved = np.flatnonzero(np.linalg.norm(acc, axis=1) > 0.0)
+    # the planes of planar triangles at each moved vertex (distinct normals only)
+    planes = {}
+    flat = ~curved & good
+    for t in np.flatnonzero(flat):
+        for k in range(3):
+            planes.setdefault(int(tri[t, k]), []).append(normals[t])
+    # the curved triangles at each vertex, for min(N . n_t)
+    curved_at = {}
+    for t in np.flatnonzero(is_curved):
+        for k in range(3):
+            curved_at.setdefault(int(tri[t, k]), []).append(t)
+    largest = 0.0
+    for i in moved:
+        d = acc[i]
+        distinct = []
+        for m in planes.get(int(i), []):
+            if all(abs(float(m @ q)) < 1.0 - 1e-9 for q in distinct):
+                distinct.append(m)
+        if len(distinct) == 1:
+            d = d - (d @ distinct[0]) * distinct[0]
+        elif len(distinct) == 2:
+            line = np.cross(distinct[0], distinct[1])
+            line /= np.linalg.norm(line)
+            d = (d @ line) * line
+        elif len(distinct) > 2:
+            continue
+        norm = np.linalg.norm(d)
+        if norm <= 1e-12 * max(1.0, np.linalg.norm(acc[i])):
+            continue
+        d /= norm
+        worst = min(float(normals[t] @ d) for t in curved_at[int(i)])
+        step = deflection / max(worst, 1.0 / MAX_OFFSET_FACTOR)
+        out[i] = v[i] + step * d
+        largest = max(largest, step)
+    return out, largest
+
+
+def source_mesh(shape, deflection):
+    """(vertices (n, 3), triangles (t, 3), curved (t,) bool) of the solids of ``shape``
+    (global coordinates as the shape is placed): its faces tessellated one by one at
+    ``deflection`` (planar faces exactly) and welded where corners coincide exactly
+    (OCCT meshes a shared edge once, so neighbouring faces share its nodes)."""
+    from mfgeom import core
+    soup, curved = [], []
+    for solid in shape.Solids:
+        for face in solid.Faces:
+            points, tris = face.tessellate(deflection)
+            if not tris:
+                continue
+            p = np.array([(q.x, q.y, q.z) for q in points], dtype=np.float64).reshape(-1, 3)
+            soup.append(p[np.asarray(tris, dtype=np.int64)].reshape(-1, 9))
+            is_plane = type(face.Surface).__name__ == "Plane"
+            curved.append(np.full(len(tris), not is_plane))
+    if not soup:
+        raise SweepInputError("the source has no faces to mesh")
+    vertices, triangles = core.weld(np.vstack(soup))
+    return vertices, triangles, np.concatenate(curved)
+
+
+def axis_of(axis_object, sub=""):
+    """(point, unit direction) in global coordinates of a straight edge (``sub`` "EdgeN"
+    of ``axis_object``), a datum line (PartDesign::Line, a Part object whose shape is one
+    straight edge) or an origin axis (App::Line).  The direction runs from the edge's
+    start to its end (as parametrised).  SweepInputError if it is not a straight line."""
+    import Part
+    label = getattr(axis_object, "Label", "?")
+    if getattr(axis_object, "TypeId", "") == "App::Line":
+        # origin axes have no shape in 0.20: the line runs along their local x axis
+        pl = axis_object.getGlobalPlacement()
+        d = pl.Rotation.multVec(FreeCAD.Vector(1, 0, 0))
+        return _np(pl.Base), _np(d) / d.Length
+    try:
+        shape = Part.getShape(axis_object, sub or "", needSubElement=bool(sub))
+    except Exception as exc:  # noqa: BLE001 - whatever OCCT or FreeCAD says, say it once
+        raise SweepInputError(f"axis '{label}{'.' + sub if sub else ''}' has no shape "
+                              f"({exc})") from None
+    edges = shape.Edges if not shape.isNull() else []
+    what = f"'{label}.{sub}'" if sub else f"'{label}'"
+    if len(edges) != 1:
+        raise SweepInputError(f"the axis {what} must be one straight edge or a datum line, "
+                              f"not {len(edges)} edges")
+    edge = edges[0]
+    if type(edge.Curve).__name__ not in ("Line", "LineSegment"):
+        raise SweepInputError(f"the axis {what} is not straight "
+                              f"({type(edge.Curve).__name__})")
+    a = edge.valueAt(edge.FirstParameter)
+    b = edge.valueAt(edge.LastParameter)
+    if not math.isfinite(edge.LastParameter - edge.FirstParameter):  # an infinite line
+        b = a + edge.Curve.Direction
+    d = b - a
+    if d.Length <= 1e-12:
+        raise SweepInputError(f"the axis {what} has zero length")
+    return _np(a), _np(d) / d.Length
+
+
+def _np(v):
+    return np.array([v.x, v.y, v.z], dtype=np.float64)
+
+
+def _vector(a):
+    return FreeCAD.Vector(*[float(c) for c in a])
+
+
+def sweep_inputs(obj):
+    """Checked inputs of the feature: (shape (global), axis point, unit axis direction,
+    angle rad, tolerance mm, deflection mm).  SweepInputError says what is wrong."""
+    from mfgeom.app import gauss_map
+    src = obj.Source
+    if src is None:
+        raise SweepInputError("no source: set the Source property to a solid")
+    shape = getattr(src, "Shape", None)
+    if shape is None or shape.isNull():
+        raise SweepInputError(f"'{src.Label}' has no shape: the source must be a solid")
+    if not shape.Solids:
+        kind = shape.ShapeType
+        raise SweepInputError(f"'{src.Label}' is not a solid (a {kind}"
+                              f"{', open' if kind in ('Shell', 'Face') else ''}): the "
+                              "source must be a closed solid")
+    shape = gauss_map.shape_of(src, deep=False)
+    if obj.AxisObject is not None:
+        axis_object, subs = obj.AxisObject
+        point, direction = axis_of(axis_object, subs[0] if subs else "")
+        # show the axis used (global); unchanged values do not touch the object
+        if (_np(obj.AxisPoint) != point).any():
+            obj.AxisPoint = _vector(point)
+        if (_np(obj.AxisDirection) != direction).any():
+            obj.AxisDirection = _vector(direction)
+    else:
+        point, direction = _np(obj.AxisPoint), _np(obj.AxisDirection)
+    if not (np.isfinite(point).all() and np.isfinite(direction).all()):
+        raise SweepInputError("the axis point and direction must be finite")
+    length = float(np.linalg.norm(direction))
+    if length <= 1e-12:
+        raise SweepInputError("the axis direction is zero: give a direction such as "
+                              "(0, 0, 1)")
+    direction = direction / length
+    if obj.AxisReversed:
+        direction = -direction
+    angle = float(obj.Angle.Value)
+    if not (0.0 < angle <= 360.0):
+        raise SweepInputError(f"the angle must be in (0, 360] degrees, got {angle:g}")
+    tolerance = float(obj.Tolerance.Value)
+    if not tolerance > 0.0:
+        raise SweepInputError(f"the tolerance must be > 0 mm, got {tolerance:g}")
+    deflection = float(obj.Deflection.Value)
+    if not deflection > 0.0:
+        raise SweepInputError(f"the deflection must be > 0 mm, got {deflection:g}")
+    return shape, point, direction, math.radians(angle), tolerance, deflection
+
+
+def mesh_of(vertices, triangles):
+    """A FreeCAD Mesh kernel of these triangles (single precision in FreeCAD)."""
+    import Mesh
+    mesh = Mesh.Mesh()
+    if len(triangles):
+        mesh.addFacets(([FreeCAD.Vector(*p) for p in np.asarray(vertices).tolist()],
+                        [tuple(t) for t in np.asarray(triangles, dtype=np.int64).tolist()]))
+    return mesh
+
+
+def solid_of_mesh(vertices, triangles, volume):
+    """The Solid representation: a Part solid of the triangles (double precision) with
+    coplanar neighbours merged into faces.  It must be valid and its volume must agree
+    with ``volume`` (the library's) to 1e-6 relative; MfgeomError otherwise."""
+    import Part
+    points = [FreeCAD.Vector(*p) for p in np.asarray(vertices).tolist()]
+    facets = [tuple(t) for t in np.asarray(triangles, dtype=np.int64).tolist()]
+    shell = Part.Shape()
+    shell.makeShapeFromMesh((points, facets), _SEWING)
+    refined = shell.removeSplitter()
+    shells = refined.Shells if refined.ShapeType != "Solid" else refined.Solids[0].Shells
+    if len(shells) != 1:
+        solid = Part.makeSolid(Part.makeShell(refined.Faces))
+    else:
+        solid = Part.Solid(shells[0])
+    if solid.Volume < 0:
+        solid.reverse()
+    if not solid.isValid():
+        raise MfgeomError("the solid built from the swept mesh is not valid "
+                          "(use the Mesh representation)")
+    if abs(solid.Volume - volume) > _VOLUME_AGREEMENT * max(abs(volume), 1e-300):
+        raise MfgeomError(f"the solid built from the swept mesh has volume "
+                          f"{solid.Volume:.9g}, the mesh {volume:.9g}")
+    return solid
+
+
+# ---------------------------------------------------------------------------- feature
+class RotationalSweep(FeatureProxy):
+    """App proxy: recomputes the swept volume of its Source about the axis."""
+
+    TYPE = TYPE
+    VERSION = VERSION
+
+    def __init__(self, obj):
+        obj.Proxy = self
+        self.Type = TYPE
+        self._add_properties(obj)
+        obj.Representation = REPRESENTATIONS
+        obj.AxisDirection = FreeCAD.Vector(0, 0, 1)
+        obj.Angle = DEFAULT_ANGLE
+        obj.Tolerance = DEFAULT_TOLERANCE
+        obj.Deflection = DEFAULT_DEFLECTION
+        obj.Version = VERSION
+        # the result is placed in global coordinates already
+        obj.setEditorMode("Placement", 2)
+
+    @staticmethod
+    def _add_properties(obj):
+        # (type, name, group, tooltip, read-only output?)
+        spec = [
+            ("App::PropertyLink", "Source", "Sweep", "The solid that turns", False),
+            ("App::PropertyLinkSub", "AxisObject", "Sweep",
+             "Optional: a straight edge, a datum line or an origin axis; when set it gives "
+             "AxisPoint and AxisDirection (global)", False),
+            ("App::PropertyVector", "AxisPoint", "Sweep", "A point on the axis (global, mm)",
+             False),
+            ("App::PropertyVector", "AxisDirection", "Sweep",
+             "Axis direction (global); the part turns counter-clockwise seen from its tip",
+             False),
+            ("App::PropertyBool", "AxisReversed", "Sweep",
+             "Turn the other way (about the reversed axis direction)", False),
+            ("App::PropertyAngle", "Angle", "Sweep",
+             "The part turns by 0 .. Angle, in (0, 360] degrees (360: solid of "
+             "revolution)", False),
+            ("App::PropertyLength", "Tolerance", "Sweep",
+             "The result's boundary lies within this distance of the true swept volume's",
+             False),
+            ("App::PropertyLength", "Deflection", "Sweep",
+             "Curved faces of the source are meshed within this distance and the mesh "
+             "pushed out by it (conservative); planar faces are exact", False),
+            ("App::PropertyEnumeration", "Representation", "Sweep",
+             "Mesh: fast for any size; Solid: a Part solid (coplanar triangles merged), "
+             "usable by Part tools", False),
+            ("App::PropertyFloat", "Volume", "Result", "Swept volume (mm^3)", True),
+            ("App::PropertyFloat", "Area", "Result", "Surface area of the result (mm^2)",
+             True),
+            ("App::PropertyInteger", "TriangleCount", "Result",
+             "Triangles of the result mesh", True),
+            ("App::PropertyInteger", "SourceTriangles", "Result",
+             "Triangles of the source's mesh", True),
+            ("App::PropertyFloat", "SourceOffset", "Result",
+             "Largest distance (mm) a source mesh vertex was pushed out to cover the "
+             "curved faces (0: all faces planar)", True),
+            ("App::PropertyInteger", "Version", "Base",
+             "Version of this object's properties, for migrating old documents", True),
+        ]
+        add_properties(obj, spec)
+        if "Mesh" not in obj.PropertiesList:
+            import Mesh  # noqa: F401 - registers Mesh::PropertyMeshKernel
+            obj.addProperty("Mesh::PropertyMeshKernel", "Mesh", "Result",
+                            "The swept volume as a closed triangle mesh (global)", 8, True)
+            obj.setEditorMode("Mesh", 2)
+
+    def _migrate(self, obj):
+        if "Version" not in obj.PropertiesList or obj.Version < VERSION:
+            self._add_properties(obj)
+            obj.Version = VERSION
+
+    def onDocumentRestored(self, obj):
+        self.Type = TYPE
+        self._migrate(obj)
+        _attach_view(obj)
+
+    def _execute(self, obj):
+        import Part
+        self._migrate(obj)
+        shape, point, direction, angle, tolerance, deflection = sweep_inputs(obj)
+        from mfgeom import core
+        t0 = time.perf_counter()
+        vertices, triangles, curved = source_mesh(shape, deflection)
+        vertices, offset = conservative_offset(vertices, triangles, curved, deflection)
+        t1 = time.perf_counter()
+        result = core.rotational_sweep(vertices, triangles, point, direction, angle,
+                                       tolerance)
+        t2 = time.perf_counter()
+        solid = None
+        if obj.Representation == "Solid":
+            solid = solid_of_mesh(result.vertices, result.triangles, result.volume)
+        t3 = time.perf_counter()
+        # the double-precision result stays on the proxy (not saved) for the view
+        self.last_mesh = (result.vertices, result.triangles)
+        obj.Mesh = mesh_of(result.vertices, result.triangles)
+        obj.Shape = solid if solid is not None else Part.Shape()
+        obj.Placement = FreeCAD.Placement()
+        obj.SourceTriangles = len(triangles)
+        obj.SourceOffset = float(offset)
+        obj.TriangleCount = len(result.triangles)
+        obj.Area = result.area
+        obj.Volume = result.volume  # last: the view redraws on it
+        FreeCAD.Console.PrintLog(
+            f"mfgeom: {obj.Label}: {len(triangles)} source triangles (offset "
+            f"{offset:.3g} mm), {len(result.triangles)} swept; mesh {1e3 * (t1 - t0):.1f} ms, "
+            f"sweep {1e3 * (t2 - t1):.1f} ms, solid {1e3 * (t3 - t2):.1f} ms\n")
+
+    def _restored(self):
+        self.last_mesh = None
+
+
+def _attach_view(obj):
+    if FreeCAD.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
+        from mfgeom.gui.sweep_view import ViewProviderRotationalSweep
+        ViewProviderRotationalSweep(obj.ViewObject)
+
+
+# ---------------------------------------------------------------------------- make
+def _vector3(value, what):
+    if isinstance(value, str):
+        axes = {"X": (1, 0, 0), "Y": (0, 1, 0), "Z": (0, 0, 1)}
+        if value.upper() not in axes:
+            raise SweepInputError(f"{what} must be a vector or 'X', 'Y', 'Z', got {value!r}")
+        return np.array(axes[value.upper()], dtype=np.float64)
+    if hasattr(value, "x") and hasattr(value, "y") and hasattr(value, "z"):
+        value = (value.x, value.y, value.z)
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise SweepInputError(f"{what} must be three numbers, got {value!r}") from None
+    if arr.shape != (3,) or not np.isfinite(arr).all():
+        raise SweepInputError(f"{what} must be three finite numbers, got {value!r}")
+    return arr
+
+
+def _quantity(value, unit, what):
+    """A number in ``unit`` ("deg" or "mm") from a number, a Quantity or a string."""
+    if isinstance(value, bool):
+        raise SweepInputError(f"{what} must be a number, got {value!r}")
+    if isinstance(value, str):
+        try:
+            value = FreeCAD.Units.Quantity(value)
+        except ValueError:
+            raise SweepInputError(f"{what}: cannot read {value!r}") from None
+    if isinstance(value, FreeCAD.Units.Quantity):
+        want = FreeCAD.Units.Angle if unit == "deg" else FreeCAD.Units.Length
+        if value.Unit == want:
+            value = value.getValueAs(unit)
+        elif value.Unit == FreeCAD.Units.Unit():
+            value = value.Value
+        else:
+            raise SweepInputError(f"{what} must be in {unit}, got {value.UserString}")
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise SweepInputError(f"{what} must be a number of {unit}, got {value!r}") from None
+    if not math.isfinite(value):
+        raise SweepInputError(f"{what} must be finite, got {value!r}")
+    return value
+
+
+def make_rotational_sweep(doc, source, axis_point=(0.0, 0.0, 0.0), axis_dir=(0.0, 0.0, 1.0),
+                          angle_deg=DEFAULT_ANGLE, tolerance=DEFAULT_TOLERANCE,
+                          deflection=DEFAULT_DEFLECTION, representation="Mesh", axis=None,
+                          reverse=False, name="RotationalSweep"):
+    """Create the rotational sweep of ``source`` (a document object with a solid Shape)
+    in ``doc`` and compute it.  Axis: through ``axis_point`` along ``axis_dir`` (global;
+    a vector, a 3-tuple or "X" / "Y" / "Z"), or ``axis`` = an object or ``(obj,
+    "EdgeN")`` (a straight edge, a datum line, an origin axis) which then overrides
+    them; ``reverse`` turns the other way.  ``angle_deg`` in (0, 360] (a number of
+    degrees, an angle Quantity or "90 deg"); ``tolerance`` and ``deflection`` in mm;
+    ``representation`` "Mesh" or "Solid".  Inputs are checked before anything is
+    created; if the first recompute fails the object is removed again and the error
+    (one line) raised.  Returns the new object."""
+    if doc is None or not hasattr(doc, "addObject"):
+        raise SweepInputError("no document given")
+    if (source is None or not hasattr(source, "Shape")
+            or getattr(source, "Document", None) is not doc):
+        raise SweepInputError("the source must be an object with a Shape in this document")
+    if source.Shape.isNull() or not source.Shape.Solids:
+        raise SweepInputError(f"'{source.Label}' is not a closed solid")
+    if axis is None and (axis_point is None or axis_dir is None):
+        raise SweepInputError("give the axis: a point and a direction, or axis=(obj, 'EdgeN')")
+    point = _vector3(axis_point if axis_point is not None else (0, 0, 0), "the axis point")
+    direction = _vector3(axis_dir if axis_dir is not None else (0, 0, 1), "the axis direction")
+    angle = _quantity(angle_deg, "deg", "the angle")
+    if not 0.0 < angle <= 360.0:
+        raise SweepInputError(f"the angle must be in (0, 360] degrees, got {angle:g}")
+    tol = _quantity(tolerance, "mm", "the tolerance")
+    if not tol > 0.0:
+        raise SweepInputError(f"the tolerance must be > 0 mm, got {tol:g}")
+    defl = _quantity(deflection, "mm", "the deflection")
+    if not defl > 0.0:
+        raise SweepInputError(f"the deflection must be > 0 mm, got {defl:g}")
+    if representation not in REPRESENTATIONS:
+        raise SweepInputError(f"representation must be one of {REPRESENTATIONS}, "
+                              f"got {representation!r}")
+    link = None
+    if axis is not None:
+        axis_obj, sub = (axis if isinstance(axis, (tuple, list)) else (axis, ""))
+        if isinstance(sub, (list, tuple)):
+            sub = sub[0] if sub else ""
+        if getattr(axis_obj, "Document", None) is not doc:
+            raise SweepInputError("the axis must be an object (or an edge of one) in this "
+                                  "document")
+        axis_of(axis_obj, sub)   # a straight line, or say why not
+        link = (axis_obj, [sub] if sub else [])
+    elif np.linalg.norm(direction) <= 1e-12:
+        raise SweepInputError("the axis direction is zero: give a direction such as "
+                              "(0, 0, 1)")
+    obj = doc.addObject("Part::FeaturePython", name)
+    try:
+        RotationalSweep(obj)
+        _attach_view(obj)
+        obj.Label = f"Sweep of {source.Label}"
+        obj.Source = source
+        obj.AxisPoint = _vector(point)
+        obj.AxisDirection = _vector(direction)
+        if link is not None:
+            obj.AxisObject = link
+        obj.AxisReversed = bool(reverse)
+        obj.Angle = angle
+        obj.Tolerance = tol
+        obj.Deflection = defl
+        obj.Representation = representation
+        obj.recompute(True)
+        if not obj.isValid():
+            raise MfgeomError(f"rotational sweep failed: {obj.getStatusString()}")
+    except Exception:  # undo the half-made object whatever went wrong, then re-raise
+        doc.removeObject(obj.Name)
+        raise
+    return obj
