@@ -263,37 +263,37 @@ def _checked(vertices, triangles):
     return v, t
 
 
-def _stl_binary_bytes(v, t):
-    corners = v[t]                                                   # (t, 3, 3)
+def _unit_normals(corners):
+    """Unit normals of (t, 3, 3) corner triangles (zero for a degenerate one)."""
     n = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     length = np.linalg.norm(n, axis=1)
-    n = np.where(length[:, None] > 0, n / np.where(length > 0, length, 1.0)[:, None], 0.0)
+    return np.where(length[:, None] > 0, n / np.where(length > 0, length, 1.0)[:, None], 0.0)
+
+
+def _stl_binary_bytes(v, t):
+    corners = v[t]                                                   # (t, 3, 3)
     records = np.zeros(len(t), dtype=_STL_RECORD)
-    records["normal"] = n
+    records["normal"] = _unit_normals(corners)
     records["corners"] = corners
     header = b"binary STL written by mfgeom".ljust(80, b" ")
     return header + np.uint32(len(t)).astype("<u4").tobytes() + records.tobytes()
 
 
+_STL_FACET = ("facet normal %.9g %.9g %.9g\n  outer loop\n"
+              + "    vertex %.17g %.17g %.17g\n" * 3 + "  endloop\nendfacet\n")
+
+
 def _stl_ascii_bytes(v, t):
-    out = ["solid mfgeom"]
-    for a, b, c in v[t]:
-        n = np.cross(b - a, c - a)
-        length = np.linalg.norm(n)
-        n = n / length if length > 0 else np.zeros(3)
-        out.append("facet normal %.9g %.9g %.9g" % tuple(n))
-        out.append("  outer loop")
-        out += ["    vertex %.17g %.17g %.17g" % tuple(p) for p in (a, b, c)]
-        out.append("  endloop")
-        out.append("endfacet")
-    out.append("endsolid mfgeom")
-    return ("\n".join(out) + "\n").encode("ascii")
+    corners = v[t]
+    rows = np.hstack([_unit_normals(corners), corners.reshape(-1, 9)]).tolist()
+    body = "".join(_STL_FACET % tuple(row) for row in rows)
+    return ("solid mfgeom\n" + body + "endsolid mfgeom\n").encode("ascii")
 
 
 def _obj_bytes(v, t):
     out = ["# written by mfgeom"]
-    out += ["v %.17g %.17g %.17g" % tuple(p) for p in v]
-    out += ["f %d %d %d" % tuple(f) for f in t + 1]
+    out += ["v %.17g %.17g %.17g" % tuple(p) for p in v.tolist()]
+    out += ["f %d %d %d" % tuple(f) for f in (t + 1).tolist()]
     return ("\n".join(out) + "\n").encode("ascii")
 
 
