@@ -359,10 +359,14 @@ class MacroApi(Base):
         cut.Base, cut.Tool = a, self.add("Tool", Part.makeBox(1, 1, 1, V(A + 1, 0, 0)))
         sketch = self.doc.addObject("Sketcher::SketchObject", "Sketch")
         sketch.addGeometry(Part.LineSegment(V(0, 0, 0), V(1, 0, 0)))
+        # the axis from an edge of the frame: the frame is still an obstacle
+        frame = self.add("Frame", Part.makeBox(2, 2, 10, V(-2, -2 - 3, 0)))
+        sweep.addProperty("App::PropertyLinkSub", "AxisObject")
+        sweep.AxisObject = (frame, ["Edge1"])
         self.doc.recompute()
         res = mfgeom.check_clearance(sweep, tolerance=TOL)
         # Source (the sweep's input), A and Tool (the Cut's inputs) and the sketch are out
-        self.assertEqual(sorted(r.name for r in res), ["B", "Cut"])
+        self.assertEqual(sorted(r.name for r in res), ["B", "Cut", "Frame"])
         res = by_label(res)
         self.assertEqual(res["B"].status, "interference")
         self.assertAlmostEqual(res["B"].interference_volume, 25.0, delta=1e-6)

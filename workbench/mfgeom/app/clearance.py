@@ -302,12 +302,20 @@ def _has_volume(obj):
 
 def document_obstacles(sweep_obj):
     """The solids of the sweep's document to check by default: every object with a solid
-    (or a closed mesh) except the sweep, what it is made from (its source) and what is
-    made from it, and objects used by another candidate (a Cut's inputs, a Body's
-    features: only the finished result counts once)."""
+    (or a closed mesh) except the sweep, its Source (the part that turns) and what that is
+    made of (without a Source property: everything the sweep depends on), what is made
+    from the sweep, and objects used by another candidate (a Cut's inputs, a Body's
+    features: only the finished result counts, once)."""
     doc = sweep_obj.Document
     skip = {sweep_obj.Name}
-    skip.update(o.Name for o in sweep_obj.OutListRecursive)
+    source = getattr(sweep_obj, "Source", None)
+    if hasattr(source, "OutListRecursive"):
+        # the part that turns and what it is made of; an axis taken from an edge of the
+        # machine frame must not hide the frame
+        skip.add(source.Name)
+        skip.update(o.Name for o in source.OutListRecursive)
+    else:
+        skip.update(o.Name for o in sweep_obj.OutListRecursive)
     skip.update(o.Name for o in sweep_obj.InListRecursive)
     candidates = [o for o in doc.Objects if o.Name not in skip and _has_volume(o)]
     names = {o.Name for o in candidates}
