@@ -61,6 +61,17 @@ if [ $clearance_rc -ne 0 ] || ! grep -qE "^freecad-clearance: [0-9]+ passed, 0 f
   failed=1
 fi
 
+echo "--- FreeCAD rotational sweep tests (freecadcmd)"
+sweep_log="$FREECAD_USER_HOME/sweep.log"
+freecadcmd tests/freecad/test_sweep_app.py > "$sweep_log" 2>&1
+sweep_rc=$?
+grep -E "^(FAIL|ERROR): |^sweep library: |^freecad-sweep: " "$sweep_log"
+if [ $sweep_rc -ne 0 ] || ! grep -qE "^freecad-sweep: [0-9]+ passed, 0 failed$" "$sweep_log" ||
+   grep -q "Traceback" "$sweep_log"; then
+  echo "sweep tests: FAILED (exit $sweep_rc)"; grep -n -A12 "Traceback" "$sweep_log" | head -120
+  failed=1
+fi
+
 echo "--- FreeCAD GUI tests (freecad under xvfb)"
 bash tests/gui/run_gui_tests.sh || failed=1
 

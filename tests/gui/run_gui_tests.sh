@@ -56,6 +56,16 @@ rc=$?
 rm -rf "$clearance_home"
 report freecad-gui-clearance "$clearance_log" $rc
 
+# The rotational sweep (issue 8) of a box about its edge: tests/gui/test_gui_sweep.py.
+sweep_home=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-sweep-home.XXXXXX")
+mkdir -p "$sweep_home/Mod"
+ln -s "$ROOT" "$sweep_home/Mod/mfgeom"
+sweep_log="$MFGEOM_GUI_OUT/gui-sweep.log"
+FREECAD_USER_HOME="$sweep_home" timeout 300 xvfb-run -a freecad tests/gui/test_gui_sweep.py > "$sweep_log" 2>&1
+rc=$?
+rm -rf "$sweep_home"
+report freecad-gui-sweep "$sweep_log" $rc
+
 # The workbench without its library, as after an Addon Manager install: a copy of the
 # working tree without build/ and with MFGEOM_LIBRARY unset; tests/gui/test_gui_library.py
 # checks the offer to build, that the document stays valid, then builds and loads.

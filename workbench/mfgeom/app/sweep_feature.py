@@ -211,6 +211,27 @@ def _vector(a):
     return FreeCAD.Vector(*[float(c) for c in a])
 
 
+def check_parameters(point, direction, angle_deg, tolerance, deflection):
+    """The numeric inputs checked in one place (the feature's recompute, the make
+    function, the task panel before it edits): returns (point, unit direction, angle in
+    radians, tolerance, deflection); SweepInputError says what is wrong."""
+    point = np.asarray(point, dtype=np.float64)
+    direction = np.asarray(direction, dtype=np.float64)
+    if not (np.isfinite(point).all() and np.isfinite(direction).all()):
+        raise SweepInputError("the axis point and direction must be finite")
+    length = float(np.linalg.norm(direction))
+    if length <= 1e-12:
+        raise SweepInputError("the axis direction is zero: give a direction such as "
+                              "(0, 0, 1)")
+    if not 0.0 < angle_deg <= 360.0:
+        raise SweepInputError(f"the angle must be in (0, 360] degrees, got {angle_deg:g}")
+    if not tolerance > 0.0:
+        raise SweepInputError(f"the tolerance must be > 0 mm, got {tolerance:g}")
+    if not deflection > 0.0:
+        raise SweepInputError(f"the deflection must be > 0 mm, got {deflection:g}")
+    return point, direction / length, math.radians(angle_deg), tolerance, deflection
+
+
 def sweep_inputs(obj):
     """Checked inputs of the feature: (shape (global), axis point, unit axis direction,
     angle rad, tolerance mm, deflection mm).  SweepInputError says what is wrong."""
@@ -237,25 +258,12 @@ def sweep_inputs(obj):
             obj.AxisDirection = _vector(direction)
     else:
         point, direction = _np(obj.AxisPoint), _np(obj.AxisDirection)
-    if not (np.isfinite(point).all() and np.isfinite(direction).all()):
-        raise SweepInputError("the axis point and direction must be finite")
-    length = float(np.linalg.norm(direction))
-    if length <= 1e-12:
-        raise SweepInputError("the axis direction is zero: give a direction such as "
-                              "(0, 0, 1)")
-    direction = direction / length
+    point, direction, angle, tolerance, deflection = check_parameters(
+        point, direction, float(obj.Angle.Value), float(obj.Tolerance.Value),
+        float(obj.Deflection.Value))
     if obj.AxisReversed:
         direction = -direction
-    angle = float(obj.Angle.Value)
-    if not (0.0 < angle <= 360.0):
-        raise SweepInputError(f"the angle must be in (0, 360] degrees, got {angle:g}")
-    tolerance = float(obj.Tolerance.Value)
-    if not tolerance > 0.0:
-        raise SweepInputError(f"the tolerance must be > 0 mm, got {tolerance:g}")
-    deflection = float(obj.Deflection.Value)
-    if not deflection > 0.0:
-        raise SweepInputError(f"the deflection must be > 0 mm, got {deflection:g}")
-    return shape, point, direction, math.radians(angle), tolerance, deflection
+    return shape, point, direction, angle, tolerance, deflection
 
 
 def mesh_of(vertices, triangles):
@@ -481,14 +489,10 @@ def make_rotational_sweep(doc, source, axis_point=(0.0, 0.0, 0.0), axis_dir=(0.0
     point = _vector3(axis_point if axis_point is not None else (0, 0, 0), "the axis point")
     direction = _vector3(axis_dir if axis_dir is not None else (0, 0, 1), "the axis direction")
     angle = _quantity(angle_deg, "deg", "the angle")
-    if not 0.0 < angle <= 360.0:
-        raise SweepInputError(f"the angle must be in (0, 360] degrees, got {angle:g}")
     tol = _quantity(tolerance, "mm", "the tolerance")
-    if not tol > 0.0:
-        raise SweepInputError(f"the tolerance must be > 0 mm, got {tol:g}")
     defl = _quantity(deflection, "mm", "the deflection")
-    if not defl > 0.0:
-        raise SweepInputError(f"the deflection must be > 0 mm, got {defl:g}")
+    # an axis object gives its own direction (checked below)
+    check_parameters(point, direction if axis is None else (0, 0, 1), angle, tol, defl)
     if representation not in REPRESENTATIONS:
         raise SweepInputError(f"representation must be one of {REPRESENTATIONS}, "
                               f"got {representation!r}")
@@ -502,9 +506,6 @@ def make_rotational_sweep(doc, source, axis_point=(0.0, 0.0, 0.0), axis_dir=(0.0
                                   "document")
         axis_of(axis_obj, sub)   # a straight line, or say why not
         link = (axis_obj, [sub] if sub else [])
-    elif np.linalg.norm(direction) <= 1e-12:
-        raise SweepInputError("the axis direction is zero: give a direction such as "
-                              "(0, 0, 1)")
     obj = doc.addObject("Part::FeaturePython", name)
     try:
         RotationalSweep(obj)

@@ -96,8 +96,25 @@ class PartingAnalysisCommand(BaseCommand):
         return parting_panel.PartingPanel(source, faces)
 
 
+class RotationalSweepCommand(BaseCommand):
+    """The volume a solid sweeps turning about an axis (issue 8)."""
+
+    icon = "RotationalSweep.svg"
+    menu_text = "Rotational sweep"
+    tooltip = ("The volume a solid sweeps while it turns about an axis by an angle.\n"
+               "Select a solid and a straight edge or datum line as the axis (or only the "
+               "solid and choose a global axis X / Y / Z in the task panel);\nthe panel asks "
+               "for the angle, tolerance, deflection of curved faces and Mesh or Solid.")
+
+    def panel_for(self, selection):
+        from mfgeom.gui import sweep_panel
+        source, axis = sweep_panel.inputs_from_selection(selection)
+        return sweep_panel.SweepPanel(source, axis)
+
+
 COMMANDS = {"Mfgeom_PartingAnalysis": PartingAnalysisCommand(),
-            "Mfgeom_ClassifyPoints": ClassifyPointsCommand()}
+            "Mfgeom_ClassifyPoints": ClassifyPointsCommand(),
+            "Mfgeom_RotationalSweep": RotationalSweepCommand()}
 
 # The clearance check of a swept volume (issue 8); last, after the sweep it checks.
 from mfgeom.gui.clearance_command import ClearanceCheckCommand  # noqa: E402
