@@ -27,7 +27,10 @@ REPO = os.path.dirname(os.path.dirname(HERE))
 if os.path.join(REPO, "workbench") not in sys.path:
     sys.path.append(os.path.join(REPO, "workbench"))
 
+sys.path.append(os.path.join(REPO, "tests", "python"))
+
 import mfgeom  # noqa: E402
+import sweep_oracle  # noqa: E402  (independent of libmfgeom: numpy only)
 from mfgeom.app import sweep_feature as sf  # noqa: E402
 from mfgeom.errors import InputError  # noqa: E402
 
@@ -268,6 +271,17 @@ class Feature(unittest.TestCase):
         # no more than the offset and the tolerance over the whole surface
         self.assertLessEqual(obj.Volume - exact, (obj.SourceOffset + tol) * obj.Area)
         self.assertLess(obj.Volume / exact - 1.0, 0.01)
+        # pointwise: the true cylinder's surface (the worst place: where the chords cut
+        # in), turned by random angles in [0, theta], lies inside the result mesh
+        rng = np.random.default_rng(8)
+        u, z, t = rng.uniform(0, 2 * math.pi, 3000), rng.uniform(0, h, 3000), \
+            rng.uniform(0, theta, 3000)
+        x, y = R + r * np.cos(u), r * np.sin(u)
+        pts = np.c_[x * np.cos(t) - y * np.sin(t), x * np.sin(t) + y * np.cos(t), z]
+        v, tri = result_mesh(obj)
+        inside = sweep_oracle.inside_solid(pts, v, tri)
+        self.assertTrue(inside.all(), f"{(~inside).sum()} true points outside, e.g. "
+                                      f"{pts[~inside][:3]}")
 
     @needs_sweep
     def test_save_and_reload(self):
@@ -330,7 +344,7 @@ class Feature(unittest.TestCase):
         face.Shape = Part.makePlane(2, 2)
         obj = mfgeom.make_rotational_sweep(self.doc, self.box, (0, 0, 0), "Z", 90, 0.01)
         volume = obj.Volume
-        for prop, value, text in (("Angle", 0.0, "(0, 360]"), ("Angle", 400.0, "(0, 360]"),
+        for prop, value, text in (("Angle", 0.0, "(0, 360]"), ("Angle", -30.0, "(0, 360]"),
                                   ("AxisDirection", App.Vector(0, 0, 0), "direction is zero"),
                                   ("Source", face, "not a solid"),
                                   ("Tolerance", 0.0, "tolerance")):
