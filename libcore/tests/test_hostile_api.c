@@ -381,9 +381,223 @@ static void test_sphere(void)
     mfg_regions_free(NULL);
 }
 
+/* ------------------------------------------------------------------------ */
+/* Rotational sweep                                                         */
+/* ------------------------------------------------------------------------ */
+
+/* A 2 x 1 x 1 box: vertex k = (x, y, z) from its bits (x: bit 0, y: bit 1, z: bit 2), 12
+ * triangles counter-clockwise seen from outside. */
+static const double BOX_XYZ[24] = {0, 0, 0, 2, 0, 0, 0, 1, 0, 2, 1, 0, 0, 0, 1, 2, 0, 1, 0, 1, 1, 2, 1, 1};
+static const int64_t BOX_TRI[36] = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                                    2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+static const double AXP[3] = {0, 0, 0}, AXD[3] = {0, 0, 1};
+
+/* One call with everything else valid; the status in the allowed set, a detail on
+ * failure, and neither *out_mesh nor *out_stats written on failure. */
+static mfg_status sweep_expect(const double *xyz, int64_t nv, const int64_t *tri, int64_t nt, const double *ap,
+                               const double *ad, double angle, double tol, int null_out, unsigned allowed,
+                               const char *what, long long which)
+{
+    mfg_mesh *sentinel = (mfg_mesh *)(uintptr_t)&sentinel, *res = sentinel;
+    mfg_sweep_stats stats;
+    memset(&stats, OUT_SENTINEL, sizeof stats);
+    mfg_status st = mfg_rotational_sweep(xyz, nv, tri, nt, ap, ad, angle, tol, null_out ? NULL : &res, &stats);
+    char label[160];
+    snprintf(label, sizeof label, "rotational_sweep: %s", what);
+    expect(st, allowed, label, which);
+    if (st == MFG_OK) {
+        mfg_mesh_free(res);
+    } else {
+        if (res != sentinel) {
+            mfg_test_failures++;
+            fprintf(stderr, "%s [%lld]: out_mesh written on failure\n", label, which);
+        }
+        if (!untouched((const uint8_t *)&stats, sizeof stats)) {
+            mfg_test_failures++;
+            fprintf(stderr, "%s [%lld]: out_stats written on failure\n", label, which);
+        }
+    }
+    return st;
+}
+
+/* The detail of the last call contains `text`. */
+static void detail_has(const char *text, const char *what)
+{
+    mfg_test_checks++;
+    if (!strstr(mfg_last_error(), text)) {
+        mfg_test_failures++;
+        fprintf(stderr, "rotational_sweep: %s: detail \"%s\" does not mention \"%s\"\n", what, mfg_last_error(),
+                text);
+    }
+}
+
+static void test_sweep(void)
+{
+    /* A valid call is not refused (the result itself is test_rotsweep's). */
+    const unsigned accepted = BIT(MFG_OK) | BIT(MFG_ERR_INTERNAL) | BIT(MFG_ERR_NOMEM);
+    sweep_expect(BOX_XYZ, 8, BOX_TRI, 12, AXP, AXD, M_PI / 2, 0.01, 0, accepted, "good input", 0);
+
+    /* NULL pointers (out_stats may be NULL: tested in test_rotsweep) */
+    sweep_expect(NULL, 8, BOX_TRI, 12, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_NULL), "xyz NULL", 0);
+    sweep_expect(BOX_XYZ, 8, NULL, 12, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_NULL), "triangles NULL", 0);
+    sweep_expect(BOX_XYZ, 8, BOX_TRI, 12, NULL, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_NULL), "axis_point NULL", 0);
+    sweep_expect(BOX_XYZ, 8, BOX_TRI, 12, AXP, NULL, 1.0, 0.01, 0, BIT(MFG_ERR_NULL), "axis_direction NULL", 0);
+    sweep_expect(BOX_XYZ, 8, BOX_TRI, 12, AXP, AXD, 1.0, 0.01, 1, BIT(MFG_ERR_NULL), "out_mesh NULL", 0);
+    sweep_expect(NULL, INT64_MAX, NULL, INT64_MAX, AXP, AXD, 1.0, 0.01, 0, ANY_ERR, "NULL arrays, huge counts", 0);
+    sweep_expect(NULL, -1, BOX_TRI, 12, AXP, AXD, 1.0, 0.01, 0, ANY_ERR, "xyz NULL, nvertices -1", 0);
+
+    /* counts: negative, beyond 2^40 (no caller owns that memory), zero */
+    static const int64_t BEYOND[] = {((int64_t)1 << 40) + 1, (int64_t)1 << 41};
+    for (size_t i = 0; i < sizeof NEGATIVE_COUNTS / sizeof NEGATIVE_COUNTS[0]; i++) {
+        sweep_expect(BOX_XYZ, NEGATIVE_COUNTS[i], BOX_TRI, 12, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID),
+                     "nvertices < 0", NEGATIVE_COUNTS[i]);
+        sweep_expect(BOX_XYZ, 8, BOX_TRI, NEGATIVE_COUNTS[i], AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID),
+                     "ntriangles < 0", NEGATIVE_COUNTS[i]);
+    }
+    for (size_t i = 0; i < sizeof HUGE_COUNTS / sizeof HUGE_COUNTS[0]; i++) {
+        sweep_expect(BOX_XYZ, HUGE_COUNTS[i], BOX_TRI, 12, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID),
+                     "huge nvertices", HUGE_COUNTS[i]);
+        sweep_expect(BOX_XYZ, 8, BOX_TRI, HUGE_COUNTS[i], AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID),
+                     "huge ntriangles", HUGE_COUNTS[i]);
+    }
+    for (size_t i = 0; i < sizeof BEYOND / sizeof BEYOND[0]; i++) {
+        sweep_expect(BOX_XYZ, BEYOND[i], BOX_TRI, 12, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID),
+                     "nvertices > 2^40", BEYOND[i]);
+        sweep_expect(BOX_XYZ, 8, BOX_TRI, BEYOND[i], AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID),
+                     "ntriangles > 2^40", BEYOND[i]);
+    }
+    sweep_expect(BOX_XYZ, 8, BOX_TRI, 0, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_DEGENERATE), "ntriangles 0", 0);
+    sweep_expect(NULL, 0, NULL, 0, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_DEGENERATE), "empty mesh", 0);
+    /* fewer vertices than the triangles use */
+    sweep_expect(BOX_XYZ, 7, BOX_TRI, 12, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID), "nvertices too small", 7);
+
+    /* indices outside 0 .. nvertices - 1 */
+    static const int64_t BAD_INDEX[] = {-1, 8, 9, INT64_MAX, INT64_MIN, (int64_t)1 << 40};
+    for (size_t i = 0; i < sizeof BAD_INDEX / sizeof BAD_INDEX[0]; i++) {
+        int64_t tri[36];
+        memcpy(tri, BOX_TRI, sizeof tri);
+        tri[(7 * i + 5) % 36] = BAD_INDEX[i];
+        if (sweep_expect(BOX_XYZ, 8, tri, 12, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID), "bad index",
+                         BAD_INDEX[i]) == MFG_ERR_INVALID)
+            detail_has("vertex index", "bad index");
+    }
+
+    /* non-finite / out-of-range coordinates of the mesh, the axis point and direction */
+    for (size_t i = 0; i < sizeof BAD_REALS / sizeof BAD_REALS[0]; i++) {
+        double xyz[24];
+        memcpy(xyz, BOX_XYZ, sizeof xyz);
+        xyz[(5 * i + 2) % 24] = BAD_REALS[i];
+        sweep_expect(xyz, 8, BOX_TRI, 12, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID), "bad vertex", (long long)i);
+        for (int k = 0; k < 3; k++) {
+            double ap[3] = {0, 0, 0}, ad[3] = {0, 0, 1};
+            ap[k] = BAD_REALS[i];
+            sweep_expect(BOX_XYZ, 8, BOX_TRI, 12, ap, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID), "bad axis point",
+                         (long long)(3 * i + k));
+            ad[k] = BAD_REALS[i];
+            sweep_expect(BOX_XYZ, 8, BOX_TRI, 12, AXP, ad, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID),
+                         "bad axis direction", (long long)(3 * i + k));
+        }
+    }
+    /* a bad value in a vertex no triangle uses is still a bad value */
+    double xyz9[27];
+    memcpy(xyz9, BOX_XYZ, sizeof BOX_XYZ);
+    xyz9[24] = 1;
+    xyz9[25] = NAN;
+    xyz9[26] = 1;
+    sweep_expect(xyz9, 9, BOX_TRI, 12, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID), "NaN in an unused vertex", 0);
+    /* the zero axis direction (also as -0) */
+    static const double ZERO_DIRS[3][3] = {{0, 0, 0}, {-0.0, 0, -0.0}, {-0.0, -0.0, -0.0}};
+    for (int k = 0; k < 3; k++)
+        if (sweep_expect(BOX_XYZ, 8, BOX_TRI, 12, AXP, ZERO_DIRS[k], 1.0, 0.01, 0, BIT(MFG_ERR_INVALID),
+                         "zero axis direction", k) == MFG_ERR_INVALID)
+            detail_has("zero", "zero axis direction");
+
+    /* angles: (0, 2 pi], with 2 pi + 1e-12 still a full turn */
+    static const double BAD_ANGLES[] = {0.0, -0.0, -1e-300, -1.0, -2 * M_PI, 2 * M_PI + 2e-12, 7.0, 1e300,
+                                        INFINITY, -INFINITY, NAN, -NAN};
+    for (size_t i = 0; i < sizeof BAD_ANGLES / sizeof BAD_ANGLES[0]; i++)
+        if (sweep_expect(BOX_XYZ, 8, BOX_TRI, 12, AXP, AXD, BAD_ANGLES[i], 0.01, 0, BIT(MFG_ERR_INVALID),
+                         "bad angle", (long long)i) == MFG_ERR_INVALID)
+            detail_has("angle", "bad angle");
+    static const double GOOD_ANGLES[] = {2 * M_PI, 2 * M_PI + 0.5e-12, 2 * M_PI - 0.5e-12, M_PI, 1e-3};
+    for (size_t i = 0; i < sizeof GOOD_ANGLES / sizeof GOOD_ANGLES[0]; i++)
+        sweep_expect(BOX_XYZ, 8, BOX_TRI, 12, AXP, AXD, GOOD_ANGLES[i], 0.05, 0, accepted, "good angle",
+                     (long long)i);
+
+    /* tolerances: > 0 and finite (and in the coordinate range) */
+    static const double BAD_TOLS[] = {0.0, -0.0, -0.01, -INFINITY, INFINITY, NAN, -NAN, 1e300, 1e-300};
+    for (size_t i = 0; i < sizeof BAD_TOLS / sizeof BAD_TOLS[0]; i++)
+        if (sweep_expect(BOX_XYZ, 8, BOX_TRI, 12, AXP, AXD, 1.0, BAD_TOLS[i], 0, BIT(MFG_ERR_INVALID),
+                         "bad tolerance", (long long)i) == MFG_ERR_INVALID)
+            detail_has("tolerance", "bad tolerance");
+
+    /* Meshes that bound no solid, refused as mfg_mesh_check_closed refuses them. */
+    /* open: one triangle removed leaves its 3 sides as boundary edges */
+    if (sweep_expect(BOX_XYZ, 8, BOX_TRI + 3, 11, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID), "open mesh", 0) ==
+        MFG_ERR_INVALID) {
+        detail_has("boundary edge", "open mesh");
+        detail_has("3 boundary edges", "open mesh");
+    }
+    /* open: two triangles removed (a square hole): 4 boundary edges */
+    if (sweep_expect(BOX_XYZ, 8, BOX_TRI + 6, 10, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID), "square hole", 0) ==
+        MFG_ERR_INVALID)
+        detail_has("4 boundary edges", "square hole");
+    /* one triangle flipped: its 3 sides run the same way as their neighbours' */
+    int64_t flip[36];
+    memcpy(flip, BOX_TRI, sizeof flip);
+    flip[4] = BOX_TRI[5];
+    flip[5] = BOX_TRI[4];
+    if (sweep_expect(BOX_XYZ, 8, flip, 12, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID), "flipped triangle", 0) ==
+        MFG_ERR_INVALID)
+        detail_has("inconsistent orientation", "flipped triangle");
+    /* every triangle flipped: consistent, but facing inward (negative volume) */
+    int64_t inward[36];
+    for (int t = 0; t < 12; t++) {
+        inward[3 * t] = BOX_TRI[3 * t];
+        inward[3 * t + 1] = BOX_TRI[3 * t + 2];
+        inward[3 * t + 2] = BOX_TRI[3 * t + 1];
+    }
+    if (sweep_expect(BOX_XYZ, 8, inward, 12, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID), "inward mesh", 0) ==
+        MFG_ERR_INVALID)
+        detail_has("negative volume", "inward mesh");
+    /* non-manifold edge: two tetrahedra sharing the edge 0-1 (4 triangle sides on it) */
+    static const double TT_XYZ[18] = {0, 0, 0, 1, 0, 0, 0.5, 1, 0, 0.5, 0.5, 1, 0.5, -1, 0, 0.5, -0.5, -1};
+    static const int64_t TT_TRI[24] = {0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2,   /* tetrahedron 0 1 2 3 */
+                                       0, 1, 4, 0, 5, 1, 1, 5, 4, 0, 4, 5};  /* tetrahedron 0 1 4 5 */
+    if (sweep_expect(TT_XYZ, 6, TT_TRI, 8, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID), "non-manifold edge", 0) ==
+        MFG_ERR_INVALID)
+        detail_has("non-manifold edge", "non-manifold edge");
+    /* two tetrahedra touching at a vertex only */
+    static const double TV_XYZ[21] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, -1, 0, 0, 0, -1, 0, 0, 0, -1};
+    static const int64_t TV_TRI[24] = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3,
+                                       0, 5, 4, 0, 4, 6, 0, 6, 5, 4, 5, 6};
+    if (sweep_expect(TV_XYZ, 7, TV_TRI, 8, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID), "non-manifold vertex", 0) ==
+        MFG_ERR_INVALID)
+        detail_has("non-manifold vertex", "non-manifold vertex");
+    /* zero volume: a tetrahedron with its 4 vertices in one plane (non-zero areas) */
+    static const double FLAT_XYZ[12] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 1, 1, 0};
+    static const int64_t FLAT_TRI[12] = {0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2};
+    if (sweep_expect(FLAT_XYZ, 4, FLAT_TRI, 4, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_DEGENERATE), "zero volume", 0) ==
+        MFG_ERR_DEGENERATE)
+        detail_has("zero volume", "zero volume");
+    /* a triangle and its reverse: closed, consistent, no volume */
+    static const int64_t TWO_SIDED[6] = {0, 1, 2, 0, 2, 1};
+    sweep_expect(FLAT_XYZ, 4, TWO_SIDED, 2, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_DEGENERATE), "two-sided triangle", 0);
+    /* a repeated index */
+    int64_t rep[36];
+    memcpy(rep, BOX_TRI, sizeof rep);
+    rep[1] = rep[0];
+    if (sweep_expect(BOX_XYZ, 8, rep, 12, AXP, AXD, 1.0, 0.01, 0, BIT(MFG_ERR_INVALID), "repeated index", 0) ==
+        MFG_ERR_INVALID)
+        detail_has("repeats a vertex index", "repeated index");
+    /* the mesh check comes after the arguments: a bad angle with an open mesh is about
+     * one of them, with a detail either way (no order is promised) */
+    sweep_expect(BOX_XYZ, 8, BOX_TRI + 3, 11, AXP, AXD, NAN, 0.01, 0, BIT(MFG_ERR_INVALID), "open mesh, NaN angle", 0);
+}
+
 int main(int argc, char **argv)
 {
-    /* "pointclass", "visibility" or "sphere" runs one family (one ctest each, so one
+    /* "pointclass", "visibility", "sphere" or "sweep" runs one family (one ctest each, so one
      * family's failure does not hide another's); no argument runs all. */
     const char *only = argc > 1 ? argv[1] : "";
     if (!only[0] || !strcmp(only, "pointclass")) {
@@ -395,5 +609,7 @@ int main(int argc, char **argv)
         test_visibility();
     if (!only[0] || !strcmp(only, "sphere"))
         test_sphere();
+    if (!only[0] || !strcmp(only, "sweep"))
+        test_sweep();
     return mfg_test_report("test_hostile_api");
 }
