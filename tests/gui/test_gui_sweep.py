@@ -236,4 +236,33 @@ if SWEEPS:
         assert len(sweeps(doc)) == 1 and sweeps(doc)[0].isValid()
 
 
+
+if SWEEPS:
+    @check("only the solid selected: a global axis through an edited point")
+    def _():
+        doc, box = state["doc"], state["box"]
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(box)
+        before = sweeps(doc)
+        Gui.runCommand(COMMAND)
+        panel = task_panel()
+        assert panel is not None, "no task panel"
+        assert panel["axis"].currentData() == "Z" and panel["axis"].findData("object") < 0
+        panel["axis"].setCurrentIndex(panel["axis"].findData("X"))
+        assert [panel[f"d{c}"].value() for c in "xyz"] == [1.0, 0.0, 0.0]
+        assert panel["py"].isEnabled() and not panel["dx"].isEnabled()
+        panel["py"].setValue(B)      # the box's edge along x at y = B, z = 0
+        panel["angle"].setValue(90.0)
+        press(panel["ok"])
+        assert task_panel() is None, "OK left the panel open"
+        new = [o for o in sweeps(doc) if o not in before]
+        assert len(new) == 1 and new[0].isValid(), new
+        obj = new[0]
+        assert obj.AxisObject is None
+        assert (obj.AxisPoint.y, obj.AxisDirection.x) == (B, 1.0)
+        # about the box's A edge (y = B, z = 0): the B x C section turns about its corner
+        exact = A * (B * C + (B * B + C * C) * math.pi / 4)
+        assert abs(obj.Volume - exact) <= 0.01 * obj.Area, (obj.Volume, exact)
+
+
 finish("freecad-gui-sweep")
