@@ -45,6 +45,9 @@ tmp="$results.tmp"
     echo
     MFGEOM_LIBRARY="$build/libmfgeom.so" "$python" "$here/bench_parting.py" $quick ||
         echo "(bench_parting: the freecadcmd measurement failed or is missing: see stderr)"
+    echo
+    MFGEOM_LIBRARY="$build/libmfgeom.so" "$python" "$here/bench_sweep.py" $quick ||
+        echo "(bench_sweep: a measurement failed or is missing: see stderr)"
 } | tee "$tmp"
 mv "$tmp" "$results"
 echo
