@@ -382,8 +382,8 @@ def _print(meta, fuse36, quick):
           "to the same rule with half the nodes); for the box also the analytic volume. Errors are (V - V_ref) / V_ref: ours "
           "must be >= 0 (conservative), the fuse is below (it misses the material "
           f"between copies). Load average at the end: {load} on {os.cpu_count()} CPUs.\n")
-    print("| part | faces / triangles in | tessellation s | method | time s | ours / peer "
-          "speed-up | volume mm^3 | error vs reference | error vs exact | result |")
+    print("| part | faces / triangles in | tessellation s | method | time s | peer time / ours "
+          "(speed-up) | volume mm^3 | error vs reference | error vs exact | result |")
     print("|---|---:|---:|---|---:|---:|---:|---:|---:|---|")
     targets = []
     for c in (c for c in cases if c["kind"] == "peer"):
