@@ -179,8 +179,14 @@ def axis_of(axis_object, sub=""):
         pl = axis_object.getGlobalPlacement()
         d = pl.Rotation.multVec(FreeCAD.Vector(1, 0, 0))
         return _np(pl.Base), _np(d) / d.Length
+    # the object's shape at its global placement (a Body's or Part's included), as the
+    # source's is (gauss_map.shape_of); Part.getShape(obj) would leave out the container
     try:
-        shape = Part.getShape(axis_object, sub or "", needSubElement=bool(sub))
+        shape = Part.Shape(axis_object.Shape)
+        if hasattr(axis_object, "getGlobalPlacement"):
+            shape.Placement = axis_object.getGlobalPlacement()
+        if sub:
+            shape = shape.getElement(sub)
     except Exception as exc:  # noqa: BLE001 - whatever OCCT or FreeCAD says, say it once
         raise SweepInputError(f"axis '{label}{'.' + sub if sub else ''}' has no shape "
                               f"({exc})") from None
