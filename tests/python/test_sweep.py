@@ -342,7 +342,8 @@ def test_box_about_an_edge(deg):
     assert_volume(res, want, tol, area=curved)
     # the box of SV: x from the final position of the corner (0, b), y up to the far corner
     lo, hi = res.bbox
-    assert lo[2] == -0.5 and hi[2] == c - 0.5
+    assert lo[2] == pytest.approx(-0.5, abs=1e-12)
+    assert hi[2] == pytest.approx(c - 0.5, abs=1e-12)
     assert lo[0] == pytest.approx(min(0.0, -b * math.sin(theta)), abs=tol)
     assert hi[1] == pytest.approx(math.hypot(a, b) if theta > math.atan2(a, b)
                                   else a * math.sin(theta) + b * math.cos(theta), abs=tol)
