@@ -1,12 +1,2575 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* rotsweep.c - the rotational swept volume of a closed polyhedron (seed 003). */
+/* rotsweep.c - the rotational swept volume of a closed polyhedron (seed 003, Baek & Shin).
+ *
+ * The paper's characterisation, made into a construction that cannot leave a crack:
+ *
+ *  - Directed circles.  Every point x lies on a circle about the axis, named by its
+ *    meridian coordinates (r, z) (distance from the axis, height along it).  On that
+ *    circle the solid O is a union of arcs [entry, exit]; because all points of the
+ *    circle turn together, SV meets the circle in the union of the arcs
+ *    [entry at t = 0, exit at t = theta] (the directed-circle rule).  circle_arcs()
+ *    computes this exactly for one circle: the plane z = const cuts every triangle in a
+ *    segment; the circle meets the segments at the roots of quadratics; a depth count
+ *    along the circle gives O's arcs; extending each by theta and merging gives SV's.
+ *    Each SV arc starts on a front face at t = 0 and ends on a back face turned by theta.
+ *
+ *  - The meridian decomposition.  The half-plane of (r, z) (the paper's H_ref, onto which
+ *    RotProj projects the faces) is cut into cells by a quadtree.  A cell is accepted when
+ *    the arc structure is the same all over it: which triangle starts and which ends every
+ *    SV arc.  It changes only across the images of the mesh edges and of the silhouette
+ *    lines inside faces (curves), at images of vertices, and where a front face at t = 0
+ *    meets a back face at t = theta (the paper's case 1.3).  A cell crossed by one curve is
+ *    split along the chord between the curve's two crossings with the cell's sides; a
+ *    cell holding one vertex image and only the curves that end there is split into a
+ *    star round it.  Other cells are refined, down to a size below the tolerance; a cell
+ *    still mixed there is cut into a fan round its centre and each piece takes the
+ *    structure at its own centroid (the only approximation of the arrangement, within
+ *    the smallest cell size).
+ *
+ *  - Lifting.  Every polygon of the decomposition carries its arc structure.  Over it, the
+ *    start of an arc is a piece of one front triangle (the circle through each polygon
+ *    corner meets the triangle's plane at one of two known roots), the end a piece of a
+ *    back triangle turned by theta: flat polygons in the input's planes, exact up to
+ *    rounding.  Corners on a curve use the curve's own 3-D point, so the pieces on both
+ *    sides of an edge share their vertices.
+ *
+ *  - Walls.  Along every edge of the decomposition the arcs on its two sides are compared;
+ *    where exactly one side covers an angle, the swept surface of revolution (plane,
+ *    cone, cylinder or hyperboloid piece: the paper's silhouette faces, and the annular
+ *    faces of faces perpendicular to the axis) closes the gap.  Walls are cut into strips
+ *    at every angle where lines of the two sides cross, and tessellated on each circle at
+ *    the angles of a per-radius grid (chord sag below half the tolerance) plus every arc
+ *    end that any strip uses there, so neighbouring strips share their vertices.
+ *
+ * The result is the boundary of a union of "angular prisms" over the polygons: closed by
+ * construction, each piece oriented by the side it bounds.
+ */
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "mesh.h"
 #include "mfg_internal.h"
 
+#ifdef MFG_SWEEP_DEBUG
+#include <stdio.h>
+#endif
+
 #define MFG_TWO_PI 6.283185307179586476925286766559
+#define MFG_PI 3.1415926535897932384626433832795
+
+/* ----------------------------------------------------------------------------------- */
+/* Small containers                                                                     */
+/* ----------------------------------------------------------------------------------- */
+
+typedef struct sw_ctx sw_ctx;
+
+/* Grows *p (of element size sz, capacity *cap) to hold n elements; 0 on failure. */
+static int grow(void **p, int64_t *cap, int64_t n, size_t sz)
+{
+    if (n <= *cap)
+        return 1;
+    int64_t c = *cap ? *cap : 16;
+    while (c < n)
+        c *= 2;
+    void *q = realloc(*p, (size_t)c * sz);
+    if (!q)
+        return 0;
+    *p = q;
+    *cap = c;
+    return 1;
+}
+
+/* Open-addressing map from a 4-word key to an int64 value. */
+typedef struct hkey {
+    int64_t w[4];
+} hkey;
+
+typedef struct hmap {
+    hkey *keys;
+    int64_t *vals;
+    int64_t cap, n; /* cap is a power of two; vals[i] < 0 marks an empty slot */
+} hmap;
+
+static uint64_t hkey_hash(const hkey *k)
+{
+    uint64_t h = 0x9E3779B97F4A7C15ull;
+    for (int i = 0; i < 4; i++) {
+        h ^= (uint64_t)k->w[i] + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+        h *= 0xBF58476D1CE4E5B9ull;
+        h ^= h >> 31;
+    }
+    return h;
+}
+
+static int hmap_init(hmap *m, int64_t want)
+{
+    int64_t c = 64;
+    while (c < 2 * want)
+        c *= 2;
+    m->keys = malloc((size_t)c * sizeof *m->keys);
+    m->vals = malloc((size_t)c * sizeof *m->vals);
+    if (!m->keys || !m->vals) {
+        free(m->keys);
+        free(m->vals);
+        m->keys = NULL;
+        m->vals = NULL;
+        return 0;
+    }
+    for (int64_t i = 0; i < c; i++)
+        m->vals[i] = -1;
+    m->cap = c;
+    m->n = 0;
+    return 1;
+}
+
+static void hmap_free(hmap *m)
+{
+    free(m->keys);
+    free(m->vals);
+    m->keys = NULL;
+    m->vals = NULL;
+}
+
+/* Slot of k: where it is, or the empty slot where it would go. */
+static int64_t hmap_slot(const hmap *m, const hkey *k)
+{
+    int64_t i = (int64_t)(hkey_hash(k) & (uint64_t)(m->cap - 1));
+    while (m->vals[i] >= 0 && memcmp(&m->keys[i], k, sizeof *k) != 0)
+        i = (i + 1) & (m->cap - 1);
+    return i;
+}
+
+static int64_t hmap_get(const hmap *m, const hkey *k)
+{
+    return m->vals[hmap_slot(m, k)];
+}
+
+/* Sets k -> v (v >= 0); 0 when out of memory. */
+static int hmap_put(hmap *m, const hkey *k, int64_t v)
+{
+    if (2 * (m->n + 1) > m->cap) {
+        hmap old = *m;
+        if (!hmap_init(m, old.cap))
+            return (*m = old, 0);
+        for (int64_t i = 0; i < old.cap; i++)
+            if (old.vals[i] >= 0) {
+                int64_t s = hmap_slot(m, &old.keys[i]);
+                m->keys[s] = old.keys[i];
+                m->vals[s] = old.vals[i];
+                m->n++;
+            }
+        hmap_free(&old);
+    }
+    int64_t s = hmap_slot(m, k);
+    if (m->vals[s] < 0)
+        m->n++;
+    m->keys[s] = *k;
+    m->vals[s] = v;
+    return 1;
+}
+
+static hkey mkkey(int64_t a, int64_t b, int64_t c, int64_t d)
+{
+    hkey k = {{a, b, c, d}};
+    return k;
+}
+
+static int64_t dbits(double x)
+{
+    int64_t b;
+    if (x == 0)
+        x = 0; /* -0 and +0 are one key */
+    memcpy(&b, &x, sizeof b);
+    return b;
+}
+
+/* Angle in [0, 2 pi). */
+static double wrap_angle(double a)
+{
+    a = fmod(a, MFG_TWO_PI);
+    if (a < 0)
+        a += MFG_TWO_PI;
+    if (a >= MFG_TWO_PI)
+        a = 0;
+    return a;
+}
+
+/* Signed difference a - b brought into (-pi, pi]. */
+static double angle_diff(double a, double b)
+{
+    double d = fmod(a - b, MFG_TWO_PI);
+    if (d > MFG_PI)
+        d -= MFG_TWO_PI;
+    else if (d <= -MFG_PI)
+        d += MFG_TWO_PI;
+    return d;
+}
+
+/* ----------------------------------------------------------------------------------- */
+/* The solid in the axis frame                                                          */
+/* ----------------------------------------------------------------------------------- */
+
+typedef struct sw_tri {
+    int64_t v[3];
+    double n[3];       /* outward normal (not unit) */
+    double d;          /* plane: n . x = d */
+    double phi0;       /* direction of the horizontal part of n: the roots of a circle
+                          with the plane lie at phi0 +- delta */
+    double zmin, zmax, rmin, rmax;
+    int vertical_ok;   /* the horizontal part of n is not zero: a circle can cross it */
+} sw_tri;
+
+/* A curve of the meridian decomposition: the image of a mesh edge or of a silhouette
+ * segment inside a face, both straight 3-D segments p0 -> p0 + dir. */
+typedef struct sw_curve {
+    double p0[3], dir[3];
+    double qa, qb, qc;  /* r^2(u) = qa u^2 + qb u + qc */
+    double zmin, zmax, rmin, rmax;
+    int64_t tri[2];     /* triangles it bounds (tri[1] = -1 for a silhouette segment) */
+    int64_t vtx[2];     /* mesh vertices at u = 0, 1 (-1 where not a vertex) */
+} sw_curve;
+
+/* One end of an SV arc on a circle: a triangle and which of the circle's two roots with
+ * its plane (sigma = +-1), the angle found at the sample (exit: before the turn). */
+typedef struct sw_end {
+    int64_t tri;
+    int sigma;
+    double phi;
+} sw_end;
+
+typedef struct sw_arc {
+    sw_end start, end;
+} sw_arc;
+
+/* The SV arcs of a circle: full, or n arcs (stored in the context's arc pool). */
+typedef struct sw_struct {
+    int full;
+    int64_t n, first;
+} sw_struct;
+
+#define SW_MAXCURVES 4
+typedef struct sw_vtx2 {   /* a vertex of the meridian decomposition */
+    double r, z;
+    int64_t curve;         /* the curve it lies on (-1: none) */
+    double u;              /* its parameter there */
+    int64_t mvtx;          /* a mesh vertex whose image it is (-1: none) */
+    int ncurves;           /* every curve through it (curves with one image merge here) */
+    int64_t curves[SW_MAXCURVES];
+    double us[SW_MAXCURVES];
+} sw_vtx2;
+
+typedef struct sw_poly {   /* a polygon of the decomposition */
+    int64_t first, n;      /* its vertex ids in poly_verts, counter-clockwise in (r, z) */
+    sw_struct st;
+} sw_poly;
+
+typedef struct sw_leaf {
+    int64_t ix, iz;        /* lower-left corner, in finest units */
+    int level;             /* size = 2^(lmax - level) finest units */
+    int kind;              /* LEAF_* */
+    int64_t cfirst, cn;    /* its curves in leaf_curves */
+    int64_t split_curve;   /* LEAF_SPLIT: the curve along which it is cut */
+    double cr, cz;         /* LEAF_STAR / LEAF_FAN: the centre */
+    int64_t cvtx;          /* LEAF_STAR: a mesh vertex imaged at the centre */
+    int empty;             /* no arc anywhere and no triangle near: no polygon */
+} sw_leaf;
+
+enum { LEAF_CLEAN = 0, LEAF_SPLIT = 1, LEAF_STAR = 2, LEAF_FAN = 3, LEAF_REFINE = 4 };
+
+struct sw_ctx {
+    mfg_status st;
+    /* input in the axis frame */
+    int64_t nv, nt;
+    double *lx;            /* 3 * nv local coordinates */
+    double *vr;            /* r of each vertex */
+    sw_tri *tris;
+    int64_t *tcurves;      /* 4 per triangle: its 3 edge curves and its silhouette (-1) */
+    int64_t *cstamp;       /* per curve, and per triangle (vstamp): dedup stamps */
+    int64_t *vstamp;
+    double theta;
+    int full_turn;
+    double tol, hmin;
+    double quantum;        /* output weld distance */
+    double origin[3], frame[3][3]; /* rows: e1, e2, axis */
+    /* curves */
+    sw_curve *curves;
+    int64_t ncurves, capcurves;
+    /* bins of triangles over (r, z) */
+    int64_t nbr, nbz;
+    double br0, bz0, bdr, bdz;
+    int64_t *bin_start, *bin_items;
+    /* per-call scratch */
+    int64_t *stamp;
+    int64_t stampv;
+    int64_t *cand;
+    int64_t ncand, capcand;
+    /* circle scratch */
+    double *xphi;
+    int64_t *xtri;
+    int *xentry;
+    int64_t nx, capx;
+    /* arc pool */
+    sw_arc *arcs;
+    int64_t narcs, caparcs;
+    /* quadtree */
+    int lmax;
+    double h;              /* finest cell size */
+    double r0, z0;         /* grid origin */
+    int64_t nroot_r, nroot_z;
+    sw_leaf *leaves;
+    int64_t nleaves, capleaves;
+    int64_t *leaf_curves;
+    int64_t nleaf_curves, capleaf_curves;
+    hmap corners;          /* leaf corners (ix, iz) */
+    hmap leafmap;          /* (level, ix, iz) -> leaf */
+    /* decomposition */
+    sw_vtx2 *v2;
+    int64_t nv2, capv2;
+    hmap v2map;
+    int64_t *poly_verts;
+    int64_t npv, cappv;
+    sw_poly *polys;
+    int64_t npolys, cappolys;
+    /* output */
+    double *ox;            /* 3 * nout */
+    int64_t nout, capout;
+    hmap outmap;           /* exact coordinates -> vertex */
+    int64_t *otri;
+    int64_t notri, capotri;
+};
+
+static int ctx_nomem(sw_ctx *c)
+{
+    if (c->st == MFG_OK)
+        c->st = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
+    return 0;
+}
+
+static double v_r(double x, double y)
+{
+    return sqrt(x * x + y * y);
+}
+
+/* ----------------------------------------------------------------------------------- */
+/* Setup: frame, triangles, curves, bins                                                */
+/* ----------------------------------------------------------------------------------- */
+
+static void make_frame(sw_ctx *c, const double *p, const double *a)
+{
+    double len = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    double w[3] = {a[0] / len, a[1] / len, a[2] / len};
+    double helper[3] = {1, 0, 0};
+    if (fabs(w[0]) >= 0.9)
+        helper[0] = 0, helper[1] = 1;
+    /* e1 = w x helper, e2 = w x e1: (e1, e2, w) right-handed, angles grow about w */
+    double e1[3] = {w[1] * helper[2] - w[2] * helper[1], w[2] * helper[0] - w[0] * helper[2],
+                    w[0] * helper[1] - w[1] * helper[0]};
+    double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    for (int k = 0; k < 3; k++)
+        e1[k] /= l1;
+    double e2[3] = {w[1] * e1[2] - w[2] * e1[1], w[2] * e1[0] - w[0] * e1[2],
+                    w[0] * e1[1] - w[1] * e1[0]};
+    for (int k = 0; k < 3; k++) {
+        c->origin[k] = p[k];
+        c->frame[0][k] = e1[k];
+        c->frame[1][k] = e2[k];
+        c->frame[2][k] = w[k];
+    }
+}
+
+/* Minimum distance from the axis (the local z axis) over a triangle. */
+static double tri_rmin(const double *a, const double *b, const double *cc)
+{
+    /* Projected to the xy plane: 0 when the projection covers the origin, else the
+     * distance to the nearest projected side. */
+    const double *p[3] = {a, b, cc};
+    double s[3];
+    for (int i = 0; i < 3; i++) {
+        const double *u = p[i], *v = p[(i + 1) % 3];
+        s[i] = u[0] * v[1] - u[1] * v[0];
+    }
+    if ((s[0] >= 0 && s[1] >= 0 && s[2] >= 0) || (s[0] <= 0 && s[1] <= 0 && s[2] <= 0)) {
+        double area = (b[0] - a[0]) * (cc[1] - a[1]) - (b[1] - a[1]) * (cc[0] - a[0]);
+        if (area != 0)
+            return 0;
+    }
+    double best = INFINITY;
+    for (int i = 0; i < 3; i++) {
+        const double *u = p[i], *v = p[(i + 1) % 3];
+        double dx = v[0] - u[0], dy = v[1] - u[1];
+        double l2 = dx * dx + dy * dy;
+        double t = l2 > 0 ? -(u[0] * dx + u[1] * dy) / l2 : 0;
+        if (t < 0)
+            t = 0;
+        if (t > 1)
+            t = 1;
+        double d = v_r(u[0] + t * dx, u[1] + t * dy);
+        if (d < best)
+            best = d;
+    }
+    return best;
+}
+
+static void curve_bounds(sw_curve *cv)
+{
+    const double *p = cv->p0, *d = cv->dir;
+    cv->qa = d[0] * d[0] + d[1] * d[1];
+    cv->qb = 2 * (p[0] * d[0] + p[1] * d[1]);
+    cv->qc = p[0] * p[0] + p[1] * p[1];
+    double z1 = p[2] + d[2];
+    cv->zmin = fmin(p[2], z1);
+    cv->zmax = fmax(p[2], z1);
+    double r0 = sqrt(cv->qc), r1 = v_r(p[0] + d[0], p[1] + d[1]);
+    cv->rmax = fmax(r0, r1);
+    double rmin = fmin(r0, r1);
+    if (cv->qa > 0) {
+        double t = -cv->qb / (2 * cv->qa);
+        if (t > 0 && t < 1)
+            rmin = fmin(rmin, v_r(p[0] + t * d[0], p[1] + t * d[1]));
+    }
+    cv->rmin = rmin;
+}
+
+static int add_curve(sw_ctx *c, const double *a, const double *b, int64_t t0, int64_t t1,
+                     int64_t va, int64_t vb)
+{
+    if (!grow((void **)&c->curves, &c->capcurves, c->ncurves + 1, sizeof *c->curves))
+        return ctx_nomem(c);
+    sw_curve *cv = &c->curves[c->ncurves++];
+    for (int k = 0; k < 3; k++) {
+        cv->p0[k] = a[k];
+        cv->dir[k] = b[k] - a[k];
+    }
+    cv->tri[0] = t0;
+    cv->tri[1] = t1;
+    cv->vtx[0] = va;
+    cv->vtx[1] = vb;
+    curve_bounds(cv);
+    return 1;
+}
+
+/* The point of edge (i, j) at height z, computed from the smaller index so that both
+ * triangles of the edge get the same doubles. */
+static void edge_at_z(const sw_ctx *c, int64_t i, int64_t j, double z, double out[3])
+{
+    if (j < i) {
+        int64_t t = i;
+        i = j;
+        j = t;
+    }
+    const double *a = c->lx + 3 * i, *b = c->lx + 3 * j;
+    double w = (z - a[2]) / (b[2] - a[2]);
+    for (int k = 0; k < 2; k++)
+        out[k] = a[k] + w * (b[k] - a[k]);
+    out[2] = z;
+}
+
+static int setup(sw_ctx *c, const double *xyz, const int64_t *tris, const int64_t *nb)
+{
+    c->lx = malloc((size_t)(3 * c->nv + 1) * sizeof *c->lx);
+    c->vr = malloc((size_t)(c->nv + 1) * sizeof *c->vr);
+    c->tris = malloc((size_t)(c->nt + 1) * sizeof *c->tris);
+    if (!c->lx || !c->vr || !c->tris)
+        return ctx_nomem(c);
+    for (int64_t i = 0; i < c->nv; i++) {
+        double d[3] = {xyz[3 * i] - c->origin[0], xyz[3 * i + 1] - c->origin[1],
+                       xyz[3 * i + 2] - c->origin[2]};
+        for (int k = 0; k < 3; k++)
+            c->lx[3 * i + k] = c->frame[k][0] * d[0] + c->frame[k][1] * d[1] +
+                               c->frame[k][2] * d[2];
+        c->vr[i] = v_r(c->lx[3 * i], c->lx[3 * i + 1]);
+    }
+    for (int64_t t = 0; t < c->nt; t++) {
+        sw_tri *T = &c->tris[t];
+        const double *p[3];
+        for (int k = 0; k < 3; k++) {
+            T->v[k] = tris[3 * t + k];
+            p[k] = c->lx + 3 * T->v[k];
+        }
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; k++) {
+            e1[k] = p[1][k] - p[0][k];
+            e2[k] = p[2][k] - p[0][k];
+        }
+        T->n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        T->n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        T->n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        T->d = (T->n[0] * (p[0][0] + p[1][0] + p[2][0]) + T->n[1] * (p[0][1] + p[1][1] + p[2][1]) +
+                T->n[2] * (p[0][2] + p[1][2] + p[2][2])) / 3;
+        double hn = v_r(T->n[0], T->n[1]);
+        double nn = sqrt(hn * hn + T->n[2] * T->n[2]);
+        T->vertical_ok = hn > 1e-14 * nn;
+        T->phi0 = atan2(T->n[1], T->n[0]);
+        T->zmin = fmin(p[0][2], fmin(p[1][2], p[2][2]));
+        T->zmax = fmax(p[0][2], fmax(p[1][2], p[2][2]));
+        T->rmax = fmax(c->vr[T->v[0]], fmax(c->vr[T->v[1]], c->vr[T->v[2]]));
+        T->rmin = tri_rmin(p[0], p[1], p[2]);
+    }
+    c->tcurves = malloc((size_t)(4 * c->nt + 1) * sizeof *c->tcurves);
+    c->vstamp = calloc((size_t)(c->nt + 1), sizeof *c->vstamp);
+    if (!c->tcurves || !c->vstamp)
+        return ctx_nomem(c);
+    for (int64_t i = 0; i < 4 * c->nt; i++)
+        c->tcurves[i] = -1;
+    /* curves: every edge once (from the triangle with the smaller index) ... */
+    for (int64_t t = 0; t < c->nt; t++)
+        for (int k = 0; k < 3; k++) {
+            int64_t o = nb[3 * t + k];
+            if (o < t)
+                continue;
+            int64_t a = c->tris[t].v[k], b = c->tris[t].v[(k + 1) % 3];
+            if (!add_curve(c, c->lx + 3 * a, c->lx + 3 * b, t, o, a, b))
+                return 0;
+            c->tcurves[4 * t + k] = c->ncurves - 1;
+            for (int q = 0; q < 3; q++)
+                if (tris[3 * o + q] == b && tris[3 * o + (q + 1) % 3] == a) {
+                    c->tcurves[4 * o + q] = c->ncurves - 1;
+                    break;
+                }
+        }
+    /* ... and the silhouette segment inside each face: where the face's plane is tangent
+     * to the circles, the line of the face in the meridian plane through phi0. */
+    for (int64_t t = 0; t < c->nt; t++) {
+        sw_tri *T = &c->tris[t];
+        if (!T->vertical_ok)
+            continue;
+        double m[2] = {T->n[1], -T->n[0]}; /* n x axis */
+        double s[3];
+        for (int k = 0; k < 3; k++)
+            s[k] = m[0] * c->lx[3 * T->v[k]] + m[1] * c->lx[3 * T->v[k] + 1];
+        double pts[2][3];
+        int np = 0;
+        for (int k = 0; k < 3 && np < 2; k++) {
+            double sa = s[k], sb = s[(k + 1) % 3];
+            if ((sa < 0 && sb > 0) || (sa > 0 && sb < 0)) {
+                const double *a = c->lx + 3 * T->v[k], *b = c->lx + 3 * T->v[(k + 1) % 3];
+                double w = sa / (sa - sb);
+                for (int q = 0; q < 3; q++)
+                    pts[np][q] = a[q] + w * (b[q] - a[q]);
+                np++;
+            }
+        }
+        if (np == 1) { /* through a vertex */
+            for (int k = 0; k < 3; k++)
+                if (s[k] == 0) {
+                    memcpy(pts[1], c->lx + 3 * T->v[k], sizeof pts[1]);
+                    np = 2;
+                    break;
+                }
+        }
+        if (np == 2) {
+            if (!add_curve(c, pts[0], pts[1], t, -1, -1, -1))
+                return 0;
+            c->tcurves[4 * t + 3] = c->ncurves - 1;
+        }
+    }
+    c->cstamp = calloc((size_t)(c->ncurves + 1), sizeof *c->cstamp);
+    if (!c->cstamp)
+        return ctx_nomem(c);
+    return 1;
+}
+
+/* Bins of triangles over their (r, z) images. */
+static int build_bins(sw_ctx *c, double rmax, double zmin, double zmax)
+{
+    int64_t g = (int64_t)ceil(sqrt((double)c->nt)) + 1;
+    if (g > 2048)
+        g = 2048;
+    for (;;) {
+        c->nbr = g;
+        c->nbz = g;
+        c->br0 = 0;
+        c->bz0 = zmin;
+        c->bdr = (rmax > 0 ? rmax : 1) / (double)g * (1 + 1e-9);
+        c->bdz = (zmax > zmin ? zmax - zmin : 1) / (double)g * (1 + 1e-9);
+        int64_t total = 0;
+        for (int64_t t = 0; t < c->nt; t++) {
+            const sw_tri *T = &c->tris[t];
+            int64_t i0 = (int64_t)(T->rmin / c->bdr), i1 = (int64_t)(T->rmax / c->bdr);
+            int64_t j0 = (int64_t)((T->zmin - zmin) / c->bdz), j1 = (int64_t)((T->zmax - zmin) / c->bdz);
+            if (i1 >= g) i1 = g - 1;
+            if (j1 >= g) j1 = g - 1;
+            total += (i1 - i0 + 1) * (j1 - j0 + 1);
+        }
+        if (total > 24 * c->nt + 64 && g > 4) {
+            g /= 2;
+            continue;
+        }
+        c->bin_start = calloc((size_t)(g * g + 1), sizeof *c->bin_start);
+        c->bin_items = malloc((size_t)(total + 1) * sizeof *c->bin_items);
+        if (!c->bin_start || !c->bin_items)
+            return ctx_nomem(c);
+        for (int pass = 0; pass < 2; pass++) {
+            for (int64_t t = 0; t < c->nt; t++) {
+                const sw_tri *T = &c->tris[t];
+                int64_t i0 = (int64_t)(T->rmin / c->bdr), i1 = (int64_t)(T->rmax / c->bdr);
+                int64_t j0 = (int64_t)((T->zmin - zmin) / c->bdz), j1 = (int64_t)((T->zmax - zmin) / c->bdz);
+                if (i1 >= g) i1 = g - 1;
+                if (j1 >= g) j1 = g - 1;
+                for (int64_t j = j0; j <= j1; j++)
+                    for (int64_t i = i0; i <= i1; i++) {
+                        int64_t b = j * g + i;
+                        if (pass == 0)
+                            c->bin_start[b + 1]++;
+                        else
+                            c->bin_items[c->bin_start[b]++] = t;
+                    }
+            }
+            if (pass == 0) {
+                for (int64_t b = 0; b < g * g; b++)
+                    c->bin_start[b + 1] += c->bin_start[b];
+            } else {
+                for (int64_t b = g * g; b > 0; b--)
+                    c->bin_start[b] = c->bin_start[b - 1];
+                c->bin_start[0] = 0;
+            }
+        }
+        c->stamp = calloc((size_t)(c->nt + 1), sizeof *c->stamp);
+        if (!c->stamp)
+            return ctx_nomem(c);
+        return 1;
+    }
+}
+
+static int64_t bin_r(const sw_ctx *c, double r)
+{
+    if (r < 0)
+        return 0;
+    double i = r / c->bdr;
+    return i >= (double)(c->nbr - 1) ? c->nbr - 1 : (int64_t)i;
+}
+
+static int64_t bin_z(const sw_ctx *c, double z)
+{
+    double i = (z - c->bz0) / c->bdz;
+    if (i < 0)
+        return 0;
+    return i >= (double)(c->nbz - 1) ? c->nbz - 1 : (int64_t)i;
+}
+
+/* Triangles whose image box meets [ra, rb] x [za, zb] into c->cand (deduplicated). */
+static int gather(sw_ctx *c, double ra, double rb, double za, double zb)
+{
+    c->ncand = 0;
+    c->stampv++;
+    int64_t i0 = bin_r(c, ra), i1 = bin_r(c, rb), j0 = bin_z(c, za), j1 = bin_z(c, zb);
+    for (int64_t j = j0; j <= j1; j++)
+        for (int64_t i = i0; i <= i1; i++) {
+            int64_t b = j * c->nbr + i;
+            for (int64_t k = c->bin_start[b]; k < c->bin_start[b + 1]; k++) {
+                int64_t t = c->bin_items[k];
+                if (c->stamp[t] == c->stampv)
+                    continue;
+                c->stamp[t] = c->stampv;
+                const sw_tri *T = &c->tris[t];
+                if (T->rmax < ra || T->rmin > rb || T->zmax < za || T->zmin > zb)
+                    continue;
+                if (!grow((void **)&c->cand, &c->capcand, c->ncand + 1, sizeof *c->cand))
+                    return ctx_nomem(c);
+                c->cand[c->ncand++] = t;
+            }
+        }
+    return 1;
+}
+
+/* ----------------------------------------------------------------------------------- */
+/* Directed circles                                                                     */
+/* ----------------------------------------------------------------------------------- */
+
+/* The slice of triangle t by the plane z: 0 when it has none (a vertex counts as above
+ * when its height is >= z, the same rule for every triangle, so the slices of a closed
+ * mesh form closed polygons). */
+static int tri_slice(const sw_ctx *c, int64_t t, double z, double e[2][3])
+{
+    const sw_tri *T = &c->tris[t];
+    int above[3], na = 0;
+    for (int k = 0; k < 3; k++) {
+        above[k] = c->lx[3 * T->v[k] + 2] >= z;
+        na += above[k];
+    }
+    if (na == 0 || na == 3)
+        return 0;
+    int m = 0;
+    for (int k = 0; k < 3; k++) {
+        int k1 = (k + 1) % 3;
+        if (above[k] != above[k1])
+            edge_at_z(c, T->v[k], T->v[k1], z, e[m++]);
+    }
+    return 1;
+}
+
+static int sigma_of(const sw_tri *T, double phi)
+{
+    return angle_diff(phi, T->phi0) >= 0 ? 1 : -1;
+}
+
+static int push_cross(sw_ctx *c, double phi, int64_t t, int entry)
+{
+    if (!grow((void **)&c->xphi, &c->capx, c->nx + 1, sizeof *c->xphi))
+        return ctx_nomem(c);
+    int64_t cap = c->capx;
+    /* xtri and xentry follow xphi's capacity */
+    int64_t *nt = realloc(c->xtri, (size_t)cap * sizeof *nt);
+    if (!nt)
+        return ctx_nomem(c);
+    c->xtri = nt;
+    int *ne = realloc(c->xentry, (size_t)cap * sizeof *ne);
+    if (!ne)
+        return ctx_nomem(c);
+    c->xentry = ne;
+    c->xphi[c->nx] = phi;
+    c->xtri[c->nx] = t;
+    c->xentry[c->nx] = entry;
+    c->nx++;
+    return 1;
+}
+
+/* Is the point (r, 0, z) inside O?  Ray parity in the plane z along +x, half-open on y. */
+static int circle_inside(sw_ctx *c, double r, double z)
+{
+    if (!gather(c, r, INFINITY, z, z))
+        return -1;
+    int inside = 0;
+    for (int64_t k = 0; k < c->ncand; k++) {
+        double e[2][3];
+        if (!tri_slice(c, c->cand[k], z, e))
+            continue;
+        int ya = e[0][1] >= 0, yb = e[1][1] >= 0;
+        if (ya == yb)
+            continue;
+        double w = e[0][1] / (e[0][1] - e[1][1]);
+        double x = e[0][0] + w * (e[1][0] - e[0][0]);
+        if (x > r)
+            inside ^= 1;
+    }
+    return inside;
+}
+
+typedef struct xsort {
+    double phi;
+    int64_t tri;
+    int entry;
+} xsort;
+
+static int cmp_x(const void *pa, const void *pb)
+{
+    const xsort *a = pa, *b = pb;
+    if (a->phi != b->phi)
+        return a->phi < b->phi ? -1 : 1;
+    if (a->tri != b->tri)
+        return a->tri < b->tri ? -1 : 1;
+    return a->entry - b->entry;
+}
+
+static int push_arc(sw_ctx *c, const sw_arc *a)
+{
+    if (!grow((void **)&c->arcs, &c->caparcs, c->narcs + 1, sizeof *c->arcs))
+        return ctx_nomem(c);
+    c->arcs[c->narcs++] = *a;
+    return 1;
+}
+
+/* The SV arcs on the circle (r, z), appended to the arc pool. */
+static int circle_arcs(sw_ctx *c, double r, double z, sw_struct *out)
+{
+    out->full = 0;
+    out->n = 0;
+    out->first = c->narcs;
+    if (r <= 0) {
+        int in = circle_inside(c, 0, z);
+        if (in < 0)
+            return 0;
+        out->full = in;
+        return 1;
+    }
+    if (!gather(c, r, r, z, z))
+        return 0;
+    c->nx = 0;
+    double r2 = r * r;
+    for (int64_t k = 0; k < c->ncand; k++) {
+        int64_t t = c->cand[k];
+        const sw_tri *T = &c->tris[t];
+        if (!T->vertical_ok)
+            continue;
+        double e[2][3];
+        if (!tri_slice(c, t, z, e))
+            continue;
+        double ga = e[0][0] * e[0][0] + e[0][1] * e[0][1] - r2;
+        double gb = e[1][0] * e[1][0] + e[1][1] * e[1][1] - r2;
+        double dx = e[1][0] - e[0][0], dy = e[1][1] - e[0][1];
+        double qa = dx * dx + dy * dy;
+        if (qa == 0)
+            continue;
+        double qb = 2 * (e[0][0] * dx + e[0][1] * dy);
+        double roots[2];
+        int nr = 0;
+        int ina = ga < 0, inb = gb < 0;
+        double disc = qb * qb - 4 * qa * ga;
+        if (disc < 0)
+            disc = 0;
+        double sq = sqrt(disc);
+        if (ina != inb) {
+            /* one root in [0, 1]: the one where g changes sign */
+            double s1 = (-qb - sq) / (2 * qa), s2 = (-qb + sq) / (2 * qa);
+            double s = ina ? s2 : s1; /* leaving the disc: larger root; entering: smaller */
+            if (s < 0) s = 0;
+            if (s > 1) s = 1;
+            roots[nr++] = s;
+        } else if (!ina) {
+            double sm = -qb / (2 * qa);
+            if (sm > 0 && sm < 1) {
+                double mx = e[0][0] + sm * dx, my = e[0][1] + sm * dy;
+                if (mx * mx + my * my - r2 < 0) {
+                    double s1 = (-qb - sq) / (2 * qa), s2 = (-qb + sq) / (2 * qa);
+                    roots[nr++] = s1 < 0 ? 0 : s1;
+                    roots[nr++] = s2 > 1 ? 1 : s2;
+                }
+            }
+        }
+        for (int q = 0; q < nr; q++) {
+            double x = e[0][0] + roots[q] * dx, y = e[0][1] + roots[q] * dy;
+            double phi = wrap_angle(atan2(y, x));
+            /* moving along +phi (direction (-y, x)) against the outward normal: entry */
+            double dot = T->n[0] * (-y) + T->n[1] * x;
+            int entry;
+            if (nr == 2)
+                entry = dot < 0 ? 1 : (dot > 0 ? 0 : (q == 0));
+            else
+                entry = dot < 0;
+            if (!push_cross(c, phi, t, entry))
+                return 0;
+        }
+    }
+    if (c->nx == 0) {
+        int in = circle_inside(c, r, z);
+        if (in < 0)
+            return 0;
+        out->full = in;
+        return 1;
+    }
+    /* sort by angle; depth count (relative to its minimum) gives O's arcs */
+    xsort *xs = malloc((size_t)c->nx * sizeof *xs);
+    if (!xs)
+        return ctx_nomem(c);
+    for (int64_t i = 0; i < c->nx; i++) {
+        xs[i].phi = c->xphi[i];
+        xs[i].tri = c->xtri[i];
+        xs[i].entry = c->xentry[i];
+    }
+    qsort(xs, (size_t)c->nx, sizeof *xs, cmp_x);
+    int64_t n = c->nx;
+    int64_t depth = 0, mind = 0, minpos = 0;
+    for (int64_t i = 0; i < n; i++) {
+        depth += xs[i].entry ? 1 : -1;
+        if (depth < mind) {
+            mind = depth;
+            minpos = i + 1;
+        }
+    }
+    /* Start right after the position of minimum depth: there depth (relative) is 0. */
+    int64_t nO = 0;
+    sw_arc *oarcs = malloc((size_t)(n / 2 + 2) * sizeof *oarcs);
+    if (!oarcs) {
+        free(xs);
+        return ctx_nomem(c);
+    }
+    int64_t d = 0;
+    sw_arc cur;
+    memset(&cur, 0, sizeof cur);
+    double base = 0;
+    for (int64_t k = 0; k < n; k++) {
+        int64_t i = (minpos + k) % n;
+        double phi = xs[i].phi + ((minpos + k) >= n ? MFG_TWO_PI : 0);
+        if (k == 0)
+            base = phi;
+        (void)base;
+        const sw_tri *T = &c->tris[xs[i].tri];
+        if (xs[i].entry) {
+            if (d == 0) {
+                cur.start.tri = xs[i].tri;
+                cur.start.phi = phi;
+                cur.start.sigma = sigma_of(T, xs[i].phi);
+            }
+            d++;
+        } else {
+            if (d > 0)
+                d--;
+            if (d == 0 && nO < n / 2 + 2) {
+                cur.end.tri = xs[i].tri;
+                cur.end.phi = phi;
+                cur.end.sigma = sigma_of(T, xs[i].phi);
+                oarcs[nO++] = cur;
+            }
+        }
+    }
+    free(xs);
+    if (nO == 0) {
+        free(oarcs);
+        out->full = 1; /* depth never returned to zero: treat as inside (conservative) */
+        return 1;
+    }
+    if (c->full_turn) {
+        free(oarcs);
+        out->full = 1;
+        return 1;
+    }
+    /* extend each arc's end by theta and merge (arcs are in increasing start order, all
+     * starts within one turn of the first) */
+    double th = c->theta;
+    for (int64_t i = 0; i < nO; i++)
+        if (oarcs[i].end.phi + th - oarcs[i].start.phi >= MFG_TWO_PI) {
+            free(oarcs);
+            out->full = 1;
+            return 1;
+        }
+    /* find an arc not covered by its predecessor's extension */
+    int64_t j0 = -1;
+    for (int64_t i = 0; i < nO; i++) {
+        int64_t p = (i + nO - 1) % nO;
+        double pend = oarcs[p].end.phi + th - (i == 0 ? MFG_TWO_PI : 0);
+        if (pend < oarcs[i].start.phi) {
+            j0 = i;
+            break;
+        }
+    }
+    if (j0 < 0) {
+        free(oarcs);
+        out->full = 1;
+        return 1;
+    }
+    sw_arc m = oarcs[j0];
+    double mend = m.end.phi + th;
+    for (int64_t k = 1; k <= nO; k++) {
+        int64_t i = (j0 + k) % nO;
+        double s = oarcs[i].start.phi + ((j0 + k) >= nO ? MFG_TWO_PI : 0);
+        if (k < nO && s <= mend) {
+            double e = oarcs[i].end.phi + ((j0 + k) >= nO ? MFG_TWO_PI : 0) + th;
+            if (e > mend) {
+                mend = e;
+                m.end = oarcs[i].end;
+            }
+            continue;
+        }
+        if (!push_arc(c, &m)) {
+            free(oarcs);
+            return 0;
+        }
+        out->n++;
+        if (k < nO) {
+            m = oarcs[i];
+            mend = s + (oarcs[i].end.phi - oarcs[i].start.phi) + th;
+        }
+    }
+    free(oarcs);
+    return 1;
+}
+
+/* Same structure: same full flag and the same (triangle, root) at both ends of every arc,
+ * compared as sets (the arcs of one circle are distinct, their order cyclic). */
+static int same_struct(const sw_ctx *c, const sw_struct *a, const sw_struct *b)
+{
+    if (a->full != b->full || a->n != b->n)
+        return 0;
+    for (int64_t i = 0; i < a->n; i++) {
+        const sw_arc *x = &c->arcs[a->first + i];
+        int found = 0;
+        for (int64_t j = 0; j < b->n && !found; j++) {
+            const sw_arc *y = &c->arcs[b->first + j];
+            found = x->start.tri == y->start.tri && x->start.sigma == y->start.sigma &&
+                    x->end.tri == y->end.tri && x->end.sigma == y->end.sigma;
+        }
+        if (!found)
+            return 0;
+    }
+    return 1;
+}
+
+/* ----------------------------------------------------------------------------------- */
+/* The meridian decomposition                                                           */
+/* ----------------------------------------------------------------------------------- */
+
+static double grid_r(const sw_ctx *c, int64_t i)
+{
+    return c->r0 + (double)i * c->h;
+}
+
+static double grid_z(const sw_ctx *c, int64_t i)
+{
+    return c->z0 + (double)i * c->h;
+}
+
+/* A crossing of a curve with a side of a cell: its position along the side's line, the
+ * curve parameter and which root. */
+typedef struct sw_cross {
+    double pos, u;
+    int64_t curve;
+} sw_cross;
+
+/* Crossings of curve cv with the open segment of the line r = val (vertical_side) or
+ * z = val between lo and hi.  Up to 2. */
+static int curve_side(const sw_curve *cv, int rside, double val, double lo, double hi,
+                      double pos[2], double us[2])
+{
+    int n = 0;
+    if (!rside) {
+        if (cv->dir[2] == 0)
+            return 0; /* horizontal: lies in its own plane z = const, never crosses one */
+        double u = (val - cv->p0[2]) / cv->dir[2];
+        if (!(u >= 0 && u <= 1))
+            return 0;
+        double r2 = cv->qa * u * u + cv->qb * u + cv->qc;
+        double r = sqrt(r2 > 0 ? r2 : 0);
+        if (r > lo && r < hi) {
+            pos[n] = r;
+            us[n++] = u;
+        }
+        return n;
+    }
+    /* qa u^2 + qb u + qc - val^2 = 0 */
+    double a = cv->qa, b = cv->qb, cc = cv->qc - val * val;
+    double roots[2];
+    int nr = 0;
+    if (a == 0) {
+        if (b != 0)
+            roots[nr++] = -cc / b;
+    } else {
+        double disc = b * b - 4 * a * cc;
+        if (disc < 0)
+            return 0;
+        double sq = sqrt(disc);
+        double q = -0.5 * (b + (b >= 0 ? sq : -sq));
+        double r1 = q / a, r2 = q != 0 ? cc / q : r1;
+        if (r1 > r2) {
+            double t = r1;
+            r1 = r2;
+            r2 = t;
+        }
+        roots[nr++] = r1;
+        if (r2 != r1)
+            roots[nr++] = r2;
+    }
+    for (int k = 0; k < nr; k++) {
+        double u = roots[k];
+        if (!(u >= 0 && u <= 1))
+            continue;
+        double z = cv->p0[2] + u * cv->dir[2];
+        if (z > lo && z < hi) {
+            pos[n] = z;
+            us[n++] = u;
+        }
+    }
+    return n;
+}
+
+/* The 4 sides of cell (ix, iz, size s) in counter-clockwise order: side k runs from
+ * corner k to corner k+1; corners (ix, iz), (ix+s, iz), (ix+s, iz+s), (ix, iz+s). */
+static void side_geom(const sw_ctx *c, int64_t ix, int64_t iz, int64_t s, int k, int *rside,
+                      double *val, double *lo, double *hi)
+{
+    double ra = grid_r(c, ix), rb = grid_r(c, ix + s), za = grid_z(c, iz), zb = grid_z(c, iz + s);
+    switch (k) {
+    case 0: *rside = 0; *val = za; *lo = ra; *hi = rb; break;
+    case 1: *rside = 1; *val = rb; *lo = za; *hi = zb; break;
+    case 2: *rside = 0; *val = zb; *lo = ra; *hi = rb; break;
+    default: *rside = 1; *val = ra; *lo = za; *hi = zb; break;
+    }
+}
+
+typedef struct sw_cellinfo {
+    int kind;              /* 0 clean, 1 split, 2 star, 3 refine / fallback */
+    int64_t split_curve;
+    int64_t nvimg;         /* distinct vertex images in the closed cell */
+    double vimg[2];        /* one of them */
+    int64_t vimg_vtx;
+    int vimg_inside;       /* strictly inside */
+} sw_cellinfo;
+
+/* Sample (cached at grid corners). */
+static int corner_sample(sw_ctx *c, hmap *cache, int64_t ix, int64_t iz, sw_struct **pool,
+                         int64_t *npool, int64_t *cappool, int64_t *out)
+{
+    hkey k = mkkey(ix, iz, 0, 0);
+    int64_t v = hmap_get(cache, &k);
+    if (v >= 0) {
+        *out = v;
+        return 1;
+    }
+    sw_struct s;
+    if (!circle_arcs(c, grid_r(c, ix), grid_z(c, iz), &s))
+        return 0;
+    if (!grow((void **)pool, cappool, *npool + 1, sizeof **pool))
+        return ctx_nomem(c);
+    (*pool)[*npool] = s;
+    if (!hmap_put(cache, &k, *npool))
+        return ctx_nomem(c);
+    *out = (*npool)++;
+    return 1;
+}
+
+
+/* Sag of curve cv between parameters ua and ub from its chord, in the (r, z) plane. */
+static double curve_sag(const sw_curve *cv, double ua, double ub)
+{
+    double ra = sqrt(fmax(0, cv->qa * ua * ua + cv->qb * ua + cv->qc));
+    double rb = sqrt(fmax(0, cv->qa * ub * ub + cv->qb * ub + cv->qc));
+    double za = cv->p0[2] + ua * cv->dir[2], zb = cv->p0[2] + ub * cv->dir[2];
+    double dr = rb - ra, dz = zb - za, len = sqrt(dr * dr + dz * dz);
+    double worst = 0;
+    for (int k = 1; k < 8; k++) {
+        double u = ua + (ub - ua) * k / 8.0;
+        double r = sqrt(fmax(0, cv->qa * u * u + cv->qb * u + cv->qc));
+        double z = cv->p0[2] + u * cv->dir[2];
+        double d = len > 0 ? fabs((r - ra) * dz - (z - za) * dr) / len : sqrt((r - ra) * (r - ra) + (z - za) * (z - za));
+        if (d > worst)
+            worst = d;
+    }
+    return worst;
+}
+
+typedef struct sw_samples {
+    hmap cache;            /* (ix, iz) -> index in pool */
+    sw_struct *pool;
+    int64_t n, cap;
+} sw_samples;
+
+/* Decides what to do with cell (ix, iz, level); fills the leaf fields and appends the
+ * curves that pass through the cell to leaf_curves. */
+static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
+{
+    int64_t s = (int64_t)1 << (c->lmax - L->level);
+    double ra = grid_r(c, L->ix), rb = grid_r(c, L->ix + s);
+    double za = grid_z(c, L->iz), zb = grid_z(c, L->iz + s);
+    int64_t ci[4];
+    int64_t cx[4] = {L->ix, L->ix + s, L->ix + s, L->ix}, cz[4] = {L->iz, L->iz, L->iz + s, L->iz + s};
+    for (int k = 0; k < 4; k++)
+        if (!corner_sample(c, &sp->cache, cx[k], cz[k], &sp->pool, &sp->n, &sp->cap, &ci[k]))
+            return 0;
+    sw_struct centre;
+    if (!circle_arcs(c, 0.5 * (ra + rb), 0.5 * (za + zb), &centre))
+        return 0;
+    L->cfirst = c->nleaf_curves;
+    L->cn = 0;
+    L->split_curve = -1;
+    L->cvtx = -1;
+    L->empty = 0;
+    /* the triangles that bound SV at the samples */
+    c->stampv++;
+    int64_t vs = c->stampv;
+    const sw_struct *all[5] = {&sp->pool[ci[0]], &sp->pool[ci[1]], &sp->pool[ci[2]],
+                               &sp->pool[ci[3]], &centre};
+    int any_arc = 0;
+    for (int k = 0; k < 5; k++) {
+        if (all[k]->full || all[k]->n)
+            any_arc = 1;
+        for (int64_t a = 0; a < all[k]->n; a++) {
+            const sw_arc *arc = &c->arcs[all[k]->first + a];
+            c->vstamp[arc->start.tri] = vs;
+            c->vstamp[arc->end.tri] = vs;
+        }
+    }
+    if (!gather(c, ra, rb, za, zb))
+        return 0;
+    /* vertex images in the closed cell */
+    int64_t nimg = 0;
+    double img[2] = {0, 0};
+    int64_t imgv = -1;
+    int img_inside = 0;
+    for (int64_t k = 0; k < c->ncand; k++) {
+        const sw_tri *T = &c->tris[c->cand[k]];
+        for (int q = 0; q < 3; q++) {
+            int64_t v = T->v[q];
+            double r = c->vr[v], z = c->lx[3 * v + 2];
+            if (r < ra || r > rb || z < za || z > zb)
+                continue;
+            if (nimg == 0) {
+                img[0] = r;
+                img[1] = z;
+                imgv = v;
+                img_inside = r > ra && r < rb && z > za && z < zb;
+                nimg = 1;
+            } else if (nimg == 1 && (r != img[0] || z != img[1])) {
+                nimg = 2;
+            }
+        }
+    }
+    if (c->ncand == 0 && !any_arc) {
+        L->empty = 1;
+        L->kind = LEAF_CLEAN;
+        return 1;
+    }
+    /* curves of the bounding triangles through the cell */
+    int64_t npass = 0, ncross_split = 0, all_from_img = 1, one_cross_each = 1;
+    double split_u[2] = {0, 0};
+    for (int64_t k = 0; k < c->ncand; k++) {
+        int64_t t = c->cand[k];
+        if (c->vstamp[t] != vs)
+            continue;
+        for (int q = 0; q < 4; q++) {
+            int64_t ic = c->tcurves[4 * t + q];
+            if (ic < 0 || c->cstamp[ic] == vs)
+                continue;
+            c->cstamp[ic] = vs;
+            const sw_curve *cv = &c->curves[ic];
+            if (cv->rmax < ra || cv->rmin > rb || cv->zmax < za || cv->zmin > zb)
+                continue;
+            int ncr = 0;
+            double us[8];
+            for (int sd = 0; sd < 4; sd++) {
+                int rside;
+                double val, lo, hi, pos[2], uu[2];
+                side_geom(c, L->ix, L->iz, s, sd, &rside, &val, &lo, &hi);
+                int m = curve_side(cv, rside, val, lo, hi, pos, uu);
+                for (int j = 0; j < m && ncr < 8; j++)
+                    us[ncr++] = uu[j];
+            }
+            int end_in = 0;
+            for (int e = 0; e < 2; e++) {
+                double u = (double)e;
+                double r = sqrt(fmax(0, cv->qa * u * u + cv->qb * u + cv->qc));
+                double z = cv->p0[2] + u * cv->dir[2];
+                if (r > ra && r < rb && z > za && z < zb)
+                    end_in = 1;
+            }
+            /* a horizontal curve inside the open cell has no crossing with a z side but
+             * may cross neither r side either when it ends inside: end_in covers it */
+            if (ncr == 0 && !end_in)
+                continue;
+            if (!grow((void **)&c->leaf_curves, &c->capleaf_curves, c->nleaf_curves + 1,
+                      sizeof *c->leaf_curves))
+                return ctx_nomem(c);
+            c->leaf_curves[c->nleaf_curves++] = ic;
+            L->cn++;
+            npass++;
+            if (npass == 1) {
+                L->split_curve = ic;
+                ncross_split = end_in ? -1 : ncr;
+                if (ncr == 2) {
+                    split_u[0] = us[0];
+                    split_u[1] = us[1];
+                }
+            }
+            /* star: the curve must end at the vertex image and leave the cell once */
+            int from_img = 0;
+            for (int e = 0; e < 2; e++) {
+                double u = (double)e;
+                double r = sqrt(fmax(0, cv->qa * u * u + cv->qb * u + cv->qc));
+                double z = cv->p0[2] + u * cv->dir[2];
+                if (nimg == 1 && r == img[0] && z == img[1])
+                    from_img = 1;
+            }
+            if (!from_img)
+                all_from_img = 0;
+            if (ncr != 1)
+                one_cross_each = 0;
+        }
+    }
+    int same5 = same_struct(c, all[0], all[1]) && same_struct(c, all[0], all[2]) &&
+                same_struct(c, all[0], all[3]) && same_struct(c, all[0], all[4]);
+    if (npass == 0 && nimg == 0 && same5) {
+        L->kind = LEAF_CLEAN;
+        return 1;
+    }
+    if (npass == 1 && nimg == 0 && ncross_split == 2) {
+        const sw_curve *cv = &c->curves[L->split_curve];
+        if (curve_sag(cv, split_u[0], split_u[1]) <= 0.25 * c->tol) {
+            /* corners on each side of the chord must agree, and the centre with its side */
+            double p[2][2];
+            for (int e = 0; e < 2; e++) {
+                double u = split_u[e];
+                p[e][0] = sqrt(fmax(0, cv->qa * u * u + cv->qb * u + cv->qc));
+                p[e][1] = cv->p0[2] + u * cv->dir[2];
+            }
+            double crs[5][2] = {{ra, za}, {rb, za}, {rb, zb}, {ra, zb},
+                                {0.5 * (ra + rb), 0.5 * (za + zb)}};
+            int side_of[5];
+            for (int k = 0; k < 5; k++) {
+                double o = (p[1][0] - p[0][0]) * (crs[k][1] - p[0][1]) -
+                           (p[1][1] - p[0][1]) * (crs[k][0] - p[0][0]);
+                side_of[k] = o > 0 ? 1 : (o < 0 ? -1 : 0);
+            }
+            int ok = 1;
+            for (int k = 0; k < 5 && ok; k++)
+                for (int j = k + 1; j < 5 && ok; j++)
+                    if (side_of[k] == 0 || side_of[j] == 0 ||
+                        (side_of[k] == side_of[j] && !same_struct(c, all[k], all[j])))
+                        ok = 0;
+            if (ok) {
+                L->kind = LEAF_SPLIT;
+                return 1;
+            }
+        }
+    }
+    if (nimg == 1 && img_inside && npass >= 1 && all_from_img && one_cross_each) {
+        L->kind = LEAF_STAR;
+        L->cr = img[0];
+        L->cz = img[1];
+        L->cvtx = imgv;
+        return 1;
+    }
+    if (L->level < c->lmax) {
+        L->kind = LEAF_REFINE;
+        c->nleaf_curves = L->cfirst; /* the children find their own */
+        L->cn = 0;
+        return 1;
+    }
+    L->kind = LEAF_FAN;
+    if (nimg == 1 && img_inside) {
+        L->cr = img[0];
+        L->cz = img[1];
+        L->cvtx = imgv;
+    } else {
+        L->cr = 0.5 * (ra + rb);
+        L->cz = 0.5 * (za + zb);
+    }
+    return 1;
+}
+
+static int build_quadtree(sw_ctx *c)
+{
+    sw_samples sp;
+    memset(&sp, 0, sizeof sp);
+    if (!hmap_init(&sp.cache, 1024) || !hmap_init(&c->corners, 1024) ||
+        !hmap_init(&c->leafmap, 1024)) {
+        hmap_free(&sp.cache);
+        return ctx_nomem(c);
+    }
+    int ok = 1;
+    sw_leaf *stack = NULL;
+    int64_t nstack = 0, capstack = 0;
+    int64_t root = (int64_t)1 << c->lmax;
+    for (int64_t j = c->nroot_z - 1; j >= 0 && ok; j--)
+        for (int64_t i = c->nroot_r - 1; i >= 0; i--) {
+            if (!grow((void **)&stack, &capstack, nstack + 1, sizeof *stack)) {
+                ok = ctx_nomem(c);
+                break;
+            }
+            memset(&stack[nstack], 0, sizeof *stack);
+            stack[nstack].ix = i * root;
+            stack[nstack].iz = j * root;
+            stack[nstack].level = 0;
+            nstack++;
+        }
+    while (ok && nstack > 0) {
+        sw_leaf L = stack[--nstack];
+        /* arcs of the centre sample are scratch: keep the pool from growing without end */
+        int64_t mark = c->narcs;
+        if (!analyse_cell(c, &sp, &L)) {
+            ok = 0;
+            break;
+        }
+        (void)mark;
+        if (L.kind == LEAF_REFINE) {
+            int64_t h2 = (int64_t)1 << (c->lmax - L.level - 1);
+            if (!grow((void **)&stack, &capstack, nstack + 4, sizeof *stack)) {
+                ok = ctx_nomem(c);
+                break;
+            }
+            for (int q = 3; q >= 0; q--) {
+                sw_leaf ch;
+                memset(&ch, 0, sizeof ch);
+                ch.ix = L.ix + (q & 1) * h2;
+                ch.iz = L.iz + (q >> 1) * h2;
+                ch.level = L.level + 1;
+                stack[nstack++] = ch;
+            }
+            continue;
+        }
+        if (!grow((void **)&c->leaves, &c->capleaves, c->nleaves + 1, sizeof *c->leaves)) {
+            ok = ctx_nomem(c);
+            break;
+        }
+        c->leaves[c->nleaves] = L;
+        int64_t s = (int64_t)1 << (c->lmax - L.level);
+        hkey lk = mkkey(L.level, L.ix, L.iz, 0);
+        if (!hmap_put(&c->leafmap, &lk, c->nleaves)) {
+            ok = ctx_nomem(c);
+            break;
+        }
+        int64_t cxs[4] = {L.ix, L.ix + s, L.ix + s, L.ix}, czs[4] = {L.iz, L.iz, L.iz + s, L.iz + s};
+        for (int k = 0; k < 4 && ok; k++) {
+            hkey ck = mkkey(cxs[k], czs[k], 0, 0);
+            if (!hmap_put(&c->corners, &ck, 1))
+                ok = ctx_nomem(c);
+        }
+        c->nleaves++;
+    }
+    free(stack);
+    hmap_free(&sp.cache);
+    free(sp.pool);
+    return ok;
+}
+
+/* ----------------------------------------------------------------------------------- */
+/* Polygons of the decomposition                                                        */
+/* ----------------------------------------------------------------------------------- */
+
+static int64_t add_v2(sw_ctx *c, const hkey *k, double r, double z, int64_t curve, double u,
+                      int64_t mvtx)
+{
+    int64_t id = hmap_get(&c->v2map, k);
+    if (id >= 0)
+        return id;
+    if (!grow((void **)&c->v2, &c->capv2, c->nv2 + 1, sizeof *c->v2))
+        return ctx_nomem(c) - 1;
+    sw_vtx2 *w = &c->v2[c->nv2];
+    w->r = r;
+    w->z = z;
+    w->curve = curve;
+    w->u = u;
+    w->mvtx = mvtx;
+    w->ncurves = 0;
+    if (curve >= 0) {
+        w->curves[0] = curve;
+        w->us[0] = u;
+        w->ncurves = 1;
+    }
+    if (!hmap_put(&c->v2map, k, c->nv2))
+        return ctx_nomem(c) - 1;
+    return c->nv2++;
+}
+
+static int64_t corner_v2(sw_ctx *c, int64_t ix, int64_t iz)
+{
+    hkey k = mkkey(0, ix, iz, 0);
+    return add_v2(c, &k, grid_r(c, ix), grid_z(c, iz), -1, 0, -1);
+}
+
+static const sw_leaf *leaf_at(const sw_ctx *c, int64_t x2, int64_t z2)
+{
+    if (x2 < 0 || z2 < 0)
+        return NULL;
+    for (int lv = c->lmax; lv >= 0; lv--) {
+        int64_t S = (int64_t)1 << (c->lmax - lv);
+        hkey k = mkkey(lv, (x2 / (2 * S)) * S, (z2 / (2 * S)) * S, 0);
+        int64_t id = hmap_get(&c->leafmap, &k);
+        if (id >= 0)
+            return &c->leaves[id];
+    }
+    return NULL;
+}
+
+typedef struct sw_ipt {
+    double key; /* position along the traversal direction */
+    double pos, u;
+    int64_t curve;
+} sw_ipt;
+
+static int cmp_ipt(const void *pa, const void *pb)
+{
+    const sw_ipt *a = pa, *b = pb;
+    return (a->key > b->key) - (a->key < b->key);
+}
+
+/* Appends to *loop the vertices of the sub-side from integer point (ax, az) to (bx, bz)
+ * (axis-parallel, excluding the end): the start, then the crossings of the curves of
+ * this leaf and of the leaf across. */
+static int sub_side(sw_ctx *c, const sw_leaf *L, int64_t ax, int64_t az, int64_t bx, int64_t bz,
+                    int64_t **loop, int64_t *nloop, int64_t *caploop)
+{
+    int64_t a = corner_v2(c, ax, az);
+    if (a < 0)
+        return 0;
+    if (!grow((void **)loop, caploop, *nloop + 1, sizeof **loop))
+        return ctx_nomem(c);
+    (*loop)[(*nloop)++] = a;
+    int rside = ax == bx;
+    double val = rside ? grid_r(c, ax) : grid_z(c, az);
+    double pa = rside ? grid_z(c, az) : grid_r(c, ax), pb = rside ? grid_z(c, bz) : grid_r(c, bx);
+    double lo = fmin(pa, pb), hi = fmax(pa, pb);
+    int dirn = pb > pa ? 1 : -1;
+    /* the leaf across: the point just outside the middle of the sub-side */
+    int64_t mx2 = ax + bx, mz2 = az + bz;
+    int64_t s = (int64_t)1 << (c->lmax - L->level);
+    if (rside)
+        mx2 += ax == L->ix ? -1 : 1;
+    else
+        mz2 += az == L->iz ? -1 : 1;
+    (void)s;
+    const sw_leaf *N = leaf_at(c, mx2, mz2);
+    sw_ipt pts[64];
+    int np = 0;
+    const sw_leaf *both[2] = {L, N};
+    for (int w = 0; w < 2; w++) {
+        if (!both[w])
+            continue;
+        for (int64_t k = 0; k < both[w]->cn; k++) {
+            int64_t ic = c->leaf_curves[both[w]->cfirst + k];
+            int dup = 0;
+            for (int q = 0; q < np; q++)
+                dup |= pts[q].curve == ic;
+            if (dup)
+                continue;
+            double pos[2], us[2];
+            int m = curve_side(&c->curves[ic], rside, val, lo, hi, pos, us);
+            for (int q = 0; q < m && np < 64; q++) {
+                pts[np].pos = pos[q];
+                pts[np].key = dirn * pos[q];
+                pts[np].u = us[q];
+                pts[np].curve = ic;
+                np++;
+            }
+        }
+    }
+    qsort(pts, (size_t)np, sizeof *pts, cmp_ipt);
+#ifdef MFG_SWEEP_DEBUG
+    {
+        const char *env = getenv("SWDBG");
+        double qr = 0, qz = 0;
+        if (env && sscanf(env, "%lf,%lf", &qr, &qz) == 2) {
+            double sr = rside ? val : qr, sz = rside ? qz : val;
+            double qq = rside ? qz : qr;
+            if (fabs(sr - qr) < 1e-5 && fabs(sz - qz) < 1e-5 && qq >= lo - 1e-5 && qq <= hi + 1e-5) {
+                fprintf(stderr, "side leaf(%lld,%lld,L%d k%d n%lld) nb %p (k%d n%lld) rside %d val %.6f [%.6f %.6f] pts:", (long long)L->ix, (long long)L->iz, L->level, L->kind, (long long)L->cn, (void *)N, N ? N->kind : -1, N ? (long long)N->cn : -1LL, rside, val, lo, hi);
+                for (int q = 0; q < np; q++)
+                    fprintf(stderr, " c%lld@%.6f", (long long)pts[q].curve, pts[q].pos);
+                fprintf(stderr, "\n");
+            }
+        }
+    }
+#endif
+    double eps = 1e-12 * (fabs(hi) + fabs(lo) + c->h);
+    double last = dirn > 0 ? lo : -hi;
+    (void)last;
+    double prev = -INFINITY;
+    int64_t prev_id = -1;
+    for (int q = 0; q < np; q++) {
+        if (fabs(pts[q].pos - pa) <= eps || fabs(pts[q].pos - pb) <= eps)
+            continue;
+        if (pts[q].key - prev <= eps) {
+            /* another curve through the same point: the vertex keeps it for lifting */
+            sw_vtx2 *w = &c->v2[prev_id];
+            int known = 0;
+            for (int j = 0; j < w->ncurves; j++)
+                known |= w->curves[j] == pts[q].curve;
+            if (!known && w->ncurves < SW_MAXCURVES) {
+                w->curves[w->ncurves] = pts[q].curve;
+                w->us[w->ncurves++] = pts[q].u;
+            }
+            continue;
+        }
+        prev = pts[q].key;
+        const sw_curve *cv = &c->curves[pts[q].curve];
+        int64_t mv = pts[q].u == 0 ? cv->vtx[0] : (pts[q].u == 1 ? cv->vtx[1] : -1);
+        hkey k = mkkey(1 + rside, rside ? ax : az, dbits(pts[q].pos), 0);
+        int64_t id = add_v2(c, &k, rside ? val : pts[q].pos, rside ? pts[q].pos : val,
+                            pts[q].curve, pts[q].u, mv);
+        if (id < 0)
+            return 0;
+        prev_id = id;
+        if (!grow((void **)loop, caploop, *nloop + 1, sizeof **loop))
+            return ctx_nomem(c);
+        (*loop)[(*nloop)++] = id;
+    }
+    return 1;
+}
+
+/* The side from (ax, az) to (bx, bz), cut at the corners of finer leaves across it. */
+static int side_loop(sw_ctx *c, const sw_leaf *L, int64_t ax, int64_t az, int64_t bx, int64_t bz,
+                     int64_t **loop, int64_t *nloop, int64_t *caploop)
+{
+    int64_t len = llabs(bx - ax) + llabs(bz - az);
+    if (len >= 2) {
+        int64_t mx = (ax + bx) / 2, mz = (az + bz) / 2;
+        hkey k = mkkey(mx, mz, 0, 0);
+        if (hmap_get(&c->corners, &k) >= 0)
+            return side_loop(c, L, ax, az, mx, mz, loop, nloop, caploop) &&
+                   side_loop(c, L, mx, mz, bx, bz, loop, nloop, caploop);
+    }
+    return sub_side(c, L, ax, az, bx, bz, loop, nloop, caploop);
+}
+
+static int add_poly(sw_ctx *c, const int64_t *vs, int64_t n)
+{
+    if (n < 3)
+        return 1;
+    double r = 0, z = 0;
+    for (int64_t i = 0; i < n; i++) {
+        r += c->v2[vs[i]].r;
+        z += c->v2[vs[i]].z;
+    }
+    r /= (double)n;
+    z /= (double)n;
+    sw_struct st;
+    if (!circle_arcs(c, r, z, &st))
+        return 0;
+    if (!st.full && st.n == 0)
+        return 1;
+    if (!grow((void **)&c->polys, &c->cappolys, c->npolys + 1, sizeof *c->polys) ||
+        !grow((void **)&c->poly_verts, &c->cappv, c->npv + n, sizeof *c->poly_verts))
+        return ctx_nomem(c);
+    sw_poly *P = &c->polys[c->npolys++];
+    P->first = c->npv;
+    P->n = n;
+    P->st = st;
+    memcpy(c->poly_verts + c->npv, vs, (size_t)n * sizeof *vs);
+    c->npv += n;
+    return 1;
+}
+
+static int build_polygons(sw_ctx *c)
+{
+    if (!hmap_init(&c->v2map, 4 * c->nleaves + 64))
+        return ctx_nomem(c);
+    int64_t *loop = NULL, nloop = 0, caploop = 0;
+    int ok = 1;
+    for (int64_t li = 0; li < c->nleaves && ok; li++) {
+        const sw_leaf *L = &c->leaves[li];
+        if (L->empty)
+            continue;
+        int64_t s = (int64_t)1 << (c->lmax - L->level);
+        int64_t cx[5] = {L->ix, L->ix + s, L->ix + s, L->ix, L->ix};
+        int64_t cz[5] = {L->iz, L->iz, L->iz + s, L->iz + s, L->iz};
+        nloop = 0;
+        for (int k = 0; k < 4 && ok; k++)
+            ok = side_loop(c, L, cx[k], cz[k], cx[k + 1], cz[k + 1], &loop, &nloop, &caploop);
+        if (!ok)
+            break;
+        int kind = L->kind;
+        if (kind == LEAF_SPLIT) {
+            int64_t at[2], m = 0;
+            for (int64_t i = 0; i < nloop && m <= 2; i++)
+                if (c->v2[loop[i]].curve == L->split_curve) {
+                    if (m < 2)
+                        at[m] = i;
+                    m++;
+                }
+            if (m != 2) {
+                kind = LEAF_FAN;
+            } else {
+                int64_t *tmp = malloc((size_t)(nloop + 2) * sizeof *tmp);
+                if (!tmp) {
+                    ok = ctx_nomem(c);
+                    break;
+                }
+                int64_t n1 = 0;
+                for (int64_t i = at[0]; i <= at[1]; i++)
+                    tmp[n1++] = loop[i];
+                ok = add_poly(c, tmp, n1);
+                int64_t n2 = 0;
+                for (int64_t i = at[1]; i != at[0]; i = (i + 1) % nloop)
+                    tmp[n2++] = loop[i];
+                tmp[n2++] = loop[at[0]];
+                if (ok)
+                    ok = add_poly(c, tmp, n2);
+                free(tmp);
+                continue;
+            }
+        }
+        if (kind == LEAF_CLEAN) {
+            ok = add_poly(c, loop, nloop);
+            continue;
+        }
+        /* star or fan round the centre */
+        hkey k = mkkey(3, dbits(L->cr), dbits(L->cz), 0);
+        int64_t cv = add_v2(c, &k, L->cr, L->cz, -1, 0, kind == LEAF_STAR || L->cvtx >= 0 ? L->cvtx : -1);
+        if (cv < 0) {
+            ok = 0;
+            break;
+        }
+        for (int64_t i = 0; i < nloop && ok; i++) {
+            int64_t tri[3] = {cv, loop[i], loop[(i + 1) % nloop]};
+            ok = add_poly(c, tri, 3);
+        }
+    }
+    free(loop);
+    return ok;
+}
+
+/* ----------------------------------------------------------------------------------- */
+/* Output vertices, lifts                                                               */
+/* ----------------------------------------------------------------------------------- */
+
+typedef struct sw_out {
+    double *phi;           /* angle of each output vertex */
+    int64_t capphi;
+    hmap lifts;            /* (v2, tri, sigma, exit) -> vertex */
+} sw_out;
+
+/* The output vertex at local point p (merged with any vertex of the same doubles). */
+static int64_t out_vertex(sw_ctx *c, sw_out *o, const double p[3], double phi)
+{
+    /* Points closer than the weld quantum (2^-40 of the part's size) are one vertex:
+     * lifts of one corner onto the planes of two triangles of one face, or onto a face
+     * and its neighbour at their common edge, agree only up to rounding. */
+    hkey k = mkkey((int64_t)floor(p[0] / c->quantum + 0.5), (int64_t)floor(p[1] / c->quantum + 0.5),
+                   (int64_t)floor(p[2] / c->quantum + 0.5), 0);
+    int64_t id = hmap_get(&c->outmap, &k);
+    if (id >= 0)
+        return id;
+    if (!grow((void **)&c->ox, &c->capout, c->nout + 1, 3 * sizeof *c->ox) ||
+        !grow((void **)&o->phi, &o->capphi, c->nout + 1, sizeof *o->phi))
+        return ctx_nomem(c) - 1;
+    memcpy(c->ox + 3 * c->nout, p, 3 * sizeof *p);
+    o->phi[c->nout] = phi;
+    if (!hmap_put(&c->outmap, &k, c->nout))
+        return ctx_nomem(c) - 1;
+    return c->nout++;
+}
+
+static int64_t ring_vertex(sw_ctx *c, sw_out *o, const sw_vtx2 *w, double phi)
+{
+    double p[3] = {w->r * cos(phi), w->r * sin(phi), w->z};
+    if (w->r == 0)
+        p[0] = p[1] = 0;
+    return out_vertex(c, o, p, wrap_angle(phi));
+}
+
+/* The point over 2-D vertex w on the plane of triangle t at root sigma; turned by theta
+ * for the end of an arc. */
+static int64_t lift(sw_ctx *c, sw_out *o, int64_t iw, int64_t t, int sigma, int isexit)
+{
+    hkey k = mkkey(iw, t, sigma + 1, isexit);
+    int64_t id = hmap_get(&o->lifts, &k);
+    if (id >= 0)
+        return id;
+    const sw_vtx2 *w = &c->v2[iw];
+    const sw_tri *T = &c->tris[t];
+    double p[3];
+    int done = 0;
+    if (w->r == 0) {
+        p[0] = p[1] = 0;
+        p[2] = w->z;
+        done = 1;
+    }
+    /* a vertex of the triangle imaged here: the vertex itself */
+    for (int q = 0; q < 3 && !done; q++) {
+        int64_t v = T->v[q];
+        if (c->vr[v] == w->r && c->lx[3 * v + 2] == w->z) {
+            memcpy(p, c->lx + 3 * v, sizeof p);
+            done = 1;
+        }
+    }
+    double phi_root = 0;
+    {
+        double A = T->n[0] * w->r, B = T->n[1] * w->r, C = T->d - T->n[2] * w->z;
+        double R = sqrt(A * A + B * B);
+        double cv = R > 0 ? C / R : 1;
+        if (cv > 1)
+            cv = 1;
+        if (cv < -1)
+            cv = -1;
+        phi_root = T->phi0 + sigma * acos(cv);
+    }
+    /* on a curve (an edge or silhouette): the curve's own point when this root lands on
+     * it, so that every piece meeting there shares the vertex; curves of the triangle
+     * first */
+    if (!done && w->ncurves > 0) {
+        double snap = 1e-9 * (w->r + fabs(w->z)) + 1e-6 * c->tol;
+        double pr[3] = {w->r * cos(phi_root), w->r * sin(phi_root), w->z};
+        for (int pass = 0; pass < 2 && !done; pass++)
+            for (int j = 0; j < w->ncurves && !done; j++) {
+                const sw_curve *cv = &c->curves[w->curves[j]];
+                int own = cv->tri[0] == t || cv->tri[1] == t;
+                if ((pass == 0) != own || cv->dir[2] == 0)
+                    continue;
+                double q[3];
+                for (int i = 0; i < 3; i++)
+                    q[i] = cv->p0[i] + w->us[j] * cv->dir[i];
+                double dx = q[0] - pr[0], dy = q[1] - pr[1];
+                double lim = own ? 1e-6 * (w->r + c->tol) + 0.01 * c->tol : snap;
+                if (sqrt(dx * dx + dy * dy) <= lim) {
+                    memcpy(p, q, sizeof p);
+                    done = 1;
+                }
+            }
+    }
+    if (!done) {
+        p[0] = w->r * cos(phi_root);
+        p[1] = w->r * sin(phi_root);
+        p[2] = w->z;
+    }
+    if (isexit && w->r != 0) {
+        double ct = cos(c->theta), st = sin(c->theta);
+        double x = p[0] * ct - p[1] * st, y = p[0] * st + p[1] * ct;
+        p[0] = x;
+        p[1] = y;
+    }
+    id = out_vertex(c, o, p, wrap_angle(atan2(p[1], p[0])));
+    if (id < 0)
+        return -1;
+    if (!hmap_put(&o->lifts, &k, id))
+        return ctx_nomem(c) - 1;
+    return id;
+}
+
+static int emit_tri(sw_ctx *c, int64_t a, int64_t b, int64_t d)
+{
+    if (a == b || b == d || d == a)
+        return 1;
+    if (!grow((void **)&c->otri, &c->capotri, c->notri + 1, 3 * sizeof *c->otri))
+        return ctx_nomem(c);
+    c->otri[3 * c->notri] = a;
+    c->otri[3 * c->notri + 1] = b;
+    c->otri[3 * c->notri + 2] = d;
+    c->notri++;
+    return 1;
+}
+
+/* Number of grid steps on a circle of radius r: chord sag r (1 - cos(pi / N)) below half
+ * the tolerance. */
+static int64_t ring_steps(const sw_ctx *c, double r)
+{
+    double sag = 0.5 * c->tol;
+    if (r <= sag)
+        return 8;
+    double step = 2 * acos(1 - sag / r);
+    double n = ceil(MFG_TWO_PI / step);
+    if (n < 8)
+        n = 8;
+    if (n > 1 << 20)
+        n = 1 << 20;
+    return (int64_t)n;
+}
+
+/* ----------------------------------------------------------------------------------- */
+/* Walls                                                                                */
+/* ----------------------------------------------------------------------------------- */
+
+typedef struct wline {
+    int side;              /* 0: the polygon on the left of u -> v, 1: on the right */
+    int isend;
+    int64_t arc;
+    int64_t va, vb;        /* output vertices over u and over v */
+    double pa, pb;         /* their angles, pb unwrapped to within pi of pa */
+    int cancelled;         /* the same line on both sides: no wall along it */
+} wline;
+
+typedef struct wend {
+    int64_t v2;            /* 2-D vertex, or -1: an event point (ring = evring) */
+    int64_t ring_first, ring_n;
+    double r, z;
+    int64_t lo, hi;        /* vertices bounding the strip on this circle */
+} wend;
+
+typedef struct wstrip {
+    wend e[2];
+    int full;              /* a whole turn (no lines) */
+    int left_covers;       /* the polygon on the left covers the strip */
+    double span_mid;       /* its angular width half-way: the ends' widths are taken
+                              within pi of it (a width of -1e-17 is 0, not 2 pi) */
+} wstrip;
+
+typedef struct sw_walls {
+    wstrip *strips;
+    int64_t nstrips, capstrips;
+    /* ring entries at 2-D vertices: (v2, vertex) */
+    int64_t *rv2, *rvid;
+    int64_t nring, capring, capring2;
+    int64_t *ring_start;   /* per v2, after sorting: entries [ring_start[v], ring_start[v+1]) */
+    int64_t *evring;       /* vertices of event circles */
+    int64_t nevring, capevring;
+    hmap evlists;          /* (poly, edge, line, 0) -> index in evl */
+    int64_t *evl;
+    int64_t nevl, capevl;
+} sw_walls;
+
+static double line_at(const wline *l, double s)
+{
+    return l->pa + s * (l->pb - l->pa);
+}
+
+/* Does a side cover angle phi at s?  Arc a runs from its start line over a length that
+ * varies linearly from lenu[a] (over u) to lenv[a] (over v): lengths are unwrapped from
+ * the polygon's own sample, so an arc that closes to a full turn along the edge (its end
+ * passing its start) covers everything instead of a sliver. */
+static int covered(const wline *lines, const int64_t *starts, const double *lenu,
+                   const double *lenv, int64_t narc, int full, double s, double phi)
+{
+    if (full)
+        return 1;
+    for (int64_t a = 0; a < narc; a++) {
+        double len = lenu[a] + s * (lenv[a] - lenu[a]);
+        if (len >= MFG_TWO_PI)
+            return 1;
+        if (len <= 0)
+            continue;
+        double st = line_at(&lines[starts[a]], s);
+        if (wrap_angle(phi - st) <= len)
+            return 1;
+    }
+    return 0;
+}
+
+static int ring_add(sw_ctx *c, sw_walls *W, int64_t v2, int64_t vid)
+{
+    if (!grow((void **)&W->rv2, &W->capring, W->nring + 1, sizeof *W->rv2) ||
+        !grow((void **)&W->rvid, &W->capring2, W->nring + 1, sizeof *W->rvid))
+        return ctx_nomem(c);
+    W->rv2[W->nring] = v2;
+    W->rvid[W->nring] = vid;
+    W->nring++;
+    return 1;
+}
+
+typedef struct sw_bd {
+    double phi;
+    int64_t line;
+} sw_bd;
+
+static int cmp_bd(const void *pa, const void *pb)
+{
+    const sw_bd *a = pa, *b = pb;
+    return (a->phi > b->phi) - (a->phi < b->phi);
+}
+
+static int cmp_double(const void *pa, const void *pb)
+{
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return (a > b) - (a < b);
+}
+
+/* The walls along the edge u -> v: P is the polygon on its left (edge index ip), Q the one
+ * on its right (edge index iq of v -> u) or -1. */
+static int edge_walls(sw_ctx *c, sw_out *o, sw_walls *W, int64_t u, int64_t v, int64_t P,
+                      int64_t ip, int64_t Q, int64_t iq)
+{
+    const sw_poly *polys[2] = {&c->polys[P], Q >= 0 ? &c->polys[Q] : NULL};
+    int64_t nl = 0;
+    for (int sd = 0; sd < 2; sd++)
+        if (polys[sd])
+            nl += 2 * polys[sd]->st.n;
+    wline *lines = malloc((size_t)(nl + 1) * sizeof *lines);
+    int64_t *starts = malloc((size_t)(nl + 1) * sizeof *starts);
+    int64_t *ends = malloc((size_t)(nl + 1) * sizeof *ends);
+    double *lenu = malloc((size_t)(nl + 1) * sizeof *lenu);
+    double *lenv = malloc((size_t)(nl + 1) * sizeof *lenv);
+    double *ev = malloc((size_t)(nl * nl + 2) * sizeof *ev);
+    sw_bd *bd = malloc((size_t)(nl + 1) * sizeof *bd);
+    if (!lines || !starts || !ends || !ev || !bd || !lenu || !lenv) {
+        free(lenu);
+        free(lenv);
+        free(lines);
+        free(starts);
+        free(ends);
+        free(ev);
+        free(bd);
+        return ctx_nomem(c);
+    }
+    int ok = 1;
+    int64_t k = 0, narc[2] = {0, 0}, first_arc[2] = {0, 0};
+    for (int sd = 0; sd < 2 && ok; sd++) {
+        first_arc[sd] = k / 2;
+        if (!polys[sd])
+            continue;
+        for (int64_t a = 0; a < polys[sd]->st.n && ok; a++) {
+            const sw_arc *arc = &c->arcs[polys[sd]->st.first + a];
+            for (int e = 0; e < 2; e++) {
+                const sw_end *en = e ? &arc->end : &arc->start;
+                wline *l = &lines[k];
+                l->side = sd;
+                l->isend = e;
+                l->arc = a;
+                l->cancelled = 0;
+                l->va = lift(c, o, u, en->tri, en->sigma, e);
+                l->vb = lift(c, o, v, en->tri, en->sigma, e);
+                if (l->va < 0 || l->vb < 0) {
+                    ok = 0;
+                    break;
+                }
+                /* on the axis every angle is the same point: take the other end's */
+                double fa = o->phi[l->va], fb = o->phi[l->vb];
+                if (c->v2[u].r == 0)
+                    fa = fb;
+                if (c->v2[v].r == 0)
+                    fb = fa;
+                l->pa = fa;
+                l->pb = l->pa + angle_diff(fb, l->pa);
+                if (e)
+                    ends[k / 2] = k;
+                else
+                    starts[k / 2] = k;
+                ok = ok && ring_add(c, W, u, l->va) && ring_add(c, W, v, l->vb);
+                k++;
+            }
+            if (ok) {
+                /* the arc's length over u and v, unwrapped from its length at the sample */
+                double L0 = arc->end.phi + c->theta - arc->start.phi;
+                const wline *ls = &lines[k - 2], *le = &lines[k - 1];
+                int64_t ai = k / 2 - 1;
+                lenu[ai] = L0 + angle_diff(le->pa - ls->pa, L0);
+                lenv[ai] = L0 + angle_diff(le->pb - ls->pb, L0);
+            }
+            narc[sd]++;
+        }
+    }
+    /* the same line on both sides bounds nothing */
+    for (int64_t i = 0; i < nl && ok; i++)
+        for (int64_t j = 0; j < nl; j++)
+            if (lines[i].side == 0 && lines[j].side == 1 && !lines[i].cancelled &&
+                !lines[j].cancelled && lines[i].va == lines[j].va && lines[i].vb == lines[j].vb &&
+                lines[i].isend == lines[j].isend) {
+                lines[i].cancelled = lines[j].cancelled = 1;
+                break;
+            }
+    /* events: where two lines cross */
+    int64_t nev = 0;
+    ev[nev++] = 0;
+    for (int64_t i = 0; i < nl && ok; i++)
+        for (int64_t j = 0; j < nl; j++) {
+            /* any two lines: a polygon's own start and end lines cross where its arc
+             * closes to a full turn (a fan piece astride a case-1.3 curve) */
+            if (j <= i)
+                continue; /* cancelled lines too: their arcs' closing still cuts faces */
+            double f0 = lines[i].pa - lines[j].pa, f1 = lines[i].pb - lines[j].pb;
+            double lo = fmin(f0, f1), hi = fmax(f0, f1);
+            for (double m = ceil(lo / MFG_TWO_PI); m * MFG_TWO_PI <= hi; m += 1) {
+                if (f1 == f0)
+                    break;
+                double s = (m * MFG_TWO_PI - f0) / (f1 - f0);
+                if (s > 1e-9 && s < 1 - 1e-9)
+                    ev[nev++] = s;
+            }
+        }
+    ev[nev++] = 1;
+    qsort(ev, (size_t)nev, sizeof *ev, cmp_double);
+    int64_t m = 0;
+    for (int64_t i = 0; i < nev; i++)
+        if (m == 0 || ev[i] - ev[m - 1] > 1e-9)
+            ev[m++] = ev[i];
+    if (ev[m - 1] != 1)
+        ev[m - 1] = 1;
+    nev = m;
+    /* event vertices: on every line's chord at every inner event (lines that meet there
+     * share one) */
+    int64_t ninner = nev - 2;
+    int64_t *evv = malloc((size_t)(nl * (ninner > 0 ? ninner : 1) + 1) * sizeof *evv);
+    int64_t *evr_first = malloc((size_t)(nev + 1) * sizeof *evr_first);
+    if (!evv || !evr_first) {
+        free(evv);
+        free(evr_first);
+        ok = ctx_nomem(c);
+    }
+    const sw_vtx2 *wu = &c->v2[u], *wv = &c->v2[v];
+    for (int64_t e = 1; e + 1 < nev && ok; e++) {
+        double s = ev[e];
+        evr_first[e] = W->nevring;
+        for (int64_t i = 0; i < nl && ok; i++) {
+            int64_t id = -1;
+            double val = line_at(&lines[i], s);
+            for (int64_t j = 0; j < i; j++)
+                if (fabs(angle_diff(line_at(&lines[j], s), val)) < 1e-12) {
+                    id = evv[j * ninner + e - 1];
+                    break;
+                }
+            if (id < 0) {
+                const double *a = c->ox + 3 * lines[i].va, *b = c->ox + 3 * lines[i].vb;
+                double p[3] = {a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]),
+                               a[2] + s * (b[2] - a[2])};
+                id = out_vertex(c, o, p, wrap_angle(atan2(p[1], p[0])));
+                if (id < 0) {
+                    ok = 0;
+                    break;
+                }
+            }
+            evv[i * ninner + e - 1] = id;
+            if (!grow((void **)&W->evring, &W->capevring, W->nevring + 1, sizeof *W->evring)) {
+                ok = ctx_nomem(c);
+                break;
+            }
+            W->evring[W->nevring++] = id;
+        }
+    }
+    if (ok)
+        evr_first[nev - 1] = W->nevring;
+    /* per polygon edge and line, the event vertices in the polygon's direction */
+    for (int64_t i = 0; i < nl && ok && ninner > 0; i++) {
+        int sd = lines[i].side;
+        int64_t pid = sd ? Q : P, eid = sd ? iq : ip;
+        hkey key = mkkey(pid, eid, 2 * lines[i].arc + lines[i].isend, 0);
+        if (!grow((void **)&W->evl, &W->capevl, W->nevl + 2 * ninner + 1, sizeof *W->evl)) {
+            ok = ctx_nomem(c);
+            break;
+        }
+        if (!hmap_put(&W->evlists, &key, W->nevl)) {
+            ok = ctx_nomem(c);
+            break;
+        }
+        /* count, then (vertex, position along the polygon's edge as double bits) */
+        W->evl[W->nevl++] = ninner;
+        for (int64_t e = 0; e < ninner; e++) {
+            int64_t ei = sd ? ninner - 1 - e : e;
+            double sp = sd ? 1 - ev[ei + 1] : ev[ei + 1];
+            W->evl[W->nevl++] = evv[i * ninner + ei];
+            memcpy(&W->evl[W->nevl++], &sp, sizeof sp);
+        }
+    }
+    /* strips between consecutive events */
+    for (int64_t e = 0; e + 1 < nev && ok; e++) {
+        double s0 = ev[e], s1 = ev[e + 1], sm = 0.5 * (s0 + s1);
+        int64_t nb = 0;
+        for (int64_t i = 0; i < nl; i++)
+            if (!lines[i].cancelled) {
+                bd[nb].phi = wrap_angle(line_at(&lines[i], sm));
+                bd[nb].line = i;
+                nb++;
+            }
+        qsort(bd, (size_t)nb, sizeof *bd, cmp_bd);
+        int fullL = polys[0]->st.full, fullR = polys[1] ? polys[1]->st.full : 0;
+        int64_t nseg = nb > 0 ? nb : 1;
+        for (int64_t q = 0; q < nseg && ok; q++) {
+            double a0, a1;
+            if (nb > 0) {
+                a0 = bd[q].phi;
+                a1 = q + 1 < nb ? bd[q + 1].phi : bd[0].phi + MFG_TWO_PI;
+                if (a1 - a0 <= 0)
+                    continue;
+            } else {
+                a0 = 0;
+                a1 = MFG_TWO_PI;
+            }
+            double ph = 0.5 * (a0 + a1);
+            int cl = covered(lines, starts + first_arc[0], lenu + first_arc[0], lenv + first_arc[0],
+                             narc[0], fullL, sm, ph);
+            int cr = polys[1] ? covered(lines, starts + first_arc[1], lenu + first_arc[1],
+                                        lenv + first_arc[1], narc[1], fullR, sm, ph)
+                              : 0;
+            if (cl == cr)
+                continue;
+            if (!grow((void **)&W->strips, &W->capstrips, W->nstrips + 1, sizeof *W->strips)) {
+                ok = ctx_nomem(c);
+                break;
+            }
+            wstrip *S = &W->strips[W->nstrips++];
+            S->full = nb == 0;
+            S->left_covers = cl;
+            S->span_mid = a1 - a0;
+            for (int end = 0; end < 2; end++) {
+                double s = end ? s1 : s0;
+                int64_t ei = end ? e + 1 : e;
+                wend *we = &S->e[end];
+                if (ei == 0 || ei == nev - 1) {
+                    const sw_vtx2 *w = ei == 0 ? wu : wv;
+                    we->v2 = ei == 0 ? u : v;
+                    we->r = w->r;
+                    we->z = w->z;
+                    we->ring_first = we->ring_n = 0;
+                    if (!S->full) {
+                        const wline *llo = &lines[bd[q].line], *lhi = &lines[bd[(q + 1) % nb].line];
+                        we->lo = ei == 0 ? llo->va : llo->vb;
+                        we->hi = ei == 0 ? lhi->va : lhi->vb;
+                    }
+                } else {
+                    we->v2 = -1;
+                    we->r = wu->r + s * (wv->r - wu->r);
+                    we->z = wu->z + s * (wv->z - wu->z);
+                    we->ring_first = evr_first[ei];
+                    we->ring_n = evr_first[ei + 1] - evr_first[ei];
+                    if (!S->full) {
+                        we->lo = evv[bd[q].line * ninner + ei - 1];
+                        we->hi = evv[bd[(q + 1) % nb].line * ninner + ei - 1];
+                    }
+                }
+            }
+        }
+    }
+    free(evv);
+    free(evr_first);
+    free(lenu);
+    free(lenv);
+    free(lines);
+    free(starts);
+    free(ends);
+    free(ev);
+    free(bd);
+    return ok;
+}
+
+typedef struct sw_pl {
+    int64_t vid;
+    double off;
+} sw_pl;
+
+static int cmp_pl(const void *pa, const void *pb)
+{
+    const sw_pl *a = pa, *b = pb;
+    if (a->off != b->off)
+        return (a->off > b->off) - (a->off < b->off);
+    return (a->vid > b->vid) - (a->vid < b->vid);
+}
+
+/* The vertices of one end of a strip, in increasing angle from lo to hi (a full turn for
+ * full strips, closed by repeating the first), with offsets normalised to [0, 1]. */
+static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we, int full,
+                        double span_mid, sw_pl **out, int64_t *nout, int64_t *capout)
+{
+    *nout = 0;
+    sw_vtx2 w;
+    memset(&w, 0, sizeof w);
+    w.r = we->r;
+    w.z = we->z;
+    if (we->r == 0) {
+        int64_t id = ring_vertex(c, o, &w, 0);
+        if (id < 0)
+            return 0;
+        if (!grow((void **)out, capout, 2, sizeof **out))
+            return ctx_nomem(c);
+        (*out)[0].vid = id;
+        (*out)[0].off = 0;
+        *nout = 1;
+        return 1;
+    }
+    double plo, span;
+    int64_t lo, hi;
+    if (full) {
+        lo = hi = ring_vertex(c, o, &w, 0);
+        if (lo < 0)
+            return 0;
+        plo = 0;
+        span = MFG_TWO_PI;
+    } else {
+        lo = we->lo;
+        hi = we->hi;
+        plo = o->phi[lo];
+        span = span_mid + angle_diff(o->phi[hi] - plo, span_mid);
+        if (span < 0 || lo == hi)
+            span = 0;
+        if (span > MFG_TWO_PI)
+            span = MFG_TWO_PI;
+    }
+    int64_t nsteps = ring_steps(c, we->r);
+    int64_t cand_n = we->v2 >= 0 ? W->ring_start[we->v2 + 1] - W->ring_start[we->v2] : we->ring_n;
+    int64_t cap_need = cand_n + nsteps + 4;
+    if (!grow((void **)out, capout, cap_need, sizeof **out))
+        return ctx_nomem(c);
+    sw_pl *pl = *out;
+    int64_t n = 0;
+    pl[n].vid = lo;
+    pl[n++].off = 0;
+    const double dtiny = 1e-9;
+    if (span > 0) {
+        for (int64_t i = 0; i < cand_n; i++) {
+            int64_t vid = we->v2 >= 0 ? W->rvid[W->ring_start[we->v2] + i] : W->evring[we->ring_first + i];
+            if (vid == lo || vid == hi)
+                continue;
+            double off = wrap_angle(o->phi[vid] - plo);
+            if (off > 0 && off < span && off < MFG_TWO_PI - 1e-12)
+                pl[n].vid = vid, pl[n++].off = off;
+        }
+        for (int64_t j = 0; j < nsteps; j++) {
+            double ang = MFG_TWO_PI * (double)j / (double)nsteps;
+            double off = wrap_angle(ang - plo);
+            if (off > dtiny && off < span - dtiny) {
+                int64_t id = ring_vertex(c, o, &w, ang);
+                if (id < 0)
+                    return 0;
+                pl[n].vid = id;
+                pl[n++].off = off;
+            }
+        }
+        pl[n].vid = hi;
+        pl[n++].off = span;
+    } else if (hi != lo) {
+        /* two lines meeting (within rounding) at this end: a strip end of no width still
+         * has both vertices, which the faces along the lines use */
+        pl[n].vid = hi;
+        pl[n++].off = 1;
+        span = 1;
+    }
+    qsort(pl, (size_t)n, sizeof *pl, cmp_pl);
+    /* drop repeats, normalise */
+    int64_t m = 0;
+    for (int64_t i = 0; i < n; i++)
+        if (m == 0 || pl[i].vid != pl[m - 1].vid)
+            pl[m++] = pl[i];
+    for (int64_t i = 0; i < m; i++)
+        pl[i].off = span > 0 ? pl[i].off / span : 0;
+    if (m > 1)
+        pl[m - 1].off = 1;
+    *nout = m;
+    return 1;
+}
+
+static int cmp_ring(const void *pa, const void *pb)
+{
+    const int64_t *a = pa, *b = pb;
+    if (a[0] != b[0])
+        return (a[0] > b[0]) - (a[0] < b[0]);
+    return (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+static int emit_strips(sw_ctx *c, sw_out *o, sw_walls *W)
+{
+    /* ring entries sorted by 2-D vertex, without repeats */
+    int64_t n = W->nring;
+    int64_t *pairs = malloc((size_t)(2 * n + 2) * sizeof *pairs);
+    W->ring_start = calloc((size_t)(c->nv2 + 2), sizeof *W->ring_start);
+    if (!pairs || !W->ring_start) {
+        free(pairs);
+        return ctx_nomem(c);
+    }
+    for (int64_t i = 0; i < n; i++) {
+        pairs[2 * i] = W->rv2[i];
+        pairs[2 * i + 1] = W->rvid[i];
+    }
+    qsort(pairs, (size_t)n, 2 * sizeof *pairs, cmp_ring);
+    int64_t m = 0;
+    for (int64_t i = 0; i < n; i++)
+        if (m == 0 || pairs[2 * i] != W->rv2[m - 1] || pairs[2 * i + 1] != W->rvid[m - 1]) {
+            W->rv2[m] = pairs[2 * i];
+            W->rvid[m] = pairs[2 * i + 1];
+            m++;
+        }
+    free(pairs);
+    W->nring = m;
+    for (int64_t i = 0; i < m; i++)
+        W->ring_start[W->rv2[i] + 1]++;
+    for (int64_t v = 0; v < c->nv2; v++)
+        W->ring_start[v + 1] += W->ring_start[v];
+    sw_pl *A = NULL, *B = NULL;
+    int64_t na = 0, nb = 0, capa = 0, capb = 0;
+    int ok = 1;
+    for (int64_t si = 0; si < W->nstrips && ok; si++) {
+        const wstrip *S = &W->strips[si];
+        ok = end_polyline(c, o, W, &S->e[0], S->full, S->span_mid, &A, &na, &capa) &&
+             end_polyline(c, o, W, &S->e[1], S->full, S->span_mid, &B, &nb, &capb);
+        if (!ok)
+            break;
+#ifdef MFG_SWEEP_DEBUG
+        {
+            const char *env = getenv("SWDBG");
+            double qr = 0, qz = 0;
+            if (env && sscanf(env, "%lf,%lf", &qr, &qz) == 2)
+                for (int e = 0; e < 2; e++)
+                    if (fabs(S->e[e].r - qr) < 1e-5 && fabs(S->e[e].z - qz) < 1e-5) {
+                        fprintf(stderr, "strip %lld end%d v2 %lld full %d left %d span %.4f ends: (%.6f,%.6f v2 %lld lo %lld hi %lld) (%.6f,%.6f v2 %lld lo %lld hi %lld) na %lld nb %lld\n",
+                                (long long)si, e, (long long)S->e[e].v2, S->full, S->left_covers, S->span_mid,
+                                S->e[0].r, S->e[0].z, (long long)S->e[0].v2, (long long)S->e[0].lo, (long long)S->e[0].hi,
+                                S->e[1].r, S->e[1].z, (long long)S->e[1].v2, (long long)S->e[1].lo, (long long)S->e[1].hi, (long long)na, (long long)nb);
+                    }
+        }
+#endif
+        if (S->full) {
+            /* close the rings: the first vertex again at offset 1 */
+            if (na > 1) {
+                if (!grow((void **)&A, &capa, na + 1, sizeof *A)) { ok = ctx_nomem(c); break; }
+                A[na] = A[0];
+                A[na++].off = 1;
+            }
+            if (nb > 1) {
+                if (!grow((void **)&B, &capb, nb + 1, sizeof *B)) { ok = ctx_nomem(c); break; }
+                B[nb] = B[0];
+                B[nb++].off = 1;
+            }
+        }
+        int64_t i = 0, j = 0;
+        while (ok && (i + 1 < na || j + 1 < nb)) {
+            int adv_a;
+            if (i + 1 >= na)
+                adv_a = 0;
+            else if (j + 1 >= nb)
+                adv_a = 1;
+            else
+                adv_a = A[i + 1].off <= B[j + 1].off;
+            int64_t t0 = A[i].vid, t1 = B[j].vid, t2 = adv_a ? A[i + 1].vid : B[j + 1].vid;
+            /* (A_i, B_j, next) has its normal to the left of u -> v: outward when the right
+             * side covers the strip */
+            if (S->left_covers)
+                ok = emit_tri(c, t0, t2, t1);
+            else
+                ok = emit_tri(c, t0, t1, t2);
+            if (adv_a)
+                i++;
+            else
+                j++;
+        }
+    }
+    free(A);
+    free(B);
+    return ok;
+}
+
+/* The start (entry at t = 0) and end (exit turned by theta) faces over every polygon. */
+static int emit_faces(sw_ctx *c, sw_out *o, sw_walls *W)
+{
+    int64_t *loop = NULL, nloop = 0, caploop = 0;
+    int64_t *face = NULL, capface = 0;
+    int ok = 1;
+    for (int64_t pi = 0; pi < c->npolys && ok; pi++) {
+        const sw_poly *P = &c->polys[pi];
+#ifdef MFG_SWEEP_DEBUG
+        {
+            const char *env = getenv("SWDBG");
+            double qr = 0, qz = 0;
+            if (env && sscanf(env, "%lf,%lf", &qr, &qz) == 2) {
+                int near = 0;
+                for (int64_t i = 0; i < P->n; i++) {
+                    const sw_vtx2 *w = &c->v2[c->poly_verts[P->first + i]];
+                    if (fabs(w->r - qr) < 2e-4 && fabs(w->z - qz) < 2e-4)
+                        near = 1;
+                }
+                if (near) {
+                    fprintf(stderr, "poly %lld full %d narcs %lld:", (long long)pi, P->st.full, (long long)P->st.n);
+                    for (int64_t i = 0; i < P->n; i++) {
+                        const sw_vtx2 *w = &c->v2[c->poly_verts[P->first + i]];
+                        fprintf(stderr, " v%lld(%.5f,%.5f c%lld)", (long long)c->poly_verts[P->first + i], w->r, w->z, (long long)w->curve);
+                    }
+                    for (int64_t a = 0; a < P->st.n; a++) {
+                        const sw_arc *arc = &c->arcs[P->st.first + a];
+                        fprintf(stderr, " [t%lld%+d %.4f -> t%lld%+d %.4f]", (long long)arc->start.tri, arc->start.sigma, arc->start.phi, (long long)arc->end.tri, arc->end.sigma, arc->end.phi);
+                    }
+                    fprintf(stderr, "\n");
+                }
+            }
+        }
+#endif
+        for (int64_t a = 0; a < P->st.n && ok; a++) {
+            const sw_arc *arc = &c->arcs[P->st.first + a];
+            /* the boundary of the polygon with its event points, on both faces: (start
+             * vertex, end vertex, arc length there); where the arc closes to a full turn
+             * (length 2 pi: its two lines share a vertex) the faces stop, meeting in the
+             * crease of the paper's case 1.3 */
+            double L0 = arc->end.phi + c->theta - arc->start.phi;
+            nloop = 0;
+            for (int64_t i = 0; i < P->n && ok; i++) {
+                int64_t w0 = c->poly_verts[P->first + i], w1 = c->poly_verts[P->first + (i + 1) % P->n];
+                int64_t s0 = lift(c, o, w0, arc->start.tri, arc->start.sigma, 0);
+                int64_t e0 = lift(c, o, w0, arc->end.tri, arc->end.sigma, 1);
+                int64_t s1 = lift(c, o, w1, arc->start.tri, arc->start.sigma, 0);
+                int64_t e1 = lift(c, o, w1, arc->end.tri, arc->end.sigma, 1);
+                if (s0 < 0 || e0 < 0 || s1 < 0 || e1 < 0) {
+                    ok = 0;
+                    break;
+                }
+                double len0 = L0 + angle_diff(o->phi[e0] - o->phi[s0], L0);
+                double len1 = L0 + angle_diff(o->phi[e1] - o->phi[s1], L0);
+                hkey ks = mkkey(pi, i, 2 * a, 0), ke = mkkey(pi, i, 2 * a + 1, 0);
+                int64_t as = hmap_get(&W->evlists, &ks), ae = hmap_get(&W->evlists, &ke);
+                int64_t ne = as >= 0 ? W->evl[as] : 0;
+                if (ae < 0 || (ae >= 0 && W->evl[ae] != ne))
+                    ne = 0;
+                if (!grow((void **)&loop, &caploop, 3 * (nloop + ne + 1), sizeof *loop)) {
+                    ok = ctx_nomem(c);
+                    break;
+                }
+                double l0 = len0;
+                loop[3 * nloop] = s0;
+                loop[3 * nloop + 1] = e0;
+                memcpy(&loop[3 * nloop + 2], &l0, sizeof l0);
+                nloop++;
+                for (int64_t q = 0; q < ne; q++) {
+                    double sp;
+                    memcpy(&sp, &W->evl[as + 2 + 2 * q], sizeof sp);
+                    double lq = len0 + sp * (len1 - len0);
+                    loop[3 * nloop] = W->evl[as + 1 + 2 * q];
+                    loop[3 * nloop + 1] = W->evl[ae + 1 + 2 * q];
+                    memcpy(&loop[3 * nloop + 2], &lq, sizeof lq);
+                    nloop++;
+                }
+            }
+            if (!ok)
+                break;
+            for (int e = 0; e < 2 && ok; e++) {
+                int64_t m = 0;
+                if (!grow((void **)&face, &capface, nloop + 1, sizeof *face)) {
+                    ok = ctx_nomem(c);
+                    break;
+                }
+                for (int64_t i = 0; i < nloop; i++) {
+                    double l;
+                    memcpy(&l, &loop[3 * i + 2], sizeof l);
+                    int on = loop[3 * i] == loop[3 * i + 1];
+                    if (!(l < MFG_TWO_PI || on))
+                        continue;
+                    int64_t id = loop[3 * i + e];
+                    if (m == 0 || face[m - 1] != id)
+                        face[m++] = id;
+                }
+                while (m > 1 && face[m - 1] == face[0])
+                    m--;
+                for (int64_t i = 1; i + 1 < m && ok; i++) {
+                    if (e == 0)
+                        ok = emit_tri(c, face[0], face[i], face[i + 1]);
+                    else
+                        ok = emit_tri(c, face[0], face[i + 1], face[i]);
+                }
+            }
+        }
+    }
+    free(face);
+    free(loop);
+    return ok;
+}
+
+static int build_walls(sw_ctx *c, sw_out *o)
+{
+    sw_walls W;
+    memset(&W, 0, sizeof W);
+    hmap edges;
+    if (!hmap_init(&W.evlists, 1024) || !hmap_init(&edges, c->npv + 64)) {
+        hmap_free(&W.evlists);
+        return ctx_nomem(c);
+    }
+    int ok = 1;
+    for (int64_t pi = 0; pi < c->npolys && ok; pi++) {
+        const sw_poly *P = &c->polys[pi];
+        for (int64_t i = 0; i < P->n && ok; i++) {
+            int64_t a = c->poly_verts[P->first + i], b = c->poly_verts[P->first + (i + 1) % P->n];
+            hkey k = mkkey(a, b, 0, 0);
+            if (!hmap_put(&edges, &k, pi * ((int64_t)1 << 24) + i))
+                ok = ctx_nomem(c);
+        }
+    }
+    for (int64_t pi = 0; pi < c->npolys && ok; pi++) {
+        const sw_poly *P = &c->polys[pi];
+        for (int64_t i = 0; i < P->n && ok; i++) {
+            int64_t a = c->poly_verts[P->first + i], b = c->poly_verts[P->first + (i + 1) % P->n];
+            if (a == b)
+                continue;
+            hkey k = mkkey(b, a, 0, 0);
+            int64_t tw = hmap_get(&edges, &k);
+            int64_t Q = tw >= 0 ? tw / ((int64_t)1 << 24) : -1, iq = tw >= 0 ? tw % ((int64_t)1 << 24) : -1;
+            if (Q >= 0 && Q < pi)
+                continue; /* done from Q's side */
+            ok = edge_walls(c, o, &W, a, b, pi, i, Q, iq);
+        }
+    }
+    hmap_free(&edges);
+    if (ok)
+        ok = emit_strips(c, o, &W) && emit_faces(c, o, &W);
+    free(W.strips);
+    free(W.rv2);
+    free(W.rvid);
+    free(W.ring_start);
+    free(W.evring);
+    free(W.evl);
+    hmap_free(&W.evlists);
+    return ok;
+}
+
+/* ----------------------------------------------------------------------------------- */
+/* Entry point                                                                          */
+/* ----------------------------------------------------------------------------------- */
+
+static void ctx_free(sw_ctx *c)
+{
+    free(c->lx);
+    free(c->vr);
+    free(c->tris);
+    free(c->tcurves);
+    free(c->cstamp);
+    free(c->vstamp);
+    free(c->curves);
+    free(c->bin_start);
+    free(c->bin_items);
+    free(c->stamp);
+    free(c->cand);
+    free(c->xphi);
+    free(c->xtri);
+    free(c->xentry);
+    free(c->arcs);
+    free(c->leaves);
+    free(c->leaf_curves);
+    hmap_free(&c->corners);
+    hmap_free(&c->leafmap);
+    free(c->v2);
+    hmap_free(&c->v2map);
+    free(c->poly_verts);
+    free(c->polys);
+    free(c->ox);
+    hmap_free(&c->outmap);
+    free(c->otri);
+}
 
 /* Arguments other than the mesh (which mfg_mesh_require_closed checks). */
 static mfg_status check_sweep_args(const double *axis_point, const double *axis_dir,
@@ -46,7 +2609,114 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
     st = mfg_mesh_require_closed(xyz, nvertices, triangles, ntriangles, NULL, &nb);
     if (st != MFG_OK)
         return st;
+    sw_ctx c;
+    memset(&c, 0, sizeof c);
+    c.st = MFG_OK;
+    c.nv = nvertices;
+    c.nt = ntriangles;
+    c.full_turn = angle >= MFG_TWO_PI - 1e-12;
+    c.theta = c.full_turn ? MFG_TWO_PI : angle;
+    c.tol = tolerance;
+    make_frame(&c, axis_point, axis_direction);
+    sw_out o;
+    memset(&o, 0, sizeof o);
+    int ok = setup(&c, xyz, triangles, nb);
     free(nb);
-    (void)out_stats;
-    return mfg_fail(MFG_ERR_INTERNAL, "rotational sweep: not implemented yet");
+    double rmax = 0, zmin = INFINITY, zmax = -INFINITY;
+    if (ok) {
+        for (int64_t i = 0; i < c.nv; i++) {
+            rmax = fmax(rmax, c.vr[i]);
+            zmin = fmin(zmin, c.lx[3 * i + 2]);
+            zmax = fmax(zmax, c.lx[3 * i + 2]);
+        }
+        ok = build_bins(&c, rmax, zmin, zmax);
+    }
+    if (ok) {
+        double ext = fmax(rmax, zmax - zmin);
+        c.quantum = ldexp(ext, -40);
+        /* the root cells: about half the extent, scaled by an odd factor so that grid
+         * lines rarely pass through vertices of round-numbered parts */
+        double S0 = 0.5 * ext * 1.0123456789;
+        double hmin = 0.25 * tolerance;
+        int lmax = 0;
+        while (lmax < 40 && ldexp(S0, -lmax) > hmin)
+            lmax++;
+        c.lmax = lmax;
+        c.h = ldexp(S0, -lmax);
+        c.hmin = c.h;
+        c.r0 = 0;
+        c.z0 = zmin - 0.0371 * S0;
+        c.nroot_r = (int64_t)floor(rmax / S0) + 1;
+        c.nroot_z = (int64_t)floor((zmax - c.z0) / S0) + 1;
+        ok = build_quadtree(&c) && build_polygons(&c);
+    }
+    if (ok)
+        ok = hmap_init(&c.outmap, 1024) && hmap_init(&o.lifts, 1024) ? 1 : ctx_nomem(&c);
+    if (ok)
+        ok = build_walls(&c, &o);
+    mfg_mesh *m = NULL;
+    if (ok) {
+        m = calloc(1, sizeof *m);
+        if (m) {
+            m->vertices = malloc((size_t)(3 * c.nout + 1) * sizeof *m->vertices);
+            m->triangles = malloc((size_t)(3 * c.notri + 1) * sizeof *m->triangles);
+        }
+        if (!m || !m->vertices || !m->triangles) {
+            if (m) {
+                free(m->vertices);
+                free(m->triangles);
+                free(m);
+            }
+            m = NULL;
+            ok = ctx_nomem(&c);
+        }
+    }
+    if (ok) {
+        m->nvertices = c.nout;
+        m->ntriangles = c.notri;
+        for (int64_t i = 0; i < c.nout; i++) {
+            const double *p = c.ox + 3 * i;
+            for (int k = 0; k < 3; k++)
+                m->vertices[3 * i + k] = c.origin[k] + p[0] * c.frame[0][k] +
+                                         p[1] * c.frame[1][k] + p[2] * c.frame[2][k];
+        }
+        memcpy(m->triangles, c.otri, (size_t)(3 * c.notri) * sizeof *c.otri);
+        if (out_stats) {
+            mfg_sweep_stats S;
+            memset(&S, 0, sizeof S);
+            for (int k = 0; k < 3; k++) {
+                S.bbox[k] = INFINITY;
+                S.bbox[3 + k] = -INFINITY;
+            }
+            for (int64_t i = 0; i < m->nvertices; i++)
+                for (int k = 0; k < 3; k++) {
+                    S.bbox[k] = fmin(S.bbox[k], m->vertices[3 * i + k]);
+                    S.bbox[3 + k] = fmax(S.bbox[3 + k], m->vertices[3 * i + k]);
+                }
+            /* volume about the axis point (local coordinates: small numbers) */
+            double vol = 0, area = 0;
+            for (int64_t t = 0; t < c.notri; t++) {
+                const double *a = c.ox + 3 * c.otri[3 * t], *b = c.ox + 3 * c.otri[3 * t + 1],
+                             *d = c.ox + 3 * c.otri[3 * t + 2];
+                vol += a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) +
+                       a[2] * (b[0] * d[1] - b[1] * d[0]);
+                double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+                double e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+                double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+                       cz = e1[0] * e2[1] - e1[1] * e2[0];
+                area += 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
+            }
+            S.volume = vol / 6;
+            S.area = area;
+            *out_stats = S;
+        }
+        *out_mesh = m;
+    }
+    st = ok ? MFG_OK : c.st;
+    free(o.phi);
+    hmap_free(&o.lifts);
+    ctx_free(&c);
+    if (st == MFG_OK)
+        mfg_clear_error();
+    return st;
 }
