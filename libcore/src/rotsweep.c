@@ -1607,6 +1607,141 @@ static int add_poly(sw_ctx *c, const int64_t *vs, int64_t n)
     return 1;
 }
 
+typedef struct sw_iv {
+    double a, b; /* unwrapped: a in [0, 2 pi), b > a */
+} sw_iv;
+
+static int cmp_iv(const void *pa, const void *pb)
+{
+    const sw_iv *x = pa, *y = pb;
+    return (x->a > y->a) - (x->a < y->a);
+}
+
+/*
+ * A cell still mixed at the finest size (several curves, vertex images, case-1.3 curves
+ * crossing): a block.  Over the whole cell SV is taken as the union of its arcs at the
+ * cell's corners, side points, centre and a 4 x 4 grid, each end moved out by the angle
+ * the cell's size spans at its smallest radius (the cell is below a quarter of the
+ * tolerance, so the block lies within it).  Its caps are flat pieces of meridian
+ * half-planes; the walls to its neighbours come out of the common comparison.
+ */
+static int add_block(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t nloop)
+{
+    int64_t s = (int64_t)1 << (c->lmax - L->level);
+    double ra = grid_r(c, L->ix), rb = grid_r(c, L->ix + s);
+    double za = grid_z(c, L->iz), zb = grid_z(c, L->iz + s);
+    int64_t ns = nloop + 16;
+    sw_iv *iv = NULL;
+    int64_t niv = 0, capiv = 0;
+    int full = 0, ok = 1;
+    for (int64_t k = 0; k < ns && ok && !full; k++) {
+        double r, z;
+        if (k < nloop) {
+            r = c->v2[loop[k]].r;
+            z = c->v2[loop[k]].z;
+        } else {
+            int64_t q = k - nloop;
+            r = ra + (rb - ra) * (0.125 + 0.25 * (double)(q % 4));
+            z = za + (zb - za) * (0.125 + 0.25 * (double)(q / 4));
+        }
+        int64_t mark = c->narcs;
+        sw_struct st;
+        if (!circle_arcs(c, r, z, &st)) {
+            ok = 0;
+            break;
+        }
+        if (st.full)
+            full = 1;
+        for (int64_t a = 0; a < st.n && ok; a++) {
+            const sw_arc *arc = &c->arcs[st.first + a];
+            if (!grow((void **)&iv, &capiv, niv + 1, sizeof *iv)) {
+                ok = ctx_nomem(c);
+                break;
+            }
+            double a0 = wrap_angle(arc->start.phi);
+            iv[niv].a = a0;
+            iv[niv].b = a0 + (arc->end.phi + c->theta - arc->start.phi);
+            niv++;
+        }
+        c->narcs = mark; /* the samples' arcs are not kept */
+    }
+    if (!ok) {
+        free(iv);
+        return 0;
+    }
+    double rmin = fmax(ra, c->h);
+    double margin = fmin(MFG_PI, 2 * (rb - ra) / rmin);
+    sw_struct bst;
+    bst.full = full;
+    bst.n = 0;
+    bst.first = c->narcs;
+    if (!full && niv > 0) {
+        for (int64_t i = 0; i < niv; i++) {
+            iv[i].a -= margin;
+            iv[i].b += margin;
+            if (iv[i].b - iv[i].a >= MFG_TWO_PI)
+                full = 1;
+            double w = wrap_angle(iv[i].a);
+            iv[i].b += w - iv[i].a;
+            iv[i].a = w;
+        }
+        qsort(iv, (size_t)niv, sizeof *iv, cmp_iv);
+        /* merge on the circle: find an interval not reached by any earlier one (with the
+         * wrap of the last ones), start there */
+        double reach = -INFINITY;
+        for (int64_t i = 0; i < niv; i++)
+            reach = fmax(reach, iv[i].b - MFG_TWO_PI);
+        int64_t j0 = -1;
+        double best = reach;
+        for (int64_t i = 0; i < niv && !full; i++) {
+            if (iv[i].a > best) {
+                j0 = i;
+                break;
+            }
+            best = fmax(best, iv[i].b);
+        }
+        if (j0 < 0)
+            full = 1;
+        bst.full = full;
+        if (!full) {
+            double ca = iv[j0].a, cb = iv[j0].b;
+            for (int64_t k = 1; k <= niv && ok; k++) {
+                int64_t i = (j0 + k) % niv;
+                double a = iv[i].a + ((j0 + k) >= niv ? MFG_TWO_PI : 0);
+                double b = iv[i].b + ((j0 + k) >= niv ? MFG_TWO_PI : 0);
+                if (k < niv && a <= cb) {
+                    cb = fmax(cb, b);
+                    continue;
+                }
+                sw_arc arc;
+                memset(&arc, 0, sizeof arc);
+                arc.start.tri = arc.end.tri = -1;
+                arc.start.phi = ca;
+                arc.end.phi = cb - c->theta;
+                ok = push_arc(c, &arc);
+                bst.n++;
+                ca = a;
+                cb = b;
+            }
+        }
+    }
+    free(iv);
+    if (!ok)
+        return 0;
+    if (!bst.full && bst.n == 0)
+        return 1;
+    if (!grow((void **)&c->polys, &c->cappolys, c->npolys + 1, sizeof *c->polys) ||
+        !grow((void **)&c->poly_verts, &c->cappv, c->npv + nloop, sizeof *c->poly_verts))
+        return ctx_nomem(c);
+    sw_poly *P = &c->polys[c->npolys++];
+    P->first = c->npv;
+    P->n = nloop;
+    P->st = bst;
+    memcpy(c->poly_verts + c->npv, loop, (size_t)nloop * sizeof *loop);
+    c->npv += nloop;
+    return 1;
+}
+
 static int build_polygons(sw_ctx *c)
 {
     if (!hmap_init(&c->v2map, 4 * c->nleaves + 64))
@@ -1660,7 +1795,11 @@ static int build_polygons(sw_ctx *c)
             ok = add_poly(c, loop, nloop);
             continue;
         }
-        /* star or fan round the centre */
+        if (kind == LEAF_FAN) {
+            ok = add_block(c, L, loop, nloop);
+            continue;
+        }
+        /* star round the vertex image */
         hkey k = mkkey(3, dbits(L->cr), dbits(L->cz), 0);
         int64_t cv = add_v2(c, &k, L->cr, L->cz, -1, 0, kind == LEAF_STAR || L->cvtx >= 0 ? L->cvtx : -1);
         if (cv < 0) {
@@ -1692,11 +1831,28 @@ static int64_t out_vertex(sw_ctx *c, sw_out *o, const double p[3], double phi)
     /* Points closer than the weld quantum (2^-40 of the part's size) are one vertex:
      * lifts of one corner onto the planes of two triangles of one face, or onto a face
      * and its neighbour at their common edge, agree only up to rounding. */
-    hkey k = mkkey((int64_t)floor(p[0] / c->quantum + 0.5), (int64_t)floor(p[1] / c->quantum + 0.5),
-                   (int64_t)floor(p[2] / c->quantum + 0.5), 0);
+    int64_t q[3];
+    for (int i = 0; i < 3; i++)
+        q[i] = (int64_t)floor(p[i] / c->quantum + 0.5);
+    hkey k = mkkey(q[0], q[1], q[2], 0);
     int64_t id = hmap_get(&c->outmap, &k);
     if (id >= 0)
         return id;
+    /* a point just across a cell boundary of the quantisation */
+    for (int dx = -1; dx <= 1; dx++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dz = -1; dz <= 1; dz++) {
+                if (!dx && !dy && !dz)
+                    continue;
+                hkey kn = mkkey(q[0] + dx, q[1] + dy, q[2] + dz, 0);
+                int64_t j = hmap_get(&c->outmap, &kn);
+                if (j >= 0) {
+                    const double *r = c->ox + 3 * j;
+                    if (fabs(r[0] - p[0]) <= c->quantum && fabs(r[1] - p[1]) <= c->quantum &&
+                        fabs(r[2] - p[2]) <= c->quantum)
+                        return j;
+                }
+            }
     if (!grow((void **)&c->ox, &c->capout, c->nout + 1, 3 * sizeof *c->ox) ||
         !grow((void **)&o->phi, &o->capphi, c->nout + 1, sizeof *o->phi))
         return ctx_nomem(c) - 1;
@@ -1717,13 +1873,21 @@ static int64_t ring_vertex(sw_ctx *c, sw_out *o, const sw_vtx2 *w, double phi)
 
 /* The point over 2-D vertex w on the plane of triangle t at root sigma; turned by theta
  * for the end of an arc. */
-static int64_t lift(sw_ctx *c, sw_out *o, int64_t iw, int64_t t, int sigma, int isexit)
+static int64_t lift(sw_ctx *c, sw_out *o, int64_t iw, const sw_end *en, int isexit)
 {
+    int64_t t = en->tri;
+    int sigma = en->sigma;
+    const sw_vtx2 *w = &c->v2[iw];
+    if (t < 0) {
+        /* a block's cap: the meridian half-plane at a fixed angle (the end's angle is
+         * stored before the turn, like an exit's) */
+        double ang = en->phi + (isexit ? c->theta : 0);
+        return ring_vertex(c, o, w, ang);
+    }
     hkey k = mkkey(iw, t, sigma + 1, isexit);
     int64_t id = hmap_get(&o->lifts, &k);
     if (id >= 0)
         return id;
-    const sw_vtx2 *w = &c->v2[iw];
     const sw_tri *T = &c->tris[t];
     double p[3];
     int done = 0;
@@ -1731,14 +1895,6 @@ static int64_t lift(sw_ctx *c, sw_out *o, int64_t iw, int64_t t, int sigma, int 
         p[0] = p[1] = 0;
         p[2] = w->z;
         done = 1;
-    }
-    /* a vertex of the triangle imaged here: the vertex itself */
-    for (int q = 0; q < 3 && !done; q++) {
-        int64_t v = T->v[q];
-        if (c->vr[v] == w->r && c->lx[3 * v + 2] == w->z) {
-            memcpy(p, c->lx + 3 * v, sizeof p);
-            done = 1;
-        }
     }
     double phi_root = 0;
     {
@@ -1750,6 +1906,18 @@ static int64_t lift(sw_ctx *c, sw_out *o, int64_t iw, int64_t t, int sigma, int 
         if (cv < -1)
             cv = -1;
         phi_root = T->phi0 + sigma * acos(cv);
+    }
+    /* a vertex of the triangle imaged here, at this root: the vertex itself (a triangle
+     * may hold two vertices with one image, mirror images across its meridian) */
+    for (int q = 0; q < 3 && !done; q++) {
+        int64_t v = T->v[q];
+        if (c->vr[v] == w->r && c->lx[3 * v + 2] == w->z) {
+            double dphi = fabs(angle_diff(atan2(c->lx[3 * v + 1], c->lx[3 * v]), phi_root));
+            if (dphi * w->r <= 1e-6 * (w->r + c->tol) + 0.01 * c->tol) {
+                memcpy(p, c->lx + 3 * v, sizeof p);
+                done = 1;
+            }
+        }
     }
     /* on a curve (an edge or silhouette): the curve's own point when this root lands on
      * it, so that every piece meeting there shares the vertex; curves of the triangle
@@ -1961,8 +2129,8 @@ static int edge_walls(sw_ctx *c, sw_out *o, sw_walls *W, int64_t u, int64_t v, i
                 l->isend = e;
                 l->arc = a;
                 l->cancelled = 0;
-                l->va = lift(c, o, u, en->tri, en->sigma, e);
-                l->vb = lift(c, o, v, en->tri, en->sigma, e);
+                l->va = lift(c, o, u, en, e);
+                l->vb = lift(c, o, v, en, e);
                 if (l->va < 0 || l->vb < 0) {
                     ok = 0;
                     break;
@@ -1993,6 +2161,20 @@ static int edge_walls(sw_ctx *c, sw_out *o, sw_walls *W, int64_t u, int64_t v, i
             narc[sd]++;
         }
     }
+#ifdef MFG_SWEEP_DEBUG
+    {
+        const char *env = getenv("SWDBG");
+        double qr = 0, qz = 0;
+        if (env && sscanf(env, "%lf,%lf", &qr, &qz) == 2 &&
+            ((fabs(c->v2[u].r - qr) < 1e-5 && fabs(c->v2[u].z - qz) < 1e-5) ||
+             (fabs(c->v2[v].r - qr) < 1e-5 && fabs(c->v2[v].z - qz) < 1e-5))) {
+            fprintf(stderr, "edge v%lld(%.6f,%.6f) -> v%lld(%.6f,%.6f) P %lld Q %lld lines:", (long long)u, c->v2[u].r, c->v2[u].z, (long long)v, c->v2[v].r, c->v2[v].z, (long long)P, (long long)Q);
+            for (int64_t i = 0; i < nl; i++)
+                fprintf(stderr, " [s%d e%d %lld->%lld %.4f %.4f]", lines[i].side, lines[i].isend, (long long)lines[i].va, (long long)lines[i].vb, lines[i].pa, lines[i].pb);
+            fprintf(stderr, "\n");
+        }
+    }
+#endif
     /* the same line on both sides bounds nothing */
     for (int64_t i = 0; i < nl && ok; i++)
         for (int64_t j = 0; j < nl; j++)
@@ -2380,6 +2562,8 @@ static int emit_strips(sw_ctx *c, sw_out *o, sw_walls *W)
 }
 
 /* The start (entry at t = 0) and end (exit turned by theta) faces over every polygon. */
+#define SW_MAXARCS_FACE 64
+
 static int emit_faces(sw_ctx *c, sw_out *o, sw_walls *W)
 {
     int64_t *loop = NULL, nloop = 0, caploop = 0;
@@ -2413,52 +2597,65 @@ static int emit_faces(sw_ctx *c, sw_out *o, sw_walls *W)
             }
         }
 #endif
-        for (int64_t a = 0; a < P->st.n && ok; a++) {
-            const sw_arc *arc = &c->arcs[P->st.first + a];
-            /* the boundary of the polygon with its event points, on both faces: (start
-             * vertex, end vertex, arc length there); where the arc closes to a full turn
-             * (length 2 pi: its two lines share a vertex) the faces stop, meeting in the
-             * crease of the paper's case 1.3 */
-            double L0 = arc->end.phi + c->theta - arc->start.phi;
-            nloop = 0;
-            for (int64_t i = 0; i < P->n && ok; i++) {
-                int64_t w0 = c->poly_verts[P->first + i], w1 = c->poly_verts[P->first + (i + 1) % P->n];
-                int64_t s0 = lift(c, o, w0, arc->start.tri, arc->start.sigma, 0);
-                int64_t e0 = lift(c, o, w0, arc->end.tri, arc->end.sigma, 1);
-                int64_t s1 = lift(c, o, w1, arc->start.tri, arc->start.sigma, 0);
-                int64_t e1 = lift(c, o, w1, arc->end.tri, arc->end.sigma, 1);
-                if (s0 < 0 || e0 < 0 || s1 < 0 || e1 < 0) {
-                    ok = 0;
-                    break;
-                }
-                double len0 = L0 + angle_diff(o->phi[e0] - o->phi[s0], L0);
-                double len1 = L0 + angle_diff(o->phi[e1] - o->phi[s1], L0);
-                hkey ks = mkkey(pi, i, 2 * a, 0), ke = mkkey(pi, i, 2 * a + 1, 0);
-                int64_t as = hmap_get(&W->evlists, &ks), ae = hmap_get(&W->evlists, &ke);
-                int64_t ne = as >= 0 ? W->evl[as] : 0;
-                if (ae < 0 || (ae >= 0 && W->evl[ae] != ne))
-                    ne = 0;
-                if (!grow((void **)&loop, &caploop, 3 * (nloop + ne + 1), sizeof *loop)) {
-                    ok = ctx_nomem(c);
-                    break;
-                }
-                double l0 = len0;
-                loop[3 * nloop] = s0;
-                loop[3 * nloop + 1] = e0;
-                memcpy(&loop[3 * nloop + 2], &l0, sizeof l0);
-                nloop++;
-                for (int64_t q = 0; q < ne; q++) {
-                    double sp;
-                    memcpy(&sp, &W->evl[as + 2 + 2 * q], sizeof sp);
-                    double lq = len0 + sp * (len1 - len0);
-                    loop[3 * nloop] = W->evl[as + 1 + 2 * q];
-                    loop[3 * nloop + 1] = W->evl[ae + 1 + 2 * q];
-                    memcpy(&loop[3 * nloop + 2], &lq, sizeof lq);
-                    nloop++;
-                }
-            }
-            if (!ok)
+        /* The boundary of the polygon with its event points: at each point the start and
+         * end vertex of every arc.  A face stops where the gap before it closes (the end
+         * of the previous arc turned by theta reaches this arc's start; for a single arc,
+         * its own end): the two lines share a vertex there, and the start face and the end
+         * face meet in the crease of the paper's case 1.3. */
+        int64_t na = P->st.n;
+        if (na == 0)
+            continue;
+        int64_t w = 2 * na;
+        nloop = 0;
+        for (int64_t i = 0; i < P->n && ok; i++) {
+            int64_t w0 = c->poly_verts[P->first + i];
+            int64_t ne = -1;
+            int64_t at[2 * SW_MAXARCS_FACE];
+            if (na > SW_MAXARCS_FACE) {
+                ok = 0;
+                c->st = mfg_fail(MFG_ERR_INTERNAL, "rotational sweep: more than %d arcs on one circle",
+                                 SW_MAXARCS_FACE);
                 break;
+            }
+            for (int64_t l = 0; l < w; l++) {
+                hkey key = mkkey(pi, i, l, 0);
+                at[l] = hmap_get(&W->evlists, &key);
+                int64_t cnt = at[l] >= 0 ? W->evl[at[l]] : 0;
+                if (ne < 0 || cnt < ne)
+                    ne = cnt;
+            }
+            if (!grow((void **)&loop, &caploop, w * (nloop + ne + 1), sizeof *loop)) {
+                ok = ctx_nomem(c);
+                break;
+            }
+            for (int64_t l = 0; l < w && ok; l++) {
+                const sw_arc *arc = &c->arcs[P->st.first + l / 2];
+                const sw_end *en = (l & 1) ? &arc->end : &arc->start;
+                int64_t id = lift(c, o, w0, en, (int)(l & 1));
+                if (id < 0)
+                    ok = 0;
+                loop[w * nloop + l] = id;
+            }
+            nloop++;
+            for (int64_t q = 0; q < ne && ok; q++) {
+                for (int64_t l = 0; l < w; l++)
+                    loop[w * nloop + l] = W->evl[at[l] + 1 + 2 * q];
+                nloop++;
+            }
+        }
+        if (!ok)
+            break;
+        for (int64_t a = 0; a < na && ok; a++) {
+            const sw_arc *arc = &c->arcs[P->st.first + a];
+            const sw_arc *prev = &c->arcs[P->st.first + (a + na - 1) % na];
+            const sw_arc *next = &c->arcs[P->st.first + (a + 1) % na];
+            int64_t ap = (a + na - 1) % na, an = (a + 1) % na;
+            /* gaps at the sample: before this arc, and after it */
+            double g_before = wrap_angle(arc->start.phi - (prev->end.phi + c->theta));
+            double g_after = wrap_angle(next->start.phi - (arc->end.phi + c->theta));
+            if (na == 1) {
+                g_before = g_after = MFG_TWO_PI - (arc->end.phi + c->theta - arc->start.phi);
+            }
             for (int e = 0; e < 2 && ok; e++) {
                 int64_t m = 0;
                 if (!grow((void **)&face, &capface, nloop + 1, sizeof *face)) {
@@ -2466,14 +2663,17 @@ static int emit_faces(sw_ctx *c, sw_out *o, sw_walls *W)
                     break;
                 }
                 for (int64_t i = 0; i < nloop; i++) {
-                    double l;
-                    memcpy(&l, &loop[3 * i + 2], sizeof l);
-                    int on = loop[3 * i] == loop[3 * i + 1];
-                    if (!(l < MFG_TWO_PI || on))
+                    const int64_t *L = loop + w * i;
+                    int64_t mine = L[2 * a + e];
+                    /* the other line of the gap next to this face */
+                    int64_t other = e == 0 ? L[2 * ap + 1] : L[2 * an];
+                    double g0 = e == 0 ? g_before : g_after;
+                    double raw = e == 0 ? o->phi[mine] - o->phi[other] : o->phi[other] - o->phi[mine];
+                    double gap = g0 + angle_diff(raw, g0);
+                    if (!(gap > 0 || mine == other))
                         continue;
-                    int64_t id = loop[3 * i + e];
-                    if (m == 0 || face[m - 1] != id)
-                        face[m++] = id;
+                    if (m == 0 || face[m - 1] != mine)
+                        face[m++] = mine;
                 }
                 while (m > 1 && face[m - 1] == face[0])
                     m--;
@@ -2488,6 +2688,168 @@ static int emit_faces(sw_ctx *c, sw_out *o, sw_walls *W)
     }
     free(face);
     free(loop);
+    return ok;
+}
+
+/* ----------------------------------------------------------------------------------- */
+/* Pinches                                                                              */
+/* ----------------------------------------------------------------------------------- */
+
+typedef struct sw_he {
+    int64_t lo, hi; /* undirected edge */
+    int64_t tri;    /* triangle using it */
+    int dir;        /* +1: lo -> hi in the triangle, -1: hi -> lo */
+    double ang;     /* angle of the triangle's third corner round the edge */
+} sw_he;
+
+static int cmp_he(const void *pa, const void *pb)
+{
+    const sw_he *a = pa, *b = pb;
+    if (a->lo != b->lo)
+        return (a->lo > b->lo) - (a->lo < b->lo);
+    if (a->hi != b->hi)
+        return (a->hi > b->hi) - (a->hi < b->hi);
+    return (a->ang > b->ang) - (a->ang < b->ang);
+}
+
+static int64_t uf_root(int64_t *p, int64_t x)
+{
+    while (p[x] != x) {
+        p[x] = p[p[x]];
+        x = p[x];
+    }
+    return x;
+}
+
+static void uf_join(int64_t *p, int64_t a, int64_t b)
+{
+    a = uf_root(p, a);
+    b = uf_root(p, b);
+    if (a < b)
+        p[b] = a;
+    else if (b < a)
+        p[a] = b;
+}
+
+/*
+ * The boundary of a union of prisms may touch itself: where two covered regions meet
+ * across a corner of the decomposition, four pieces share an arc (a pinch), and a vertex
+ * may join two separate fans.  Each such edge is resolved by pairing its triangles round
+ * it (each with the next one of the opposite direction), and each vertex gets one copy per
+ * fan of triangles joined through paired edges: the surface stays closed and becomes a
+ * 2-manifold that touches itself there, as the true boundary does.
+ */
+static int resolve_pinches(sw_ctx *c, sw_out *o)
+{
+    int64_t nt = c->notri, ne = 3 * nt;
+    sw_he *he = malloc((size_t)(ne + 1) * sizeof *he);
+    int64_t *parent = malloc((size_t)(ne + 1) * sizeof *parent);
+    if (!he || !parent) {
+        free(he);
+        free(parent);
+        return ctx_nomem(c);
+    }
+    for (int64_t t = 0; t < nt; t++)
+        for (int k = 0; k < 3; k++) {
+            int64_t a = c->otri[3 * t + k], b = c->otri[3 * t + (k + 1) % 3];
+            int64_t d = c->otri[3 * t + (k + 2) % 3];
+            sw_he *h = &he[3 * t + k];
+            h->lo = a < b ? a : b;
+            h->hi = a < b ? b : a;
+            h->tri = 3 * t + k;
+            h->dir = a < b ? 1 : -1;
+            /* angle of corner d round the axis lo -> hi */
+            const double *P = c->ox + 3 * h->lo, *Q = c->ox + 3 * h->hi, *D = c->ox + 3 * d;
+            double ax[3] = {Q[0] - P[0], Q[1] - P[1], Q[2] - P[2]};
+            double w[3] = {D[0] - P[0], D[1] - P[1], D[2] - P[2]};
+            double l2 = ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2];
+            double pr = l2 > 0 ? (w[0] * ax[0] + w[1] * ax[1] + w[2] * ax[2]) / l2 : 0;
+            double u[3] = {w[0] - pr * ax[0], w[1] - pr * ax[1], w[2] - pr * ax[2]};
+            /* a fixed frame perpendicular to the edge */
+            double ref[3] = {1, 0, 0};
+            if (fabs(ax[0]) > fabs(ax[1]) && fabs(ax[0]) > fabs(ax[2]))
+                ref[0] = 0, ref[1] = 1;
+            double e1[3] = {ax[1] * ref[2] - ax[2] * ref[1], ax[2] * ref[0] - ax[0] * ref[2],
+                            ax[0] * ref[1] - ax[1] * ref[0]};
+            double e2[3] = {ax[1] * e1[2] - ax[2] * e1[1], ax[2] * e1[0] - ax[0] * e1[2],
+                            ax[0] * e1[1] - ax[1] * e1[0]};
+            h->ang = atan2(u[0] * e2[0] + u[1] * e2[1] + u[2] * e2[2],
+                           u[0] * e1[0] + u[1] * e1[1] + u[2] * e1[2]);
+        }
+    for (int64_t i = 0; i < ne; i++)
+        parent[i] = i;
+    qsort(he, (size_t)ne, sizeof *he, cmp_he);
+    /* corners: 3t + k is the corner at otri[3t + k] */
+    for (int64_t i = 0; i < ne;) {
+        int64_t j = i;
+        while (j < ne && he[j].lo == he[i].lo && he[j].hi == he[i].hi)
+            j++;
+        int64_t n = j - i;
+        /* pair each triangle with the next one round the edge of the other direction,
+         * starting from each +1 in angular order */
+        if (n >= 2) {
+            for (int64_t q = 0; q < n; q++) {
+                const sw_he *h = &he[i + q];
+                if (h->dir != 1)
+                    continue;
+                /* the partner: the first -1 going round in the direction that makes the
+                 * pair a consistently oriented wedge */
+                for (int64_t step = 1; step < n; step++) {
+                    const sw_he *g = &he[i + (q + n - step) % n];
+                    if (g->dir == 1)
+                        break;
+                    int64_t t1 = h->tri / 3, t2 = g->tri / 3;
+                    /* join the corners at lo and at hi of the two triangles */
+                    for (int k = 0; k < 3; k++)
+                        for (int m = 0; m < 3; m++) {
+                            int64_t v1 = c->otri[3 * t1 + k], v2 = c->otri[3 * t2 + m];
+                            if (v1 == v2 && (v1 == h->lo || v1 == h->hi))
+                                uf_join(parent, 3 * t1 + k, 3 * t2 + m);
+                        }
+                    break;
+                }
+            }
+        }
+        i = j;
+    }
+    /* one vertex per class of corners */
+    hmap seen;
+    if (!hmap_init(&seen, ne + 16)) {
+        free(he);
+        free(parent);
+        return ctx_nomem(c);
+    }
+    int ok = 1;
+    for (int64_t cr = 0; cr < ne && ok; cr++) {
+        int64_t root = uf_root(parent, cr);
+        int64_t v = c->otri[cr];
+        hkey k = mkkey(root, 0, 0, 0);
+        int64_t nv = hmap_get(&seen, &k);
+        if (nv < 0) {
+            /* the first class of a vertex keeps it; later ones get a copy */
+            hkey kv = mkkey(-1 - v, 0, 0, 0);
+            if (hmap_get(&seen, &kv) < 0) {
+                nv = v;
+                ok = hmap_put(&seen, &kv, 1);
+            } else {
+                if (!grow((void **)&c->ox, &c->capout, c->nout + 1, 3 * sizeof *c->ox) ||
+                    !grow((void **)&o->phi, &o->capphi, c->nout + 1, sizeof *o->phi)) {
+                    ok = ctx_nomem(c);
+                    break;
+                }
+                memcpy(c->ox + 3 * c->nout, c->ox + 3 * v, 3 * sizeof *c->ox);
+                o->phi[c->nout] = o->phi[v];
+                nv = c->nout++;
+            }
+            ok = ok && hmap_put(&seen, &k, nv);
+        }
+        c->otri[cr] = nv;
+    }
+    if (!ok)
+        ctx_nomem(c);
+    hmap_free(&seen);
+    free(he);
+    free(parent);
     return ok;
 }
 
@@ -2653,7 +3015,7 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
     if (ok)
         ok = hmap_init(&c.outmap, 1024) && hmap_init(&o.lifts, 1024) ? 1 : ctx_nomem(&c);
     if (ok)
-        ok = build_walls(&c, &o);
+        ok = build_walls(&c, &o) && resolve_pinches(&c, &o);
     mfg_mesh *m = NULL;
     if (ok) {
         m = calloc(1, sizeof *m);
