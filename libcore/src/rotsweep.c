@@ -948,6 +948,7 @@ static int circle_arcs(sw_ctx *c, double r, double z, sw_struct *out)
             if (e > mend) {
                 mend = e;
                 m.end = oarcs[i].end;
+                m.end.phi = e - th; /* unwrapped like the start: end - start is the length */
             }
             continue;
         }
@@ -958,7 +959,9 @@ static int circle_arcs(sw_ctx *c, double r, double z, sw_struct *out)
         out->n++;
         if (k < nO) {
             m = oarcs[i];
-            mend = s + (oarcs[i].end.phi - oarcs[i].start.phi) + th;
+            m.start.phi = s;
+            m.end.phi = s + (oarcs[i].end.phi - oarcs[i].start.phi);
+            mend = m.end.phi + th;
         }
     }
     free(oarcs);
