@@ -45,6 +45,7 @@
  * construction, each piece oriented by the side it bounds.
  */
 #include <float.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -2778,6 +2779,15 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
                             ax[0] * e1[1] - ax[1] * e1[0]};
             h->ang = atan2(u[0] * e2[0] + u[1] * e2[1] + u[2] * e2[2],
                            u[0] * e1[0] + u[1] * e1[1] + u[2] * e1[2]);
+            /* an edge along a circle (a chord between two ring vertices): the pieces leave
+             * it in the directions of their 2-D edges, which the circle's own sag would
+             * hide; measure the third corner's direction in the meridian plane */
+            double rp = v_r(P[0], P[1]), rq = v_r(Q[0], Q[1]);
+            if (fabs(rp - rq) <= 4 * c->quantum && fabs(P[2] - Q[2]) <= 4 * c->quantum && rp > 0) {
+                double dr = v_r(D[0], D[1]) - 0.5 * (rp + rq), dz = D[2] - 0.5 * (P[2] + Q[2]);
+                double turn = angle_diff(atan2(Q[1], Q[0]), atan2(P[1], P[0]));
+                h->ang = turn > 0 ? atan2(dr, dz) : atan2(dz, dr);
+            }
         }
     for (int64_t i = 0; i < ne; i++)
         parent[i] = i;
@@ -2790,6 +2800,14 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
         int64_t n = j - i;
         /* pair each triangle with the next one round the edge of the other direction,
          * starting from each +1 in angular order */
+#ifdef MFG_SWEEP_DEBUG
+        if (n >= 4 && getenv("SWPINCH")) {
+            fprintf(stderr, "pinch edge %lld-%lld:", (long long)he[i].lo, (long long)he[i].hi);
+            for (int64_t q = 0; q < n; q++)
+                fprintf(stderr, " [t%lld d%+d a%.2f]", (long long)(he[i + q].tri / 3), he[i + q].dir, he[i + q].ang * 57.2958);
+            fprintf(stderr, "\n");
+        }
+#endif
         if (n >= 2) {
             for (int64_t q = 0; q < n; q++) {
                 const sw_he *h = &he[i + q];
@@ -2853,6 +2871,52 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
     hmap_free(&seen);
     free(he);
     free(parent);
+    return ok;
+}
+
+/* Two copies of one triangle with opposite orientations (a strip of no width laid on a
+ * face, a face met by its own copy) bound nothing: both go. */
+static int cancel_twins(sw_ctx *c)
+{
+    hmap m;
+    if (!hmap_init(&m, c->notri + 16))
+        return ctx_nomem(c);
+    char *dead = calloc((size_t)(c->notri + 1), 1);
+    if (!dead) {
+        hmap_free(&m);
+        return ctx_nomem(c);
+    }
+    int ok = 1;
+    for (int64_t t = 0; t < c->notri && ok; t++) {
+        int64_t *v = c->otri + 3 * t;
+        /* rotate so the smallest index is first: (a, b, c) keeps its orientation */
+        int r = v[0] < v[1] ? (v[0] < v[2] ? 0 : 2) : (v[1] < v[2] ? 1 : 2);
+        int64_t a = v[r], b = v[(r + 1) % 3], d = v[(r + 2) % 3];
+        hkey twin = mkkey(a, d, b, 0);
+        int64_t o = hmap_get(&m, &twin);
+        if (o >= 0 && o < c->notri && !dead[o]) {
+            dead[o] = dead[t] = 1;
+            hkey gone = twin;
+            ok = hmap_put(&m, &gone, c->notri); /* past every triangle: the slot is used up */
+            continue;
+        }
+        hkey mine = mkkey(a, b, d, 0);
+        if (hmap_get(&m, &mine) < 0)
+            ok = hmap_put(&m, &mine, t);
+    }
+    if (ok) {
+        int64_t n = 0;
+        for (int64_t t = 0; t < c->notri; t++)
+            if (!dead[t]) {
+                memmove(c->otri + 3 * n, c->otri + 3 * t, 3 * sizeof *c->otri);
+                n++;
+            }
+        c->notri = n;
+    } else {
+        ctx_nomem(c);
+    }
+    free(dead);
+    hmap_free(&m);
     return ok;
 }
 
@@ -2936,6 +3000,35 @@ static void ctx_free(sw_ctx *c)
     free(c->otri);
 }
 
+/* Drops everything built by one placement of the decomposition (the solid, its curves
+ * and bins stay). */
+static void reset_attempt(sw_ctx *c, sw_out *o)
+{
+    free(c->leaves);
+    free(c->leaf_curves);
+    hmap_free(&c->corners);
+    hmap_free(&c->leafmap);
+    free(c->v2);
+    hmap_free(&c->v2map);
+    free(c->poly_verts);
+    free(c->polys);
+    free(c->ox);
+    hmap_free(&c->outmap);
+    free(c->otri);
+    free(o->phi);
+    hmap_free(&o->lifts);
+    c->leaves = NULL; c->nleaves = c->capleaves = 0;
+    c->leaf_curves = NULL; c->nleaf_curves = c->capleaf_curves = 0;
+    c->v2 = NULL; c->nv2 = c->capv2 = 0;
+    c->poly_verts = NULL; c->npv = c->cappv = 0;
+    c->polys = NULL; c->npolys = c->cappolys = 0;
+    c->ox = NULL; c->nout = c->capout = 0;
+    c->otri = NULL; c->notri = c->capotri = 0;
+    c->narcs = 0;
+    o->phi = NULL;
+    o->capphi = 0;
+}
+
 /* Arguments other than the mesh (which mfg_mesh_require_closed checks). */
 static mfg_status check_sweep_args(const double *axis_point, const double *axis_dir,
                                    double angle, double tolerance, mfg_mesh **out_mesh)
@@ -2996,12 +3089,22 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
         }
         ok = build_bins(&c, rmax, zmin, zmax);
     }
-    if (ok) {
+    /* The decomposition's grid is placed by odd factors, so that its lines rarely pass
+     * through vertices or along edges of round-numbered parts.  When they do and the
+     * result is not a closed 2-manifold (checked as the input is), the decomposition is
+     * built again on a grid placed differently; after the last placement the call fails
+     * with MFG_ERR_INTERNAL rather than return an open surface. */
+    static const double grid_scale[4] = {1.0123456789, 1.0371093751, 0.9812988281, 1.0557861328};
+    static const double grid_shift[4] = {0.0371, 0.0629, 0.0147, 0.0853};
+    mfg_mesh_report rep;
+    int attempt = 0, valid = 0;
+    char why[256] = "";
+    for (attempt = 0; ok && attempt < 4 && !valid; attempt++) {
+        if (attempt > 0)
+            reset_attempt(&c, &o);
         double ext = fmax(rmax, zmax - zmin);
         c.quantum = ldexp(ext, -40);
-        /* the root cells: about half the extent, scaled by an odd factor so that grid
-         * lines rarely pass through vertices of round-numbered parts */
-        double S0 = 0.5 * ext * 1.0123456789;
+        double S0 = 0.5 * ext * grid_scale[attempt];
         double hmin = 0.25 * tolerance;
         int lmax = 0;
         while (lmax < 40 && ldexp(S0, -lmax) > hmin)
@@ -3010,15 +3113,33 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
         c.h = ldexp(S0, -lmax);
         c.hmin = c.h;
         c.r0 = 0;
-        c.z0 = zmin - 0.0371 * S0;
+        c.z0 = zmin - grid_shift[attempt] * S0;
         c.nroot_r = (int64_t)floor(rmax / S0) + 1;
         c.nroot_z = (int64_t)floor((zmax - c.z0) / S0) + 1;
         ok = build_quadtree(&c) && build_polygons(&c);
+        if (ok)
+            ok = hmap_init(&c.outmap, 1024) && hmap_init(&o.lifts, 1024) ? 1 : ctx_nomem(&c);
+        if (ok)
+            ok = build_walls(&c, &o) && cancel_twins(&c) && resolve_pinches(&c, &o);
+        if (ok) {
+            mfg_status cs = mfg_mesh_check_closed(c.ox, c.nout, c.otri, c.notri, &rep);
+            if (cs == MFG_OK) {
+                valid = 1;
+            } else {
+                if (cs == MFG_ERR_NOMEM) {
+                    ok = ctx_nomem(&c);
+                    break;
+                }
+                snprintf(why, sizeof why, "%s", mfg_last_error());
+            }
+        }
     }
-    if (ok)
-        ok = hmap_init(&c.outmap, 1024) && hmap_init(&o.lifts, 1024) ? 1 : ctx_nomem(&c);
-    if (ok)
-        ok = build_walls(&c, &o) && resolve_pinches(&c, &o);
+    if (ok && !valid) {
+        ok = 0;
+        c.st = mfg_fail(MFG_ERR_INTERNAL, "rotational sweep: the swept surface could not be made "
+                        "a closed 2-manifold (%s) on 4 placements of the decomposition; please "
+                        "report this input", why);
+    }
     mfg_mesh *m = NULL;
     if (ok) {
         m = calloc(1, sizeof *m);
