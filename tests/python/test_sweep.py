@@ -134,48 +134,108 @@ def winding_numbers(points, v, t, chunk=400_000):
     return out
 
 
-def _segment_distance(p, a, b):
-    ab = b - a
-    den = np.einsum("...k,...k->...", ab, ab)
-    s = np.einsum("...k,...k->...", p - a, ab) / np.where(den > 0, den, 1.0)
-    s = np.clip(s, 0.0, 1.0)
-    return np.linalg.norm(p - a - s[..., None] * ab, axis=-1)
-
-
-def surface_distance(points, v, t, chunk=300_000):
-    """Distance of each point to the nearest triangle of the mesh."""
-    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    a, b, c = v[t[:, 0]], v[t[:, 1]], v[t[:, 2]]
+def point_triangle_distance(p, tri):
+    """Distance of each point p[k] (N, 3) to the triangle tri[k] (N, 3, 3): the plane
+    distance where the foot of the perpendicular is inside, else the nearest edge."""
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
     n = np.cross(b - a, c - a)
     nn = np.einsum("ij,ij->i", n, n)
     ok = nn > 0
-    out = np.empty(len(p))
-    step = max(1, chunk // max(1, len(t)))
-    for s in range(0, len(p), step):
-        q = p[s:s + step, None, :]                                    # (P, 1, 3)
-        d = np.minimum(np.minimum(_segment_distance(q, a, b), _segment_distance(q, b, c)),
-                       _segment_distance(q, c, a))
-        # where the foot of the perpendicular lies inside the triangle: the plane distance
-        h = np.einsum("ptk,tk->pt", q - a, n) / np.where(ok, nn, 1.0)
-        foot = q - h[..., None] * n                                   # (P, T, 3)
-        inside = np.broadcast_to(ok, h.shape).copy()
-        for e0, e1 in ((a, b), (b, c), (c, a)):
-            inside &= np.einsum("ptk,tk->pt", np.cross(e1 - e0, foot - e0), n) >= 0
-        plane = np.abs(h) * np.sqrt(nn)
-        out[s:s + step] = np.where(inside, np.minimum(d, plane), d).min(axis=1)
+    h = np.einsum("ij,ij->i", p - a, n) / np.where(ok, nn, 1.0)
+    foot = p - h[:, None] * n
+    inside = ok.copy()
+    for e0, e1 in ((a, b), (b, c), (c, a)):
+        inside &= np.einsum("ij,ij->i", np.cross(e1 - e0, foot - e0), n) >= 0
+    edge = np.full(len(p), np.inf)
+    for e0, e1 in ((a, b), (b, c), (c, a)):
+        ab = e1 - e0
+        den = np.einsum("ij,ij->i", ab, ab)
+        s = np.clip(np.einsum("ij,ij->i", p - e0, ab) / np.where(den > 0, den, 1.0), 0, 1)
+        edge = np.minimum(edge, np.linalg.norm(p - e0 - s[:, None] * ab, axis=1))
+    return np.where(inside, np.minimum(np.abs(h) * np.sqrt(nn), edge), edge)
+
+
+def near_surface(points, v, t, r, block=64):
+    """Distance of each point to the mesh's surface where it is at most ``r``, else inf.
+    Only triangles whose box, grown by r, holds the point are measured: the boxes sorted
+    by their low x, points taken in x order ``block`` at a time against the slab of boxes
+    that can reach them."""
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    tri = v[t]
+    lo, hi = tri.min(axis=1) - r, tri.max(axis=1) + r
+    order = np.argsort(lo[:, 0], kind="stable")
+    tri, lo, hi = tri[order], lo[order], hi[order]
+    span = float(np.max(hi[:, 0] - lo[:, 0])) if len(tri) else 0.0
+    out = np.full(len(p), np.inf)
+    by_x = np.argsort(p[:, 0], kind="stable")
+    for s in range(0, len(p), block):
+        idx = by_x[s:s + block]
+        q = p[idx]
+        first = np.searchsorted(lo[:, 0], q[:, 0].min() - span, side="left")
+        last = np.searchsorted(lo[:, 0], q[:, 0].max(), side="right")
+        near = np.ones((len(q), last - first), dtype=bool)
+        for k in range(3):
+            near &= ((q[:, None, k] >= lo[None, first:last, k])
+                     & (q[:, None, k] <= hi[None, first:last, k]))
+        ip, it = np.nonzero(near)
+        d = point_triangle_distance(q[ip], tri[first + it])
+        mine = np.full(len(q), np.inf)
+        np.minimum.at(mine, ip, d)
+        out[idx] = np.where(mine <= r, mine, np.inf)
     return out
+
+
+def inside_mesh(points, v, t, seed=0):
+    """Inside a closed mesh by ray parity, independent of the oracle's: the scene is
+    turned by a random rotation (no face or edge is then parallel to the ray +x), and
+    only triangles whose (y, z) box holds the point are tested."""
+    rot = random_rotation(np.random.default_rng(seed))
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3) @ rot.T
+    tri = (v @ rot.T)[t]
+    lo, hi = tri.min(axis=1), tri.max(axis=1)
+    order = np.argsort(lo[:, 1])
+    tri, lo, hi = tri[order], lo[order], hi[order]
+    count = np.zeros(len(p), dtype=np.int64)
+    # triangles whose y-range starts at or below the point's y: a prefix of the order
+    stop = np.searchsorted(lo[:, 1], p[:, 1], side="right")
+    span = float(np.max(hi[:, 1] - lo[:, 1])) if len(tri) else 0.0
+    start = np.searchsorted(lo[:, 1], p[:, 1] - span, side="left")
+    for k in range(len(p)):
+        cand = np.arange(start[k], stop[k])
+        c = cand[(hi[cand, 1] >= p[k, 1]) & (lo[cand, 2] <= p[k, 2]) & (hi[cand, 2] >= p[k, 2])
+                 & (hi[cand, 0] >= p[k, 0])]
+        if not len(c):
+            continue
+        a, b, e = tri[c, 0], tri[c, 1], tri[c, 2]
+        y, z = p[k, 1], p[k, 2]
+        # signed areas in the (y, z) projection: the point inside the projected triangle
+        s0 = (b[:, 1] - a[:, 1]) * (z - a[:, 2]) - (b[:, 2] - a[:, 2]) * (y - a[:, 1])
+        s1 = (e[:, 1] - b[:, 1]) * (z - b[:, 2]) - (e[:, 2] - b[:, 2]) * (y - b[:, 1])
+        s2 = (a[:, 1] - e[:, 1]) * (z - e[:, 2]) - (a[:, 2] - e[:, 2]) * (y - e[:, 1])
+        hit = ((s0 > 0) & (s1 > 0) & (s2 > 0)) | ((s0 < 0) & (s1 < 0) & (s2 < 0))
+        area = s0 + s1 + s2
+        x = (s1 * a[:, 0] + s2 * b[:, 0] + s0 * e[:, 0]) / np.where(area != 0, area, 1.0)
+        count[k] = np.count_nonzero(hit & (x > p[k, 0]))
+    return count % 2 == 1
 
 
 def self_intersections(v, t, eps=1e-9):
     """Pairs of triangles sharing no vertex that cross: an edge of one passes through the
-    interior of the other (strictly, beyond eps relative to the mesh size)."""
+    interior of the other (strictly, beyond eps relative to the mesh size).  Candidate
+    pairs by sweeping the triangles' boxes along x."""
     tri = v[t]
     lo, hi = tri.min(axis=1), tri.max(axis=1)
     scale = float(np.max(hi.max(axis=0) - lo.min(axis=0)))
     pad = eps * scale
-    overlap = np.all((lo[:, None, :] <= hi[None, :, :] + pad)
-                     & (lo[None, :, :] <= hi[:, None, :] + pad), axis=2)
-    i, j = np.nonzero(np.triu(overlap, 1))
+    order = np.argsort(lo[:, 0])
+    lo_x = lo[order, 0]
+    end = np.searchsorted(lo_x, hi[order, 0] + pad, side="right")
+    counts = end - np.arange(len(order)) - 1
+    first = np.repeat(np.arange(len(order)), counts)
+    offset = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    i, j = order[first], order[first + 1 + offset]
+    keep = np.all((lo[i] <= hi[j] + pad) & (lo[j] <= hi[i] + pad), axis=1)
+    i, j = i[keep], j[keep]
     share = (t[i][:, :, None] == t[j][:, None, :]).any(axis=(1, 2))
     i, j = i[~share], j[~share]
     bad = np.zeros(len(i), dtype=bool)
@@ -206,8 +266,11 @@ def check_result(res, tol):
     """Closed, outward, reported numbers those of its triangles; returns the report."""
     assert res.vertices.dtype == np.float64 and res.vertices.shape[1:] == (3,)
     assert res.triangles.dtype == np.int64 and res.triangles.shape[1:] == (3,)
+    rep = core.mesh_check(res.vertices, res.triangles)
+    bad = {k: getattr(rep, k) for k in ("boundary_edges", "nonmanifold_edges",
+                                         "inconsistent_edges", "nonmanifold_vertices")}
+    assert not any(bad.values()), f"result of {len(res.triangles)} triangles: {bad}"
     rep = core.mesh_check(res.vertices, res.triangles, require_closed=True)
-    assert rep.nonmanifold_vertices == 0 and rep.degenerate_triangles == 0
     vol, area = volume_area(res.vertices, res.triangles)
     assert res.volume == pytest.approx(vol, rel=1e-9)
     assert res.area == pytest.approx(area, rel=1e-9)
@@ -226,6 +289,58 @@ def assert_volume(res, want, tol, area=None):
                           f"tol*area {bound:.3e} (relative {err / want:.3e} > "
                           f"{bound / want:.3e})")
     return err / bound
+
+
+def segments_distance(q, segments):
+    """2-D distance of the points q (m, 2) to the nearest of the segments [(a, b), ...]."""
+    best = np.full(len(q), np.inf)
+    for a, b in segments:
+        a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+        ab = b - a
+        s = np.clip((q - a) @ ab / (ab @ ab), 0.0, 1.0)
+        best = np.minimum(best, np.linalg.norm(q - a - s[:, None] * ab, axis=1))
+    return best
+
+
+def arc_distance(q, radius, start, sweep_angle):
+    """2-D distance of q (m, 2) to the arc of the circle about the origin from angle
+    ``start`` counter-clockwise by ``sweep_angle``."""
+    rho = np.hypot(q[:, 0], q[:, 1])
+    rel = np.mod(np.arctan2(q[:, 1], q[:, 0]) - start, TWO_PI)
+    on = rel <= sweep_angle
+    ends = [radius * np.array([math.cos(a), math.sin(a)]) for a in (start, start + sweep_angle)]
+    end = np.minimum(np.linalg.norm(q - ends[0], axis=1), np.linalg.norm(q - ends[1], axis=1))
+    return np.where(on, np.abs(rho - radius), end)
+
+
+def prism_hausdorff(res, inside2d, dist2d, curve, region, z0, z1, reach, nz=9):
+    """Both one-sided distances between the result's boundary and that of the prism
+    region x [z0, z1] (region given by ``inside2d`` (m, 2) -> bool and ``dist2d``, the
+    distance to its boundary curve): (largest distance of a used result vertex from the true
+    boundary, largest distance of a true-boundary sample from the result's surface,
+    where the samples are ``curve`` (2-D points on the boundary curve) at nz heights
+    and ``region`` (2-D points inside) on both caps; inf where farther than ``reach``)."""
+    v = res.vertices
+    used = v[np.unique(res.triangles)]
+    q, z = used[:, :2], used[:, 2]
+    d2, inside = dist2d(q), inside2d(q)
+    dz_in = np.minimum(z - z0, z1 - z)
+    dz_out = np.maximum(np.maximum(z0 - z, z - z1), 0.0)
+    d_vertices = np.where(inside & (dz_in >= 0), np.minimum(d2, dz_in),
+                          np.hypot(np.where(inside, 0.0, d2), dz_out))
+    heights = np.linspace(z0, z1, nz)
+    walls = np.column_stack([np.repeat(curve, nz, axis=0), np.tile(heights, len(curve))])
+    caps = np.vstack([np.column_stack([region, np.full(len(region), z)]) for z in (z0, z1)])
+    samples = np.vstack([walls, caps])
+    d_samples = near_surface(samples, v, res.triangles, reach)
+    return float(d_vertices.max()), float(d_samples.max())
+
+
+def assert_hausdorff(res, tol, *args, **kwargs):
+    to_true, to_result = prism_hausdorff(res, *args, reach=4.0 * tol, **kwargs)
+    assert to_true <= SLACK * tol and to_result <= SLACK * tol, (
+        f"boundary distance result -> true {to_true:.4e}, true -> result {to_result:.4e}, "
+        f"tolerance {tol:g}")
 
 
 # --------------------------------------------------------------------------- #
@@ -318,13 +433,13 @@ def test_index_out_of_range():
 # --------------------------------------------------------------------------- #
 
 def test_unit_cube_about_its_long_diagonal():
-    tol = 1e-3
+    tol = 1e-2
     res = sweep(V, T, (0, 0, 0), (1, 1, 1), TWO_PI, tol)
     check_result(res, tol)
     assert_volume(res, math.pi / math.sqrt(3.0), tol)
     # the solid of revolution: radius sqrt(2/3) at heights 1/sqrt3 .. 2/sqrt3 along the axis
     r = np.linalg.norm(np.cross(res.vertices, np.ones(3) / math.sqrt(3)), axis=1)
-    assert r.max() <= math.sqrt(2.0 / 3.0) + 1e-9
+    assert r.max() <= math.sqrt(2.0 / 3.0) + tol
 
 
 @pytest.mark.parametrize("deg", [1.0, 30.0, 90.0])
@@ -332,7 +447,7 @@ def test_box_about_an_edge(deg):
     a, b, c = 2.0, 1.0, 1.5
     v, t = box_mesh((0, 0, -0.5), (a, b, c - 0.5))
     theta = math.radians(deg)
-    tol = 1e-3
+    tol = 1e-2
     res = sweep(v, t, (0, 0, 0), (0, 0, 1), theta, tol)
     check_result(res, tol)
     want = c * (a * b + (a * a + b * b) * theta / 2.0)
@@ -347,26 +462,73 @@ def test_box_about_an_edge(deg):
     assert lo[0] == pytest.approx(min(0.0, -b * math.sin(theta)), abs=tol)
     assert hi[1] == pytest.approx(math.hypot(a, b) if theta > math.atan2(a, b)
                                   else a * math.sin(theta) + b * math.cos(theta), abs=tol)
+    # the boundary, both ways: the region swept in xy is the first rectangle's sides
+    # x = a and y = 0, the far corner's arc, the last rectangle's far side and its side
+    # through the axis (star-shaped about the axis: radius per angle)
+    r, alpha = math.hypot(a, b), math.atan2(b, a)
+    rot = np.array([[math.cos(theta), -math.sin(theta)], [math.sin(theta), math.cos(theta)]])
+    corner, top = rot @ [a, b], rot @ [0.0, b]
+    segments = [((0, 0), (a, 0)), ((a, 0), (a, b)), (corner, top), (top, (0, 0))]
+
+    def radial(phi):
+        out = np.where(phi <= alpha, a / np.maximum(np.cos(phi), 1e-300), r)
+        return np.where(phi >= alpha + theta, b / np.maximum(np.sin(phi - theta), 1e-300), out)
+
+    def inside2d(q):
+        phi = np.arctan2(q[:, 1], q[:, 0])
+        phi = np.where(phi < -1e-12, phi + TWO_PI, phi)
+        return (phi <= math.pi / 2 + theta) & (np.hypot(q[:, 0], q[:, 1]) <= radial(phi))
+
+    def dist2d(q):
+        return np.minimum(segments_distance(q, segments), arc_distance(q, r, alpha, theta))
+
+    k = np.linspace(0, 1, 40)[:, None]
+    arc = r * np.column_stack([np.cos(alpha + theta * k[:, 0]), np.sin(alpha + theta * k[:, 0])])
+    curve = np.vstack([np.asarray(p0) + k * (np.asarray(p1) - np.asarray(p0))
+                       for p0, p1 in segments] + [arc])
+    rng = np.random.default_rng(4)
+    region = rng.uniform([-b, 0], [a, r], size=(3000, 2))
+    region = region[inside2d(region)][:300]
+    assert_hausdorff(res, tol, inside2d, dist2d, curve, region, -0.5, c - 0.5)
 
 
 def test_full_turn_of_a_box_off_the_axis_is_an_annulus():
     v, t = box_mesh((1.0, -0.5, 0.0), (2.0, 0.5, 1.0))
-    tol = 1e-3
+    tol = 3e-2
     res = sweep(v, t, (0, 0, 0), (0, 0, 1), TWO_PI, tol)
     check_result(res, tol)
     r, big = 1.0, math.hypot(2.0, 0.5)
     assert_volume(res, math.pi * (big * big - r * r) * 1.0, tol)
-    radii = np.hypot(res.vertices[:, 0], res.vertices[:, 1])
-    assert radii.min() >= r - tol and radii.max() <= big + 1e-9
+    # inner radius 1 (the face x = 1 is nearest the axis inside, at y = 0), outer the
+    # far edges' sqrt(4.25): both walls within tol of the result and the result of them
+    ring(res, tol, r, big, 0.0, 1.0)
+
+
+def ring(res, tol, r, big, z0, z1):
+    """assert_hausdorff for the annulus r <= rho <= big (r = 0: the disc), z0 <= z <= z1."""
+    ang = np.linspace(0, TWO_PI, 180, endpoint=False)
+    circle = np.column_stack([np.cos(ang), np.sin(ang)])
+    curve = np.vstack([big * circle] + ([r * circle] if r > 0 else []))
+    region = np.vstack([(r + (big - r) * f) * circle[::6] for f in (0.1, 0.5, 0.9)])
+
+    def rho(q):
+        return np.hypot(q[:, 0], q[:, 1])
+
+    def dist2d(q):
+        d = np.abs(rho(q) - big)
+        return np.minimum(d, np.abs(rho(q) - r)) if r > 0 else d
+    assert_hausdorff(res, tol, lambda q: (rho(q) >= r) & (rho(q) <= big), dist2d, curve,
+                     region, z0, z1)
 
 
 def test_full_turn_of_a_coaxial_prism_is_a_cylinder():
     n, radius, h = 7, 1.25, 2.0
     v, t = prism_mesh((0.0, 0.0), radius, h, n)
-    tol = 1e-3
+    tol = 1e-2
     res = sweep(v, t, (0, 0, 0.3), (0, 0, -2.0), TWO_PI, tol)     # axis down: same solid
     check_result(res, tol)
     assert_volume(res, math.pi * radius * radius * h, tol)
+    ring(res, tol, 0.0, radius, 0.0, h)
 
 
 def test_angle_within_1e_12_of_two_pi_is_a_full_turn():
@@ -380,7 +542,7 @@ def test_angle_within_1e_12_of_two_pi_is_a_full_turn():
 def test_turns_right_handed():
     """Turning +90 degrees about +z takes +x to +y (seen from the tip: counter-clockwise)."""
     v, t = box_mesh((1.0, -0.1, 0.0), (2.0, 0.1, 1.0))
-    res = sweep(v, t, (0, 0, 0), (0, 0, 1), math.pi / 2, 1e-3)
+    res = sweep(v, t, (0, 0, 0), (0, 0, 1), math.pi / 2, 1e-2)
     w = winding_numbers([[0.0, 1.5, 0.5], [0.0, -1.5, 0.5], [1.06, 1.06, 0.5]],
                         res.vertices, res.triangles)
     assert np.round(w).tolist() == [1.0, 0.0, 1.0]
@@ -413,19 +575,19 @@ ORACLE = [("box-axis-through", d) for d in (1, 180, 359, 360)] + [
     ("cavity-axis-through", 360), ("two-components", 150)]
 
 
-def membership(res, mesh, point, direction, theta, tol, n=1200, seed=0):
+def membership(res, mesh, point, direction, theta, tol, n=800, seed=0):
     """Points in the result's box enlarged by 10 %, those farther than 2 tol from the
     result's surface (so farther than tol from the true one: classified the same by both
-    when the result honours its tolerance), oracle vs winding number of the result."""
+    when the result honours its tolerance): (points, inside the result, inside SV by the
+    oracle)."""
     rng = np.random.default_rng(seed)
     lo, hi = res.bbox
     pad = 0.1 * (hi - lo) + 4 * tol
     p = rng.uniform(lo - pad, hi + pad, size=(n, 3))
-    p = p[surface_distance(p, res.vertices, res.triangles) > 2.0 * tol]
-    w = winding_numbers(p, res.vertices, res.triangles)
-    assert np.all(np.abs(w - np.round(w)) < 1e-6), "winding number not an integer: open mesh"
-    assert set(np.round(w).tolist()) <= {0.0, 1.0}, "winding number not 0 or 1"
-    got = np.round(w) == 1.0
+    p = p[np.isinf(near_surface(p, res.vertices, res.triangles, 2.0 * tol))]
+    got = inside_mesh(p, res.vertices, res.triangles, seed=1)
+    again = inside_mesh(p, res.vertices, res.triangles, seed=2)
+    assert np.array_equal(got, again), "ray parity depends on the ray: not a closed mesh"
     want = inside_swept(p, mesh[0], mesh[1], point, direction, theta)
     return p, got, want
 
@@ -435,7 +597,7 @@ def test_membership_oracle(name, deg):
     mesh, point, direction = CASES[name]
     theta = TWO_PI if deg == 360 else math.radians(deg)
     size = float(np.max(mesh[0].max(axis=0) - mesh[0].min(axis=0)))
-    tol = 5e-3 * size
+    tol = 3e-2 * size
     res = sweep(mesh[0], mesh[1], point, direction, theta, tol)
     check_result(res, tol)
     p, got, want = membership(res, mesh, point, direction, theta, tol)
@@ -476,13 +638,28 @@ def test_geometry_helpers():
                     [0.5, 0.1, 0.5]])
     w = winding_numbers(pts, V, T)
     assert np.allclose(w, [1, 0, 0, 0, 1], atol=1e-12)
-    d = surface_distance(pts, V, T)
+    assert inside_mesh(pts, V, T).tolist() == [True, False, False, False, True]
+    d = near_surface(pts, V, T, 0.6)
+    assert np.allclose(d, [0.5, np.inf, 0.25, np.inf, 0.1], atol=1e-12)
+    d = near_surface(pts, V, T, 2.0)
     assert np.allclose(d, [0.5, 1.0, 0.25, math.sqrt(0.5), 0.1], atol=1e-12)
+    # a hollow box: the cavity is outside
+    hv, ht = hollow_box()
+    q = [[1, 1, 1], [0.25, 1, 1], [1.75, 1.9, 1], [2.5, 1, 1]]
+    assert inside_mesh(q, hv, ht).tolist() == [False, True, True, False]
+    assert np.round(winding_numbers(q, hv, ht)).tolist() == [0, 1, 1, 0]
 
 
 # --------------------------------------------------------------------------- #
 # Invariance                                                                  #
 # --------------------------------------------------------------------------- #
+
+def sample(points, n=1500):
+    """At most n of the points (a fixed random choice)."""
+    if len(points) <= n:
+        return points
+    return points[np.random.default_rng(5).choice(len(points), n, replace=False)]
+
 
 def _case(name="L-axis-through-vertex", deg=200.0):
     mesh, point, direction = CASES[name]
@@ -502,9 +679,10 @@ def test_rigid_motion_moves_the_result():
         assert abs(moved.volume - ref.volume) <= SLACK * 2 * tol * ref.area
         # both boundaries lie within tol of the (moved) true one: within 2 tol of each other
         ref_moved = ref.vertices @ rot.T + shift
-        d1 = surface_distance(moved.vertices, ref_moved, ref.triangles)
-        d2 = surface_distance(ref_moved, moved.vertices, moved.triangles)
-        assert max(d1.max(), d2.max()) <= 2 * tol * SLACK
+        r = 2 * tol * SLACK
+        for pts, (v2, t2) in ((moved.vertices, (ref_moved, ref.triangles)),
+                              (ref_moved, (moved.vertices, moved.triangles))):
+            assert np.isfinite(near_surface(sample(pts), v2, t2, r)).all()
 
 
 @pytest.mark.parametrize("scale", [1e-6, 1e6])
@@ -538,5 +716,20 @@ def test_axis_point_along_the_axis_and_direction_length_do_not_matter():
     res = sweep(v, t, point + 2.5 * direction, 7.0 * direction, theta, tol)
     check_result(res, tol)
     assert res.volume == pytest.approx(ref.volume, abs=SLACK * 2 * tol * ref.area)
-    d1 = surface_distance(res.vertices, ref.vertices, ref.triangles)
-    assert d1.max() <= 2 * tol * SLACK
+    assert np.isfinite(near_surface(sample(res.vertices), ref.vertices, ref.triangles,
+                                    2 * tol * SLACK)).all()
+
+
+@pytest.mark.parametrize("name, deg", [("L-axis-along-edge", 180), ("hole-axis-along-edge", 1),
+                                       ("box-axis-outside", 360), ("cavity-axis-through", 360)])
+def test_no_degenerate_triangles_or_unused_vertices(name, deg):
+    """Quality beyond the contract: zero-area triangles (mfg_mesh_check's
+    degenerate_triangles) and unused vertices are accepted by the closed check but are
+    defects in an exported STL / OBJ: the result should have none."""
+    mesh, point, direction = CASES[name]
+    theta = TWO_PI if deg == 360 else math.radians(deg)
+    res = sweep(mesh[0], mesh[1], point, direction, theta, 5e-2)
+    rep = core.mesh_check(res.vertices, res.triangles)
+    assert (rep.degenerate_triangles, rep.unused_vertices) == (0, 0), (
+        f"{rep.degenerate_triangles} zero-area triangles of {rep.ntriangles}, "
+        f"{rep.unused_vertices} unused vertices of {rep.nvertices}")
