@@ -247,6 +247,8 @@ typedef struct sw_arc {
 typedef struct sw_struct {
     int full;
     int64_t n, first;
+    int64_t xfirst, xn;    /* the triangles the circle crosses (in c->xpool): a full
+                              circle's structure does not name them */
 } sw_struct;
 
 #define SW_MAXCURVES 4
@@ -292,6 +294,7 @@ struct sw_ctx {
     int full_turn;
     double tol, hmin;
     double quantum;        /* output weld distance */
+    int bounding_only;     /* cells look at the curves of bounding triangles only */
     double origin[3], frame[3][3]; /* rows: e1, e2, axis */
     /* curves */
     sw_curve *curves;
@@ -310,6 +313,9 @@ struct sw_ctx {
     int64_t *xtri;
     int *xentry;
     int64_t nx, capx;
+    /* triangles crossed by sampled circles */
+    int64_t *xpool;
+    int64_t nxpool, capxpool;
     /* arc pool */
     sw_arc *arcs;
     int64_t narcs, caparcs;
@@ -777,6 +783,8 @@ static int circle_arcs(sw_ctx *c, double r, double z, sw_struct *out)
     out->full = 0;
     out->n = 0;
     out->first = c->narcs;
+    out->xfirst = c->nxpool;
+    out->xn = 0;
     if (r <= 0) {
         int in = circle_inside(c, 0, z);
         if (in < 0)
@@ -842,6 +850,13 @@ static int circle_arcs(sw_ctx *c, double r, double z, sw_struct *out)
                 return 0;
         }
     }
+    out->xfirst = c->nxpool;
+    out->xn = 0;
+    if (!grow((void **)&c->xpool, &c->capxpool, c->nxpool + c->nx + 1, sizeof *c->xpool))
+        return ctx_nomem(c);
+    for (int64_t i = 0; i < c->nx; i++)
+        c->xpool[c->nxpool++] = c->xtri[i];
+    out->xn = c->nx;
     if (c->nx == 0) {
         int in = circle_inside(c, r, z);
         if (in < 0)
@@ -1166,6 +1181,7 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
     for (int k = 0; k < 5; k++) {
         if (all[k]->full || all[k]->n)
             any_arc = 1;
+
         for (int64_t a = 0; a < all[k]->n; a++) {
             const sw_arc *arc = &c->arcs[all[k]->first + a];
             c->vstamp[arc->start.tri] = vs;
@@ -1204,10 +1220,17 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
     }
     /* curves of the bounding triangles through the cell */
     int64_t npass = 0, ncross_split = 0, all_from_img = 1, one_cross_each = 1;
-    double split_u[2] = {0, 0};
+    double split_u[2] = {0, 0}, split_p[2][2] = {{0, 0}, {0, 0}};
+    double peps = 1e-9 * (rb - ra) + 1e-12 * (fabs(rb) + fabs(zb));
     for (int64_t k = 0; k < c->ncand; k++) {
         int64_t t = c->cand[k];
-        if (c->vstamp[t] != vs)
+        /* Every triangle near the cell counts, not only those bounding SV at the
+         * samples: a face can enter the cell between samples (the inner wall of a
+         * ring-shaped sweep entered a large cell whose five samples all missed it).
+         * The last two placements fall back to the bounding triangles only, which
+         * closes surfaces the full rule leaves open at vertices on the axis (a cube
+         * spun about its diagonal), at the price of that blind spot. */
+        if (c->bounding_only && c->vstamp[t] != vs)
             continue;
         for (int q = 0; q < 4; q++) {
             int64_t ic = c->tcurves[4 * t + q];
@@ -1217,16 +1240,28 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
             const sw_curve *cv = &c->curves[ic];
             if (cv->rmax < ra || cv->rmin > rb || cv->zmax < za || cv->zmin > zb)
                 continue;
-            int ncr = 0;
-            double us[8];
+            int ncr = 0, nd = 0;
+            double us[8], pts[8][2];
             for (int sd = 0; sd < 4; sd++) {
                 int rside;
                 double val, lo, hi, pos[2], uu[2];
                 side_geom(c, L->ix, L->iz, s, sd, &rside, &val, &lo, &hi);
                 int m = curve_side(cv, rside, val, lo, hi, pos, uu);
-                for (int j = 0; j < m && ncr < 8; j++)
-                    us[ncr++] = uu[j];
+                for (int j = 0; j < m && ncr < 8; j++) {
+                    double pr = rside ? val : pos[j], pz = rside ? pos[j] : val;
+                    int dup = 0;
+                    for (int q2 = 0; q2 < nd; q2++)
+                        dup |= fabs(pts[q2][0] - pr) <= peps && fabs(pts[q2][1] - pz) <= peps;
+                    if (!dup) {
+                        pts[nd][0] = pr;
+                        pts[nd][1] = pz;
+                        us[nd++] = uu[j];
+                    }
+                    ncr++;
+                }
             }
+            ncr = nd; /* a curve folded on its image (a horizontal edge) meets a side
+                         twice at one point */
             int end_in = 0;
             for (int e = 0; e < 2; e++) {
                 double u = (double)e;
@@ -1244,13 +1279,22 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
                 return ctx_nomem(c);
             c->leaf_curves[c->nleaf_curves++] = ic;
             L->cn++;
-            npass++;
-            if (npass == 1) {
+            /* curves with one image (the edges of a face perpendicular to the axis, a
+             * silhouette along an edge) cut the cell along one chord: one group */
+            int same_chord = npass > 0 && ncross_split == 2 && !end_in && ncr == 2 &&
+                             ((fabs(pts[0][0] - split_p[0][0]) <= peps && fabs(pts[0][1] - split_p[0][1]) <= peps &&
+                               fabs(pts[1][0] - split_p[1][0]) <= peps && fabs(pts[1][1] - split_p[1][1]) <= peps) ||
+                              (fabs(pts[0][0] - split_p[1][0]) <= peps && fabs(pts[0][1] - split_p[1][1]) <= peps &&
+                               fabs(pts[1][0] - split_p[0][0]) <= peps && fabs(pts[1][1] - split_p[0][1]) <= peps));
+            if (!same_chord)
+                npass++;
+            if (npass == 1 && !same_chord) {
                 L->split_curve = ic;
                 ncross_split = end_in ? -1 : ncr;
                 if (ncr == 2) {
                     split_u[0] = us[0];
                     split_u[1] = us[1];
+                    memcpy(split_p, pts, sizeof split_p);
                 }
             }
             /* star: the curve must end at the vertex image and leave the cell once */
@@ -1532,7 +1576,8 @@ static int sub_side(sw_ctx *c, const sw_leaf *L, int64_t ax, int64_t az, int64_t
         }
     }
 #endif
-    double eps = 1e-12 * (fabs(hi) + fabs(lo) + c->h);
+    /* the same merge distance as analyse_cell's chord test */
+    double eps = 1e-9 * (hi - lo) + 1e-12 * (fabs(hi) + fabs(lo) + fabs(val));
     double last = dirn > 0 ? lo : -hi;
     (void)last;
     double prev = -INFINITY;
@@ -1767,12 +1812,17 @@ static int build_polygons(sw_ctx *c)
         int kind = L->kind;
         if (kind == LEAF_SPLIT) {
             int64_t at[2], m = 0;
-            for (int64_t i = 0; i < nloop && m <= 2; i++)
-                if (c->v2[loop[i]].curve == L->split_curve) {
+            for (int64_t i = 0; i < nloop && m <= 2; i++) {
+                const sw_vtx2 *w = &c->v2[loop[i]];
+                int on = 0;
+                for (int j = 0; j < w->ncurves; j++)
+                    on |= w->curves[j] == L->split_curve;
+                if (on) {
                     if (m < 2)
                         at[m] = i;
                     m++;
                 }
+            }
             if (m != 2) {
                 kind = LEAF_FAN;
             } else {
@@ -2987,6 +3037,7 @@ static void ctx_free(sw_ctx *c)
     free(c->xtri);
     free(c->xentry);
     free(c->arcs);
+    free(c->xpool);
     free(c->leaves);
     free(c->leaf_curves);
     hmap_free(&c->corners);
@@ -3025,6 +3076,7 @@ static void reset_attempt(sw_ctx *c, sw_out *o)
     c->ox = NULL; c->nout = c->capout = 0;
     c->otri = NULL; c->notri = c->capotri = 0;
     c->narcs = 0;
+    c->nxpool = 0;
     o->phi = NULL;
     o->capphi = 0;
 }
@@ -3104,6 +3156,7 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
             reset_attempt(&c, &o);
         double ext = fmax(rmax, zmax - zmin);
         c.quantum = ldexp(ext, -40);
+        c.bounding_only = attempt >= 2;
         double S0 = 0.5 * ext * grid_scale[attempt];
         double hmin = 0.25 * tolerance;
         int lmax = 0;
@@ -3121,8 +3174,28 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
             ok = hmap_init(&c.outmap, 1024) && hmap_init(&o.lifts, 1024) ? 1 : ctx_nomem(&c);
         if (ok)
             ok = build_walls(&c, &o) && cancel_twins(&c) && resolve_pinches(&c, &o);
+#ifdef MFG_SWEEP_DEBUG
+        if (getenv("SWSTATS")) {
+            int64_t kinds[5] = {0, 0, 0, 0, 0}, empty = 0;
+            for (int64_t i = 0; i < c.nleaves; i++) {
+                kinds[c.leaves[i].kind]++;
+                empty += c.leaves[i].empty;
+            }
+            if (getenv("SWLEAVES"))
+                for (int64_t i = 0; i < c.nleaves; i++) {
+                    const sw_leaf *L = &c.leaves[i];
+                    int64_t sz = (int64_t)1 << (c.lmax - L->level);
+                    fprintf(stderr, "leaf r[%.4f %.4f] z[%.4f %.4f] kind %d cn %lld split %lld\n", grid_r(&c, L->ix), grid_r(&c, L->ix + sz), grid_z(&c, L->iz), grid_z(&c, L->iz + sz), L->kind, (long long)L->cn, (long long)L->split_curve);
+                }
+            fprintf(stderr, "attempt %d lmax %d leaves %lld (clean %lld split %lld star %lld fan %lld; empty %lld) polys %lld v2 %lld out %lld tris %lld\n", attempt, c.lmax, (long long)c.nleaves, (long long)kinds[0], (long long)kinds[1], (long long)kinds[2], (long long)kinds[3], (long long)empty, (long long)c.npolys, (long long)c.nv2, (long long)c.nout, (long long)c.notri);
+        }
+#endif
         if (ok) {
             mfg_status cs = mfg_mesh_check_closed(c.ox, c.nout, c.otri, c.notri, &rep);
+#ifdef MFG_SWEEP_DEBUG
+            if (getenv("SWNOVALID"))
+                cs = MFG_OK;
+#endif
             if (cs == MFG_OK) {
                 valid = 1;
             } else {
