@@ -140,18 +140,24 @@ def test_box_about_an_edge(tmp_path, box_stl, out_name, extra):
     assert doc["input_triangles"] == 12 and doc["input_vertices"] == 8
     assert doc["angle_deg"] == 90 and doc["tolerance"] == tol
     assert set(doc["time_s"]) == {"read", "sweep", "write"}
-    v, t = meshio.read_mesh(out)
-    rep = core.mesh_check(v, t, require_closed=True)
-    assert len(t) == doc["triangles"]
-    if out_name.endswith(".obj") or extra:       # text: float64 exact
-        assert len(v) == doc["vertices"]
-        assert rep.volume == pytest.approx(doc["volume"], rel=1e-12)
-    else:                                        # binary STL: float32 coordinates
-        assert rep.volume == pytest.approx(doc["volume"], rel=1e-6)
-    assert np.allclose(np.array(doc["bbox"]), rep.bbox, atol=1e-6)
     ref = core.rotational_sweep(*box_mesh((0, 0, 0), (A, B, C)), (0, 0, 0), (0, 0, 1),
                                 theta, tol)
     assert doc["volume"] == pytest.approx(ref.volume, rel=1e-12)
+    assert (doc["vertices"], doc["triangles"]) == (len(ref.vertices), len(ref.triangles))
+    v, t = meshio.read_mesh(out)
+    rep = core.mesh_check(v, t, require_closed=True)
+    assert len(t) == doc["triangles"]
+    if out_name.endswith(".obj"):                # the very same arrays
+        assert np.array_equal(v, ref.vertices) and np.array_equal(t, ref.triangles)
+    elif extra:                                  # ASCII STL: float64 exact, welded
+        # the used vertices, those at the same place (copies) as one
+        assert len(v) == len(np.unique(ref.vertices[np.unique(ref.triangles)], axis=0))
+        assert np.array_equal(v[t], ref.vertices[ref.triangles])
+    else:                                        # binary STL: float32 coordinates
+        assert np.array_equal(v[t], ref.vertices[ref.triangles].astype(np.float32))
+    assert rep.volume == pytest.approx(doc["volume"], rel=1e-12 if extra or ".obj" in out_name
+                                       else 1e-6)
+    assert np.allclose(np.array(doc["bbox"]), rep.bbox, atol=1e-6)
 
 
 @needs_algorithm
