@@ -143,6 +143,13 @@ static void make_spherical(void)
     soff[NPOLY + 2] = k;
 }
 
+/* Rotational sweep: a 2 x 1 x 1 box turned about an edge by 90 deg, and about a skew axis
+ * through it by a full turn, at the coarsest tolerance (1: the fewest allocations, as each
+ * failing N reruns the whole call; still ~10^4 and ~1.4 10^3 allocations). */
+static const double box_xyz[24] = {0, 0, 0, 2, 0, 0, 0, 1, 0, 2, 1, 0, 0, 0, 1, 2, 0, 1, 0, 1, 1, 2, 1, 1};
+static const int64_t box_tri[36] = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                                    2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+
 /* ------------------------------------------------------------------------ */
 /* Cases: how to call, compare and release each entry point's output        */
 /* ------------------------------------------------------------------------ */
@@ -152,6 +159,10 @@ typedef union slot {
     void *ptr;
     uint8_t classes[NPTS];
     int64_t stats[4];
+    struct {
+        void *ptr; /* the mesh: the same place as ptr above */
+        mfg_sweep_stats stats;
+    } sweep;
 } slot;
 
 static void *const SENTINEL_PTR = (void *)&rng_state;
@@ -163,7 +174,7 @@ typedef struct acase {
     mfg_status (*call)(slot *out);
 } acase;
 
-enum { OUT_CLASSES, OUT_STATS, OUT_REGION, OUT_SPOLY, OUT_REGIONS };
+enum { OUT_CLASSES, OUT_STATS, OUT_REGION, OUT_SPOLY, OUT_REGIONS, OUT_SWEEP };
 
 static mfg_status call_classify(slot *o)
 {
@@ -208,6 +219,19 @@ static mfg_status call_min(slot *o)
     return mfg_min_intersection(sv, soff, skinds, NULL, NPOLY + 2, sweights, (mfg_regions **)&o->ptr);
 }
 
+static mfg_status call_sweep_edge(slot *o)
+{
+    static const double ap[3] = {0, 0, 0}, ad[3] = {0, 0, 1};
+    return mfg_rotational_sweep(box_xyz, 8, box_tri, 12, ap, ad, M_PI / 2, 1.0, (mfg_mesh **)&o->sweep.ptr,
+                                &o->sweep.stats);
+}
+static mfg_status call_sweep_skew(slot *o)
+{
+    static const double ap[3] = {1, 0.5, 0.5}, ad[3] = {0.3, -0.2, 1};
+    return mfg_rotational_sweep(box_xyz, 8, box_tri, 12, ap, ad, 2 * M_PI, 1.0, (mfg_mesh **)&o->sweep.ptr,
+                                &o->sweep.stats);
+}
+
 static const acase CASES[] = {
     {"mfg_classify_points", OUT_CLASSES, call_classify},
     {"mfg_region_new", OUT_REGION, call_region_new},
@@ -221,15 +245,21 @@ static const acase CASES[] = {
     {"mfg_max_intersection", OUT_REGIONS, call_max},
     {"mfg_level_regions", OUT_REGIONS, call_level},
     {"mfg_min_intersection", OUT_REGIONS, call_min},
+    {"mfg_rotational_sweep (box about an edge)", OUT_SWEEP, call_sweep_edge},
+    {"mfg_rotational_sweep (skew axis, full turn)", OUT_SWEEP, call_sweep_skew},
 };
 #define NCASES (sizeof CASES / sizeof CASES[0])
 
 static void reset(const acase *c, slot *o)
 {
-    if (c->kind == OUT_CLASSES || c->kind == OUT_STATS)
+    if (c->kind == OUT_CLASSES || c->kind == OUT_STATS) {
         memset(o, SENTINEL_BYTE, sizeof *o);
-    else
+    } else if (c->kind == OUT_SWEEP) {
+        memset(&o->sweep.stats, SENTINEL_BYTE, sizeof o->sweep.stats);
+        o->sweep.ptr = SENTINEL_PTR;
+    } else {
         o->ptr = SENTINEL_PTR;
+    }
 }
 
 static int untouched(const acase *c, const slot *o)
@@ -240,6 +270,12 @@ static int untouched(const acase *c, const slot *o)
             if (b[i] != SENTINEL_BYTE)
                 return 0;
         return 1;
+    }
+    if (c->kind == OUT_SWEEP) {
+        const uint8_t *b = (const uint8_t *)&o->sweep.stats;
+        for (size_t i = 0; i < sizeof o->sweep.stats; i++)
+            if (b[i] != SENTINEL_BYTE)
+                return 0;
     }
     return o->ptr == SENTINEL_PTR;
 }
@@ -279,6 +315,13 @@ static int same(const acase *c, const slot *got, const slot *ref)
         return a->kind == b->kind && a->closed == b->closed && a->nvertices == b->nvertices &&
                !memcmp(a->vertices, b->vertices, (size_t)a->nvertices * 3 * sizeof(double));
     }
+    case OUT_SWEEP: {
+        const mfg_mesh *a = got->sweep.ptr, *b = ref->sweep.ptr;
+        return a->nvertices == b->nvertices && a->ntriangles == b->ntriangles &&
+               !memcmp(a->vertices, b->vertices, (size_t)a->nvertices * 3 * sizeof(double)) &&
+               !memcmp(a->triangles, b->triangles, (size_t)a->ntriangles * 3 * sizeof(int64_t)) &&
+               !memcmp(&got->sweep.stats, &ref->sweep.stats, sizeof got->sweep.stats);
+    }
     default: return same_regions(got->ptr, ref->ptr);
     }
 }
@@ -291,6 +334,8 @@ static void release(const acase *c, slot *o)
         mfg_spoly_free(o->ptr);
     else if (c->kind == OUT_REGIONS)
         mfg_regions_free(o->ptr);
+    else if (c->kind == OUT_SWEEP)
+        mfg_mesh_free(o->sweep.ptr);
 }
 
 /* ------------------------------------------------------------------------ */

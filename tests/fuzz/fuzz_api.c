@@ -11,9 +11,9 @@
  * or 2^59 and more): those the library must reject before reading through them.  So
  * every sanitizer report is the library's fault.
  *
- * Input: three sections read one after the other (every read past the end gives zero
- * bytes): planar rings + points, normals, spherical sets.  Each section starts with a
- * flags byte; counts and offsets use rd_count / rd_offsets below.
+ * Input: four sections read one after the other (every read past the end gives zero
+ * bytes): planar rings + points, normals, spherical sets, a rotational sweep.  Each
+ * section starts with a flags byte; counts and offsets use rd_count / rd_offsets below.
  *
  * Checked (failure -> __builtin_trap):
  *  - every status is MFG_OK or an error with a non-empty mfg_last_error(); never
@@ -25,7 +25,8 @@
  *  - results are well formed (classes, region stats, kinds and vertex counts, unit
  *    vectors, offsets, cover indices, margins) and free cleanly; a prepared region
  *    answers like the one-shot call; every vertex of a visibility map sees every normal
- *    (d . p >= sin(draft) up to rounding); a maximum's weight is its cover's weight.
+ *    (d . p >= sin(draft) up to rounding); a maximum's weight is its cover's weight;
+ *  - rotational sweep (tiny meshes, coarse tolerances): see fuzz_sweep.
  */
 
 #include <math.h>
@@ -554,6 +555,230 @@ static void fuzz_sphere(reader *r)
     }
 }
 
+/* ------------------------------------------------------------------------ */
+/* Rotational sweep                                                         */
+/* ------------------------------------------------------------------------ */
+
+#define SW_VERTS 12
+#define SW_TRIS 24
+
+/* Box corners k = (x: bit 0, y: bit 1, z: bit 2); 12 triangles, outward. */
+static const int64_t SW_BOX[36] = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                                   2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+/* Octahedron: vertices +x, -x, +y, -y, +z, -z; 8 triangles, outward. */
+static const int64_t SW_OCTA[24] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+
+static double small_coord(reader *r) { return (double)(int8_t)rd_u8(r) * (1.0 / 32); }
+
+/*
+ * A small mesh (at most 12 vertices, 24 triangles: the sweep of a tiny mesh at a coarse
+ * tolerance takes milliseconds), an axis, an angle and a tolerance.  The mesh is either
+ * generated (a box, a box with its corners moved, a tetrahedron, a star-shaped
+ * octahedron: closed, or zero-volume when degenerate) and then maybe damaged (a triangle
+ * dropped, flipped, repeated; an index out of range), or raw bytes.  The tolerance is
+ * never below 1/8 of the input's extent about the axis point.
+ * Checked: structurally invalid arguments are refused (never with NOMEM for impossible
+ * counts); otherwise the sweep refuses exactly the meshes mfg_mesh_check_closed refuses,
+ * with the same status; a result is a closed solid (mfg_mesh_check_closed accepts it)
+ * whose stats are its own, whose volume is at least the input's and at most that of the
+ * cylinder about the axis holding every turned input (widened by the tolerance).
+ */
+static void fuzz_sweep(reader *r)
+{
+    g_where = "mfg_rotational_sweep";
+    uint8_t flags = rd_u8(r);
+    int hostile = 0, structural = 0;
+    static double xyz[3 * SW_VERTS];
+    static int64_t tri[3 * SW_TRIS];
+    memset(xyz, 0, sizeof xyz);
+    memset(tri, 0, sizeof tri);
+    int64_t nv, nt;
+    int kind = flags & 7;
+    if (kind < 5) { /* generated */
+        if (kind <= 1) { /* a box; kind 1: corners moved */
+            double lo[3], hi[3];
+            for (int c = 0; c < 3; c++) {
+                lo[c] = small_coord(r);
+                hi[c] = lo[c] + (double)(rd_u8(r) % 64) * (1.0 / 32);
+            }
+            for (int k = 0; k < 8; k++)
+                for (int c = 0; c < 3; c++)
+                    xyz[3 * k + c] = ((k >> c) & 1 ? hi[c] : lo[c]) + (kind == 1 ? small_coord(r) / 8 : 0.0);
+            memcpy(tri, SW_BOX, sizeof SW_BOX);
+            nv = 8;
+            nt = 12;
+        } else if (kind == 2) { /* a tetrahedron, turned outward */
+            for (int k = 0; k < 12; k++)
+                xyz[k] = small_coord(r);
+            double a[3], b[3], c[3];
+            for (int i = 0; i < 3; i++) {
+                a[i] = xyz[3 + i] - xyz[i];
+                b[i] = xyz[6 + i] - xyz[i];
+                c[i] = xyz[9 + i] - xyz[i];
+            }
+            double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                         a[2] * (b[0] * c[1] - b[1] * c[0]);
+            static const int64_t T[12] = {0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2};
+            memcpy(tri, T, sizeof T);
+            if (det < 0) /* small multiples of 1/32: det is exact, its sign true */
+                for (int t = 0; t < 4; t++) {
+                    int64_t x = tri[3 * t + 1];
+                    tri[3 * t + 1] = tri[3 * t + 2];
+                    tri[3 * t + 2] = x;
+                }
+            nv = 4;
+            nt = 4;
+        } else { /* an octahedron with its own radius per vertex (star-shaped) */
+            double centre[3] = {small_coord(r), small_coord(r), small_coord(r)};
+            for (int k = 0; k < 6; k++) {
+                double rad = (double)(1 + rd_u8(r) % 64) * (1.0 / 32);
+                for (int c = 0; c < 3; c++)
+                    xyz[3 * k + c] = centre[c] + (c == k / 2 ? (k % 2 ? -rad : rad) : 0.0);
+            }
+            memcpy(tri, SW_OCTA, sizeof SW_OCTA);
+            nv = 6;
+            nt = 8;
+        }
+        uint8_t damage = rd_u8(r);
+        if (damage >= 0xC0) {
+            int64_t t = rd_u8(r) % nt;
+            switch (damage & 3) {
+            case 0: /* dropped: the last triangle takes its place */
+                memcpy(tri + 3 * t, tri + 3 * (nt - 1), 3 * sizeof *tri);
+                nt--;
+                break;
+            case 1: { /* flipped */
+                int64_t x = tri[3 * t + 1];
+                tri[3 * t + 1] = tri[3 * t + 2];
+                tri[3 * t + 2] = x;
+                break;
+            }
+            case 2: /* repeated */
+                memcpy(tri + 3 * nt, tri + 3 * t, 3 * sizeof *tri);
+                nt++;
+                break;
+            default: /* an index out of range */
+                tri[3 * t + rd_u8(r) % 3] = (damage & 4) ? nv : -1;
+                structural = 1;
+            }
+        }
+    } else { /* raw: counts, coordinates and indices from the input */
+        nv = rd_count(r, SW_VERTS, &hostile);
+        nt = rd_count(r, SW_TRIS, &hostile);
+        int64_t mv = nv >= 0 && nv <= SW_VERTS ? nv : SW_VERTS, mt = nt >= 0 && nt <= SW_TRIS ? nt : SW_TRIS;
+        for (int64_t k = 0; k < 3 * mv; k++)
+            xyz[k] = rd_coord(r, kind == 5 ? 0 : flags >> 6);
+        for (int64_t k = 0; k < 3 * mt; k++) {
+            uint8_t b = rd_u8(r);
+            tri[k] = b >= 0xF8 ? (int64_t[]){-1, INT64_MIN, INT64_MAX, SW_VERTS, mv, mv + 1, -2, 1 << 20}[b - 0xF8]
+                               : (int64_t)(b % (mv ? mv : 1));
+        }
+        structural |= hostile;
+        if (!hostile) {
+            for (int64_t k = 0; k < 3 * nv; k++)
+                structural |= !coord_ok(xyz[k]);
+            for (int64_t k = 0; k < 3 * nt; k++)
+                structural |= tri[k] < 0 || tri[k] >= nv;
+        }
+    }
+
+    double ap[3], ad[3];
+    uint8_t axis_mode = rd_u8(r);
+    for (int c = 0; c < 3; c++) {
+        ap[c] = axis_mode & 1 ? rd_coord(r, 2) : small_coord(r);
+        ad[c] = axis_mode & 2 ? rd_coord(r, 2) : small_coord(r);
+    }
+    if (axis_mode & 4) { /* an axis through a vertex or along an edge */
+        int64_t a = tri[0] >= 0 && tri[0] < SW_VERTS ? tri[0] : 0, b = tri[1] >= 0 && tri[1] < SW_VERTS ? tri[1] : 0;
+        for (int c = 0; c < 3; c++) {
+            ap[c] = xyz[3 * a + c];
+            if (axis_mode & 8)
+                ad[c] = xyz[3 * b + c] - xyz[3 * a + c];
+        }
+    }
+    for (int c = 0; c < 3; c++)
+        structural |= !coord_ok(ap[c]) || !coord_ok(ad[c]);
+    structural |= ad[0] == 0 && ad[1] == 0 && ad[2] == 0;
+    uint8_t ab = rd_u8(r);
+    static const double ANGLES[] = {0.0, -0.0, -1.0, NAN, INFINITY, 2 * M_PI, 2 * M_PI + 0.5e-12,
+                                    2 * M_PI + 2e-12, 2 * M_PI - 0.5e-12, 1e-300, 1e-9, M_PI};
+    double angle = ab >= 0xF0 ? ANGLES[(ab - 0xF0) % (sizeof ANGLES / sizeof ANGLES[0])]
+                              : (double)(ab + 1) * (2 * M_PI / 0xF0);
+    structural |= !(angle > 0) || !(angle <= 2 * M_PI + 1e-12);
+    uint8_t tb = rd_u8(r);
+    static const double BAD_TOLS[] = {0.0, -0.0, -1.0, NAN, INFINITY, 1e-300, 1e300, -INFINITY};
+    double tol = tb >= 0xF8 ? BAD_TOLS[tb - 0xF8] : 0.0;
+    structural |= tb >= 0xF8;
+    if (tb < 0xF8 && !structural) {
+        /* a coarse tolerance: 1/8 .. 1 of the input's extent about the axis point (and
+         * never tiny against the coordinates), so no input runs long (a sweep at 1/64 took
+         * seconds in this build) */
+        double ext = 0;
+        for (int64_t k = 0; k < nv; k++)
+            for (int c = 0; c < 3; c++)
+                ext = fmax(ext, fabs(xyz[3 * k + c] - ap[c]));
+        tol = fmax(ext, 1e-3) * (double)(4 + tb % 29) * (1.0 / 32);
+        structural |= !coord_ok(tol);
+    } else if (tb < 0xF8) {
+        tol = 0.1;
+    }
+    uint8_t nulls = (flags & 8) ? rd_u8(r) : 0;
+    const double *xyzp = (nulls & 1) ? NULL : xyz, *app = (nulls & 4) ? NULL : ap, *adp = (nulls & 8) ? NULL : ad;
+    const int64_t *trip = (nulls & 2) ? NULL : tri;
+    structural |= (nulls & 1 && nv > 0) || (nulls & 2 && nt > 0) || (nulls & 4) || (nulls & 8) || (nulls & 16);
+
+    /* what the mesh check says of the mesh (when the arguments are otherwise sound) */
+    mfg_status closed = MFG_ERR_INVALID;
+    mfg_mesh_report in_rep;
+    memset(&in_rep, 0, sizeof in_rep);
+    if (!structural)
+        closed = mfg_mesh_check_closed(xyzp, nv, trip, nt, &in_rep);
+
+    mfg_mesh *sentinel = (mfg_mesh *)(uintptr_t)&sentinel, *res = sentinel;
+    mfg_sweep_stats stats;
+    memset(&stats, SENTINEL, sizeof stats);
+    mfg_sweep_stats *statsp = (nulls & 32) ? NULL : &stats;
+    mfg_status st = mfg_rotational_sweep(xyzp, nv, trip, nt, app, adp, angle, tol, (nulls & 16) ? NULL : &res, statsp);
+    check_status(st);
+    if (structural)
+        CHECK(st != MFG_OK, "a structurally invalid input was accepted");
+    if (hostile)
+        CHECK(st != MFG_ERR_NOMEM, "an impossible count reported as out of memory");
+    if (!structural)
+        CHECK(st == closed || st == MFG_ERR_NOMEM, "the sweep and mfg_mesh_check_closed disagree on the mesh");
+    if (st != MFG_OK) {
+        CHECK(res == sentinel, "out_mesh written on failure");
+        CHECK(untouched((const uint8_t *)&stats, sizeof stats), "out_stats written on failure");
+        return;
+    }
+    CHECK(res != NULL && res != sentinel, "no mesh returned");
+    mfg_mesh_report rep;
+    mfg_status rst = mfg_mesh_check_closed(res->vertices, res->nvertices, res->triangles, res->ntriangles, &rep);
+    CHECK(rst == MFG_OK, "the result is not a closed, outward oriented solid");
+    if (statsp) {
+        CHECK(fabs(stats.volume - rep.volume) <= 1e-9 * fabs(rep.volume), "stats volume is not the mesh's");
+        CHECK(fabs(stats.area - rep.area) <= 1e-9 * rep.area, "stats area is not the mesh's");
+        CHECK(memcmp(stats.bbox, rep.bbox, sizeof stats.bbox) == 0, "stats bbox is not the mesh's");
+    }
+    /* R(0) O lies in SV; SV lies in the cylinder about the axis through the farthest
+     * vertex, between the input's extreme heights */
+    CHECK(rep.volume >= in_rep.volume * (1 - 1e-9), "the result holds less volume than the input");
+    double u[3];
+    unit_of(ad, u);
+    double rmax = 0, hmin = INFINITY, hmax = -INFINITY;
+    for (int64_t k = 0; k < nv; k++) {
+        double v[3] = {xyz[3 * k] - ap[0], xyz[3 * k + 1] - ap[1], xyz[3 * k + 2] - ap[2]};
+        double h = v[0] * u[0] + v[1] * u[1] + v[2] * u[2];
+        double r2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - h * h;
+        rmax = fmax(rmax, sqrt(fmax(r2, 0)));
+        hmin = fmin(hmin, h);
+        hmax = fmax(hmax, h);
+    }
+    double cyl = M_PI * (rmax + 2 * tol) * (rmax + 2 * tol) * (hmax - hmin + 4 * tol);
+    CHECK(rep.volume <= cyl * (1 + 1e-9), "the result is larger than the cylinder holding every turned input");
+    mfg_mesh_free(res);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     reader rd = {data, size};
@@ -565,5 +790,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         fuzz_visibility(&rd);
     if (!(which & 4))
         fuzz_sphere(&rd);
+    /* the sweep section runs only when asked (bit 8): older seeds keep their meaning */
+    if (which & 8)
+        fuzz_sweep(&rd);
     return 0;
 }

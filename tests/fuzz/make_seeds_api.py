@@ -54,6 +54,32 @@ def sphere_raw_offsets(nsets, sizes, corrupt):
     return out + bytes([3] * nsets)
 
 
+RUN_SWEEP = 8
+
+
+def sc(v):                          # the sweep's small coordinates: int8 / 32
+    return struct.pack("b", int(round(v * 32)))
+
+
+def sweep(kind=0, shape=b"", damage=b"\x00", axis_mode=0, point=(0, 0, 0), direction=(0, 0, 1),
+          angle_byte=59, tol_byte=0):
+    """The sweep section: generated mesh `kind` (0 box, 1 moved box, 2 tetrahedron,
+    3-4 octahedron; 5-7 raw), its bytes, damage, axis, angle (byte b: (b + 1) 2 pi / 240,
+    0xF0 and up: special values) and tolerance ((4 + byte % 29) / 32 of the extent)."""
+    out = bytes([kind]) + shape + damage + bytes([axis_mode])
+    for c in range(3):
+        out += sc(point[c]) + sc(direction[c])
+    return out + bytes([angle_byte, tol_byte])
+
+
+def box(lo, size):                  # lo corner and edge lengths (multiples of 1/32, < 2)
+    return b"".join(sc(lo[c]) + bytes([int(round(size[c] * 32))]) for c in range(3))
+
+
+def sweep_seed(section):
+    return bytes([SKIP_PC | SKIP_VM | SKIP_SPH | RUN_SWEEP]) + section
+
+
 def seeds():
     sq = [(0, 0), (8, 0), (8, 8), (0, 8)]
     hole = [(2, 2), (2, 6), (6, 6), (6, 2)]
@@ -97,6 +123,35 @@ def seeds():
         "0dHR0dFDQ0NDQ0NDQ0NDQwCgoloABAAARC3IpT2AAAAACAQAAC2iWkQLyKVa")
     yield "all_sections", (b"\x00" + planar([sq], pts) + normals_around(6)
                            + sphere_generated([3, 3, 2]))
+    # rotational sweep: a 1.875 x 1 x 1 box about its edge on the z axis by 90 deg
+    b = box((0, 0, 0), (1.875, 1, 1))
+    yield "sw_box_edge_90", sweep_seed(sweep(0, b, angle_byte=59))
+    # the unit cube about its long diagonal, a full turn (angle 0xF5: 2 pi)
+    yield "sw_cube_diagonal_full", sweep_seed(sweep(0, box((0, 0, 0), (1, 1, 1)), direction=(1, 1, 1),
+                                                    angle_byte=0xF5, tol_byte=4))
+    # a box off the axis, 300 deg; a box with moved corners about an axis through a vertex
+    yield "sw_box_off_axis_300", sweep_seed(sweep(0, box((1, 0.5, 0), (1, 1, 1)), angle_byte=199))
+    yield "sw_moved_box_vertex_axis", sweep_seed(sweep(1, b + bytes((7 * i) % 23 for i in range(24)),
+                                                       axis_mode=4, direction=(0.25, 0.5, 1), angle_byte=80))
+    # a tetrahedron about a skew axis, 1.5 deg; a star-shaped octahedron along an edge
+    tet = b"".join(sc(v) for v in (0, 0, 0, 1, 0, 0, 0, 1, 0, 0.25, 0.5, 1))
+    yield "sw_tetra_small_angle", sweep_seed(sweep(2, tet, point=(0.5, -1, 0), direction=(1, 0.5, 0.25), angle_byte=0))
+    octa = sc(0.5) + sc(0.25) + sc(0) + bytes([32, 16, 40, 8, 24, 48])
+    yield "sw_octa_edge_axis", sweep_seed(sweep(3, octa, axis_mode=4 | 8, angle_byte=150, tol_byte=8))
+    # found by fuzzing: the 1.875 x 1 x 1 box about its long diagonal by 97.5 deg (tol 0.47):
+    # MFG_ERR_INTERNAL, the swept surface not closed (713 boundary edges); any partial turn
+    yield "sw_box_long_diagonal_97deg", sweep_seed(sweep(0, b, direction=(1.875, 1, 1), angle_byte=64, tol_byte=4))
+    # refused meshes: open (a triangle dropped), flipped, a repeated triangle
+    yield "sw_open_box", sweep_seed(sweep(0, b, damage=bytes([0xC0, 3])))
+    yield "sw_flipped_triangle", sweep_seed(sweep(0, b, damage=bytes([0xC1, 5])))
+    yield "sw_nonmanifold_edge", sweep_seed(sweep(0, b, damage=bytes([0xC2, 7])))
+    # refused arguments: NaN angle, 2 pi + 2e-12, zero axis direction, tolerance NaN,
+    # impossible counts in the raw mesh
+    yield "sw_nan_angle", sweep_seed(sweep(0, b, angle_byte=0xF3))
+    yield "sw_angle_past_full", sweep_seed(sweep(0, b, angle_byte=0xF7))
+    yield "sw_zero_axis", sweep_seed(sweep(0, b, direction=(0, 0, 0)))
+    yield "sw_nan_tolerance", sweep_seed(sweep(0, b, tol_byte=0xFB))
+    yield "sw_raw_huge_counts", sweep_seed(bytes([5, 0xF0 + INT64_MAX, 0xF0 + INT64_MIN_PLUS_2]))
 
 
 def main():
