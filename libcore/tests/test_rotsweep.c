@@ -487,6 +487,18 @@ static int degenerate_tri(const double *a, const double *b, const double *c)
 }
 
 static const double *sort_box; /* for cmp_low_x: the triangles' boxes */
+static const double *sort_xyz; /* for cmp_xyz: the vertices */
+
+static int cmp_xyz(const void *pa, const void *pb)
+{
+    int64_t a = *(const int64_t *)pa, b = *(const int64_t *)pb;
+    for (int c = 0; c < 3; c++) {
+        double xa = sort_xyz[3 * a + c], xb = sort_xyz[3 * b + c];
+        if (xa != xb)
+            return xa < xb ? -1 : 1;
+    }
+    return (a > b) - (a < b);
+}
 
 static int cmp_low_x(const void *pa, const void *pb)
 {
@@ -502,9 +514,28 @@ static int cmp_low_x(const void *pa, const void *pb)
  * Returns the number of bad pairs; prints the first. */
 static long self_intersections(const mfg_mesh *m, const char *name)
 {
-    int64_t nt = m->ntriangles;
+    int64_t nt = m->ntriangles, nv = m->nvertices;
     const double *V = m->vertices;
-    const int64_t *T = m->triangles;
+    /* vertices at the same point count as one: copies of a vertex where two sheets of SV
+     * touch (a pinch) are then a shared vertex, not an intersection */
+    int64_t *byxyz = malloc((size_t)(nv + 1) * sizeof *byxyz), *canon = malloc((size_t)(nv + 1) * sizeof *canon);
+    for (int64_t v = 0; v < nv; v++)
+        byxyz[v] = v;
+    sort_xyz = V;
+    qsort(byxyz, (size_t)nv, sizeof *byxyz, cmp_xyz);
+    long copies = 0;
+    for (int64_t i = 0; i < nv; i++) {
+        int same = i > 0 && !memcmp(V + 3 * byxyz[i], V + 3 * byxyz[i - 1], 3 * sizeof *V);
+        canon[byxyz[i]] = same ? canon[byxyz[i - 1]] : byxyz[i];
+        copies += same;
+    }
+    int64_t *T = malloc((size_t)(3 * nt + 1) * sizeof *T);
+    for (int64_t i = 0; i < 3 * nt; i++)
+        T[i] = canon[m->triangles[i]];
+    free(byxyz);
+    free(canon);
+    if (copies)
+        printf("  note %s: %ld vertices repeat another's coordinates\n", name, copies);
     double *box = malloc((size_t)(6 * nt + 1) * sizeof *box);
     unsigned char *deg = calloc((size_t)nt + 1, 1);
     for (int64_t t = 0; t < nt; t++) {
@@ -604,6 +635,7 @@ static long self_intersections(const mfg_mesh *m, const char *name)
     free(order);
     free(box);
     free(deg);
+    free(T);
     return bad;
 }
 
@@ -1005,6 +1037,15 @@ static double run_case(const sweep_case *c)
             printf("  true %.10g  rel. error %+.2e  (tol*area/V %.1e)", c->volume, rel,
                    c->tol * o.stats.area / c->volume);
         printf("\n");
+        /* about an axis parallel to the extrusion SV spans exactly the prism's heights,
+         * and its caps are the input's caps turned: planar and exact */
+        if (!memcmp(&c->ps, &IDENTITY, sizeof IDENTITY) && c->ad[0] == 0 && c->ad[1] == 0) {
+            int exact = o.stats.bbox[2] == c->P.z0 && o.stats.bbox[5] == c->P.z1;
+            CHECK(exact);
+            if (!exact)
+                fprintf(stderr, "%s: the result spans z in [%.17g, %.17g], SV exactly [%g, %g]\n", c->name,
+                        o.stats.bbox[2], o.stats.bbox[5], c->P.z0, c->P.z1);
+        }
         if (c->oracle_points)
             check_oracle(c, o.mesh, o.stats.bbox);
         check_conservative(c->name, &in, c->ap, c->ad, c->angle, o.mesh, 300);
@@ -1168,23 +1209,23 @@ static void test_analytic(void)
     const double deg = M_PI / 180;
     sweep_case cases[] = {
         /* the axis along an edge of a 2 x 1 x 1.5 box: c (ab + (a^2 + b^2) theta / 2) */
-        rect_case("box about an edge, 1 deg", 0, 0, 2, 1, 1.5, 1 * deg, 1e-2, 0),
-        rect_case("box about an edge, 30 deg", 0, 0, 2, 1, 1.5, 30 * deg, 1e-2, 0),
-        rect_case("box about an edge, 90 deg", 0, 0, 2, 1, 1.5, 90 * deg, 1e-2, 0),
-        rect_case("box about an edge, 90 deg, tol 1e-3", 0, 0, 2, 1, 1.5, 90 * deg, 1e-3, 0),
-        rect_case("box about an edge, 180 deg", 0, 0, 2, 1, 1.5, 180 * deg, 1e-2, 0),
-        rect_case("box about an edge, 270 deg", 0, 0, 2, 1, 1.5, 270 * deg, 1e-2, 0),
-        rect_case("box about an edge, 300 deg", 0, 0, 2, 1, 1.5, 300 * deg, 1e-2, 0),
-        rect_case("box about an edge, 359 deg", 0, 0, 2, 1, 1.5, 359 * deg, 1e-2, 0),
-        rect_case("box about an edge, full turn", 0, 0, 2, 1, 1.5, TWO_PI, 1e-2, 0),
+        rect_case("box about an edge, 1 deg", 0, 0, 2, 1, 1.5, 1 * deg, 2e-2, 0),
+        rect_case("box about an edge, 30 deg", 0, 0, 2, 1, 1.5, 30 * deg, 2e-2, 0),
+        rect_case("box about an edge, 90 deg", 0, 0, 2, 1, 1.5, 90 * deg, 2e-2, 0),
+        rect_case("box about an edge, 90 deg, tol 5e-3", 0, 0, 2, 1, 1.5, 90 * deg, 5e-3, 0),
+        rect_case("box about an edge, 180 deg", 0, 0, 2, 1, 1.5, 180 * deg, 2e-2, 0),
+        rect_case("box about an edge, 270 deg", 0, 0, 2, 1, 1.5, 270 * deg, 2e-2, 0),
+        rect_case("box about an edge, 300 deg", 0, 0, 2, 1, 1.5, 300 * deg, 2e-2, 0),
+        rect_case("box about an edge, 359 deg", 0, 0, 2, 1, 1.5, 359 * deg, 2e-2, 0),
+        rect_case("box about an edge, full turn", 0, 0, 2, 1, 1.5, TWO_PI, 2e-2, 0),
         /* the axis outside the box, parallel to an edge */
-        rect_case("box off the axis, 45 deg", 1, 0.5, 2, 1.5, 1, 45 * deg, 1e-2, 0),
-        rect_case("box off the axis, 180 deg", 1, 0.5, 2, 1.5, 1, 180 * deg, 1e-2, 0),
-        rect_case("box off the axis, 330 deg", 1, 0.5, 2, 1.5, 1, 330 * deg, 1e-2, 0),
-        rect_case("box off the axis, full turn (a ring)", 1, 0.5, 2, 1.5, 1, TWO_PI, 1e-2, 0),
+        rect_case("box off the axis, 45 deg", 1, 0.5, 2, 1.5, 1, 45 * deg, 2e-2, 0),
+        rect_case("box off the axis, 180 deg", 1, 0.5, 2, 1.5, 1, 180 * deg, 2e-2, 0),
+        rect_case("box off the axis, 330 deg", 1, 0.5, 2, 1.5, 1, 330 * deg, 2e-2, 0),
+        rect_case("box off the axis, full turn (a ring)", 1, 0.5, 2, 1.5, 1, TWO_PI, 2e-2, 0),
         /* the axis in a face of the box (along the face x = 0): not in one quadrant, so
          * I(r) is two arcs for r > 1 and (4) does not apply: the oracle judges it */
-        rect_case("box with the axis in a face, 90 deg", 0, -0.5, 1, 0.5, 1, 90 * deg, 1e-2, 300),
+        rect_case("box with the axis in a face, 90 deg", 0, -0.5, 1, 0.5, 1, 90 * deg, 2e-2, 300),
     };
     int n = (int)(sizeof cases / sizeof cases[0]);
     cases[n - 1].volume = NAN;
@@ -1194,29 +1235,29 @@ static void test_analytic(void)
     /* Full turns of connected prisms about an axis parallel to the extrusion, by (3). */
     sweep_case c;
     /* a box holding the axis: [-1, 2] x [-0.5, 1] x [0, 1]: r_max = |(2, 1)| */
-    c = rect_case("box around the axis, full turn", -1, -0.5, 2, 1, 1, TWO_PI, 1e-2, 0);
+    c = rect_case("box around the axis, full turn", -1, -0.5, 2, 1, 1, TWO_PI, 2e-2, 0);
     c.volume = M_PI * 5;
     run_case(&c);
-    c = rect_case("box with the axis in a face, full turn", 0, -0.5, 1, 0.5, 1, TWO_PI, 1e-2, 0);
+    c = rect_case("box with the axis in a face, full turn", 0, -0.5, 1, 0.5, 1, TWO_PI, 2e-2, 0);
     c.volume = M_PI * 1.25;
     run_case(&c);
     /* the L of [0,3]x[0,1] U [0,1]x[0,3] (s = 0.5), height 1, axis through (0.25, 0.25):
      * inside the L, r_max = the farthest corner (1.5, 0.5) or (0.5, 1.5): |(1.25, 0.25)| */
     c = (sweep_case){.name = "L prism about an inner axis, full turn", .P = make_l(0.5, 0, 1), .ps = IDENTITY,
-                     .ap = {0.25, 0.25, 0}, .ad = {0, 0, 1}, .angle = TWO_PI, .tol = 1e-2,
+                     .ap = {0.25, 0.25, 0}, .ad = {0, 0, 1}, .angle = TWO_PI, .tol = 2e-2,
                      .volume = M_PI * (1.25 * 1.25 + 0.25 * 0.25), .oracle_points = 300};
     run_case(&c);
     /* the L about an axis outside it, through (2, 2): the nearest points are the arms'
      * ends' corners (1.5, 0.5) and (0.5, 1.5) at |(0.5, 1.5)|, the farthest (0, 0) at
      * |(2, 2)| */
     c = (sweep_case){.name = "L prism about an outer axis, full turn", .P = make_l(0.5, 0, 1), .ps = IDENTITY,
-                     .ap = {2, 2, 0}, .ad = {0, 0, -1}, .angle = TWO_PI, .tol = 1e-2,
+                     .ap = {2, 2, 0}, .ad = {0, 0, -1}, .angle = TWO_PI, .tol = 2e-2,
                      .volume = M_PI * (8 - 2.5), .oracle_points = 300};
     run_case(&c);
     /* a frame (square through-hole) about the hole's axis: a ring from the inner
      * half-width 0.5 to the outer corner |(1, 1)| */
     c = (sweep_case){.name = "frame about its hole's axis, full turn", .P = make_frame(0, 0, 1, 0.5, 0, 0.5),
-                     .ps = IDENTITY, .ap = {0, 0, 0}, .ad = {0, 0, 1}, .angle = TWO_PI, .tol = 1e-2,
+                     .ps = IDENTITY, .ap = {0, 0, 0}, .ad = {0, 0, 1}, .angle = TWO_PI, .tol = 2e-2,
                      .volume = 0.5 * M_PI * (2 - 0.25), .oracle_points = 300};
     run_case(&c);
     /* the same frame about an axis in its hole, off centre, through (0.2, -0.1): nearest
@@ -1237,10 +1278,10 @@ static void test_analytic(void)
     static const struct {
         const char *name;
         double angle, tol;
-    } diag[] = {{"cube about its long diagonal, full turn", TWO_PI, 1e-2},
-                {"cube about its long diagonal, full turn, tol 2e-3", TWO_PI, 2e-3},
-                {"cube about its long diagonal, 120 deg", TWO_PI / 3, 1e-2},
-                {"cube about its long diagonal, 200 deg", 200 * M_PI / 180, 1e-2}};
+    } diag[] = {{"cube about its long diagonal, full turn", TWO_PI, 2e-2},
+                {"cube about its long diagonal, full turn, tol 5e-3", TWO_PI, 5e-3},
+                {"cube about its long diagonal, 120 deg", TWO_PI / 3, 2e-2},
+                {"cube about its long diagonal, 200 deg", 200 * M_PI / 180, 2e-2}};
     for (size_t i = 0; i < sizeof diag / sizeof diag[0]; i++) {
         c = (sweep_case){.name = diag[i].name, .P = make_rect(0, 0, 1, 1, 0, 1), .ps = IDENTITY,
                          .ap = {0, 0, 0}, .ad = {1, 1, 1}, .angle = diag[i].angle, .tol = diag[i].tol,
@@ -1260,36 +1301,41 @@ static void test_oracle(void)
     /* a box about a skew axis through a vertex */
     c = (sweep_case){.name = "box about a skew axis through a vertex, 90 deg",
                      .P = make_rect(0, 0, 1.5, 1, 0, 0.75), .ps = IDENTITY, .ap = {0, 0, 0},
-                     .ad = {0.3, -0.4, 1}, .angle = 90 * deg, .tol = 1e-2, .volume = NAN, .oracle_points = 400};
+                     .ad = {0.3, -0.4, 1}, .angle = 90 * deg, .tol = 2e-2, .volume = NAN, .oracle_points = 400};
     run_case(&c);
     /* a box about an axis crossing it (through its interior, skew) */
     c = (sweep_case){.name = "box about a skew axis through it, 60 deg", .P = make_rect(-0.5, -0.3, 1, 0.7, -0.4, 0.6),
-                     .ps = IDENTITY, .ap = {0.1, 0.05, 0}, .ad = {1, 0.2, 0.3}, .angle = 60 * deg, .tol = 1e-2,
+                     .ps = IDENTITY, .ap = {0.1, 0.05, 0}, .ad = {1, 0.2, 0.3}, .angle = 60 * deg, .tol = 2e-2,
                      .volume = NAN, .oracle_points = 400};
     run_case(&c);
     /* a box about an axis far outside it, perpendicular to nothing */
     c = (sweep_case){.name = "box about a far skew axis, 45 deg", .P = make_rect(2, 0, 3, 0.5, 0, 0.8),
-                     .ps = IDENTITY, .ap = {0, 0, 0}, .ad = {0.2, 0.1, 1}, .angle = 45 * deg, .tol = 1e-2,
+                     .ps = IDENTITY, .ap = {0, 0, 0}, .ad = {0.2, 0.1, 1}, .angle = 45 * deg, .tol = 2e-2,
                      .volume = NAN, .oracle_points = 400};
     run_case(&c);
     /* the L bracket about a skew axis touching its edge */
     c = (sweep_case){.name = "L bracket about a skew axis, 90 deg", .P = make_l(0.5, 0, 0.6), .ps = IDENTITY,
-                     .ap = {1.5, 0, 0}, .ad = {0.2, 1, 0.5}, .angle = 90 * deg, .tol = 1e-2, .volume = NAN,
+                     .ap = {1.5, 0, 0}, .ad = {0.2, 1, 0.5}, .angle = 90 * deg, .tol = 2e-2, .volume = NAN,
                      .oracle_points = 400};
     run_case(&c);
     /* the L about an axis parallel to its extrusion through the reflex corner, 180 deg */
     c = (sweep_case){.name = "L bracket about its reflex edge, 180 deg", .P = make_l(0.5, 0, 0.6), .ps = IDENTITY,
-                     .ap = {0.5, 0.5, 0}, .ad = {0, 0, 1}, .angle = 180 * deg, .tol = 1e-2, .volume = NAN,
+                     .ap = {0.5, 0.5, 0}, .ad = {0, 0, 1}, .angle = 180 * deg, .tol = 2e-2, .volume = NAN,
                      .oracle_points = 400};
     run_case(&c);
     /* the frame about an axis perpendicular to its hole's, 1 deg and 359 deg */
     c = (sweep_case){.name = "frame about a crossing axis, 1 deg", .P = make_frame(0, 0, 1, 0.5, 0, 0.4),
-                     .ps = IDENTITY, .ap = {0, 0.2, 0.2}, .ad = {1, 0, 0}, .angle = 1 * deg, .tol = 1e-2,
+                     .ps = IDENTITY, .ap = {0, 0.2, 0.2}, .ad = {1, 0, 0}, .angle = 1 * deg, .tol = 2e-2,
                      .volume = NAN, .oracle_points = 300};
     run_case(&c);
     c.name = "frame about a crossing axis, 359 deg";
     c.angle = 359 * deg;
-    c.tol = 1e-2;
+    c.tol = 2e-2;
+    run_case(&c);
+    /* found by fuzzing: a box about its long diagonal by any partial angle (a full turn works) */
+    c = (sweep_case){.name = "box about its long diagonal, 90 deg", .P = make_rect(0, 0, 1.875, 1, 0, 1),
+                     .ps = IDENTITY, .ap = {0, 0, 0}, .ad = {1.875, 1, 1}, .angle = 90 * deg, .tol = 2e-2,
+                     .volume = NAN, .oracle_points = 300};
     run_case(&c);
     /* coarse tolerances: small results, so the exact self-intersection check runs on them */
     static const struct {
@@ -1348,9 +1394,9 @@ static void test_invariance(void)
         prism P;
         double ap[3], ad[3], angle, tol;
     } base[] = {
-        {"box about an edge 90 deg", make_rect(0, 0, 2, 1, 0, 1.5), {0, 0, 0}, {0, 0, 1}, 90 * deg, 1e-2},
-        {"cube about its diagonal", make_rect(0, 0, 1, 1, 0, 1), {0, 0, 0}, {1, 1, 1}, TWO_PI, 1e-2},
-        {"L about a skew axis 120 deg", make_l(0.5, 0, 0.6), {1.5, 0, 0}, {0.2, 1, 0.5}, 120 * deg, 1e-2},
+        {"box about an edge 90 deg", make_rect(0, 0, 2, 1, 0, 1.5), {0, 0, 0}, {0, 0, 1}, 90 * deg, 2e-2},
+        {"cube about its diagonal", make_rect(0, 0, 1, 1, 0, 1), {0, 0, 0}, {1, 1, 1}, TWO_PI, 2e-2},
+        {"L about a skew axis 120 deg", make_l(0.5, 0, 0.6), {1.5, 0, 0}, {0.2, 1, 0.5}, 120 * deg, 2e-2},
     };
     for (size_t b = 0; b < sizeof base / sizeof base[0]; b++) {
         tmesh in = prism_mesh(&base[b].P, &IDENTITY);
@@ -1371,6 +1417,15 @@ static void test_invariance(void)
             outcome om = run_sweep(&moved, ap, ad, base[b].angle, base[b].tol);
             char name[128];
             snprintf(name, sizeof name, "%s, moved %d", base[b].name, k);
+            if (om.st != MFG_OK) { /* the input, to reproduce */
+                fprintf(stderr, "%s: input vertices", name);
+                for (int64_t i = 0; i < moved.nv; i++)
+                    fprintf(stderr, " (%.17g, %.17g, %.17g)", moved.xyz[3 * i], moved.xyz[3 * i + 1],
+                            moved.xyz[3 * i + 2]);
+                fprintf(stderr, "\n  (prism_mesh order), axis point (%.17g, %.17g, %.17g) direction (%.17g, %.17g, "
+                                "%.17g), angle %.17g, tolerance %g\n", ap[0], ap[1], ap[2], ad[0], ad[1], ad[2],
+                        base[b].angle, base[b].tol);
+            }
             if (check_result(name, &moved, ap, ad, base[b].angle, base[b].tol, &om)) {
                 double d = om.stats.volume - v0;
                 CHECK(fabs(d) <= allowed);
@@ -1446,12 +1501,12 @@ static void test_invariance(void)
     prism P = make_rect(0, 0, 2, 1, 0, 1.5);
     tmesh box = prism_mesh(&P, &IDENTITY);
     double ap[3] = {0, 0, 0}, ad[3] = {0, 0, 1};
-    outcome full = run_sweep(&box, ap, ad, TWO_PI, 1e-2);
-    outcome almost = run_sweep(&box, ap, ad, TWO_PI - 5e-13, 1e-2);
-    outcome over = run_sweep(&box, ap, ad, TWO_PI + 5e-13, 1e-2);
-    if (check_result("full turn", &box, ap, ad, TWO_PI, 1e-2, &full) &&
-        check_result("2 pi - 5e-13", &box, ap, ad, TWO_PI - 5e-13, 1e-2, &almost) &&
-        check_result("2 pi + 5e-13", &box, ap, ad, TWO_PI + 5e-13, 1e-2, &over)) {
+    outcome full = run_sweep(&box, ap, ad, TWO_PI, 2e-2);
+    outcome almost = run_sweep(&box, ap, ad, TWO_PI - 5e-13, 2e-2);
+    outcome over = run_sweep(&box, ap, ad, TWO_PI + 5e-13, 2e-2);
+    if (check_result("full turn", &box, ap, ad, TWO_PI, 2e-2, &full) &&
+        check_result("2 pi - 5e-13", &box, ap, ad, TWO_PI - 5e-13, 2e-2, &almost) &&
+        check_result("2 pi + 5e-13", &box, ap, ad, TWO_PI + 5e-13, 2e-2, &over)) {
         CHECK(fabs(almost.stats.volume - full.stats.volume) <= 1e-12 * full.stats.volume);
         CHECK(fabs(over.stats.volume - full.stats.volume) <= 1e-12 * full.stats.volume);
         printf("full turn %.12g, 2 pi - 5e-13: %.12g, 2 pi + 5e-13: %.12g\n", full.stats.volume,
@@ -1462,12 +1517,12 @@ static void test_invariance(void)
     mfg_mesh_free(over.mesh);
     static const double tiny[] = {1e-6, 1e-12, 1e-300};
     for (size_t i = 0; i < sizeof tiny / sizeof tiny[0]; i++) {
-        outcome o = run_sweep(&box, ap, ad, tiny[i], 1e-3);
+        outcome o = run_sweep(&box, ap, ad, tiny[i], 2e-2);
         char name[64];
         snprintf(name, sizeof name, "box about an edge, angle %g", tiny[i]);
-        if (check_result(name, &box, ap, ad, tiny[i], 1e-3, &o)) {
+        if (check_result(name, &box, ap, ad, tiny[i], 2e-2, &o)) {
             double truth = 1.5 * (2 + 5 * tiny[i] / 2);
-            check_volume(name, o.stats.volume, o.stats.area, truth, 1e-3);
+            check_volume(name, o.stats.volume, o.stats.area, truth, 2e-2);
             printf("%-44s %6lld triangles volume %.12g (true %.12g)\n", name, (long long)o.mesh->ntriangles,
                    o.stats.volume, truth);
         }
@@ -1585,7 +1640,7 @@ static void test_references(void)
      * prisms over 96-gons.  Conservative (outer polygon round the outer circle, inner one
      * inside the inner circle): every check passes.  Inscribed outside: the volume and
      * the oracle must say "not conservative" (the failures are counted, then undone). */
-    sweep_case rc = rect_case("reference ring", 1, 0.5, 2, 1.5, 1, TWO_PI, 1e-2, 600);
+    sweep_case rc = rect_case("reference ring", 1, 0.5, 2, 1.5, 1, TWO_PI, 2e-2, 600);
     double ri = hypot(1, 0.5), ro = 2.5;
     /* variant 0: conservative; 1: inscribed outside (sag 1.3e-3 < tol); 2: the inner
      * radius 0.1 too large (a gross error the oracle must see) */
