@@ -29,13 +29,19 @@ TRANSPARENCY = 50
 
 def feature_edges(vertices, triangles, crease_deg=CREASE_DEG):
     """(k, 2) vertex pairs of the mesh edges whose two triangles' normals differ by more
-    than ``crease_deg`` (and edges with one or more than two triangles)."""
+    than ``crease_deg`` (and edges with one or more than two triangles).  A zero-area
+    triangle (collinear corners) has no normal: its edges are not drawn for it (they
+    drew stray dashes across flat faces)."""
     tri = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
     if not len(tri):
         return np.zeros((0, 2), dtype=np.int64)
     v = np.asarray(vertices, dtype=np.float64)
-    n = np.cross(v[tri[:, 1]] - v[tri[:, 0]], v[tri[:, 2]] - v[tri[:, 0]])
-    n /= np.maximum(np.linalg.norm(n, axis=1), 1e-300)[:, None]
+    e1, e2 = v[tri[:, 1]] - v[tri[:, 0]], v[tri[:, 2]] - v[tri[:, 0]]
+    n = np.cross(e1, e2)
+    length = np.linalg.norm(n, axis=1)
+    scale = np.maximum(np.einsum("ij,ij->i", e1, e1), np.einsum("ij,ij->i", e2, e2))
+    flat = length <= 1e-12 * scale
+    n /= np.maximum(length, 1e-300)[:, None]
     edges = np.vstack([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
     owner = np.tile(np.arange(len(tri)), 3)
     edges.sort(axis=1)
@@ -48,7 +54,8 @@ def feature_edges(vertices, triangles, crease_deg=CREASE_DEG):
     pair = starts[counts == 2]
     cos = np.einsum("ij,ij->i", n[owner[pair]], n[owner[pair + 1]])
     sharp = np.zeros(len(starts), dtype=bool)
-    sharp[counts == 2] = cos < math.cos(math.radians(crease_deg))
+    sharp[counts == 2] = ((cos < math.cos(math.radians(crease_deg)))
+                          & ~flat[owner[pair]] & ~flat[owner[pair + 1]])
     return edges[starts[keep | sharp]]
 
 
