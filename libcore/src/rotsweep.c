@@ -344,6 +344,10 @@ struct sw_ctx {
     hmap outmap;           /* exact coordinates -> vertex */
     int64_t *otri;
     int64_t notri, capotri;
+    int64_t *oring;        /* per triangle: its edge along a circle (walls), else -1 -1 */
+    int64_t caporing;
+    double *odir;          /* per triangle: the wall's direction off that circle */
+    int64_t capodir;
 };
 
 static int ctx_nomem(sw_ctx *c)
@@ -2015,17 +2019,32 @@ static int64_t lift(sw_ctx *c, sw_out *o, int64_t iw, const sw_end *en, int isex
     return id;
 }
 
-static int emit_tri(sw_ctx *c, int64_t a, int64_t b, int64_t d)
+/* Appends triangle (a, b, d).  A wall triangle names its edge along a circle (ring_a,
+ * ring_b) and the direction (angle in the meridian plane) in which the wall leaves that
+ * circle: what resolve_pinches orders pieces by, where coordinates would mislead (a chord's
+ * sag, circumscribed vertices). */
+static int emit_tri_ring(sw_ctx *c, int64_t a, int64_t b, int64_t d, int64_t ring_a, int64_t ring_b,
+                         double dir)
 {
     if (a == b || b == d || d == a)
         return 1;
-    if (!grow((void **)&c->otri, &c->capotri, c->notri + 1, 3 * sizeof *c->otri))
+    if (!grow((void **)&c->otri, &c->capotri, c->notri + 1, 3 * sizeof *c->otri) ||
+        !grow((void **)&c->oring, &c->caporing, c->notri + 1, 2 * sizeof *c->oring) ||
+        !grow((void **)&c->odir, &c->capodir, c->notri + 1, sizeof *c->odir))
         return ctx_nomem(c);
     c->otri[3 * c->notri] = a;
     c->otri[3 * c->notri + 1] = b;
     c->otri[3 * c->notri + 2] = d;
+    c->oring[2 * c->notri] = ring_a;
+    c->oring[2 * c->notri + 1] = ring_b;
+    c->odir[c->notri] = dir;
     c->notri++;
     return 1;
+}
+
+static int emit_tri(sw_ctx *c, int64_t a, int64_t b, int64_t d)
+{
+    return emit_tri_ring(c, a, b, d, -1, -1, 0);
 }
 
 /* Number of grid steps on a circle of radius r: chord sag r (1 - cos(pi / N)) below half
@@ -2081,6 +2100,9 @@ typedef struct sw_walls {
     int64_t *ring_start;   /* per v2, after sorting: entries [ring_start[v], ring_start[v+1]) */
     int64_t *evring;       /* vertices of event circles */
     int64_t nevring, capevring;
+    char *push;            /* per 2-D vertex: its circle carries an outer wall, whose
+                              grid vertices go out to circumscribe the circle */
+    int64_t cappush;
     hmap evlists;          /* (poly, edge, line, 0) -> index in evl */
     int64_t *evl;
     int64_t nevl, capevl;
@@ -2369,6 +2391,19 @@ static int edge_walls(sw_ctx *c, sw_out *o, sw_walls *W, int64_t u, int64_t v, i
             wstrip *S = &W->strips[W->nstrips++];
             S->full = nb == 0;
             S->left_covers = cl;
+            {
+                /* an outer wall (its outward normal points away from the axis): the
+                 * chords of its circles would cut into SV; mark them to circumscribe */
+                double dz = wv->z - wu->z;
+                double nr = cl ? dz : -dz;
+                if (nr > 0) {
+                    if (!grow((void **)&W->push, &W->cappush, c->nv2, sizeof *W->push)) {
+                        ok = ctx_nomem(c);
+                        break;
+                    }
+                    W->push[u] = W->push[v] = 1;
+                }
+            }
             S->span_mid = a1 - a0;
             for (int end = 0; end < 2; end++) {
                 double s = end ? s1 : s0;
@@ -2448,7 +2483,10 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
     double plo, span;
     int64_t lo, hi;
     if (full) {
-        lo = hi = ring_vertex(c, o, &w, 0);
+        sw_vtx2 w0 = w;
+        if (we->v2 >= 0 && W->push[we->v2])
+            w0.r = w.r / cos(MFG_PI / (double)ring_steps(c, we->r));
+        lo = hi = ring_vertex(c, o, &w0, 0);
         if (lo < 0)
             return 0;
         plo = 0;
@@ -2482,11 +2520,25 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
             if (off > 0 && off < span && off < MFG_TWO_PI - 1e-12)
                 pl[n].vid = vid, pl[n++].off = off;
         }
+        /* grid vertices of an outer wall's circle lie on the circumscribed polygon */
+        sw_vtx2 wg = w;
+        if (we->v2 >= 0 && W->push[we->v2])
+            wg.r = w.r / cos(MFG_PI / (double)nsteps);
         for (int64_t j = 0; j < nsteps; j++) {
             double ang = MFG_TWO_PI * (double)j / (double)nsteps;
             double off = wrap_angle(ang - plo);
             if (off > dtiny && off < span - dtiny) {
-                int64_t id = ring_vertex(c, o, &w, ang);
+                /* a grid angle at an arc end on this circle is that end's vertex (which
+                 * every strip here uses): no second vertex at one angle */
+                int clash = 0;
+                for (int64_t i = 0; i < cand_n && !clash; i++) {
+                    int64_t vid = we->v2 >= 0 ? W->rvid[W->ring_start[we->v2] + i]
+                                              : W->evring[we->ring_first + i];
+                    clash = fabs(angle_diff(o->phi[vid], ang)) <= dtiny;
+                }
+                if (clash)
+                    continue;
+                int64_t id = ring_vertex(c, o, &wg, ang);
                 if (id < 0)
                     return 0;
                 pl[n].vid = id;
@@ -2598,12 +2650,16 @@ static int emit_strips(sw_ctx *c, sw_out *o, sw_walls *W)
             else
                 adv_a = A[i + 1].off <= B[j + 1].off;
             int64_t t0 = A[i].vid, t1 = B[j].vid, t2 = adv_a ? A[i + 1].vid : B[j + 1].vid;
+            /* the circle edge of this triangle and the wall's direction off it */
+            int64_t ra = adv_a ? A[i].vid : B[j].vid, rb = t2;
+            double dir = adv_a ? atan2(S->e[1].z - S->e[0].z, S->e[1].r - S->e[0].r)
+                               : atan2(S->e[0].z - S->e[1].z, S->e[0].r - S->e[1].r);
             /* (A_i, B_j, next) has its normal to the left of u -> v: outward when the right
              * side covers the strip */
             if (S->left_covers)
-                ok = emit_tri(c, t0, t2, t1);
+                ok = emit_tri_ring(c, t0, t2, t1, ra, rb, dir);
             else
-                ok = emit_tri(c, t0, t1, t2);
+                ok = emit_tri_ring(c, t0, t1, t2, ra, rb, dir);
             if (adv_a)
                 i++;
             else
@@ -2833,8 +2889,11 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
              * it in the directions of their 2-D edges, which the circle's own sag would
              * hide; measure the third corner's direction in the meridian plane */
             double rp = v_r(P[0], P[1]), rq = v_r(Q[0], Q[1]);
-            if (fabs(rp - rq) <= 4 * c->quantum && fabs(P[2] - Q[2]) <= 4 * c->quantum && rp > 0) {
-                double dr = v_r(D[0], D[1]) - 0.5 * (rp + rq), dz = D[2] - 0.5 * (P[2] + Q[2]);
+            int64_t r0 = c->oring[2 * t], r1 = c->oring[2 * t + 1];
+            if ((r0 == a && r1 == b) || (r0 == b && r1 == a)) {
+                double dr = cos(c->odir[t]), dz = sin(c->odir[t]);
+                (void)rp;
+                (void)rq;
                 double turn = angle_diff(atan2(Q[1], Q[0]), atan2(P[1], P[0]));
                 h->ang = turn > 0 ? atan2(dr, dz) : atan2(dz, dr);
             }
@@ -2959,6 +3018,9 @@ static int cancel_twins(sw_ctx *c)
         for (int64_t t = 0; t < c->notri; t++)
             if (!dead[t]) {
                 memmove(c->otri + 3 * n, c->otri + 3 * t, 3 * sizeof *c->otri);
+                c->oring[2 * n] = c->oring[2 * t];
+                c->oring[2 * n + 1] = c->oring[2 * t + 1];
+                c->odir[n] = c->odir[t];
                 n++;
             }
         c->notri = n;
@@ -2980,6 +3042,10 @@ static int build_walls(sw_ctx *c, sw_out *o)
         return ctx_nomem(c);
     }
     int ok = 1;
+    W.push = calloc((size_t)(c->nv2 + 1), 1);
+    W.cappush = c->nv2 + 1;
+    if (!W.push)
+        ok = ctx_nomem(c);
     for (int64_t pi = 0; pi < c->npolys && ok; pi++) {
         const sw_poly *P = &c->polys[pi];
         for (int64_t i = 0; i < P->n && ok; i++) {
@@ -3012,6 +3078,7 @@ static int build_walls(sw_ctx *c, sw_out *o)
     free(W.ring_start);
     free(W.evring);
     free(W.evl);
+    free(W.push);
     hmap_free(&W.evlists);
     return ok;
 }
@@ -3049,6 +3116,8 @@ static void ctx_free(sw_ctx *c)
     free(c->ox);
     hmap_free(&c->outmap);
     free(c->otri);
+    free(c->oring);
+    free(c->odir);
 }
 
 /* Drops everything built by one placement of the decomposition (the solid, its curves
@@ -3066,6 +3135,11 @@ static void reset_attempt(sw_ctx *c, sw_out *o)
     free(c->ox);
     hmap_free(&c->outmap);
     free(c->otri);
+    free(c->oring);
+    free(c->odir);
+    c->oring = NULL;
+    c->odir = NULL;
+    c->caporing = c->capodir = 0;
     free(o->phi);
     hmap_free(&o->lifts);
     c->leaves = NULL; c->nleaves = c->capleaves = 0;
