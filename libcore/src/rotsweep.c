@@ -52,9 +52,6 @@
 #include "mesh.h"
 #include "mfg_internal.h"
 
-#ifdef MFG_SWEEP_DEBUG
-#include <stdio.h>
-#endif
 
 #define MFG_TWO_PI 6.283185307179586476925286766559
 #define MFG_PI 3.1415926535897932384626433832795
@@ -1564,22 +1561,6 @@ static int sub_side(sw_ctx *c, const sw_leaf *L, int64_t ax, int64_t az, int64_t
         }
     }
     qsort(pts, (size_t)np, sizeof *pts, cmp_ipt);
-#ifdef MFG_SWEEP_DEBUG
-    {
-        const char *env = getenv("SWDBG");
-        double qr = 0, qz = 0;
-        if (env && sscanf(env, "%lf,%lf", &qr, &qz) == 2) {
-            double sr = rside ? val : qr, sz = rside ? qz : val;
-            double qq = rside ? qz : qr;
-            if (fabs(sr - qr) < 1e-5 && fabs(sz - qz) < 1e-5 && qq >= lo - 1e-5 && qq <= hi + 1e-5) {
-                fprintf(stderr, "side leaf(%lld,%lld,L%d k%d n%lld) nb %p (k%d n%lld) rside %d val %.6f [%.6f %.6f] pts:", (long long)L->ix, (long long)L->iz, L->level, L->kind, (long long)L->cn, (void *)N, N ? N->kind : -1, N ? (long long)N->cn : -1LL, rside, val, lo, hi);
-                for (int q = 0; q < np; q++)
-                    fprintf(stderr, " c%lld@%.6f", (long long)pts[q].curve, pts[q].pos);
-                fprintf(stderr, "\n");
-            }
-        }
-    }
-#endif
     /* the same merge distance as analyse_cell's chord test */
     double eps = 1e-9 * (hi - lo) + 1e-12 * (fabs(hi) + fabs(lo) + fabs(val));
     double last = dirn > 0 ? lo : -hi;
@@ -2237,20 +2218,6 @@ static int edge_walls(sw_ctx *c, sw_out *o, sw_walls *W, int64_t u, int64_t v, i
             narc[sd]++;
         }
     }
-#ifdef MFG_SWEEP_DEBUG
-    {
-        const char *env = getenv("SWDBG");
-        double qr = 0, qz = 0;
-        if (env && sscanf(env, "%lf,%lf", &qr, &qz) == 2 &&
-            ((fabs(c->v2[u].r - qr) < 1e-5 && fabs(c->v2[u].z - qz) < 1e-5) ||
-             (fabs(c->v2[v].r - qr) < 1e-5 && fabs(c->v2[v].z - qz) < 1e-5))) {
-            fprintf(stderr, "edge v%lld(%.6f,%.6f) -> v%lld(%.6f,%.6f) P %lld Q %lld lines:", (long long)u, c->v2[u].r, c->v2[u].z, (long long)v, c->v2[v].r, c->v2[v].z, (long long)P, (long long)Q);
-            for (int64_t i = 0; i < nl; i++)
-                fprintf(stderr, " [s%d e%d %lld->%lld %.4f %.4f]", lines[i].side, lines[i].isend, (long long)lines[i].va, (long long)lines[i].vb, lines[i].pa, lines[i].pb);
-            fprintf(stderr, "\n");
-        }
-    }
-#endif
     /* the same line on both sides bounds nothing */
     for (int64_t i = 0; i < nl && ok; i++)
         for (int64_t j = 0; j < nl; j++)
@@ -2613,20 +2580,6 @@ static int emit_strips(sw_ctx *c, sw_out *o, sw_walls *W)
              end_polyline(c, o, W, &S->e[1], S->full, S->span_mid, &B, &nb, &capb);
         if (!ok)
             break;
-#ifdef MFG_SWEEP_DEBUG
-        {
-            const char *env = getenv("SWDBG");
-            double qr = 0, qz = 0;
-            if (env && sscanf(env, "%lf,%lf", &qr, &qz) == 2)
-                for (int e = 0; e < 2; e++)
-                    if (fabs(S->e[e].r - qr) < 1e-5 && fabs(S->e[e].z - qz) < 1e-5) {
-                        fprintf(stderr, "strip %lld end%d v2 %lld full %d left %d span %.4f ends: (%.6f,%.6f v2 %lld lo %lld hi %lld) (%.6f,%.6f v2 %lld lo %lld hi %lld) na %lld nb %lld\n",
-                                (long long)si, e, (long long)S->e[e].v2, S->full, S->left_covers, S->span_mid,
-                                S->e[0].r, S->e[0].z, (long long)S->e[0].v2, (long long)S->e[0].lo, (long long)S->e[0].hi,
-                                S->e[1].r, S->e[1].z, (long long)S->e[1].v2, (long long)S->e[1].lo, (long long)S->e[1].hi, (long long)na, (long long)nb);
-                    }
-        }
-#endif
         if (S->full) {
             /* close the rings: the first vertex again at offset 1 */
             if (na > 1) {
@@ -2681,32 +2634,6 @@ static int emit_faces(sw_ctx *c, sw_out *o, sw_walls *W)
     int ok = 1;
     for (int64_t pi = 0; pi < c->npolys && ok; pi++) {
         const sw_poly *P = &c->polys[pi];
-#ifdef MFG_SWEEP_DEBUG
-        {
-            const char *env = getenv("SWDBG");
-            double qr = 0, qz = 0;
-            if (env && sscanf(env, "%lf,%lf", &qr, &qz) == 2) {
-                int near = 0;
-                for (int64_t i = 0; i < P->n; i++) {
-                    const sw_vtx2 *w = &c->v2[c->poly_verts[P->first + i]];
-                    if (fabs(w->r - qr) < 2e-4 && fabs(w->z - qz) < 2e-4)
-                        near = 1;
-                }
-                if (near) {
-                    fprintf(stderr, "poly %lld full %d narcs %lld:", (long long)pi, P->st.full, (long long)P->st.n);
-                    for (int64_t i = 0; i < P->n; i++) {
-                        const sw_vtx2 *w = &c->v2[c->poly_verts[P->first + i]];
-                        fprintf(stderr, " v%lld(%.5f,%.5f c%lld)", (long long)c->poly_verts[P->first + i], w->r, w->z, (long long)w->curve);
-                    }
-                    for (int64_t a = 0; a < P->st.n; a++) {
-                        const sw_arc *arc = &c->arcs[P->st.first + a];
-                        fprintf(stderr, " [t%lld%+d %.4f -> t%lld%+d %.4f]", (long long)arc->start.tri, arc->start.sigma, arc->start.phi, (long long)arc->end.tri, arc->end.sigma, arc->end.phi);
-                    }
-                    fprintf(stderr, "\n");
-                }
-            }
-        }
-#endif
         /* The boundary of the polygon with its event points: at each point the start and
          * end vertex of every arc.  A face stops where the gap before it closes (the end
          * of the previous arc turned by theta reaches this arc's start; for a single arc,
@@ -2909,14 +2836,6 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
         int64_t n = j - i;
         /* pair each triangle with the next one round the edge of the other direction,
          * starting from each +1 in angular order */
-#ifdef MFG_SWEEP_DEBUG
-        if (n >= 4 && getenv("SWPINCH")) {
-            fprintf(stderr, "pinch edge %lld-%lld:", (long long)he[i].lo, (long long)he[i].hi);
-            for (int64_t q = 0; q < n; q++)
-                fprintf(stderr, " [t%lld d%+d a%.2f]", (long long)(he[i + q].tri / 3), he[i + q].dir, he[i + q].ang * 57.2958);
-            fprintf(stderr, "\n");
-        }
-#endif
         if (n >= 2) {
             for (int64_t q = 0; q < n; q++) {
                 const sw_he *h = &he[i + q];
@@ -3248,28 +3167,8 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
             ok = hmap_init(&c.outmap, 1024) && hmap_init(&o.lifts, 1024) ? 1 : ctx_nomem(&c);
         if (ok)
             ok = build_walls(&c, &o) && cancel_twins(&c) && resolve_pinches(&c, &o);
-#ifdef MFG_SWEEP_DEBUG
-        if (getenv("SWSTATS")) {
-            int64_t kinds[5] = {0, 0, 0, 0, 0}, empty = 0;
-            for (int64_t i = 0; i < c.nleaves; i++) {
-                kinds[c.leaves[i].kind]++;
-                empty += c.leaves[i].empty;
-            }
-            if (getenv("SWLEAVES"))
-                for (int64_t i = 0; i < c.nleaves; i++) {
-                    const sw_leaf *L = &c.leaves[i];
-                    int64_t sz = (int64_t)1 << (c.lmax - L->level);
-                    fprintf(stderr, "leaf r[%.4f %.4f] z[%.4f %.4f] kind %d cn %lld split %lld\n", grid_r(&c, L->ix), grid_r(&c, L->ix + sz), grid_z(&c, L->iz), grid_z(&c, L->iz + sz), L->kind, (long long)L->cn, (long long)L->split_curve);
-                }
-            fprintf(stderr, "attempt %d lmax %d leaves %lld (clean %lld split %lld star %lld fan %lld; empty %lld) polys %lld v2 %lld out %lld tris %lld\n", attempt, c.lmax, (long long)c.nleaves, (long long)kinds[0], (long long)kinds[1], (long long)kinds[2], (long long)kinds[3], (long long)empty, (long long)c.npolys, (long long)c.nv2, (long long)c.nout, (long long)c.notri);
-        }
-#endif
         if (ok) {
             mfg_status cs = mfg_mesh_check_closed(c.ox, c.nout, c.otri, c.notri, &rep);
-#ifdef MFG_SWEEP_DEBUG
-            if (getenv("SWNOVALID"))
-                cs = MFG_OK;
-#endif
             if (cs == MFG_OK) {
                 valid = 1;
             } else {
