@@ -394,7 +394,7 @@ def cmd_sweep(args):
         raise CliError(f"--angle must be in (0, 360] degrees, got {args.angle:g}")
     if not (math.isfinite(args.tolerance) and args.tolerance > 0.0):
         raise CliError(f"--tolerance must be positive, got {args.tolerance:g}")
-    meshio._format(args.output)            # a bad output name fails before the work
+    meshio.mesh_format(args.output)        # a bad output name fails before the work
     t0 = time.perf_counter()
     vertices, triangles = meshio.read_mesh(args.input)
     t1 = time.perf_counter()

@@ -47,7 +47,9 @@ class MeshFileError(InputError):
         self.line = line
 
 
-def _format(path):
+def mesh_format(path):
+    """The format of ``path`` by its extension, any case: ".stl" or ".obj" (MeshFileError
+    otherwise)."""
     ext = os.path.splitext(str(path))[1].lower()
     if ext not in FORMATS:
         raise MeshFileError(path, f"unknown mesh format {ext or '(no extension)'!r}: use "
@@ -245,7 +247,7 @@ def read_mesh(path):
     """The triangle mesh in ``path`` (.stl binary or ASCII, .obj) as ``(vertices (n, 3)
     float64, triangles (t, 3) int64)``; MeshFileError naming the file (and the line) if
     it cannot be read."""
-    return _read_stl(path) if _format(path) == ".stl" else _read_obj(path)
+    return _read_stl(path) if mesh_format(path) == ".stl" else _read_obj(path)
 
 
 # --------------------------------------------------------------------------- #
@@ -301,7 +303,7 @@ def write_mesh(path, vertices, triangles, ascii=False):
     """Writes the triangle mesh to ``path`` in the format of its extension (.stl: binary,
     or ASCII with ``ascii=True``; .obj).  Vertices must be finite and every index in
     range (InputError otherwise); MeshFileError if the file cannot be written."""
-    ext = _format(path)
+    ext = mesh_format(path)
     v, t = _checked(vertices, triangles)
     if ext == ".obj":
         data = _obj_bytes(v, t)
