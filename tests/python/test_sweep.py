@@ -609,17 +609,17 @@ def test_membership_oracle(name, deg):
                     for k in wrong[:5]))
 
 
-def test_no_self_intersection_small_results():
-    for name, deg in [("L-axis-through-vertex", 359), ("hole-axis-through-hole", 90),
-                      ("box-axis-through", 180)]:
-        mesh, point, direction = CASES[name]
-        theta = math.radians(deg)
-        res = sweep(mesh[0], mesh[1], point, direction, theta, 5e-2)
-        check_result(res, 5e-2)
-        if len(res.triangles) > 3000:
-            continue
-        bad = self_intersections(res.vertices, res.triangles)
-        assert not bad, f"{name} {deg} deg: {len(bad)} crossing triangle pairs, e.g. {bad[:3]}"
+@pytest.mark.parametrize("name, deg", [("L-axis-through-vertex", 359),
+                                       ("hole-axis-through-hole", 90), ("box-axis-through", 180),
+                                       ("L-axis-along-edge", 180), ("cavity-axis-through", 360)])
+def test_no_self_intersection(name, deg):
+    mesh, point, direction = CASES[name]
+    theta = TWO_PI if deg == 360 else math.radians(deg)
+    res = sweep(mesh[0], mesh[1], point, direction, theta, 0.1)
+    check_result(res, 0.1)
+    bad = self_intersections(res.vertices, res.triangles)
+    assert not bad, (f"{len(bad)} crossing triangle pairs of {len(res.triangles)} triangles, "
+                     f"e.g. {bad[:3]}")
 
 
 def test_self_intersection_helper_finds_crossings():
