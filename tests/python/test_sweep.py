@@ -536,6 +536,30 @@ def test_full_turn_of_a_coaxial_prism_is_a_cylinder():
     ring(res, tol, 0.0, radius, 0.0, h)
 
 
+@pytest.mark.parametrize("deg", [90.0, 250.0, 360.0])
+def test_holed_block_about_its_hole_axis_is_an_annulus(deg):
+    """[0,3]^2 x [0,1] with the hole [1,2]^2 turned about the hole's axis: a square has
+    four-fold symmetry, so any turn of 90 degrees or more covers the full annulus from the
+    hole's inscribed radius 0.5 to the corners' 1.5 sqrt 2."""
+    v, t = holed_block()
+    tol = 3e-2
+    res = sweep(v, t, (1.5, 1.5, -1.0), (0, 0, 1), TWO_PI if deg == 360 else math.radians(deg),
+                tol)
+    check_result(res, tol)
+    r, big = 0.5, 1.5 * math.sqrt(2.0)
+    assert_volume(res, math.pi * (big * big - r * r), tol)
+    moved = SweepResultView(res, shift=(-1.5, -1.5, 0.0))
+    ring(moved, tol, r, big, 0.0, 1.0)
+
+
+class SweepResultView:
+    """A result translated (for the analytic checks that put the axis at the origin)."""
+
+    def __init__(self, res, shift):
+        self.vertices = res.vertices + np.asarray(shift, dtype=np.float64)
+        self.triangles = res.triangles
+
+
 def test_angle_within_1e_12_of_two_pi_is_a_full_turn():
     v, t = box_mesh((1.0, -0.5, 0.0), (2.0, 0.5, 1.0))
     full = sweep(v, t, (0, 0, 0), (0, 0, 1), TWO_PI, 1e-2)
