@@ -7,12 +7,15 @@ tessellated torus of ~1k, ~10k and ~100k triangles.
 
 Run with the system interpreter (FreeCAD's side runs in ``freecadcmd``):
     MFGEOM_LIBRARY=build/libmfgeom.so /usr/bin/python3 bench/bench_sweep.py
-Options: --quick (no N = 36 fuse, torus ~1k and ~10k only), --no-fuse36.
+Options: --quick (no N = 36 fuse, torus ~1k and ~10k only), --no-fuse36, --fuse-timeout S
+(each fuse runs in its own freecadcmd and is stopped after S s, default 600: it is then
+reported as "> S s" and its speed-up as a lower bound).
 Prints a Markdown table (bench/run.sh collects it into bench/results.md).
 
 Three stages, three processes:
-  1. freecadcmd (MFGEOM_BENCH_SWEEP_CHILD set): builds the parts, tessellates them (timed),
-     runs the multiFuse peer (timed, its Volume) and saves each mesh as .npz.
+  1. freecadcmd (MFGEOM_BENCH_SWEEP_CHILD set): builds the parts, tessellates them (timed)
+     and saves each mesh as .npz; then per part and N, one freecadcmd
+     (MFGEOM_BENCH_SWEEP_FUSE set) runs the multiFuse peer (timed alone, its Volume).
   2. per mesh, a fresh python (MFGEOM_BENCH_SWEEP_OURS set): times our library call alone
      (best of 3 below 1 s) and its peak memory (ru_maxrss growth over the call), checks the
      result with mfg_mesh_check_closed and computes its volume by the divergence theorem.
@@ -47,6 +50,9 @@ TARGET_ARM_S = 0.5          # 9-face part at 90 deg, 0.01 mm
 TARGET_RATIO = 100.0        # >= 100x faster than multiFuse of 36 copies
 TARGET_10K_S = 2.0          # 10k triangles
 FUSE_COPIES = (12, 36)
+FUSE_TIMEOUT = 600.0        # s: a fuse still running then is reported as "> 600 s"
+PLANAR_PARTS = ("arm", "box")
+OURS_TIMEOUT = 300.0        # s per mesh (all its repeats)
 BOX = (30.0, 20.0, 10.0)    # a x b x c, spun about its edge of length c (the z axis)
 TORUS = (20.0, 6.0)         # major, minor radius; its own axis along x
 TORUS_AXIS = ((3.0, 2.0, 0.0), (0.0, 0.0, 1.0))   # through the ring's hole and tube
@@ -207,54 +213,55 @@ def _fc_mesh(mesh):
             np.array(f, dtype=np.int64))
 
 
-def _fuse(shape, axis_point, axis_dir, angle_deg, n):
+def _planar_part(name):
+    """(shape, (axis point, axis direction), exact volume or None, description)."""
+    import Part
+    sys.path.insert(0, os.path.join(ROOT, "examples", "parts"))
+    import sweep_arm
+    if name == "arm":
+        return (sweep_arm.make(), (sweep_arm.AXIS_POINT, sweep_arm.AXIS_DIR), None,
+                "9-face stepped crank arm (examples/parts/sweep_arm.py) about its hub axis")
+    a, b, c = BOX
+    theta = math.radians(ANGLE_DEG)
+    return (Part.makeBox(a, b, c), ((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)),
+            c * (a * b + (a * a + b * b) * theta / 2),
+            f"box {a:g} x {b:g} x {c:g} about its {c:g} mm edge")
+
+
+def _fuse(name, n, out):
     """What users do: multiFuse of n copies turned by angle * k / (n - 1), k = 0 .. n-1."""
     import FreeCAD as App
+    shape, (axis_point, axis_dir), _, _ = _planar_part(name)
     copies = []
     for k in range(n):
         c = shape.copy()
-        c.rotate(App.Vector(*axis_point), App.Vector(*axis_dir), angle_deg * k / (n - 1))
+        c.rotate(App.Vector(*axis_point), App.Vector(*axis_dir), ANGLE_DEG * k / (n - 1))
         copies.append(c)
     t0 = time.perf_counter()
     fused = copies[0].multiFuse(copies[1:])
     t = time.perf_counter() - t0
-    return {"n": n, "s": t, "volume": fused.Volume, "valid": fused.isValid(),
-            "solids": len(fused.Solids), "faces": len(fused.Faces)}
+    with open(out, "w") as f:
+        json.dump({"n": n, "s": t, "volume": fused.Volume, "valid": fused.isValid(),
+                   "solids": len(fused.Solids), "faces": len(fused.Faces)}, f)
 
 
-def _child(outdir, quick, fuse36):
+def _child(outdir, quick):
     import FreeCAD as App
     import MeshPart
     import Part
-    sys.path.insert(0, os.path.join(ROOT, "examples", "parts"))
-    import sweep_arm
 
     cases = []
-    copies = [n for n in FUSE_COPIES if n != 36 or fuse36]
-
-    def planar(name, make, axis, exact, what):
-        shape = make()                        # fresh: no cached triangulation
+    for name in PLANAR_PARTS:
+        shape, axis, exact, what = _planar_part(name)     # fresh: no cached triangulation
         t0 = time.perf_counter()
         p, f = shape.tessellate(TOLERANCE)
         t_tess = time.perf_counter() - t0
         v = np.array([(q.x, q.y, q.z) for q in p], dtype=np.float64)
         t = np.array(f, dtype=np.int64)
         np.savez(os.path.join(outdir, name + ".npz"), vertices=v, triangles=t)
-        fuses = []
-        for n in copies:
-            fuses.append(_fuse(shape, axis[0], axis[1], ANGLE_DEG, n))
-            print(f"bench_sweep: {name} N={n}: {fuses[-1]}", file=sys.stderr, flush=True)
         cases.append({"name": name, "what": what, "faces": len(shape.Faces),
                       "volume_part": shape.Volume, "tess_s": t_tess, "axis": axis,
-                      "exact": exact, "fuses": fuses, "triangles": len(t), "kind": "peer"})
-
-    planar("arm", sweep_arm.make, (sweep_arm.AXIS_POINT, sweep_arm.AXIS_DIR), None,
-           "9-face stepped crank arm (examples/parts/sweep_arm.py) about its hub axis")
-    a, b, c = BOX
-    theta = math.radians(ANGLE_DEG)
-    planar("box", lambda: Part.makeBox(a, b, c), ((0.0, 0.0, 0.0), (0.0, 0.0, 1.0)),
-           c * (a * b + (a * a + b * b) * theta / 2),
-           f"box {a:g} x {b:g} x {c:g} about its {c:g} mm edge (exact c(ab + (a^2+b^2) theta/2))")
+                      "exact": exact, "fuses": [], "triangles": len(t), "kind": "peer"})
     for target in TORUS_TARGETS[:2] if quick else TORUS_TARGETS:
         shape = Part.makeTorus(TORUS[0], TORUS[1], App.Vector(0, 0, 0), App.Vector(1, 0, 0))
         t0 = time.perf_counter()
@@ -312,7 +319,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true",
                     help="no N = 36 fuse, torus ~1k and ~10k triangles only")
-    ap.add_argument("--no-fuse36", action="store_true", help="skip the N = 36 fuse (~70 s)")
+    ap.add_argument("--no-fuse36", action="store_true",
+                    help="skip the N = 36 fuse (minutes; see --fuse-timeout)")
+    ap.add_argument("--fuse-timeout", type=float, default=FUSE_TIMEOUT,
+                    help=f"seconds per fuse before it is stopped (default {FUSE_TIMEOUT:g})")
     args = ap.parse_args()
     fuse36 = not (args.quick or args.no_fuse36)
     env = dict(os.environ)
@@ -321,7 +331,7 @@ def main():
     title = "## Rotational swept volume (bench_sweep.py)\n"
     with tempfile.TemporaryDirectory(prefix="mfgeom-bench-sweep-") as tmp:
         cenv = dict(env, MFGEOM_BENCH_SWEEP_CHILD=tmp,
-                    MFGEOM_BENCH_SWEEP_FLAGS=f"{int(args.quick)},{int(fuse36)}")
+                    MFGEOM_BENCH_SWEEP_QUICK=str(int(args.quick)))
         log = os.path.join(tmp, "log.txt")
         with open(log, "w") as f:
             subprocess.run(["timeout", "3600", "freecadcmd", os.path.abspath(__file__)],
@@ -336,12 +346,23 @@ def main():
             return 1
         theta = math.radians(ANGLE_DEG)
         failed = False
+        for case in meta["cases"]:      # the peers first: one at a time, nothing else running
+            for n in FUSE_COPIES if case["kind"] == "peer" else ():
+                if n == 36 and not fuse36:
+                    continue
+                case["fuses"].append(_run_fuse(case["name"], n, env, tmp, args.fuse_timeout))
+                print(f"bench_sweep: {case['name']} multiFuse N = {n}: {case['fuses'][-1]}",
+                      file=sys.stderr, flush=True)
         for case in meta["cases"]:
             npz = os.path.join(tmp, case["name"] + ".npz")
             out = os.path.join(tmp, case["name"] + ".ours.json")
             oenv = dict(env, MFGEOM_BENCH_SWEEP_OURS=json.dumps([npz] + list(case["axis"]) + [out]))
-            r = subprocess.run([sys.executable, os.path.abspath(__file__)], env=oenv,
-                               capture_output=True, text=True, check=False)
+            try:
+                r = subprocess.run([sys.executable, os.path.abspath(__file__)], env=oenv,
+                                   capture_output=True, text=True, check=False,
+                                   timeout=OURS_TIMEOUT)
+            except subprocess.TimeoutExpired:
+                r = subprocess.CompletedProcess([], 1, "", f"stopped after {OURS_TIMEOUT:g} s")
             if r.returncode != 0 or not os.path.exists(out):
                 sys.stderr.write(f"bench_sweep: ours failed on {case['name']}:\n"
                                  f"{r.stderr[-3000:]}\n")
@@ -354,7 +375,7 @@ def main():
             data = np.load(npz)
             # the reference at two resolutions (the finer one reported, the gap its
             # uncertainty)
-            fine = 8 if case["triangles"] <= 20000 else 4
+            fine = 8 if case["kind"] == "peer" else 4
             t0 = time.perf_counter()
             refs = [reference_volume(data["vertices"], data["triangles"], *case["axis"],
                                      theta, n) for n in (fine, fine // 2)]
@@ -364,6 +385,23 @@ def main():
                   f"({case['reference_s']:.1f} s)", file=sys.stderr, flush=True)
     _print(meta, fuse36, args.quick)
     return 1 if failed else 0
+
+
+def _run_fuse(name, n, env, tmp, timeout):
+    """The multiFuse of n copies in its own freecadcmd, stopped after ``timeout`` s
+    (then {"n", "s": timeout, "timed_out": True})."""
+    out = os.path.join(tmp, f"{name}.fuse{n}.json")
+    fenv = dict(env, MFGEOM_BENCH_SWEEP_CHILD=tmp,
+                MFGEOM_BENCH_SWEEP_FUSE=json.dumps([name, n, out]))
+    t0 = time.perf_counter()
+    with open(os.path.join(tmp, f"fuse{n}.log"), "w") as log:
+        subprocess.run(["timeout", "--kill-after=10", str(int(timeout)), "freecadcmd",
+                        os.path.abspath(__file__)],
+                       env=fenv, stdout=log, stderr=subprocess.STDOUT, check=False)
+    if os.path.exists(out):
+        with open(out) as f:
+            return json.load(f)
+    return {"n": n, "s": time.perf_counter() - t0, "timed_out": True}
 
 
 def _print(meta, fuse36, quick):
@@ -403,7 +441,12 @@ def _print(meta, fuse36, quick):
         else:
             print(f"| {c['name']} | | | ours | failed: {c.get('ours_error')} | | | | | |")
         for fz in c["fuses"]:
-            ratio = f"{fz['s'] / o['s']:.0f}x" if o else "n/a"
+            more = "> " if fz.get("timed_out") else ""
+            ratio = f"{more}{fz['s'] / o['s']:.0f}x" if o else "n/a"
+            if fz.get("timed_out"):
+                print(f"| {c['name']} | | | multiFuse N = {fz['n']} | > {fz['s']:.0f} | "
+                      f"{ratio} | | | | stopped unfinished after {fz['s']:.0f} s |")
+                continue
             print(f"| {c['name']} | | | multiFuse N = {fz['n']} | {fz['s']:.2f} | {ratio} | "
                   f"{fz['volume']:.2f} | {_rel(fz['volume'], ref)} | "
                   f"{_rel(fz['volume'], exact)} | {fz['faces']} faces, "
@@ -422,9 +465,10 @@ def _print(meta, fuse36, quick):
                             o["s"] < TARGET_ARM_S))
             f36 = [fz for fz in c["fuses"] if fz["n"] == 36]
             if f36:
-                ratio = f36[0]["s"] / o["s"]
-                targets.append((f"9-face part: {ratio:.0f}x faster than multiFuse N = 36 "
-                                f"(target >= {TARGET_RATIO:g}x)", ratio >= TARGET_RATIO))
+                ratio = f36[0]["s"] / o["s"]     # a lower bound when the fuse was stopped
+                more = "more than " if f36[0].get("timed_out") else ""
+                targets.append((f"9-face part: {more}{ratio:.0f}x faster than multiFuse "
+                                f"N = 36 (target >= {TARGET_RATIO:g}x)", ratio >= TARGET_RATIO))
     print("\n### Scaling: tessellated torus (R 20, r 6 mm, its axis along x) swept "
           f"{ANGLE_DEG:g} deg about the z axis through {TORUS_AXIS[0]} (through its hole "
           "and tube)\n")
@@ -466,8 +510,11 @@ if os.environ.get("MFGEOM_BENCH_SWEEP_CHILD"):
     # Run by freecadcmd as a script: measure, then leave.
     rc = 0
     try:
-        quick, fuse36 = (bool(int(x)) for x in os.environ["MFGEOM_BENCH_SWEEP_FLAGS"].split(","))
-        _child(os.environ["MFGEOM_BENCH_SWEEP_CHILD"], quick, fuse36)
+        if os.environ.get("MFGEOM_BENCH_SWEEP_FUSE"):
+            _fuse(*json.loads(os.environ["MFGEOM_BENCH_SWEEP_FUSE"]))
+        else:
+            _child(os.environ["MFGEOM_BENCH_SWEEP_CHILD"],
+                   bool(int(os.environ["MFGEOM_BENCH_SWEEP_QUICK"])))
     except Exception:  # reported in the log; the driver sees the missing result file
         import traceback
         traceback.print_exc()
