@@ -376,6 +376,7 @@ def check_clearance(sweep_obj, others, tolerance=None):
         sweep = solid_of(sweep_obj)
     except InputError as exc:
         raise InputError(f"the sweep: {exc}") from None
+    sweep, warning = valid_sweep(sweep)
     results = []
     sweep_faces = FaceBoxes(sweep)
     for obj in others:
@@ -383,8 +384,30 @@ def check_clearance(sweep_obj, others, tolerance=None):
             results.append(ClearanceResult(_name(obj), _label(obj), INVALID,
                                            message="this is the sweep itself"))
             continue
-        results.append(_check_one(sweep, obj, tol, sweep_faces))
+        result = _check_one(sweep, obj, tol, sweep_faces)
+        if warning and result.status != INVALID:
+            result.message = "; ".join(m for m in (result.message, warning) if m)
+        results.append(result)
     return results
+
+
+SWEEP_NOT_VALID = "the sweep's solid is not valid (OCCT check): its volume may be wrong"
+
+
+def valid_sweep(sweep):
+    """(solid, warning): the sweep solid, repaired by ShapeFix when OCCT finds it invalid
+    (e.g. a mesh whose single-precision vertices left slivers); when it stays invalid
+    OCCT's Boolean may return nothing, so every result carries SWEEP_NOT_VALID."""
+    if sweep.isValid():
+        return sweep, ""
+    fixed = sweep.copy()
+    try:
+        fixed.fix(1e-7, 1e-7, 1e-4)
+    except (Part.OCCError, RuntimeError):
+        return sweep, SWEEP_NOT_VALID
+    if fixed.isValid() and fixed.Solids:
+        return fixed, ""
+    return sweep, SWEEP_NOT_VALID
 
 
 def _is_sweep(obj):
