@@ -354,7 +354,7 @@ class MacroApi(Base):
         sweep.addProperty("App::PropertyLink", "Source")
         sweep.Source = source
         a = self.add("A", Part.makeBox(5, 5, 5, V(A + 1, 0, 0)))
-        b = self.add("B", Part.makeBox(5, 5, 5, V(A - 1, 0, 0)))
+        self.add("B", Part.makeBox(5, 5, 5, V(A - 1, 0, 0)))
         cut = self.doc.addObject("Part::Cut", "Cut")
         cut.Base, cut.Tool = a, self.add("Tool", Part.makeBox(1, 1, 1, V(A + 1, 0, 0)))
         sketch = self.doc.addObject("Sketcher::SketchObject", "Sketch")
@@ -389,11 +389,14 @@ class MacroApi(Base):
         sweep.Shape = Part.makeBox(10, 10, 10)
         hit = self.add("Hit", Part.makeBox(5, 5, 5, V(8, 0, 0)))
         self.doc.recompute()
+        volume = hit.Shape.Volume
         res = mfgeom.check_clearance(self.doc, tolerance=TOL)
         self.assertEqual([r.name for r in res], ["Hit"])
         self.assertAlmostEqual(res[0].interference_volume, 50.0, delta=1e-6)
-        self.assertIs(res, res)   # results are plain objects, no document change
+        # the App layer changes nothing in the document
         self.assertEqual(len(self.doc.Objects), 2)
+        self.assertEqual(hit.Shape.Volume, volume)
+        self.assertNotIn("Touched", hit.State)
 
 
 # The library's sweep at a coarse tolerance: its first version makes 4.7e3 triangles of
