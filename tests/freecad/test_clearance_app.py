@@ -637,6 +637,33 @@ class Pruning(Base):
         self.assertAlmostEqual(res["Far"].min_distance, math.sqrt(3) * 10, delta=1e-9)
 
 
+class Sampling(unittest.TestCase):
+    """The fallback for sweep solids OCCT finds invalid: parity of ray crossings and a
+    sampled common volume, against a box mesh."""
+
+    @staticmethod
+    def box_triangles():
+        points, facets = Part.makeBox(10, 10, 10).tessellate(0.1)
+        xyz = np.array([(p.x, p.y, p.z) for p in points])
+        return xyz[np.array(facets).reshape(-1, 3)]
+
+    def test_inside_mesh(self):
+        rng = np.random.default_rng(3)
+        pts = rng.uniform(-5, 15, (500, 3))
+        want = np.all((pts > 0) & (pts < 10), axis=1)
+        np.testing.assert_array_equal(clearance.inside_mesh(pts, self.box_triangles()), want)
+
+    def test_sampled_volume(self):
+        obstacle = Part.makeBox(4, 5, 5, V(8, 0, 0))      # common 2 x 5 x 5 = 50
+        volume, se, point = clearance.sampled_common_volume(
+            self.box_triangles(), (8, 0, 0, 10, 5, 5), obstacle)
+        self.assertLess(abs(volume - 50.0), 4 * se + 1e-9)
+        self.assertTrue(obstacle.isInside(point, 0, True) and 8 <= point.x <= 10)
+        volume, se, point = clearance.sampled_common_volume(
+            self.box_triangles(), (11, 0, 0, 12, 5, 5), Part.makeBox(1, 5, 5, V(11, 0, 0)))
+        self.assertEqual((volume, point), (0.0, None))
+
+
 class DefaultTolerance(Base):
     def test_the_sweeps_own_tolerance_sets_the_floor(self):
         sweep = self.add("Sweep", Part.makeBox(10, 10, 10))

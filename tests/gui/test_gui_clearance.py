@@ -322,15 +322,16 @@ if sweep_available():
         assert "(tolerance 2 mm)" in table.splitlines()[0], table.splitlines()[0]
         rows = {ln.split()[0]: ln.split() for ln in table.splitlines()[2:] if ln.strip()}
         from mfgeom.app import clearance
-        if clearance.solid_of(sweep).isValid():
-            assert rgb(across.ViewObject.ShapeColor) == rgb(palette.INTERFERENCE)
-            assert rows["Across"][1] == "interference", rows["Across"]
-            # the true common: 10 x 5 x (R - 10) less the corners past the arc, ~600 mm^3
-            assert 560 < float(rows["Across"][2]) < 620, rows["Across"]
-        else:   # OCCT's Boolean on an invalid solid: the table must say so on each row
+        assert rgb(across.ViewObject.ShapeColor) == rgb(palette.INTERFERENCE)
+        assert rows["Across"][1] == "interference", rows["Across"]
+        # the true common: 10 x 5 x (R - 10) less the corners past the arc, ~600 mm^3
+        # (sampled with a standard error ~11 mm^3 when OCCT finds the solid invalid)
+        assert 550 < float(rows["Across"][2]) < 650, rows["Across"]
+        if not clearance.solid_of(sweep).isValid():   # then each row says so
             assert table.count(clearance.SWEEP_NOT_VALID) == 2, table
-            sys.stdout.write("NOTE: the sweep feature's solid is not valid for OCCT; the "
-                             "interference of 'Across' was not checked\n")
+            assert "estimated from 4000 samples" in table, table
+            sys.stdout.write("NOTE: the sweep feature's solid is not valid for OCCT; "
+                             "'Across' was sampled\n")
         assert rows["Beyond"][1] == "clear", rows["Beyond"]
         assert gap - SWEEP_TOL <= float(rows["Beyond"][3]) <= gap + SWEEP_TOL, rows["Beyond"]
         Gui.Selection.clearSelection()

@@ -298,7 +298,51 @@ def _common(sweep, solid, tolerance, sweep_faces=None):
     return sweep.common(solid)
 
 
-def _check_one(sweep, obj, tolerance, sweep_faces=None):
+_SAMPLES = 4000
+_RAY = np.array([0.48, 0.6, 0.64]) / np.linalg.norm([0.48, 0.6, 0.64])
+
+
+def inside_mesh(points, triangles):
+    """Boolean per point: inside the closed triangle soup ``triangles`` ((T, 3, 3)), by
+    the parity of a ray's crossings (Moller-Trumbore); needs no valid OCCT solid."""
+    p0 = triangles[:, 0]
+    e1, e2 = triangles[:, 1] - p0, triangles[:, 2] - p0
+    h = np.cross(_RAY, e2)
+    det = np.einsum("ij,ij->i", e1, h)
+    ok = np.abs(det) > 1e-14
+    inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+    out = np.zeros(len(points), dtype=bool)
+    for k in range(0, len(points), 32):   # 32 points x T triangles at a time
+        sv = points[k:k + 32, None, :] - p0[None]
+        u = np.einsum("pij,ij->pi", sv, h) * inv
+        q = np.cross(sv, e1[None])
+        v = (q @ _RAY) * inv
+        t = np.einsum("ij,pij->pi", e2, q) * inv
+        hits = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+        out[k:k + 32] = (np.count_nonzero(hits, axis=1) & 1).astype(bool)
+    return out
+
+
+def sampled_common_volume(triangles, box, solid, seed=8):
+    """(volume, standard error, a point inside both) of the part of ``solid`` inside the
+    triangle mesh, by _SAMPLES uniform points in ``box`` (which holds the common); for a
+    sweep solid OCCT's Booleans cannot use."""
+    lo, hi = np.array(box[:3]), np.array(box[3:])
+    size = np.maximum(hi - lo, 0.0)
+    box_volume = float(np.prod(size))
+    if box_volume <= 0.0:
+        return 0.0, 0.0, None
+    pts = lo + np.random.default_rng(seed).random((_SAMPLES, 3)) * size
+    in_solid = np.array([solid.isInside(FreeCAD.Vector(*p), 0.0, True) for p in pts])
+    both = np.zeros(len(pts), dtype=bool)
+    both[in_solid] = inside_mesh(pts[in_solid], triangles)
+    f = both.mean()
+    se = box_volume * np.sqrt(f * (1.0 - f) / len(pts))
+    point = FreeCAD.Vector(*pts[np.flatnonzero(both)[0]]) if both.any() else None
+    return box_volume * f, se, point
+
+
+def _check_one(sweep, obj, tolerance, sweep_faces=None, triangles=None):
     name, label = _name(obj), _label(obj)
     try:
         solid = solid_of(obj)
@@ -331,6 +375,18 @@ def _check_one(sweep, obj, tolerance, sweep_faces=None):
     except (Part.OCCError, RuntimeError) as exc:
         return ClearanceResult(name, label, INVALID, message=(
             f"{label}: distance failed: {exc}" + (f"; {message}" if message else "")))
+    if triangles is not None and distance <= tolerance:
+        # the sweep solid is invalid, so an empty Boolean proves nothing: sample
+        both = np.array([max(a, b) for a, b in zip(_box(sweep.BoundBox)[:3],
+                                                  _box(solid.BoundBox)[:3])]
+                        + [min(a, b) for a, b in zip(_box(sweep.BoundBox)[3:],
+                                                     _box(solid.BoundBox)[3:])])
+        volume, se, point = sampled_common_volume(triangles, both, solid)
+        if point is not None and volume > 2.0 * se:
+            return ClearanceResult(name, label, INTERFERENCE, volume, 0.0, point, point,
+                                   "; ".join(m for m in (message, (
+                                       f"volume estimated from {_SAMPLES} samples "
+                                       f"(+- {se:.3g} mm^3)")) if m))
     status = TOUCHING if distance <= tolerance else CLEAR
     return ClearanceResult(name, label, status, 0.0, distance, p_sweep, p_obj, message)
 
@@ -377,6 +433,11 @@ def check_clearance(sweep_obj, others, tolerance=None):
     except InputError as exc:
         raise InputError(f"the sweep: {exc}") from None
     sweep, warning = valid_sweep(sweep)
+    triangles = None
+    if warning:   # sample against its triangles where the Boolean cannot be trusted
+        points, facets = sweep.tessellate(tol)
+        xyz = np.array([(p.x, p.y, p.z) for p in points])
+        triangles = xyz[np.array(facets, dtype=np.int64).reshape(-1, 3)]
     results = []
     sweep_faces = FaceBoxes(sweep)
     for obj in others:
@@ -384,7 +445,7 @@ def check_clearance(sweep_obj, others, tolerance=None):
             results.append(ClearanceResult(_name(obj), _label(obj), INVALID,
                                            message="this is the sweep itself"))
             continue
-        result = _check_one(sweep, obj, tol, sweep_faces)
+        result = _check_one(sweep, obj, tol, sweep_faces, triangles)
         if warning and result.status != INVALID:
             result.message = "; ".join(m for m in (result.message, warning) if m)
         results.append(result)
