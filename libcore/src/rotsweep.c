@@ -2263,6 +2263,8 @@ static int edge_walls(sw_ctx *c, sw_out *o, sw_walls *W, int64_t u, int64_t v, i
     if (!evv || !evr_first) {
         free(evv);
         free(evr_first);
+        evv = NULL; /* freed again at the end */
+        evr_first = NULL;
         ok = ctx_nomem(c);
     }
     const sw_vtx2 *wu = &c->v2[u], *wv = &c->v2[v];
