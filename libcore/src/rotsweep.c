@@ -291,6 +291,7 @@ struct sw_ctx {
     int full_turn;
     double tol, hmin;
     double quantum;        /* output weld distance */
+    double ext;            /* the part's extent in the axis frame */
     int bounding_only;     /* cells look at the curves of bounding triangles only */
     double origin[3], frame[3][3]; /* rows: e1, e2, axis */
     /* curves */
@@ -733,8 +734,9 @@ static int push_cross(sw_ctx *c, double phi, int64_t t, int entry)
     return 1;
 }
 
-/* Is the point (r, 0, z) inside O?  Ray parity in the plane z along +x, half-open on y. */
-static int circle_inside(sw_ctx *c, double r, double z)
+/* Is the point (side * r, 0, z) inside O?  Ray parity in the plane z along side * x,
+ * half-open on y. */
+static int circle_inside_side(sw_ctx *c, double r, double z, int side)
 {
     if (!gather(c, r, INFINITY, z, z))
         return -1;
@@ -748,10 +750,15 @@ static int circle_inside(sw_ctx *c, double r, double z)
             continue;
         double w = e[0][1] / (e[0][1] - e[1][1]);
         double x = e[0][0] + w * (e[1][0] - e[0][0]);
-        if (x > r)
+        if (side * x > r)
             inside ^= 1;
     }
     return inside;
+}
+
+static int circle_inside(sw_ctx *c, double r, double z)
+{
+    return circle_inside_side(c, r, z, 1);
 }
 
 typedef struct xsort {
@@ -779,8 +786,9 @@ static int push_arc(sw_ctx *c, const sw_arc *a)
 }
 
 /* The SV arcs on the circle (r, z), appended to the arc pool. */
-static int circle_arcs(sw_ctx *c, double r, double z, sw_struct *out)
+static int circle_arcs_at(sw_ctx *c, double r, double z, sw_struct *out, int *inconsistent)
 {
+    *inconsistent = 0;
     out->full = 0;
     out->n = 0;
     out->first = c->narcs;
@@ -859,9 +867,17 @@ static int circle_arcs(sw_ctx *c, double r, double z, sw_struct *out)
         c->xpool[c->nxpool++] = c->xtri[i];
     out->xn = c->nx;
     if (c->nx == 0) {
+        /* no crossing: the whole circle is in or out; two opposite points must agree */
         int in = circle_inside(c, r, z);
         if (in < 0)
             return 0;
+        int in2 = circle_inside_side(c, r, z, -1);
+        if (in2 < 0)
+            return 0;
+        if (in != in2) {
+            *inconsistent = 1;
+            return 1;
+        }
         out->full = in;
         return 1;
     }
@@ -883,6 +899,13 @@ static int circle_arcs(sw_ctx *c, double r, double z, sw_struct *out)
             mind = depth;
             minpos = i + 1;
         }
+    }
+    if (depth != 0) {
+        /* entries and exits do not pair up: the circle grazes a vertex or an edge within
+         * rounding; the caller moves it slightly */
+        free(xs);
+        *inconsistent = 1;
+        return 1;
     }
     /* Start right after the position of minimum depth: there depth (relative) is 0. */
     int64_t nO = 0;
@@ -923,7 +946,7 @@ static int circle_arcs(sw_ctx *c, double r, double z, sw_struct *out)
     free(xs);
     if (nO == 0) {
         free(oarcs);
-        out->full = 1; /* depth never returned to zero: treat as inside (conservative) */
+        *inconsistent = 1;
         return 1;
     }
     if (c->full_turn) {
@@ -983,6 +1006,78 @@ static int circle_arcs(sw_ctx *c, double r, double z, sw_struct *out)
     }
     free(oarcs);
     return 1;
+}
+
+static int cmp_double_asc(const void *pa, const void *pb);
+
+/* The SV arcs on the circle (r, z).  A circle through a vertex or along an edge within
+ * rounding can count entries and exits that do not pair up; it is then moved by a few
+ * units in the last place of the part's size (far below any tolerance) until they do. */
+static int circle_arcs(sw_ctx *c, double r, double z, sw_struct *out)
+{
+    static const double dr[4] = {0, 0x1p-34, -0x1p-29, 0x1p-24};
+    static const double dz[4] = {0, 0x1p-35, 0x1p-30, -0x1p-25};
+    for (int k = 0; k < 4; k++) {
+        int64_t mark = c->narcs, xmark = c->nxpool;
+        int bad = 0;
+        double rk = r + dr[k] * c->ext, zk = z + dz[k] * c->ext;
+        if (rk < 0)
+            rk = 0;
+        if (!circle_arcs_at(c, rk, zk, out, &bad))
+            return 0;
+        if (!bad)
+            return 1;
+        c->narcs = mark;
+        c->nxpool = xmark;
+    }
+    /* still unpaired: one arc over every crossing seen (the complement of the widest gap
+     * between them), extended by theta - local and conservative, where a full circle
+     * would put a ring far outside SV */
+    int64_t mark = c->narcs;
+    int bad = 0;
+    if (!circle_arcs_at(c, r, z, out, &bad))
+        return 0;
+    c->narcs = mark;
+    out->full = 0;
+    out->n = 0;
+    out->first = c->narcs;
+    if (c->nx == 0)
+        return 1;
+    double *ph = malloc((size_t)c->nx * sizeof *ph);
+    if (!ph)
+        return ctx_nomem(c);
+    for (int64_t i = 0; i < c->nx; i++)
+        ph[i] = c->xphi[i];
+    qsort(ph, (size_t)c->nx, sizeof *ph, cmp_double_asc);
+    int64_t gi = c->nx - 1;
+    double gap = ph[0] + MFG_TWO_PI - ph[c->nx - 1];
+    for (int64_t i = 0; i + 1 < c->nx; i++)
+        if (ph[i + 1] - ph[i] > gap) {
+            gap = ph[i + 1] - ph[i];
+            gi = i;
+        }
+    double a0 = ph[(gi + 1) % c->nx], a1 = ph[gi];
+    free(ph);
+    double len = wrap_angle(a1 - a0);
+    if (len + c->theta >= MFG_TWO_PI || c->full_turn) {
+        out->full = 1;
+        return 1;
+    }
+    sw_arc arc;
+    memset(&arc, 0, sizeof arc);
+    arc.start.tri = arc.end.tri = -1; /* meridian caps, like a block's */
+    arc.start.phi = a0;
+    arc.end.phi = a0 + len;
+    if (!push_arc(c, &arc))
+        return 0;
+    out->n = 1;
+    return 1;
+}
+
+static int cmp_double_asc(const void *pa, const void *pb)
+{
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return (a > b) - (a < b);
 }
 
 /* Same structure: same full flag and the same (triangle, root) at both ends of every arc,
@@ -1671,6 +1766,10 @@ static int add_block(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t n
     for (int64_t k = 0; k < ns && ok && !full; k++) {
         double r, z;
         if (k < nloop) {
+            /* points on curves are where circles graze edges: the grid inside and the
+             * corners sample the block */
+            if (c->v2[loop[k]].ncurves > 0)
+                continue;
             r = c->v2[loop[k]].r;
             z = c->v2[loop[k]].z;
         } else {
@@ -3150,6 +3249,7 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
         if (attempt > 0)
             reset_attempt(&c, &o);
         double ext = fmax(rmax, zmax - zmin);
+        c.ext = ext;
         c.quantum = ldexp(ext, -40);
         c.bounding_only = attempt >= 2;
         double S0 = 0.5 * ext * grid_scale[attempt];
