@@ -3306,15 +3306,37 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
         }
     }
     if (ok) {
-        m->nvertices = c.nout;
-        m->ntriangles = c.notri;
-        for (int64_t i = 0; i < c.nout; i++) {
-            const double *p = c.ox + 3 * i;
-            for (int k = 0; k < 3; k++)
-                m->vertices[3 * i + k] = c.origin[k] + p[0] * c.frame[0][k] +
-                                         p[1] * c.frame[1][k] + p[2] * c.frame[2][k];
+        /* only the vertices the triangles use (lifts and ring points left over by
+         * cancelled twins are dropped), numbered in order of first use */
+        int64_t *map = malloc((size_t)(c.nout + 1) * sizeof *map);
+        if (!map) {
+            free(m->vertices);
+            free(m->triangles);
+            free(m);
+            m = NULL;
+            ok = ctx_nomem(&c);
+        } else {
+            for (int64_t i = 0; i < c.nout; i++)
+                map[i] = -1;
+            int64_t nused = 0;
+            for (int64_t i = 0; i < 3 * c.notri; i++) {
+                int64_t w = c.otri[i];
+                if (map[w] < 0) {
+                    map[w] = nused;
+                    const double *p = c.ox + 3 * w;
+                    for (int k = 0; k < 3; k++)
+                        m->vertices[3 * nused + k] = c.origin[k] + p[0] * c.frame[0][k] +
+                                                     p[1] * c.frame[1][k] + p[2] * c.frame[2][k];
+                    nused++;
+                }
+                m->triangles[i] = map[w];
+            }
+            free(map);
+            m->nvertices = nused;
+            m->ntriangles = c.notri;
         }
-        memcpy(m->triangles, c.otri, (size_t)(3 * c.notri) * sizeof *c.otri);
+    }
+    if (ok) {
         if (out_stats) {
             mfg_sweep_stats S;
             memset(&S, 0, sizeof S);
