@@ -364,10 +364,10 @@ def main():
             except subprocess.TimeoutExpired:
                 r = subprocess.CompletedProcess([], 1, "", f"stopped after {OURS_TIMEOUT:g} s")
             if r.returncode != 0 or not os.path.exists(out):
-                sys.stderr.write(f"bench_sweep: ours failed on {case['name']}:\n"
-                                 f"{r.stderr[-3000:]}\n")
+                sys.stderr.write(f"bench_sweep: ours failed on {case['name']} (exit status "
+                                 f"{r.returncode}):\n{r.stderr[-3000:]}\n")
                 case["ours"], case["ours_error"] = None, (r.stderr.strip().splitlines()
-                                                          or ["?"])[-1]
+                                                          or [f"exit status {r.returncode}"])[-1]
                 failed = True
             else:
                 with open(out) as f:
