@@ -52,27 +52,6 @@ static int cmp_side(const void *pa, const void *pb)
     return (a->side > b->side) - (a->side < b->side);
 }
 
-/* Union-find with path halving; the smaller index becomes the root, so the result is
- * deterministic. */
-static int64_t uf_find(int64_t *parent, int64_t x)
-{
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    return x;
-}
-
-static void uf_union(int64_t *parent, int64_t a, int64_t b)
-{
-    a = uf_find(parent, a);
-    b = uf_find(parent, b);
-    if (a < b)
-        parent[b] = a;
-    else if (b < a)
-        parent[a] = b;
-}
-
 static int repeats_index(const int64_t *t)
 {
     return t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
@@ -285,15 +264,15 @@ static mfg_status analyse(const double *xyz, int64_t nv, const int64_t *tris, in
                     neighbours[s1] = s2 / 3;
                     neighbours[s2] = s1 / 3;
                 }
-                uf_union(corner_parent, corner_at(tris, s1, l), corner_at(tris, s2, l));
-                uf_union(corner_parent, corner_at(tris, s1, h), corner_at(tris, s2, h));
+                mfg_uf_union(corner_parent, corner_at(tris, s1, l), corner_at(tris, s2, l));
+                mfg_uf_union(corner_parent, corner_at(tris, s1, h), corner_at(tris, s2, h));
             } else if (r->nonmanifold_edges++ == 0) {
                 f->nonmanifold_a = l;
                 f->nonmanifold_b = h;
                 f->nonmanifold_uses = uses;
             }
             for (int64_t k = i + 1; k < j; k++)
-                uf_union(tri_parent, list[i].side / 3, list[k].side / 3);
+                mfg_uf_union(tri_parent, list[i].side / 3, list[k].side / 3);
             i = j;
         }
     }
@@ -303,9 +282,9 @@ static mfg_status analyse(const double *xyz, int64_t nv, const int64_t *tris, in
     for (int64_t t = 0; t < nt; t++) {
         if (repeats_index(tris + 3 * t))
             continue;
-        r->components += uf_find(tri_parent, t) == t;
+        r->components += mfg_uf_find(tri_parent, t) == t;
         for (int k = 0; k < 3; k++)
-            if (uf_find(corner_parent, 3 * t + k) == 3 * t + k)
+            if (mfg_uf_find(corner_parent, 3 * t + k) == 3 * t + k)
                 offsets[tris[3 * t + k]]++;
     }
     for (int64_t v = 0; v < nv; v++)

@@ -42,4 +42,26 @@ static inline int mfg_coord_ok(double v)
     return (u == 0) | ((u >= 0x3370000000000000ULL) & (u <= 0x4c70000000000000ULL));
 }
 
+/* Union-find over 0 .. n-1 (parent[i] = i initially) with path halving; the smaller index
+ * becomes the root, so results do not depend on the order of the unions.  Shared by the
+ * closed-mesh check (fans, components) and the sweep's pinch resolution. */
+static inline int64_t mfg_uf_find(int64_t *parent, int64_t x)
+{
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+static inline void mfg_uf_union(int64_t *parent, int64_t a, int64_t b)
+{
+    a = mfg_uf_find(parent, a);
+    b = mfg_uf_find(parent, b);
+    if (a < b)
+        parent[b] = a;
+    else if (b < a)
+        parent[a] = b;
+}
+
 #endif

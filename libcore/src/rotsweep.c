@@ -1708,6 +1708,24 @@ static int side_loop(sw_ctx *c, const sw_leaf *L, int64_t ax, int64_t az, int64_
     return sub_side(c, L, ax, az, bx, bz, loop, nloop, caploop);
 }
 
+/* Keeps polygon vs[0 .. n-1] with its arc structure (an empty one is dropped: nothing
+ * covers it, and its edges bound nothing). */
+static int store_poly(sw_ctx *c, const int64_t *vs, int64_t n, const sw_struct *st)
+{
+    if (!st->full && st->n == 0)
+        return 1;
+    if (!grow((void **)&c->polys, &c->cappolys, c->npolys + 1, sizeof *c->polys) ||
+        !grow((void **)&c->poly_verts, &c->cappv, c->npv + n, sizeof *c->poly_verts))
+        return ctx_nomem(c);
+    sw_poly *P = &c->polys[c->npolys++];
+    P->first = c->npv;
+    P->n = n;
+    P->st = *st;
+    memcpy(c->poly_verts + c->npv, vs, (size_t)n * sizeof *vs);
+    c->npv += n;
+    return 1;
+}
+
 static int add_poly(sw_ctx *c, const int64_t *vs, int64_t n)
 {
     if (n < 3)
@@ -1722,18 +1740,7 @@ static int add_poly(sw_ctx *c, const int64_t *vs, int64_t n)
     sw_struct st;
     if (!circle_arcs(c, r, z, &st))
         return 0;
-    if (!st.full && st.n == 0)
-        return 1;
-    if (!grow((void **)&c->polys, &c->cappolys, c->npolys + 1, sizeof *c->polys) ||
-        !grow((void **)&c->poly_verts, &c->cappv, c->npv + n, sizeof *c->poly_verts))
-        return ctx_nomem(c);
-    sw_poly *P = &c->polys[c->npolys++];
-    P->first = c->npv;
-    P->n = n;
-    P->st = st;
-    memcpy(c->poly_verts + c->npv, vs, (size_t)n * sizeof *vs);
-    c->npv += n;
-    return 1;
+    return store_poly(c, vs, n, &st);
 }
 
 typedef struct sw_iv {
@@ -1861,18 +1868,7 @@ static int add_block(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t n
     free(iv);
     if (!ok)
         return 0;
-    if (!bst.full && bst.n == 0)
-        return 1;
-    if (!grow((void **)&c->polys, &c->cappolys, c->npolys + 1, sizeof *c->polys) ||
-        !grow((void **)&c->poly_verts, &c->cappv, c->npv + nloop, sizeof *c->poly_verts))
-        return ctx_nomem(c);
-    sw_poly *P = &c->polys[c->npolys++];
-    P->first = c->npv;
-    P->n = nloop;
-    P->st = bst;
-    memcpy(c->poly_verts + c->npv, loop, (size_t)nloop * sizeof *loop);
-    c->npv += nloop;
-    return 1;
+    return store_poly(c, loop, nloop, &bst);
 }
 
 static int build_polygons(sw_ctx *c)
@@ -2850,25 +2846,6 @@ static int cmp_he(const void *pa, const void *pb)
     return (a->ang > b->ang) - (a->ang < b->ang);
 }
 
-static int64_t uf_root(int64_t *p, int64_t x)
-{
-    while (p[x] != x) {
-        p[x] = p[p[x]];
-        x = p[x];
-    }
-    return x;
-}
-
-static void uf_join(int64_t *p, int64_t a, int64_t b)
-{
-    a = uf_root(p, a);
-    b = uf_root(p, b);
-    if (a < b)
-        p[b] = a;
-    else if (b < a)
-        p[a] = b;
-}
-
 /*
  * The boundary of a union of prisms may touch itself: where two covered regions meet
  * across a corner of the decomposition, four pieces share an arc (a pinch), and a vertex
@@ -2954,7 +2931,7 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
                         for (int m = 0; m < 3; m++) {
                             int64_t v1 = c->otri[3 * t1 + k], v2 = c->otri[3 * t2 + m];
                             if (v1 == v2 && (v1 == h->lo || v1 == h->hi))
-                                uf_join(parent, 3 * t1 + k, 3 * t2 + m);
+                                mfg_uf_union(parent, 3 * t1 + k, 3 * t2 + m);
                         }
                     break;
                 }
@@ -2971,7 +2948,7 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
     }
     int ok = 1;
     for (int64_t cr = 0; cr < ne && ok; cr++) {
-        int64_t root = uf_root(parent, cr);
+        int64_t root = mfg_uf_find(parent, cr);
         int64_t v = c->otri[cr];
         hkey k = mkkey(root, 0, 0, 0);
         int64_t nv = hmap_get(&seen, &k);
