@@ -66,8 +66,14 @@ sweep_log="$FREECAD_USER_HOME/sweep.log"
 freecadcmd tests/freecad/test_sweep_app.py > "$sweep_log" 2>&1
 sweep_rc=$?
 grep -E "^(FAIL|ERROR): |^sweep library: |^freecad-sweep: " "$sweep_log"
+# FreeCAD prints a traceback for every failed recompute; the ones of the issue-8 known gaps
+# (the library's refusal, zero-area triangles: the tests skip them, naming the gap) are
+# expected, any other is a failure
+sweep_tb=$(grep -c "Traceback" "$sweep_log")
+sweep_gap_tb=$(grep -A3 "Traceback" "$sweep_log" |
+  grep -cE "could not be made a closed 2-manifold|zero-area triangles")
 if [ $sweep_rc -ne 0 ] || ! grep -qE "^freecad-sweep: [0-9]+ passed, 0 failed$" "$sweep_log" ||
-   grep -q "Traceback" "$sweep_log"; then
+   [ "$sweep_tb" -gt "$sweep_gap_tb" ]; then
   echo "sweep tests: FAILED (exit $sweep_rc)"; grep -n -A12 "Traceback" "$sweep_log" | head -120
   failed=1
 fi
