@@ -3084,6 +3084,35 @@ static int build_walls(sw_ctx *c, sw_out *o)
 /* Entry point                                                                          */
 /* ----------------------------------------------------------------------------------- */
 
+/* Frees what one placement of the decomposition built (leaves, 2-D vertices, polygons,
+ * output) and leaves those fields empty, for ctx_free and for a rebuild. */
+static void free_decomposition(sw_ctx *c)
+{
+    free(c->leaves);
+    free(c->leaf_curves);
+    hmap_free(&c->corners);
+    hmap_free(&c->leafmap);
+    free(c->v2);
+    hmap_free(&c->v2map);
+    free(c->poly_verts);
+    free(c->polys);
+    free(c->ox);
+    hmap_free(&c->outmap);
+    free(c->otri);
+    free(c->oring);
+    free(c->odir);
+    c->leaves = NULL; c->nleaves = c->capleaves = 0;
+    c->leaf_curves = NULL; c->nleaf_curves = c->capleaf_curves = 0;
+    c->v2 = NULL; c->nv2 = c->capv2 = 0;
+    c->poly_verts = NULL; c->npv = c->cappv = 0;
+    c->polys = NULL; c->npolys = c->cappolys = 0;
+    c->ox = NULL; c->nout = c->capout = 0;
+    c->otri = NULL; c->notri = c->capotri = 0;
+    c->oring = NULL;
+    c->odir = NULL;
+    c->caporing = c->capodir = 0;
+}
+
 static void ctx_free(sw_ctx *c)
 {
     free(c->lx);
@@ -3102,54 +3131,20 @@ static void ctx_free(sw_ctx *c)
     free(c->xentry);
     free(c->arcs);
     free(c->xpool);
-    free(c->leaves);
-    free(c->leaf_curves);
-    hmap_free(&c->corners);
-    hmap_free(&c->leafmap);
-    free(c->v2);
-    hmap_free(&c->v2map);
-    free(c->poly_verts);
-    free(c->polys);
-    free(c->ox);
-    hmap_free(&c->outmap);
-    free(c->otri);
-    free(c->oring);
-    free(c->odir);
+    free_decomposition(c);
 }
 
 /* Drops everything built by one placement of the decomposition (the solid, its curves
  * and bins stay). */
 static void reset_attempt(sw_ctx *c, sw_out *o)
 {
-    free(c->leaves);
-    free(c->leaf_curves);
-    hmap_free(&c->corners);
-    hmap_free(&c->leafmap);
-    free(c->v2);
-    hmap_free(&c->v2map);
-    free(c->poly_verts);
-    free(c->polys);
-    free(c->ox);
-    hmap_free(&c->outmap);
-    free(c->otri);
-    free(c->oring);
-    free(c->odir);
-    c->oring = NULL;
-    c->odir = NULL;
-    c->caporing = c->capodir = 0;
+    free_decomposition(c);
     free(o->phi);
     hmap_free(&o->lifts);
-    c->leaves = NULL; c->nleaves = c->capleaves = 0;
-    c->leaf_curves = NULL; c->nleaf_curves = c->capleaf_curves = 0;
-    c->v2 = NULL; c->nv2 = c->capv2 = 0;
-    c->poly_verts = NULL; c->npv = c->cappv = 0;
-    c->polys = NULL; c->npolys = c->cappolys = 0;
-    c->ox = NULL; c->nout = c->capout = 0;
-    c->otri = NULL; c->notri = c->capotri = 0;
-    c->narcs = 0;
-    c->nxpool = 0;
     o->phi = NULL;
     o->capphi = 0;
+    c->narcs = 0;
+    c->nxpool = 0;
 }
 
 /* Arguments other than the mesh (which mfg_mesh_require_closed checks). */
