@@ -1242,6 +1242,153 @@ static double curve_sag(const sw_curve *cv, double ua, double ub)
     return worst;
 }
 
+/* Do the two crossings pts and q of chords with a cell's sides coincide (in either order)? */
+static int same_pair(double pts[][2], double q[2][2], double eps)
+{
+    return (fabs(pts[0][0] - q[0][0]) <= eps && fabs(pts[0][1] - q[0][1]) <= eps &&
+            fabs(pts[1][0] - q[1][0]) <= eps && fabs(pts[1][1] - q[1][1]) <= eps) ||
+           (fabs(pts[0][0] - q[1][0]) <= eps && fabs(pts[0][1] - q[1][1]) <= eps &&
+            fabs(pts[1][0] - q[0][0]) <= eps && fabs(pts[1][1] - q[0][1]) <= eps);
+}
+
+static double curve_r(const sw_curve *cv, double u)
+{
+    return sqrt(fmax(0, cv->qa * u * u + cv->qb * u + cv->qc));
+}
+
+/* The parameter in [lo, hi] (widened by rounding) at which curve cv has radius r, or NAN. */
+static double curve_u_at_r(const sw_curve *cv, double r, double lo, double hi)
+{
+    double a = cv->qa, b = cv->qb, cc = cv->qc - r * r, best = NAN, slack = 1e-9;
+    double roots[2];
+    int nr = 0;
+    if (a == 0) {
+        if (b != 0)
+            roots[nr++] = -cc / b;
+    } else {
+        double disc = b * b - 4 * a * cc;
+        if (disc < 0)
+            disc = 0;
+        double sq = sqrt(disc), q = -0.5 * (b + (b >= 0 ? sq : -sq));
+        roots[nr++] = q / a;
+        if (q != 0)
+            roots[nr++] = cc / q;
+    }
+    for (int k = 0; k < nr; k++)
+        if (roots[k] >= lo - slack && roots[k] <= hi + slack)
+            best = roots[k];
+    return best;
+}
+
+/*
+ * Where two chords cross inside a cell (two edge images, not at a vertex image), the
+ * cell is cut into the four wedges round their crossing, like a star round a vertex image,
+ * instead of being refined down to blocks at every crossing (the output grew with the
+ * number of crossings times the depth of the tree).  Accepted when the two curves meet
+ * once strictly inside the cell, each half of each curve stays within tol/4 of its chord
+ * from the crossing, and the corners in the same wedge agree.  The crossing is computed
+ * on the curves themselves, so that the lifts there land on both edges.
+ */
+static int crossing_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, double ra,
+                         double rb, double za, double zb, const double *ua, int64_t cb,
+                         const double *ub)
+{
+    const sw_curve *A = &c->curves[L->split_curve], *B = &c->curves[cb];
+    double alo = fmin(ua[0], ua[1]), ahi = fmax(ua[0], ua[1]);
+    double blo = fmin(ub[0], ub[1]), bhi = fmax(ub[0], ub[1]);
+    if (A->dir[2] == 0 && B->dir[2] == 0)
+        return 0;
+    if (A->dir[2] == 0) {
+        const sw_curve *t = A;
+        A = B;
+        B = t;
+        double t0 = alo, t1 = ahi;
+        alo = blo;
+        ahi = bhi;
+        blo = t0;
+        bhi = t1;
+    }
+    /* A is not horizontal: z = A.p0z + u A.dz, u in [alo, ahi] */
+    double u = NAN, v = NAN;
+    if (B->dir[2] == 0) {
+        double z = B->p0[2];
+        u = (z - A->p0[2]) / A->dir[2];
+        if (!(u > alo && u < ahi))
+            return 0;
+        v = curve_u_at_r(B, curve_r(A, u), blo, bhi);
+    } else {
+        /* r_A(z)^2 = r_B(z)^2, with u = (z - a0) / ad, v = (z - b0) / bd: a quadratic in z */
+        double a0 = A->p0[2], ad = A->dir[2], b0 = B->p0[2], bd = B->dir[2];
+        double ka = A->qa / (ad * ad), kb = B->qa / (bd * bd);
+        double qa = ka - kb;
+        double qb = A->qb / ad - 2 * ka * a0 - (B->qb / bd - 2 * kb * b0);
+        double qc = ka * a0 * a0 - A->qb * a0 / ad + A->qc - (kb * b0 * b0 - B->qb * b0 / bd + B->qc);
+        double zs[2];
+        int nz = 0;
+        if (qa == 0) {
+            if (qb != 0)
+                zs[nz++] = -qc / qb;
+        } else {
+            double disc = qb * qb - 4 * qa * qc;
+            if (disc < 0)
+                return 0;
+            double sq = sqrt(disc), q = -0.5 * (qb + (qb >= 0 ? sq : -sq));
+            zs[nz++] = q / qa;
+            if (q != 0)
+                zs[nz++] = qc / q;
+        }
+        int found = 0;
+        for (int k = 0; k < nz; k++) {
+            double uu = (zs[k] - a0) / ad, vv = (zs[k] - b0) / bd;
+            if (uu > alo && uu < ahi && vv > blo && vv < bhi) {
+                found++;
+                u = uu;
+                v = vv;
+            }
+        }
+        if (found != 1)
+            return 0;
+    }
+    if (!(v > blo && v < bhi) || !(u > alo && u < ahi))
+        return 0;
+    double cr = curve_r(A, u), cz = A->p0[2] + u * A->dir[2];
+    if (!(cr > ra && cr < rb && cz > za && cz < zb))
+        return 0;
+    double lim = 0.25 * c->tol;
+    if (curve_sag(A, alo, u) > lim || curve_sag(A, u, ahi) > lim || curve_sag(B, blo, v) > lim ||
+        curve_sag(B, v, bhi) > lim)
+        return 0;
+    /* corners in one wedge (same side of both chords) agree */
+    double pa[2][2], pb[2][2];
+    for (int e = 0; e < 2; e++) {
+        double ue = e ? ahi : alo, ve = e ? bhi : blo;
+        pa[e][0] = curve_r(A, ue);
+        pa[e][1] = A->p0[2] + ue * A->dir[2];
+        pb[e][0] = curve_r(B, ve);
+        pb[e][1] = B->p0[2] + ve * B->dir[2];
+    }
+    double crs[4][2] = {{ra, za}, {rb, za}, {rb, zb}, {ra, zb}};
+    int side[4][2];
+    for (int k = 0; k < 4; k++) {
+        double oa = (pa[1][0] - pa[0][0]) * (crs[k][1] - pa[0][1]) - (pa[1][1] - pa[0][1]) * (crs[k][0] - pa[0][0]);
+        double ob = (pb[1][0] - pb[0][0]) * (crs[k][1] - pb[0][1]) - (pb[1][1] - pb[0][1]) * (crs[k][0] - pb[0][0]);
+        if (oa == 0 || ob == 0)
+            return 0;
+        side[k][0] = oa > 0;
+        side[k][1] = ob > 0;
+    }
+    for (int k = 0; k < 4; k++)
+        for (int j = k + 1; j < 4; j++)
+            if (side[k][0] == side[j][0] && side[k][1] == side[j][1] &&
+                !same_struct(c, all[k], all[j]))
+                return 0;
+    L->kind = LEAF_STAR;
+    L->cr = cr;
+    L->cz = cz;
+    L->cvtx = -1;
+    return 1;
+}
+
 typedef struct sw_samples {
     hmap cache;            /* (ix, iz) -> index in pool */
     sw_struct *pool;
@@ -1317,6 +1464,8 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
     /* curves of the bounding triangles through the cell */
     int64_t npass = 0, ncross_split = 0, all_from_img = 1, one_cross_each = 1;
     double split_u[2] = {0, 0}, split_p[2][2] = {{0, 0}, {0, 0}};
+    int64_t second_curve = -1, ncross_second = 0;
+    double second_u[2] = {0, 0}, second_p[2][2] = {{0, 0}, {0, 0}};
     double peps = 1e-9 * (rb - ra) + 1e-12 * (fabs(rb) + fabs(zb));
     for (int64_t k = 0; k < c->ncand; k++) {
         int64_t t = c->cand[k];
@@ -1382,8 +1531,21 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
                                fabs(pts[1][0] - split_p[1][0]) <= peps && fabs(pts[1][1] - split_p[1][1]) <= peps) ||
                               (fabs(pts[0][0] - split_p[1][0]) <= peps && fabs(pts[0][1] - split_p[1][1]) <= peps &&
                                fabs(pts[1][0] - split_p[0][0]) <= peps && fabs(pts[1][1] - split_p[0][1]) <= peps));
-            if (!same_chord)
+            /* a second chord (for a crossing of two chords, below), with its own group
+             * of coincident curves */
+            int same_second = !same_chord && npass == 2 && ncross_second == 2 && !end_in &&
+                              ncr == 2 && same_pair(pts, second_p, peps);
+            if (!same_chord && !same_second)
                 npass++;
+            if (npass == 2 && !same_chord && !same_second) {
+                second_curve = ic;
+                ncross_second = end_in ? -1 : ncr;
+                if (ncr == 2) {
+                    second_u[0] = us[0];
+                    second_u[1] = us[1];
+                    memcpy(second_p, pts, sizeof second_p);
+                }
+            }
             if (npass == 1 && !same_chord) {
                 L->split_curve = ic;
                 ncross_split = end_in ? -1 : ncr;
@@ -1451,6 +1613,9 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
         L->cvtx = imgv;
         return 1;
     }
+    if (npass == 2 && nimg == 0 && ncross_split == 2 && ncross_second == 2 &&
+        crossing_cell(c, L, all, ra, rb, za, zb, split_u, second_curve, second_u))
+        return 1;
     if (L->level < c->lmax) {
         L->kind = LEAF_REFINE;
         c->nleaf_curves = L->cfirst; /* the children find their own */
@@ -1871,6 +2036,35 @@ static int add_block(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t n
     return store_poly(c, loop, nloop, &bst);
 }
 
+/* The curves of leaf L through its centre (a crossing of chords), with their parameters
+ * there, kept on the centre's 2-D vertex: its lifts onto the triangles of those edges
+ * land on the edges, so that the pieces meeting there share the vertex. */
+static void centre_curves(const sw_ctx *c, const sw_leaf *L, sw_vtx2 *w)
+{
+    double eps = 1e-9 * (w->r + fabs(w->z)) + 1e-6 * c->tol;
+    for (int64_t k = 0; k < L->cn && w->ncurves < SW_MAXCURVES; k++) {
+        int64_t ic = c->leaf_curves[L->cfirst + k];
+        const sw_curve *cv = &c->curves[ic];
+        double u;
+        if (cv->dir[2] != 0) {
+            u = (w->z - cv->p0[2]) / cv->dir[2];
+        } else {
+            if (fabs(cv->p0[2] - w->z) > eps)
+                continue;
+            u = curve_u_at_r(cv, w->r, 0, 1);
+        }
+        if (!(u >= 0 && u <= 1) || fabs(curve_r(cv, u) - w->r) > eps)
+            continue;
+        int known = 0;
+        for (int j = 0; j < w->ncurves; j++)
+            known |= w->curves[j] == ic;
+        if (!known) {
+            w->curves[w->ncurves] = ic;
+            w->us[w->ncurves++] = u;
+        }
+    }
+}
+
 static int build_polygons(sw_ctx *c)
 {
     if (!hmap_init(&c->v2map, 4 * c->nleaves + 64))
@@ -1940,6 +2134,8 @@ static int build_polygons(sw_ctx *c)
             ok = 0;
             break;
         }
+        if (L->cvtx < 0)
+            centre_curves(c, L, &c->v2[cv]);
         for (int64_t i = 0; i < nloop && ok; i++) {
             int64_t tri[3] = {cv, loop[i], loop[(i + 1) % nloop]};
             ok = add_poly(c, tri, 3);
@@ -2846,6 +3042,61 @@ static int cmp_he(const void *pa, const void *pb)
     return (a->ang > b->ang) - (a->ang < b->ang);
 }
 
+/* Joins the corners at the edge's two ends of triangles h and g (paired across it). */
+static void join_across(const sw_ctx *c, const sw_he *h, const sw_he *g, int64_t *parent)
+{
+    int64_t t1 = h->tri / 3, t2 = g->tri / 3;
+    for (int k = 0; k < 3; k++)
+        for (int m = 0; m < 3; m++) {
+            int64_t v1 = c->otri[3 * t1 + k], v2 = c->otri[3 * t2 + m];
+            if (v1 == v2 && (v1 == h->lo || v1 == h->hi))
+                mfg_uf_union(parent, 3 * t1 + k, 3 * t2 + m);
+        }
+}
+
+/* Do the n triangles round an edge (sorted by angle) alternate in direction? */
+static int alternates(const sw_he *e, int64_t n)
+{
+    if (n % 2)
+        return 0;
+    for (int64_t q = 0; q < n; q++)
+        if (e[q].dir == e[(q + 1) % n].dir)
+            return 0;
+    return 1;
+}
+
+/* Where the directions round an edge do not alternate (rounding swapped two nearly
+ * coincident pieces), the triangles are read in decreasing angle as a cyclic bracket
+ * sequence (+1 opens, -1 closes) and each +1 is paired with its matching -1: every
+ * triangle gets a partner, where pairing with the next one round would leave some
+ * unpaired and the edge open once the vertices are split.  An edge with unequal counts
+ * of the two directions is left as it is (the closedness check reports it). */
+static int pair_round_edge(sw_ctx *c, const sw_he *e, int64_t n, int64_t *parent,
+                           int64_t **stack, int64_t *capstack)
+{
+    int64_t sum = 0, low = 0, start = 0;
+    for (int64_t k = 0; k < n; k++) {
+        sum += e[n - 1 - k].dir;
+        if (sum < low) {
+            low = sum;
+            start = k + 1;
+        }
+    }
+    if (sum != 0)
+        return 1;
+    if (!grow((void **)stack, capstack, n, sizeof **stack))
+        return ctx_nomem(c);
+    int64_t depth = 0;
+    for (int64_t k = 0; k < n; k++) {
+        int64_t idx = n - 1 - (start + k) % n;
+        if (e[idx].dir == 1)
+            (*stack)[depth++] = idx;
+        else if (depth > 0)
+            join_across(c, &e[(*stack)[--depth]], &e[idx], parent);
+    }
+    return 1;
+}
+
 /*
  * The boundary of a union of prisms may touch itself: where two covered regions meet
  * across a corner of the decomposition, four pieces share an arc (a pinch), and a vertex
@@ -2906,36 +3157,25 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
     for (int64_t i = 0; i < ne; i++)
         parent[i] = i;
     qsort(he, (size_t)ne, sizeof *he, cmp_he);
+    int64_t *stack = NULL, capstack = 0;
     /* corners: 3t + k is the corner at otri[3t + k] */
     for (int64_t i = 0; i < ne;) {
         int64_t j = i;
         while (j < ne && he[j].lo == he[i].lo && he[j].hi == he[i].hi)
             j++;
         int64_t n = j - i;
-        /* pair each triangle with the next one round the edge of the other direction,
-         * starting from each +1 in angular order */
-        if (n >= 2) {
-            for (int64_t q = 0; q < n; q++) {
-                const sw_he *h = &he[i + q];
-                if (h->dir != 1)
-                    continue;
-                /* the partner: the first -1 going round in the direction that makes the
-                 * pair a consistently oriented wedge */
-                for (int64_t step = 1; step < n; step++) {
-                    const sw_he *g = &he[i + (q + n - step) % n];
-                    if (g->dir == 1)
-                        break;
-                    int64_t t1 = h->tri / 3, t2 = g->tri / 3;
-                    /* join the corners at lo and at hi of the two triangles */
-                    for (int k = 0; k < 3; k++)
-                        for (int m = 0; m < 3; m++) {
-                            int64_t v1 = c->otri[3 * t1 + k], v2 = c->otri[3 * t2 + m];
-                            if (v1 == v2 && (v1 == h->lo || v1 == h->hi))
-                                mfg_uf_union(parent, 3 * t1 + k, 3 * t2 + m);
-                        }
-                    break;
-                }
-            }
+        /* pair each triangle with the next one round the edge of the other direction
+         * (going round in decreasing angle): where the directions alternate, each pair
+         * bounds a consistently oriented wedge */
+        if (n >= 2 && alternates(he + i, n)) {
+            for (int64_t q = 0; q < n; q++)
+                if (he[i + q].dir == 1)
+                    join_across(c, &he[i + q], &he[i + (q + n - 1) % n], parent);
+        } else if (n >= 2 && !pair_round_edge(c, he + i, n, parent, &stack, &capstack)) {
+            free(he);
+            free(parent);
+            free(stack);
+            return 0;
         }
         i = j;
     }
@@ -2977,6 +3217,7 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
     hmap_free(&seen);
     free(he);
     free(parent);
+    free(stack);
     return ok;
 }
 

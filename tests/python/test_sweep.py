@@ -615,6 +615,10 @@ CASES = {
     "hole-axis-along-edge": (holed_block(), (0.0, 0.0, 0.0), (1, 0, 0)),
     "cavity-axis-through": (hollow_box(), (1.1, 0.9, 1.0), (0.2, 1.0, 0.1)),
     "two-components": (two_boxes(), (0.0, 0.0, 0.0), (0.1, 0.0, 1.0)),
+    # two edges mirror images across a meridian plane: one (r, z) image at two angles
+    "tetra-mirror-edges": ((np.array([(0.5, 0.5, 0), (1.5, 0.5, 0), (0.5, 1.5, 0), (0.5, 0.5, 1)], float),
+                            np.array([(0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)])),
+                           (0.0, 0.0, 0.0), (0, 0, 1)),
 }
 ORACLE = [("box-axis-through", d) for d in (1, 180, 359, 360)] + [
     ("box-axis-outside", 180), ("box-axis-outside", 360),
@@ -623,7 +627,8 @@ ORACLE = [("box-axis-through", d) for d in (1, 180, 359, 360)] + [
     ("hole-axis-through-hole", 90), ("hole-axis-through-hole", 360),
     ("hole-axis-tilted-through-hole", 180), ("hole-axis-along-edge", 1),
     ("hole-axis-along-edge", 360), ("cavity-axis-through", 60),
-    ("cavity-axis-through", 360), ("two-components", 150)]
+    ("cavity-axis-through", 360), ("two-components", 150), ("tetra-mirror-edges", 160),
+    ("tetra-mirror-edges", 270)]
 
 
 def membership(res, mesh, point, direction, theta, tol, n=800, seed=0):
