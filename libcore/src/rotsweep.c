@@ -1121,6 +1121,37 @@ typedef struct sw_cross {
     int64_t curve;
 } sw_cross;
 
+/* The real roots of a x^2 + b x + c = 0 in ascending order, in the stable form (no
+ * cancellation between -b and the square root); a negative discriminant counts as zero
+ * (a double root) when clamp is set - a tangency lost to rounding - else gives none. */
+static int solve_quadratic(double a, double b, double c, int clamp, double roots[2])
+{
+    if (a == 0) {
+        if (b == 0)
+            return 0;
+        roots[0] = -c / b;
+        return 1;
+    }
+    double disc = b * b - 4 * a * c;
+    if (disc < 0) {
+        if (!clamp)
+            return 0;
+        disc = 0;
+    }
+    double sq = sqrt(disc), q = -0.5 * (b + (b >= 0 ? sq : -sq));
+    double r1 = q / a, r2 = q != 0 ? c / q : r1;
+    if (r1 > r2) {
+        double t = r1;
+        r1 = r2;
+        r2 = t;
+    }
+    roots[0] = r1;
+    if (r2 == r1)
+        return 1;
+    roots[1] = r2;
+    return 2;
+}
+
 /* Crossings of curve cv with the open segment of the line r = val (vertical_side) or
  * z = val between lo and hi.  Up to 2. */
 static int curve_side(const sw_curve *cv, int rside, double val, double lo, double hi,
@@ -1142,28 +1173,8 @@ static int curve_side(const sw_curve *cv, int rside, double val, double lo, doub
         return n;
     }
     /* qa u^2 + qb u + qc - val^2 = 0 */
-    double a = cv->qa, b = cv->qb, cc = cv->qc - val * val;
     double roots[2];
-    int nr = 0;
-    if (a == 0) {
-        if (b != 0)
-            roots[nr++] = -cc / b;
-    } else {
-        double disc = b * b - 4 * a * cc;
-        if (disc < 0)
-            return 0;
-        double sq = sqrt(disc);
-        double q = -0.5 * (b + (b >= 0 ? sq : -sq));
-        double r1 = q / a, r2 = q != 0 ? cc / q : r1;
-        if (r1 > r2) {
-            double t = r1;
-            r1 = r2;
-            r2 = t;
-        }
-        roots[nr++] = r1;
-        if (r2 != r1)
-            roots[nr++] = r2;
-    }
+    int nr = solve_quadratic(cv->qa, cv->qb, cv->qc - val * val, 0, roots);
     for (int k = 0; k < nr; k++) {
         double u = roots[k];
         if (!(u >= 0 && u <= 1))
@@ -1259,21 +1270,8 @@ static double curve_r(const sw_curve *cv, double u)
 /* The parameter in [lo, hi] (widened by rounding) at which curve cv has radius r, or NAN. */
 static double curve_u_at_r(const sw_curve *cv, double r, double lo, double hi)
 {
-    double a = cv->qa, b = cv->qb, cc = cv->qc - r * r, best = NAN, slack = 1e-9;
-    double roots[2];
-    int nr = 0;
-    if (a == 0) {
-        if (b != 0)
-            roots[nr++] = -cc / b;
-    } else {
-        double disc = b * b - 4 * a * cc;
-        if (disc < 0)
-            disc = 0;
-        double sq = sqrt(disc), q = -0.5 * (b + (b >= 0 ? sq : -sq));
-        roots[nr++] = q / a;
-        if (q != 0)
-            roots[nr++] = cc / q;
-    }
+    double roots[2], best = NAN, slack = 1e-9;
+    int nr = solve_quadratic(cv->qa, cv->qb, cv->qc - r * r, 1, roots);
     for (int k = 0; k < nr; k++)
         if (roots[k] >= lo - slack && roots[k] <= hi + slack)
             best = roots[k];
@@ -1324,19 +1322,7 @@ static int crossing_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, dou
         double qb = A->qb / ad - 2 * ka * a0 - (B->qb / bd - 2 * kb * b0);
         double qc = ka * a0 * a0 - A->qb * a0 / ad + A->qc - (kb * b0 * b0 - B->qb * b0 / bd + B->qc);
         double zs[2];
-        int nz = 0;
-        if (qa == 0) {
-            if (qb != 0)
-                zs[nz++] = -qc / qb;
-        } else {
-            double disc = qb * qb - 4 * qa * qc;
-            if (disc < 0)
-                return 0;
-            double sq = sqrt(disc), q = -0.5 * (qb + (qb >= 0 ? sq : -sq));
-            zs[nz++] = q / qa;
-            if (q != 0)
-                zs[nz++] = qc / q;
-        }
+        int nz = solve_quadratic(qa, qb, qc, 0, zs);
         int found = 0;
         for (int k = 0; k < nz; k++) {
             double uu = (zs[k] - a0) / ad, vv = (zs[k] - b0) / bd;
