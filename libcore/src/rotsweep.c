@@ -248,7 +248,7 @@ typedef struct sw_struct {
                               circle's structure does not name them */
 } sw_struct;
 
-#define SW_MAXCURVES 8
+#define SW_MAXCURVES 4
 typedef struct sw_vtx2 {   /* a vertex of the meridian decomposition */
     double r, z;
     int64_t curve;         /* the curve it lies on (-1: none) */
@@ -2126,24 +2126,11 @@ static int add_block(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t n
 static int on_curve(const sw_ctx *c, const int64_t *loop, int64_t n, int64_t ic, int64_t at[2])
 {
     int m = 0;
-    const sw_curve *cv = &c->curves[ic];
     for (int64_t i = 0; i < n; i++) {
         const sw_vtx2 *w = &c->v2[loop[i]];
         int on = 0;
         for (int j = 0; j < w->ncurves; j++)
             on |= w->curves[j] == ic;
-        /* a vertex whose list of curves is full (many edges with one image, e.g. the
-         * edges of a tessellated face perpendicular to the axis) is on the curve when it
-         * lies on its image */
-        if (!on && w->ncurves == SW_MAXCURVES) {
-            double eps = 1e-9 * (w->r + fabs(w->z)) + 1e-12 * c->ext;
-            if (cv->dir[2] == 0) {
-                on = fabs(w->z - cv->p0[2]) <= eps && w->r >= cv->rmin - eps && w->r <= cv->rmax + eps;
-            } else {
-                double u = (w->z - cv->p0[2]) / cv->dir[2];
-                on = u >= 0 && u <= 1 && fabs(curve_r(cv, u) - w->r) <= eps;
-            }
-        }
         if (on) {
             if (m < 2)
                 at[m] = i;
