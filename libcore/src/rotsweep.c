@@ -270,7 +270,6 @@ typedef struct sw_leaf {
     int kind;              /* LEAF_* */
     int64_t cfirst, cn;    /* its curves in leaf_curves */
     int64_t split_curve;   /* LEAF_SPLIT: the curve along which it is cut */
-    int64_t split_curve2;  /* LEAF_SPLIT: a second curve, not meeting the first (-1: none) */
     double cr, cz;         /* LEAF_STAR / LEAF_FAN: the centre */
     int64_t cvtx;          /* LEAF_STAR: a mesh vertex imaged at the centre */
     int empty;             /* no arc anywhere and no triangle near: no polygon */
@@ -573,27 +572,6 @@ static int setup(sw_ctx *c, const double *xyz, const int64_t *tris, const int64_
                 return 0;
             c->tcurves[4 * t + 3] = c->ncurves - 1;
         }
-    }
-    /* A face perpendicular to the axis and pierced by it is imaged onto the segment
-     * z = const, r in [0, farthest vertex], but its edges only cover r from their own
-     * nearest points: the piece next to the axis had no curve, and the cells there, whose
-     * circles change from inside to outside across the face, refined down to blocks
-     * all along it.  The segment from the axis point to the farthest vertex is that
-     * face's curve (r grows along it, so it covers the image once). */
-    for (int64_t t = 0; t < c->nt; t++) {
-        sw_tri *T = &c->tris[t];
-        if (T->vertical_ok || T->rmin != 0)
-            continue;
-        int64_t far = T->v[0];
-        for (int k = 1; k < 3; k++)
-            if (c->vr[T->v[k]] > c->vr[far])
-                far = T->v[k];
-        double foot[3] = {0, 0, c->lx[3 * far + 2]};
-        if (c->vr[far] == 0)
-            continue;
-        if (!add_curve(c, foot, c->lx + 3 * far, t, -1, -1, far))
-            return 0;
-        c->tcurves[4 * t + 3] = c->ncurves - 1;
     }
     c->cstamp = calloc((size_t)(c->ncurves + 1), sizeof *c->cstamp);
     if (!c->cstamp)
@@ -1309,12 +1287,13 @@ static double curve_u_at_r(const sw_curve *cv, double r, double lo, double hi)
  * from the crossing, and the corners in the same wedge agree.  The crossing is computed
  * on the curves themselves, so that the lifts there land on both edges.
  */
-/* The points where curves A (parameters strictly inside (alo, ahi)) and B (inside
- * (blo, bhi)) meet in the (r, z) plane: how many (0, 1 or 2; two horizontal curves never
- * meet - on one line they are one chord), the last one in *pr, *pz. */
-static int curves_meet(const sw_curve *A, double alo, double ahi, const sw_curve *B, double blo,
-                       double bhi, double *pr, double *pz)
+static int crossing_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, double ra,
+                         double rb, double za, double zb, const double *ua, int64_t cb,
+                         const double *ub)
 {
+    const sw_curve *A = &c->curves[L->split_curve], *B = &c->curves[cb];
+    double alo = fmin(ua[0], ua[1]), ahi = fmax(ua[0], ua[1]);
+    double blo = fmin(ub[0], ub[1]), bhi = fmax(ub[0], ub[1]);
     if (A->dir[2] == 0 && B->dir[2] == 0)
         return 0;
     if (A->dir[2] == 0) {
@@ -1327,57 +1306,38 @@ static int curves_meet(const sw_curve *A, double alo, double ahi, const sw_curve
         blo = t0;
         bhi = t1;
     }
-    /* A is not horizontal: z = A.p0z + u A.dz */
-    int found = 0;
+    /* A is not horizontal: z = A.p0z + u A.dz, u in [alo, ahi] */
+    double u = NAN, v = NAN;
     if (B->dir[2] == 0) {
-        double u = (B->p0[2] - A->p0[2]) / A->dir[2];
+        double z = B->p0[2];
+        u = (z - A->p0[2]) / A->dir[2];
         if (!(u > alo && u < ahi))
             return 0;
-        double r = curve_r(A, u), roots[2];
-        int nr = solve_quadratic(B->qa, B->qb, B->qc - r * r, 1, roots);
-        for (int k = 0; k < nr; k++)
-            if (roots[k] > blo && roots[k] < bhi) {
+        v = curve_u_at_r(B, curve_r(A, u), blo, bhi);
+    } else {
+        /* r_A(z)^2 = r_B(z)^2, with u = (z - a0) / ad, v = (z - b0) / bd: a quadratic in z */
+        double a0 = A->p0[2], ad = A->dir[2], b0 = B->p0[2], bd = B->dir[2];
+        double ka = A->qa / (ad * ad), kb = B->qa / (bd * bd);
+        double qa = ka - kb;
+        double qb = A->qb / ad - 2 * ka * a0 - (B->qb / bd - 2 * kb * b0);
+        double qc = ka * a0 * a0 - A->qb * a0 / ad + A->qc - (kb * b0 * b0 - B->qb * b0 / bd + B->qc);
+        double zs[2];
+        int nz = solve_quadratic(qa, qb, qc, 0, zs);
+        int found = 0;
+        for (int k = 0; k < nz; k++) {
+            double uu = (zs[k] - a0) / ad, vv = (zs[k] - b0) / bd;
+            if (uu > alo && uu < ahi && vv > blo && vv < bhi) {
                 found++;
-                *pr = r;
-                *pz = B->p0[2];
+                u = uu;
+                v = vv;
             }
-        return found;
-    }
-    /* r_A(z)^2 = r_B(z)^2, with u = (z - a0) / ad, v = (z - b0) / bd: a quadratic in z */
-    double a0 = A->p0[2], ad = A->dir[2], b0 = B->p0[2], bd = B->dir[2];
-    double ka = A->qa / (ad * ad), kb = B->qa / (bd * bd);
-    double qa = ka - kb;
-    double qb = A->qb / ad - 2 * ka * a0 - (B->qb / bd - 2 * kb * b0);
-    double qc = ka * a0 * a0 - A->qb * a0 / ad + A->qc - (kb * b0 * b0 - B->qb * b0 / bd + B->qc);
-    double zs[2];
-    int nz = solve_quadratic(qa, qb, qc, 0, zs);
-    for (int k = 0; k < nz; k++) {
-        double uu = (zs[k] - a0) / ad, vv = (zs[k] - b0) / bd;
-        if (uu > alo && uu < ahi && vv > blo && vv < bhi) {
-            found++;
-            *pr = curve_r(A, uu);
-            *pz = zs[k];
         }
+        if (found != 1)
+            return 0;
     }
-    return found;
-}
-
-static int crossing_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, double ra,
-                         double rb, double za, double zb, const double *ua, int64_t cb,
-                         const double *ub)
-{
-    const sw_curve *A = &c->curves[L->split_curve], *B = &c->curves[cb];
-    double alo = fmin(ua[0], ua[1]), ahi = fmax(ua[0], ua[1]);
-    double blo = fmin(ub[0], ub[1]), bhi = fmax(ub[0], ub[1]);
-    double cr = 0, cz = 0;
-    if (curves_meet(A, alo, ahi, B, blo, bhi, &cr, &cz) != 1)
+    if (!(v > blo && v < bhi) || !(u > alo && u < ahi))
         return 0;
-    /* the parameters at the crossing, for the sag of each half */
-    double u = A->dir[2] != 0 ? (cz - A->p0[2]) / A->dir[2] : curve_u_at_r(A, cr, alo, ahi);
-    double v = B->dir[2] != 0 ? (cz - B->p0[2]) / B->dir[2] : curve_u_at_r(B, cr, blo, bhi);
-    if (!(u > alo && u < ahi) || !(v > blo && v < bhi))
-        return 0;
-
+    double cr = curve_r(A, u), cz = A->p0[2] + u * A->dir[2];
     if (!(cr > ra && cr < rb && cz > za && cz < zb))
         return 0;
     double lim = 0.25 * c->tol;
@@ -1415,63 +1375,6 @@ static int crossing_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, dou
     return 1;
 }
 
-/*
- * Two chords that cross the cell without meeting (two edges whose images run side by
- * side closer than the finest cell, e.g. two vertical edges at almost one radius) cut it
- * into three strips; refining could never separate them and left a trail of blocks
- * along them.  Accepted when neither curve leaves its chord by more than tol/4, the
- * chords' four ends on the sides are distinct, and the samples in one strip agree.
- */
-static int parallel_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, double ra,
-                         double rb, double za, double zb, const double *ua, int64_t cb,
-                         const double *ub, double peps)
-{
-    const sw_curve *A = &c->curves[L->split_curve], *B = &c->curves[cb];
-    double alo = fmin(ua[0], ua[1]), ahi = fmax(ua[0], ua[1]);
-    double blo = fmin(ub[0], ub[1]), bhi = fmax(ub[0], ub[1]);
-    double mr, mz;
-    if (curves_meet(A, alo, ahi, B, blo, bhi, &mr, &mz) != 0)
-        return 0;
-    double lim = 0.25 * c->tol;
-    if (curve_sag(A, alo, ahi) > lim || curve_sag(B, blo, bhi) > lim)
-        return 0;
-    double pa[2][2], pb[2][2];
-    for (int e = 0; e < 2; e++) {
-        double ue = e ? ahi : alo, ve = e ? bhi : blo;
-        pa[e][0] = curve_r(A, ue);
-        pa[e][1] = A->p0[2] + ue * A->dir[2];
-        pb[e][0] = curve_r(B, ve);
-        pb[e][1] = B->p0[2] + ve * B->dir[2];
-    }
-    for (int e = 0; e < 2; e++)
-        for (int f = 0; f < 2; f++)
-            if (fabs(pa[e][0] - pb[f][0]) <= peps && fabs(pa[e][1] - pb[f][1]) <= peps)
-                return 0;
-    /* the chords themselves must not cross: B's ends on one side of A's chord */
-    double sb0 = (pa[1][0] - pa[0][0]) * (pb[0][1] - pa[0][1]) - (pa[1][1] - pa[0][1]) * (pb[0][0] - pa[0][0]);
-    double sb1 = (pa[1][0] - pa[0][0]) * (pb[1][1] - pa[0][1]) - (pa[1][1] - pa[0][1]) * (pb[1][0] - pa[0][0]);
-    if (!((sb0 > 0 && sb1 > 0) || (sb0 < 0 && sb1 < 0)))
-        return 0;
-    double crs[5][2] = {{ra, za}, {rb, za}, {rb, zb}, {ra, zb}, {0.5 * (ra + rb), 0.5 * (za + zb)}};
-    int side[5][2];
-    for (int k = 0; k < 5; k++) {
-        double oa = (pa[1][0] - pa[0][0]) * (crs[k][1] - pa[0][1]) - (pa[1][1] - pa[0][1]) * (crs[k][0] - pa[0][0]);
-        double ob = (pb[1][0] - pb[0][0]) * (crs[k][1] - pb[0][1]) - (pb[1][1] - pb[0][1]) * (crs[k][0] - pb[0][0]);
-        if (oa == 0 || ob == 0)
-            return 0;
-        side[k][0] = oa > 0;
-        side[k][1] = ob > 0;
-    }
-    for (int k = 0; k < 5; k++)
-        for (int j = k + 1; j < 5; j++)
-            if (side[k][0] == side[j][0] && side[k][1] == side[j][1] &&
-                !same_struct(c, all[k], all[j]))
-                return 0;
-    L->kind = LEAF_SPLIT;
-    L->split_curve2 = cb;
-    return 1;
-}
-
 typedef struct sw_samples {
     hmap cache;            /* (ix, iz) -> index in pool */
     sw_struct *pool;
@@ -1496,7 +1399,6 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
     L->cfirst = c->nleaf_curves;
     L->cn = 0;
     L->split_curve = -1;
-    L->split_curve2 = -1;
     L->cvtx = -1;
     L->empty = 0;
     /* the triangles that bound SV at the samples */
@@ -1698,8 +1600,7 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
         return 1;
     }
     if (npass == 2 && nimg == 0 && ncross_split == 2 && ncross_second == 2 &&
-        (crossing_cell(c, L, all, ra, rb, za, zb, split_u, second_curve, second_u) ||
-         parallel_cell(c, L, all, ra, rb, za, zb, split_u, second_curve, second_u, peps)))
+        crossing_cell(c, L, all, ra, rb, za, zb, split_u, second_curve, second_u))
         return 1;
     if (L->level < c->lmax) {
         L->kind = LEAF_REFINE;
@@ -2121,73 +2022,6 @@ static int add_block(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t n
     return store_poly(c, loop, nloop, &bst);
 }
 
-/* The positions in loop (n vertices) of the vertices on curve ic: how many, the first
- * two in at. */
-static int on_curve(const sw_ctx *c, const int64_t *loop, int64_t n, int64_t ic, int64_t at[2])
-{
-    int m = 0;
-    for (int64_t i = 0; i < n; i++) {
-        const sw_vtx2 *w = &c->v2[loop[i]];
-        int on = 0;
-        for (int j = 0; j < w->ncurves; j++)
-            on |= w->curves[j] == ic;
-        if (on) {
-            if (m < 2)
-                at[m] = i;
-            m++;
-        }
-    }
-    return m;
-}
-
-/* A LEAF_SPLIT cell cut along its chord (and its second chord, which lies on one side of
- * the first) into polygons.  *done = 0 when the loop does not hold exactly two vertices on
- * each chord (the caller makes the cell a block). */
-static int split_polygons(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t nloop, int *done)
-{
-    *done = 0;
-    int64_t at[2], at2[2];
-    if (on_curve(c, loop, nloop, L->split_curve, at) != 2)
-        return 1;
-    if (L->split_curve2 >= 0 && on_curve(c, loop, nloop, L->split_curve2, at2) != 2)
-        return 1;
-    int64_t *tmp = malloc((size_t)(2 * nloop + 4) * sizeof *tmp);
-    if (!tmp)
-        return ctx_nomem(c);
-    int64_t *part[2] = {tmp, tmp + nloop + 2}, np[2] = {0, 0};
-    for (int64_t i = at[0]; i <= at[1]; i++)
-        part[0][np[0]++] = loop[i];
-    for (int64_t i = at[1]; i != at[0]; i = (i + 1) % nloop)
-        part[1][np[1]++] = loop[i];
-    part[1][np[1]++] = loop[at[0]];
-    int ok = 1;
-    for (int h = 0; h < 2 && ok; h++) {
-        int64_t b2[2];
-        if (L->split_curve2 >= 0 && on_curve(c, part[h], np[h], L->split_curve2, b2) == 2) {
-            int64_t *sub = malloc((size_t)(np[h] + 2) * sizeof *sub);
-            if (!sub) {
-                ok = ctx_nomem(c);
-                break;
-            }
-            int64_t n1 = 0, n2 = 0;
-            for (int64_t i = b2[0]; i <= b2[1]; i++)
-                sub[n1++] = part[h][i];
-            ok = add_poly(c, sub, n1);
-            for (int64_t i = b2[1]; i != b2[0]; i = (i + 1) % np[h])
-                sub[n2++] = part[h][i];
-            sub[n2++] = part[h][b2[0]];
-            if (ok)
-                ok = add_poly(c, sub, n2);
-            free(sub);
-        } else {
-            ok = add_poly(c, part[h], np[h]);
-        }
-    }
-    free(tmp);
-    *done = ok;
-    return ok;
-}
-
 /* The curves of leaf L through its centre (a crossing of chords), with their parameters
  * there, kept on the centre's 2-D vertex: its lifts onto the triangles of those edges
  * land on the edges, so that the pieces meeting there share the vertex. */
@@ -2237,13 +2071,39 @@ static int build_polygons(sw_ctx *c)
             break;
         int kind = L->kind;
         if (kind == LEAF_SPLIT) {
-            int done = 0;
-            ok = split_polygons(c, L, loop, nloop, &done);
-            if (!ok)
-                break;
-            if (done)
+            int64_t at[2], m = 0;
+            for (int64_t i = 0; i < nloop && m <= 2; i++) {
+                const sw_vtx2 *w = &c->v2[loop[i]];
+                int on = 0;
+                for (int j = 0; j < w->ncurves; j++)
+                    on |= w->curves[j] == L->split_curve;
+                if (on) {
+                    if (m < 2)
+                        at[m] = i;
+                    m++;
+                }
+            }
+            if (m != 2) {
+                kind = LEAF_FAN;
+            } else {
+                int64_t *tmp = malloc((size_t)(nloop + 2) * sizeof *tmp);
+                if (!tmp) {
+                    ok = ctx_nomem(c);
+                    break;
+                }
+                int64_t n1 = 0;
+                for (int64_t i = at[0]; i <= at[1]; i++)
+                    tmp[n1++] = loop[i];
+                ok = add_poly(c, tmp, n1);
+                int64_t n2 = 0;
+                for (int64_t i = at[1]; i != at[0]; i = (i + 1) % nloop)
+                    tmp[n2++] = loop[i];
+                tmp[n2++] = loop[at[0]];
+                if (ok)
+                    ok = add_poly(c, tmp, n2);
+                free(tmp);
                 continue;
-            kind = LEAF_FAN;
+            }
         }
         if (kind == LEAF_CLEAN) {
             ok = add_poly(c, loop, nloop);
