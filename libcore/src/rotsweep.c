@@ -18,10 +18,13 @@
  *    the arc structure is the same all over it: which triangle starts and which ends every
  *    SV arc.  It changes only across the images of the mesh edges and of the silhouette
  *    lines inside faces (curves), at images of vertices, and where a front face at t = 0
- *    meets a back face at t = theta (the paper's case 1.3).  A cell crossed by one curve is
+ *    meets a back face at t = theta (the paper's case 1.3: the image of the 3-D segment
+ *    B n R(theta) A, kept as a gap-closing curve).  A cell crossed by one curve is
  *    split along the chord between the curve's two crossings with the cell's sides; a
  *    cell holding one vertex image and only the curves that end there is split into a
- *    star round it.  Other cells are refined, down to a size below the tolerance; a cell
+ *    star round it (also round the junction of gap-closing curves); a cell crossed by
+ *    several curves that do not cross in it is cut along all their chords.  Other cells
+ *    are refined, down to a size below the tolerance; a cell
  *    still mixed there is cut into a fan round its centre and each piece takes the
  *    structure at its own centroid (the only approximation of the arrangement, within
  *    the smallest cell size).
@@ -226,6 +229,8 @@ typedef struct sw_curve {
     double zmin, zmax, rmin, rmax;
     int64_t tri[2];     /* triangles it bounds (tri[1] = -1 for a silhouette segment) */
     int64_t vtx[2];     /* mesh vertices at u = 0, 1 (-1 where not a vertex) */
+    int64_t gexit;      /* a gap-closing curve (on the entry triangle tri[0]): the exit
+                           triangle whose turn by theta meets it there, else -1 */
 } sw_curve;
 
 /* One end of an SV arc on a circle: a triangle and which of the circle's two roots with
@@ -248,7 +253,7 @@ typedef struct sw_struct {
                               circle's structure does not name them */
 } sw_struct;
 
-#define SW_MAXCURVES 4
+#define SW_MAXCURVES 8
 typedef struct sw_vtx2 {   /* a vertex of the meridian decomposition */
     double r, z;
     int64_t curve;         /* the curve it lies on (-1: none) */
@@ -270,12 +275,14 @@ typedef struct sw_leaf {
     int kind;              /* LEAF_* */
     int64_t cfirst, cn;    /* its curves in leaf_curves */
     int64_t split_curve;   /* LEAF_SPLIT: the curve along which it is cut */
+    int nchords;           /* LEAF_CHORDS: its distinct chords */
     double cr, cz;         /* LEAF_STAR / LEAF_FAN: the centre */
     int64_t cvtx;          /* LEAF_STAR: a mesh vertex imaged at the centre */
     int empty;             /* no arc anywhere and no triangle near: no polygon */
 } sw_leaf;
 
-enum { LEAF_CLEAN = 0, LEAF_SPLIT = 1, LEAF_STAR = 2, LEAF_FAN = 3, LEAF_REFINE = 4 };
+enum { LEAF_CLEAN = 0, LEAF_SPLIT = 1, LEAF_STAR = 2, LEAF_FAN = 3, LEAF_REFINE = 4,
+       LEAF_CHORDS = 5 /* cut along several chords that do not cross in it */ };
 
 struct sw_ctx {
     mfg_status st;
@@ -285,6 +292,8 @@ struct sw_ctx {
     double *vr;            /* r of each vertex */
     sw_tri *tris;
     int64_t *tcurves;      /* 4 per triangle: its 3 edge curves and its silhouette (-1) */
+    int64_t *gstart;       /* per triangle (nt + 1): its gap-closing curves in gcurves */
+    int64_t *gcurves;
     int64_t *cstamp;       /* per curve, and per triangle (vstamp): dedup stamps */
     int64_t *vstamp;
     double theta;
@@ -454,6 +463,7 @@ static int add_curve(sw_ctx *c, const double *a, const double *b, int64_t t0, in
     cv->tri[1] = t1;
     cv->vtx[0] = va;
     cv->vtx[1] = vb;
+    cv->gexit = -1;
     curve_bounds(cv);
     return 1;
 }
@@ -685,6 +695,196 @@ static int gather(sw_ctx *c, double ra, double rb, double za, double zb)
 /* ----------------------------------------------------------------------------------- */
 /* Directed circles                                                                     */
 /* ----------------------------------------------------------------------------------- */
+
+/* Clips the line x(s) = p + s d, lying in the plane of the triangle (a, b, cc) with normal
+ * n (counter-clockwise about n), to the triangle: the interval [*s0, *s1] shrinks. */
+static void clip_to_triangle(const double *p, const double *d, const double *a, const double *b,
+                             const double *cc, const double *n, double *s0, double *s1)
+{
+    const double *v[3] = {a, b, cc};
+    for (int k = 0; k < 3 && *s0 <= *s1; k++) {
+        const double *u = v[k], *w = v[(k + 1) % 3];
+        double e[3] = {w[0] - u[0], w[1] - u[1], w[2] - u[2]};
+        double q[3] = {p[0] - u[0], p[1] - u[1], p[2] - u[2]};
+        /* f(s) = ((e x (p + s d - u)) . n) >= 0 inside */
+        double f0 = (e[1] * q[2] - e[2] * q[1]) * n[0] + (e[2] * q[0] - e[0] * q[2]) * n[1] +
+                    (e[0] * q[1] - e[1] * q[0]) * n[2];
+        double f1 = (e[1] * d[2] - e[2] * d[1]) * n[0] + (e[2] * d[0] - e[0] * d[2]) * n[1] +
+                    (e[0] * d[1] - e[1] * d[0]) * n[2];
+        if (f1 == 0) {
+            if (f0 < 0)
+                *s1 = *s0 - 1;
+        } else if (f1 > 0) {
+            *s0 = fmax(*s0, -f0 / f1);
+        } else {
+            *s1 = fmin(*s1, -f0 / f1);
+        }
+    }
+}
+
+/* Clips the line x(s) = p + s d to where the circle direction (-y, x, 0) points out of
+ * (sign > 0) or into (sign < 0) a plane of normal n: the interval [*s0, *s1] shrinks. */
+static void clip_to_motion(const double *p, const double *d, const double *n, int sign,
+                           double *s0, double *s1)
+{
+    double f0 = sign * (n[1] * p[0] - n[0] * p[1]), f1 = sign * (n[1] * d[0] - n[0] * d[1]);
+    if (f1 == 0) {
+        if (f0 < 0)
+            *s1 = *s0 - 1;
+    } else if (f1 > 0) {
+        *s0 = fmax(*s0, -f0 / f1);
+    } else {
+        *s1 = fmin(*s1, -f0 / f1);
+    }
+}
+
+/* Does segment x0 x1 lie (within eps) on the line of a side of triangle v? */
+static int along_an_edge(const double *x0, const double *x1, const double *const *v, double eps)
+{
+    for (int k = 0; k < 3; k++) {
+        const double *u = v[k], *w = v[(k + 1) % 3];
+        double e[3] = {w[0] - u[0], w[1] - u[1], w[2] - u[2]};
+        double le = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+        if (!(le > 0))
+            continue;
+        int on = 1;
+        for (int j = 0; j < 2 && on; j++) {
+            const double *x = j ? x1 : x0;
+            double q[3] = {x[0] - u[0], x[1] - u[1], x[2] - u[2]};
+            double cx = q[1] * e[2] - q[2] * e[1], cy = q[2] * e[0] - q[0] * e[2],
+                   cz = q[0] * e[1] - q[1] * e[0];
+            on = sqrt(cx * cx + cy * cy + cz * cz) <= eps * le;
+        }
+        if (on)
+            return 1;
+    }
+    return 0;
+}
+
+/* Does the circle direction (counter-clockwise about the axis) point into (sign < 0) or
+ * out of (sign > 0) triangle T's plane somewhere on it? */
+static int faces_motion(const sw_ctx *c, const sw_tri *T, int sign)
+{
+    for (int k = 0; k < 3; k++) {
+        const double *p = c->lx + 3 * T->v[k];
+        double nt = -T->n[0] * p[1] + T->n[1] * p[0];
+        if (sign * nt > 0)
+            return 1;
+    }
+    return 0;
+}
+
+/*
+ * Gap-closing curves (the paper's case 1.3).  Where an exit face A, turned by theta, meets
+ * an entry face B, the gap between two arcs of a circle closes: the arc structure changes
+ * along the image of the 3-D segment B n R(theta) A although no edge is imaged there.
+ * Without that curve the decomposition refined down to blocks all along it.  Each segment
+ * is kept as a curve of B (its own lifts land on it), found for the pairs of triangles
+ * whose (r, z) boxes overlap (the image of R(theta) A is A's).
+ */
+static int build_gap_curves(sw_ctx *c)
+{
+    if (c->full_turn)
+        return 1;
+    c->gstart = calloc((size_t)(c->nt + 2), sizeof *c->gstart);
+    if (!c->gstart)
+        return ctx_nomem(c);
+    int64_t *items = NULL, nitems = 0, capitems = 0;
+    double ct = cos(c->theta), st = sin(c->theta);
+    for (int64_t b = 0; b < c->nt; b++) {
+        c->gstart[b] = nitems;
+        const sw_tri *B = &c->tris[b];
+        if (!B->vertical_ok || !faces_motion(c, B, -1))
+            continue;
+        if (!gather(c, B->rmin, B->rmax, B->zmin, B->zmax)) {
+            free(items);
+            return 0;
+        }
+        const double *pb[3] = {c->lx + 3 * B->v[0], c->lx + 3 * B->v[1], c->lx + 3 * B->v[2]};
+        double nbn = sqrt(B->n[0] * B->n[0] + B->n[1] * B->n[1] + B->n[2] * B->n[2]);
+        for (int64_t k = 0; k < c->ncand; k++) {
+            int64_t a = c->cand[k];
+            const sw_tri *A = &c->tris[a];
+            if (!A->vertical_ok || !faces_motion(c, A, 1))
+                continue;
+            /* A turned by theta */
+            double pa[3][3], na[3];
+            for (int q = 0; q < 3; q++) {
+                const double *x = c->lx + 3 * A->v[q];
+                pa[q][0] = x[0] * ct - x[1] * st;
+                pa[q][1] = x[0] * st + x[1] * ct;
+                pa[q][2] = x[2];
+            }
+            na[0] = A->n[0] * ct - A->n[1] * st;
+            na[1] = A->n[0] * st + A->n[1] * ct;
+            na[2] = A->n[2];
+            double d[3] = {B->n[1] * na[2] - B->n[2] * na[1], B->n[2] * na[0] - B->n[0] * na[2],
+                           B->n[0] * na[1] - B->n[1] * na[0]};
+            double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            double nan_ = sqrt(na[0] * na[0] + na[1] * na[1] + na[2] * na[2]);
+            if (!(dd > 1e-16 * nbn * nbn * nan_ * nan_))
+                continue; /* parallel planes: no crossing line */
+            /* a point on both planes: p = (dB (na x d) + dA (d x nB)) / |d|^2 */
+            double dA = A->d; /* turning keeps the plane's offset from the axis origin */
+            double nxd[3] = {na[1] * d[2] - na[2] * d[1], na[2] * d[0] - na[0] * d[2], na[0] * d[1] - na[1] * d[0]};
+            double dxn[3] = {d[1] * B->n[2] - d[2] * B->n[1], d[2] * B->n[0] - d[0] * B->n[2],
+                             d[0] * B->n[1] - d[1] * B->n[0]};
+            double p[3];
+            for (int q = 0; q < 3; q++)
+                p[q] = (B->d * nxd[q] + dA * dxn[q]) / dd;
+            double s0 = -INFINITY, s1 = INFINITY;
+            clip_to_triangle(p, d, pb[0], pb[1], pb[2], B->n, &s0, &s1);
+            clip_to_triangle(p, d, pa[0], pa[1], pa[2], na, &s0, &s1);
+            /* only where the circles enter B and leave A turned: elsewhere the two faces
+             * do not bound one gap, and the arc structure does not change */
+            clip_to_motion(p, d, B->n, -1, &s0, &s1);
+            clip_to_motion(p, d, na, 1, &s0, &s1);
+            if (!(s1 > s0) || !isfinite(s0) || !isfinite(s1))
+                continue;
+            double x0[3], x1[3], len = 0;
+            for (int q = 0; q < 3; q++) {
+                x0[q] = p[q] + s0 * d[q];
+                x1[q] = p[q] + s1 * d[q];
+                len += (x1[q] - x0[q]) * (x1[q] - x0[q]);
+            }
+            if (!(sqrt(len) > 1e-6 * c->tol))
+                continue;
+            /* A segment stopped by the axis (where the motion changes sign, e.g. a plane and
+             * its half turn) ends on it: exactly, and at u = 0, so that its image has r = 0
+             * there (r(u) from the quadratic loses half the digits near the axis). */
+            double scale = 1e-9 * (B->rmax + fabs(B->zmin) + fabs(B->zmax));
+            if (v_r(x1[0], x1[1]) <= scale) {
+                double t[3];
+                memcpy(t, x0, sizeof t);
+                memcpy(x0, x1, sizeof t);
+                memcpy(x1, t, sizeof t);
+            }
+            if (v_r(x0[0], x0[1]) <= scale)
+                x0[0] = x0[1] = 0;
+            /* On the axis (two planes through it), or along an edge of B or of A turned
+             * (the gap closes just where a face ends): the image is the axis or that edge's,
+             * whose curve already cuts the cell; a second curve on one image only made
+             * coincident chords. */
+            if (v_r(x1[0], x1[1]) <= scale || along_an_edge(x0, x1, pb, scale) ||
+                along_an_edge(x0, x1, (const double *[3]){pa[0], pa[1], pa[2]}, scale))
+                continue;
+            if (!add_curve(c, x0, x1, b, -1, -1, -1) ||
+                !grow((void **)&items, &capitems, nitems + 1, sizeof *items)) {
+                free(items);
+                return ctx_nomem(c);
+            }
+            c->curves[c->ncurves - 1].gexit = a;
+            items[nitems++] = c->ncurves - 1;
+        }
+    }
+    c->gstart[c->nt] = nitems;
+    c->gcurves = items;
+    free(c->cstamp);
+    c->cstamp = calloc((size_t)(c->ncurves + 1), sizeof *c->cstamp);
+    if (!c->cstamp)
+        return ctx_nomem(c);
+    return 1;
+}
 
 /* The slice of triangle t by the plane z: 0 when it has none (a vertex counts as above
  * when its height is >= z, the same rule for every triangle, so the slices of a closed
@@ -1338,7 +1538,10 @@ static int crossing_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, dou
     if (!(v > blo && v < bhi) || !(u > alo && u < ahi))
         return 0;
     double cr = curve_r(A, u), cz = A->p0[2] + u * A->dir[2];
-    if (!(cr > ra && cr < rb && cz > za && cz < zb))
+    /* not within rounding of a side: a crossing on the axis (a plane and its half turn
+     * meet there) computed at r = 1e-9 left a ring of that radius open */
+    double eps = 1e-9 * (rb + fabs(zb)) + 1e-6 * c->tol;
+    if (!(cr - ra > eps && rb - cr > eps && cz - za > eps && zb - cz > eps))
         return 0;
     double lim = 0.25 * c->tol;
     if (curve_sag(A, alo, u) > lim || curve_sag(A, u, ahi) > lim || curve_sag(B, blo, v) > lim ||
@@ -1372,6 +1575,184 @@ static int crossing_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, dou
     L->cr = cr;
     L->cz = cz;
     L->cvtx = -1;
+    return 1;
+}
+
+/* A curve through a cell and its crossings with the cell's sides. */
+#define SW_MAXJUNCTION 8
+typedef struct sw_jcurve {
+    int64_t curve;
+    int ncr;
+    double pts[8][2];
+} sw_jcurve;
+
+/* The point of curve cv at (r, z) within eps, or NAN: its parameter there. */
+static double curve_u_at(const sw_curve *cv, double r, double z, double eps)
+{
+    double u;
+    if (cv->dir[2] != 0) {
+        u = (z - cv->p0[2]) / cv->dir[2];
+    } else {
+        if (fabs(cv->p0[2] - z) > eps)
+            return NAN;
+        u = curve_u_at_r(cv, r, 0, 1);
+    }
+    if (!(u >= -1e-9 && u <= 1 + 1e-9) || fabs(curve_r(cv, u) - r) > eps)
+        return NAN;
+    return u;
+}
+
+/*
+ * Where gap-closing curves meet (the exit or entry face changes across an edge, or the
+ * gap stops at a silhouette), the arc structure changes round a point that is not the
+ * image of a mesh vertex: the end of a gap-closing curve on another curve.  The cell is
+ * cut into a star round it, as round a vertex image, when every curve through the cell
+ * ends there or passes through it, each piece from the junction to a side stays within
+ * tol/4 of its chord, and the corners and the centre in one wedge agree.
+ */
+static int junction_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, double ra,
+                         double rb, double za, double zb, const sw_jcurve *jc, int njc)
+{
+    double eps = 1e-9 * (rb + fabs(zb)) + 1e-6 * c->tol;
+    double J[2] = {NAN, NAN};
+    /* the junction: an end of a gap-closing curve strictly inside the cell */
+    for (int i = 0; i < njc && !(J[0] == J[0]); i++) {
+        const sw_curve *cv = &c->curves[jc[i].curve];
+        if (cv->gexit < 0)
+            continue;
+        for (int e = 0; e < 2; e++) {
+            double r = curve_r(cv, e), z = cv->p0[2] + e * cv->dir[2];
+            if (r > ra && r < rb && z > za && z < zb) {
+                J[0] = r;
+                J[1] = z;
+                break;
+            }
+        }
+    }
+    if (!(J[0] == J[0]))
+        return 0;
+    if (!(J[0] - ra > eps && rb - J[0] > eps && J[1] - za > eps && zb - J[1] > eps))
+        return 0;
+    double ang[2 * SW_MAXJUNCTION];
+    int nray = 0;
+    for (int i = 0; i < njc; i++) {
+        const sw_curve *cv = &c->curves[jc[i].curve];
+        double u = curve_u_at(cv, J[0], J[1], eps);
+        if (!(u == u))
+            return 0;
+        int at_end = u <= 1e-9 || u >= 1 - 1e-9;
+        /* ends at J: one crossing; passes through J: two */
+        if (jc[i].ncr != (at_end ? 1 : 2))
+            return 0;
+        for (int k = 0; k < jc[i].ncr; k++) {
+            double pr = jc[i].pts[k][0], pz = jc[i].pts[k][1];
+            double uk = curve_u_at(cv, pr, pz, eps);
+            if (!(uk == uk) || curve_sag(cv, fmin(u, uk), fmax(u, uk)) > 0.25 * c->tol)
+                return 0;
+            ang[nray++] = atan2(pz - J[1], pr - J[0]);
+        }
+    }
+    if (nray < 2)
+        return 0;
+    qsort(ang, (size_t)nray, sizeof *ang, cmp_double_asc);
+    /* the wedge of each sample: the number of rays below its direction */
+    double crs[5][2] = {{ra, za}, {rb, za}, {rb, zb}, {ra, zb}, {0.5 * (ra + rb), 0.5 * (za + zb)}};
+    int wedge[5];
+    for (int k = 0; k < 5; k++) {
+        double dr = crs[k][0] - J[0], dz = crs[k][1] - J[1];
+        if (fabs(dr) <= eps && fabs(dz) <= eps) {
+            wedge[k] = -1;
+            continue;
+        }
+        double a = atan2(dz, dr);
+        int w = 0;
+        for (int q = 0; q < nray; q++) {
+            if (a == ang[q])
+                return 0;
+            w += ang[q] < a;
+        }
+        wedge[k] = w % nray;
+    }
+    for (int k = 0; k < 5; k++)
+        for (int j = k + 1; j < 5; j++)
+            if (wedge[k] >= 0 && wedge[k] == wedge[j] && !same_struct(c, all[k], all[j]))
+                return 0;
+    L->kind = LEAF_STAR;
+    L->cr = J[0];
+    L->cz = J[1];
+    L->cvtx = -1;
+    return 1;
+}
+
+/*
+ * Several curves cross the cell, each from side to side, without crossing one another in
+ * it: two curves diverging from a junction or a vertex image just outside, a gap-closing
+ * curve beside the edge it ends on.  The cell is cut along all their chords (instead of
+ * being refined down to blocks all along the narrow angle between them) when each curve
+ * stays within tol/4 of its chord, no two chords meet, and the samples with the same
+ * sides of every chord agree.  Coincident chords (one image) count once.
+ */
+static int chords_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, double ra,
+                       double rb, double za, double zb, const sw_jcurve *jc, int njc,
+                       double peps)
+{
+    double ch[SW_MAXJUNCTION][2][2];
+    int nch = 0;
+    for (int i = 0; i < njc; i++) {
+        if (jc[i].ncr != 2)
+            return 0;
+        double q[2][2];
+        memcpy(q, jc[i].pts, sizeof q);
+        int dup = 0;
+        for (int j = 0; j < nch && !dup; j++)
+            dup = same_pair(ch[j], q, peps);
+        if (dup)
+            continue;
+        const sw_curve *cv = &c->curves[jc[i].curve];
+        double eps = 1e-9 * (rb + fabs(zb)) + 1e-6 * c->tol;
+        double u0 = curve_u_at(cv, q[0][0], q[0][1], eps), u1 = curve_u_at(cv, q[1][0], q[1][1], eps);
+        if (!(u0 == u0) || !(u1 == u1) || curve_sag(cv, fmin(u0, u1), fmax(u0, u1)) > 0.25 * c->tol)
+            return 0;
+        memcpy(ch[nch], q, sizeof q);
+        nch++;
+    }
+    if (nch < 2)
+        return 0;
+    /* chords of a convex cell with ends on its sides cross iff the ends of one lie on both
+     * sides of the other; ends in common are refused too */
+    for (int i = 0; i < nch; i++)
+        for (int j = 0; j < nch; j++) {
+            if (i == j)
+                continue;
+            double o[2];
+            for (int e = 0; e < 2; e++)
+                o[e] = (ch[i][1][0] - ch[i][0][0]) * (ch[j][e][1] - ch[i][0][1]) -
+                       (ch[i][1][1] - ch[i][0][1]) * (ch[j][e][0] - ch[i][0][0]);
+            if (o[0] == 0 || o[1] == 0 || (o[0] > 0) != (o[1] > 0))
+                return 0;
+            for (int e = 0; e < 2; e++)
+                for (int f = 0; f < 2; f++)
+                    if (fabs(ch[i][e][0] - ch[j][f][0]) <= peps && fabs(ch[i][e][1] - ch[j][f][1]) <= peps)
+                        return 0;
+        }
+    double crs[5][2] = {{ra, za}, {rb, za}, {rb, zb}, {ra, zb}, {0.5 * (ra + rb), 0.5 * (za + zb)}};
+    unsigned sig[5];
+    for (int k = 0; k < 5; k++) {
+        sig[k] = 0;
+        for (int i = 0; i < nch; i++) {
+            double o = (ch[i][1][0] - ch[i][0][0]) * (crs[k][1] - ch[i][0][1]) -
+                       (ch[i][1][1] - ch[i][0][1]) * (crs[k][0] - ch[i][0][0]);
+            if (o == 0)
+                return 0;
+            sig[k] |= (unsigned)(o > 0) << i;
+        }
+    }
+    for (int k = 0; k < 5; k++)
+        for (int j = k + 1; j < 5; j++)
+            if (sig[k] == sig[j] && !same_struct(c, all[k], all[j]))
+                return 0;
+    L->kind = LEAF_CHORDS;
+    L->nchords = nch;
     return 1;
 }
 
@@ -1453,6 +1834,10 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
     int64_t second_curve = -1, ncross_second = 0;
     double second_u[2] = {0, 0}, second_p[2][2] = {{0, 0}, {0, 0}};
     double peps = 1e-9 * (rb - ra) + 1e-12 * (fabs(rb) + fabs(zb));
+    /* the curves through the cell with their side crossings, for a junction of
+     * gap-closing curves or several chords (below) */
+    sw_jcurve jc[SW_MAXJUNCTION];
+    int njc = 0, jn_ok = 1;
     for (int64_t k = 0; k < c->ncand; k++) {
         int64_t t = c->cand[k];
         /* Every triangle near the cell counts, not only those bounding SV at the
@@ -1463,8 +1848,9 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
          * spun about its diagonal), at the price of that blind spot. */
         if (c->bounding_only && c->vstamp[t] != vs)
             continue;
-        for (int q = 0; q < 4; q++) {
-            int64_t ic = c->tcurves[4 * t + q];
+        int64_t nq = 4 + (c->gstart ? c->gstart[t + 1] - c->gstart[t] : 0);
+        for (int64_t q = 0; q < nq; q++) {
+            int64_t ic = q < 4 ? c->tcurves[4 * t + q] : c->gcurves[c->gstart[t] + q - 4];
             if (ic < 0 || c->cstamp[ic] == vs)
                 continue;
             c->cstamp[ic] = vs;
@@ -1547,6 +1933,12 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
                 double u = (double)e;
                 double r = sqrt(fmax(0, cv->qa * u * u + cv->qb * u + cv->qc));
                 double z = cv->p0[2] + u * cv->dir[2];
+                /* an end at a mesh vertex: the vertex's own image (r(1) from the
+                 * quadratic differs from it by rounding, and the star was refused) */
+                if (cv->vtx[e] >= 0) {
+                    r = c->vr[cv->vtx[e]];
+                    z = c->lx[3 * cv->vtx[e] + 2];
+                }
                 if (nimg == 1 && r == img[0] && z == img[1])
                     from_img = 1;
             }
@@ -1554,6 +1946,14 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
                 all_from_img = 0;
             if (ncr != 1)
                 one_cross_each = 0;
+            if (njc < SW_MAXJUNCTION && ncr <= 2) {
+                jc[njc].curve = ic;
+                jc[njc].ncr = ncr;
+                memcpy(jc[njc].pts, pts, sizeof jc[njc].pts);
+                njc++;
+            } else {
+                jn_ok = 0;
+            }
         }
     }
     int same5 = same_struct(c, all[0], all[1]) && same_struct(c, all[0], all[2]) &&
@@ -1601,6 +2001,10 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
     }
     if (npass == 2 && nimg == 0 && ncross_split == 2 && ncross_second == 2 &&
         crossing_cell(c, L, all, ra, rb, za, zb, split_u, second_curve, second_u))
+        return 1;
+    if (nimg == 0 && jn_ok && njc >= 2 && junction_cell(c, L, all, ra, rb, za, zb, jc, njc))
+        return 1;
+    if (nimg == 0 && jn_ok && njc >= 2 && chords_cell(c, L, all, ra, rb, za, zb, jc, njc, peps))
         return 1;
     if (L->level < c->lmax) {
         L->kind = LEAF_REFINE;
@@ -2039,6 +2443,11 @@ static void centre_curves(const sw_ctx *c, const sw_leaf *L, sw_vtx2 *w)
                 continue;
             u = curve_u_at_r(cv, w->r, 0, 1);
         }
+        /* an end of a gap-closing curve at a junction: u = 0 or 1 up to rounding */
+        if (u < 0 && u >= -1e-9)
+            u = 0;
+        if (u > 1 && u <= 1 + 1e-9)
+            u = 1;
         if (!(u >= 0 && u <= 1) || fabs(curve_r(cv, u) - w->r) > eps)
             continue;
         int known = 0;
@@ -2049,6 +2458,76 @@ static void centre_curves(const sw_ctx *c, const sw_leaf *L, sw_vtx2 *w)
             w->us[w->ncurves++] = u;
         }
     }
+}
+
+static int on_curve(const sw_vtx2 *w, int64_t ic)
+{
+    for (int j = 0; j < w->ncurves; j++)
+        if (w->curves[j] == ic)
+            return 1;
+    return 0;
+}
+
+/* Cuts the boundary loop of a LEAF_CHORDS cell along each of its curves' chords and adds
+ * the pieces; 0 on error, -1 when a chord's two ends are not found in one piece (then the
+ * caller makes the cell a block). */
+static int cut_chords(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t nloop)
+{
+    int64_t cap = 3 * (nloop + 2 * SW_MAXJUNCTION) + 8;
+    int64_t *buf = malloc((size_t)cap * sizeof *buf);
+    int64_t first[SW_MAXJUNCTION + 2], len[SW_MAXJUNCTION + 2];
+    if (!buf)
+        return ctx_nomem(c);
+    memcpy(buf, loop, (size_t)nloop * sizeof *buf);
+    int np = 1, res = 1;
+    int64_t used = nloop;
+    first[0] = 0;
+    len[0] = nloop;
+    for (int64_t k = 0; k < L->cn && res == 1; k++) {
+        int64_t ic = c->leaf_curves[L->cfirst + k];
+        int done = 0, seen = 0;
+        for (int p = 0; p < np && !done; p++) {
+            int64_t at[2], m = 0, n = len[p];
+            const int64_t *v = buf + first[p];
+            for (int64_t i = 0; i < n; i++)
+                if (on_curve(&c->v2[v[i]], ic)) {
+                    if (m < 2)
+                        at[m] = i;
+                    m++;
+                }
+            seen += (int)m;
+            if (m != 2)
+                continue;
+            if (at[1] == at[0] + 1 || (at[0] == 0 && at[1] == n - 1)) {
+                done = 1; /* a coincident chord, already cut */
+                continue;
+            }
+            if (np >= SW_MAXJUNCTION + 2 || used + n + 2 > cap)
+                break;
+            /* the piece from at[0] to at[1], and the rest from at[1] round to at[0] */
+            int64_t f2 = used, n1 = at[1] - at[0] + 1, n2 = n - n1 + 2;
+            for (int64_t i = 0; i < n2; i++)
+                buf[f2 + i] = v[(at[1] + i) % n];
+            int64_t *w = buf + first[p];
+            memmove(w, w + at[0], (size_t)n1 * sizeof *w);
+            len[p] = n1;
+            first[np] = f2;
+            len[np] = n2;
+            np++;
+            used += n2;
+            done = 1;
+        }
+        /* a curve named at fewer than two vertices: one of several with one chord,
+         * whose vertices keep SW_MAXCURVES of them (the count below checks the cut) */
+        if (!done && seen >= 2)
+            res = -1;
+    }
+    if (np != L->nchords + 1)
+        res = -1;
+    for (int p = 0; p < np && res == 1; p++)
+        res = add_poly(c, buf + first[p], len[p]);
+    free(buf);
+    return res;
 }
 
 static int build_polygons(sw_ctx *c)
@@ -2104,6 +2583,16 @@ static int build_polygons(sw_ctx *c)
                 free(tmp);
                 continue;
             }
+        }
+        if (kind == LEAF_CHORDS) {
+            int r = cut_chords(c, L, loop, nloop);
+            if (r == 0) {
+                ok = 0;
+                break;
+            }
+            if (r == 1)
+                continue;
+            kind = LEAF_FAN; /* nothing was added: the pieces are added after the cuts */
         }
         if (kind == LEAF_CLEAN) {
             ok = add_poly(c, loop, nloop);
@@ -2244,12 +2733,24 @@ static int64_t lift(sw_ctx *c, sw_out *o, int64_t iw, const sw_end *en, int isex
         for (int pass = 0; pass < 2 && !done; pass++)
             for (int j = 0; j < w->ncurves && !done; j++) {
                 const sw_curve *cv = &c->curves[w->curves[j]];
-                int own = cv->tri[0] == t || cv->tri[1] == t;
+                /* a gap-closing curve lies on its entry triangle and, turned back by
+                 * theta, on its exit triangle: the end there lifts to the same point */
+                int back = isexit && cv->gexit == t;
+                int own = cv->tri[0] == t || cv->tri[1] == t || back;
                 if ((pass == 0) != own || cv->dir[2] == 0)
                     continue;
                 double q[3];
                 for (int i = 0; i < 3; i++)
                     q[i] = cv->p0[i] + w->us[j] * cv->dir[i];
+                if (back) {
+                    double dx0 = q[0] - pr[0], dy0 = q[1] - pr[1];
+                    double ct = cos(c->theta), st = sin(c->theta);
+                    double qb[3] = {q[0] * ct + q[1] * st, -q[0] * st + q[1] * ct, q[2]};
+                    double dxb = qb[0] - pr[0], dyb = qb[1] - pr[1];
+                    /* the exit triangle may be the entry one: the nearer of the two */
+                    if (cv->tri[0] != t || dxb * dxb + dyb * dyb < dx0 * dx0 + dy0 * dy0)
+                        memcpy(q, qb, sizeof q);
+                }
                 double dx = q[0] - pr[0], dy = q[1] - pr[1];
                 double lim = own ? 1e-6 * (w->r + c->tol) + 0.01 * c->tol : snap;
                 if (sqrt(dx * dx + dy * dy) <= lim) {
@@ -2744,6 +3245,10 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
         span = span_mid + angle_diff(o->phi[hi] - plo, span_mid);
         if (span < 0 || lo == hi)
             span = 0;
+        /* one arc whose gap closes at this end (the paper's case 1.3 on a gap-closing
+         * curve): its two lines share the vertex, and the arc is the whole circle */
+        if (lo == hi && span_mid > MFG_PI)
+            span = MFG_TWO_PI;
         if (span > MFG_TWO_PI)
             span = MFG_TWO_PI;
     }
@@ -3346,6 +3851,8 @@ static void ctx_free(sw_ctx *c)
     free(c->vr);
     free(c->tris);
     free(c->tcurves);
+    free(c->gstart);
+    free(c->gcurves);
     free(c->cstamp);
     free(c->vstamp);
     free(c->curves);
@@ -3433,6 +3940,8 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
             zmax = fmax(zmax, c.lx[3 * i + 2]);
         }
         ok = build_bins(&c, rmax, zmin, zmax);
+        if (ok)
+            ok = build_gap_curves(&c);
     }
     /* The decomposition's grid is placed by odd factors, so that its lines rarely pass
      * through vertices or along edges of round-numbered parts.  When they do and the

@@ -619,6 +619,9 @@ CASES = {
     "tetra-mirror-edges": ((np.array([(0.5, 0.5, 0), (1.5, 0.5, 0), (0.5, 1.5, 0), (0.5, 0.5, 1)], float),
                             np.array([(0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)])),
                            (0.0, 0.0, 0.0), (0, 0, 1)),
+    # a box about a skew axis: at 359 deg the gap between the end of each arc turned by
+    # theta and its start closes along curves that are not images of edges (case 1.3)
+    "box-skew-axis": (box_mesh((0, 0, 0), (1.83, 1.15, 1.06)), (-0.64, -1.09, -0.62), (0.37, 0.47, -1.54)),
 }
 ORACLE = [("box-axis-through", d) for d in (1, 180, 359, 360)] + [
     ("box-axis-outside", 180), ("box-axis-outside", 360),
@@ -628,7 +631,7 @@ ORACLE = [("box-axis-through", d) for d in (1, 180, 359, 360)] + [
     ("hole-axis-tilted-through-hole", 180), ("hole-axis-along-edge", 1),
     ("hole-axis-along-edge", 360), ("cavity-axis-through", 60),
     ("cavity-axis-through", 360), ("two-components", 150), ("tetra-mirror-edges", 160),
-    ("tetra-mirror-edges", 270)]
+    ("tetra-mirror-edges", 270), ("box-skew-axis", 359), ("box-skew-axis", 90)]
 
 
 def membership(res, mesh, point, direction, theta, tol, n=800, seed=0):
