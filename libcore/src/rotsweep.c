@@ -2879,8 +2879,22 @@ static int emit_strips(sw_ctx *c, sw_out *o, sw_walls *W)
                 adv_a = 0;
             else if (j + 1 >= nb)
                 adv_a = 1;
-            else
-                adv_a = A[i + 1].off <= B[j + 1].off;
+            else if (A[i + 1].off != B[j + 1].off)
+                adv_a = A[i + 1].off < B[j + 1].off;
+            else {
+                /* both ends step at one angle: the quad's diagonal through its smallest
+                 * vertex, whichever end is A, so that a copy of this strip with the
+                 * opposite orientation (a wall met by its own copy) gets the same two
+                 * triangles and cancel_twins removes the pair */
+                int64_t mn = A[i].vid;
+                if (A[i + 1].vid < mn)
+                    mn = A[i + 1].vid;
+                if (B[j].vid < mn)
+                    mn = B[j].vid;
+                if (B[j + 1].vid < mn)
+                    mn = B[j + 1].vid;
+                adv_a = mn == A[i + 1].vid || mn == B[j].vid;
+            }
             int64_t t0 = A[i].vid, t1 = B[j].vid, t2 = adv_a ? A[i + 1].vid : B[j + 1].vid;
             /* the circle edge of this triangle and the wall's direction off it */
             int64_t ra = adv_a ? A[i].vid : B[j].vid, rb = t2;
