@@ -3097,62 +3097,6 @@ static int pair_round_edge(sw_ctx *c, const sw_he *e, int64_t n, int64_t *parent
     return 1;
 }
 
-/* The corner of the triangle of h at vertex x (an end of h's edge). */
-static int64_t corner_at(const sw_ctx *c, const sw_he *h, int64_t x)
-{
-    int64_t t = h->tri / 3, k = h->tri % 3;
-    return c->otri[3 * t + k] == x ? 3 * t + k : 3 * t + (k + 1) % 3;
-}
-
-/* The number of triangles round the edge of he[i] (he sorted by edge). */
-static int64_t pinch_size(const sw_he *he, int64_t ne, int64_t i)
-{
-    int64_t j = i;
-    while (j < ne && he[j].lo == he[i].lo && he[j].hi == he[i].hi)
-        j++;
-    return j - i;
-}
-
-/* Pairs each + triangle round an edge where the directions alternate with its neighbour
- * at offset step (-1: the one before it in angle, +1: the one after it). */
-static void pair_alternating(const sw_ctx *c, const sw_he *e, int64_t n, int step, int64_t *parent)
-{
-    for (int64_t q = 0; q < n; q++)
-        if (e[q].dir == 1)
-            join_across(c, &e[q], &e[(q + n + step) % n], parent);
-}
-
-/*
- * Which of the two ways of pairing the n triangles round an edge where the directions
- * alternate (sorted by angle) agrees with the fans already joined at its two ends: each
- * + triangle with the one before it (the covered wedges become separate sheets) is 1, with
- * the one after it (the empty wedges do) is -1, no evidence for either 0.  Two triangles
- * round the edge whose corners at one end are already joined through other edges lie in
- * one fan round that end, which the edge must close: they must be partners.  Both ways
- * occur: where a gap between two arcs closes at a pinch, the empty wedges end in a face
- * joining their two walls, and pairing the covered wedges would leave one fan holding all
- * four triangles (an edge shared by 4 triangles that splitting the vertices cannot undo).
- */
-static int pinch_evidence(const sw_ctx *c, const sw_he *e, int64_t n, int64_t *parent)
-{
-    int ok_prev = 1, ok_next = 1;
-    for (int end = 0; end < 2; end++) {
-        int64_t x = end ? e[0].hi : e[0].lo;
-        for (int64_t p = 0; p < n; p++)
-            for (int64_t q = p + 1; q < n; q++) {
-                if (mfg_uf_find(parent, corner_at(c, &e[p], x)) !=
-                    mfg_uf_find(parent, corner_at(c, &e[q], x)))
-                    continue;
-                int64_t plus = e[p].dir == 1 ? p : q, minus = plus == p ? q : p;
-                if (e[p].dir == e[q].dir || (plus + n - 1) % n != minus)
-                    ok_prev = 0;
-                if (e[p].dir == e[q].dir || (plus + 1) % n != minus)
-                    ok_next = 0;
-            }
-    }
-    return ok_prev == ok_next ? 0 : ok_prev ? 1 : -1;
-}
-
 /*
  * The boundary of a union of prisms may touch itself: where two covered regions meet
  * across a corner of the decomposition, four pieces share an arc (a pinch), and a vertex
@@ -3214,8 +3158,6 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
         parent[i] = i;
     qsort(he, (size_t)ne, sizeof *he, cmp_he);
     int64_t *stack = NULL, capstack = 0;
-    /* the first triangle of each pinched edge whose directions alternate, paired below */
-    int64_t *pend = NULL, npend = 0, cappend = 0;
     /* corners: 3t + k is the corner at otri[3t + k] */
     for (int64_t i = 0; i < ne;) {
         int64_t j = i;
@@ -3225,52 +3167,18 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
         /* pair each triangle with the next one round the edge of the other direction
          * (going round in decreasing angle): where the directions alternate, each pair
          * bounds a consistently oriented wedge */
-        int distinct = 1;
-        for (int64_t q = i + 1; q < j; q++)
-            distinct = distinct && he[q].ang > he[q - 1].ang;
-        if (n >= 2 && alternates(he + i, n) && (n == 2 || !distinct)) {
-            /* two pieces leaving the edge in one direction (coincident: a wall and a
-             * block's side, an outer wall and its circumscribed copy) make the choice of
-             * wedges a guess: the covered ones, as the check after the split expects */
-            pair_alternating(c, he + i, n, -1, parent);
-        } else if (n > 2 && alternates(he + i, n)) {
-            if (!grow((void **)&pend, &cappend, npend + 1, sizeof *pend)) {
-                free(he);
-                free(parent);
-                free(stack);
-                return ctx_nomem(c);
-            }
-            pend[npend++] = i;
+        if (n >= 2 && alternates(he + i, n)) {
+            for (int64_t q = 0; q < n; q++)
+                if (he[i + q].dir == 1)
+                    join_across(c, &he[i + q], &he[i + (q + n - 1) % n], parent);
         } else if (n >= 2 && !pair_round_edge(c, he + i, n, parent, &stack, &capstack)) {
             free(he);
             free(parent);
             free(stack);
-            free(pend);
             return 0;
         }
         i = j;
     }
-    /* the pinched edges, each paired the way the fans at its ends (joined through the
-     * edges paired so far) require; those without evidence wait for their neighbours
-     * along the pinch, and where none has any, the first pairs its covered wedges (after
-     * 64 rounds all do: the rounds cost the number of pinched edges each) */
-    for (int round = 0; npend > 0; round++) {
-        int64_t m = 0;
-        for (int64_t p = 0; p < npend; p++) {
-            int64_t i = pend[p], n = pinch_size(he, ne, i);
-            int way = round < 64 ? pinch_evidence(c, he + i, n, parent) : 1;
-            if (way == 0)
-                pend[m++] = i;
-            else
-                pair_alternating(c, he + i, n, way < 0 ? 1 : -1, parent);
-        }
-        if (m == npend) {
-            pair_alternating(c, he + pend[0], pinch_size(he, ne, pend[0]), -1, parent);
-            memmove(pend, pend + 1, (size_t)(--m) * sizeof *pend);
-        }
-        npend = m;
-    }
-    free(pend);
     /* one vertex per class of corners */
     hmap seen;
     if (!hmap_init(&seen, ne + 16)) {
