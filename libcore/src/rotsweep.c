@@ -2637,6 +2637,12 @@ static int64_t out_vertex(sw_ctx *c, sw_out *o, const double p[3], double phi)
      * lifts of one corner onto the planes of two triangles of one face, or onto a face
      * and its neighbour at their common edge, agree only up to rounding. */
     int64_t q[3];
+    double pz[3];
+    /* a coordinate below the library's range (2^-200, mfg_coord_ok: a turn by a tiny
+     * angle) is 0, far below the weld quantum */
+    for (int i = 0; i < 3; i++)
+        pz[i] = fabs(p[i]) < 0x1p-200 ? 0 : p[i];
+    p = pz;
     for (int i = 0; i < 3; i++)
         q[i] = (int64_t)floor(p[i] / c->quantum + 0.5);
     hkey k = mkkey(q[0], q[1], q[2], 0);
@@ -3384,8 +3390,22 @@ static int emit_strips(sw_ctx *c, sw_out *o, sw_walls *W)
                 adv_a = 0;
             else if (j + 1 >= nb)
                 adv_a = 1;
-            else
-                adv_a = A[i + 1].off <= B[j + 1].off;
+            else if (A[i + 1].off != B[j + 1].off)
+                adv_a = A[i + 1].off < B[j + 1].off;
+            else {
+                /* both ends step at one angle: the quad's diagonal through its smallest
+                 * vertex, whichever end is A, so that a copy of this strip with the
+                 * opposite orientation (a wall met by its own copy) gets the same two
+                 * triangles and cancel_twins removes the pair */
+                int64_t mn = A[i].vid;
+                if (A[i + 1].vid < mn)
+                    mn = A[i + 1].vid;
+                if (B[j].vid < mn)
+                    mn = B[j].vid;
+                if (B[j + 1].vid < mn)
+                    mn = B[j + 1].vid;
+                adv_a = mn == A[i + 1].vid || mn == B[j].vid;
+            }
             int64_t t0 = A[i].vid, t1 = B[j].vid, t2 = adv_a ? A[i + 1].vid : B[j + 1].vid;
             /* the circle edge of this triangle and the wall's direction off it */
             int64_t ra = adv_a ? A[i].vid : B[j].vid, rb = t2;
@@ -4032,9 +4052,11 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
                 if (map[w] < 0) {
                     map[w] = nused;
                     const double *p = c.ox + 3 * w;
-                    for (int k = 0; k < 3; k++)
-                        m->vertices[3 * nused + k] = c.origin[k] + p[0] * c.frame[0][k] +
-                                                     p[1] * c.frame[1][k] + p[2] * c.frame[2][k];
+                    for (int k = 0; k < 3; k++) {
+                        double x = c.origin[k] + p[0] * c.frame[0][k] + p[1] * c.frame[1][k] +
+                                   p[2] * c.frame[2][k];
+                        m->vertices[3 * nused + k] = fabs(x) < 0x1p-200 ? 0 : x;
+                    }
                     nused++;
                 }
                 m->triangles[i] = map[w];

@@ -531,6 +531,17 @@ def test_full_turn_of_a_box_off_the_axis_is_an_annulus():
     ring(res, tol, r, big, 0.0, 1.0)
 
 
+def test_full_turn_of_a_prism_about_a_parallel_axis_is_an_annulus():
+    """A 16-gon prism of radius 1 centred 3 off the axis (vertex 8 at distance 2, vertex
+    0 at 4): its walls of mirror-image edges are met by their own copies."""
+    v, t = CASES["prism16-parallel-axis"][0]
+    tol = 3e-2
+    res = sweep(v, t, (0, 0, 0), (0, 0, 1), TWO_PI, tol)
+    check_result(res, tol)
+    assert_volume(res, math.pi * (4.0 * 4.0 - 2.0 * 2.0) * 1.0, tol)
+    ring(res, tol, 2.0, 4.0, 0.0, 1.0)
+
+
 def ring(res, tol, r, big, z0, z1):
     """assert_hausdorff for the annulus r <= rho <= big (r = 0: the disc), z0 <= z <= z1."""
     ang = np.linspace(0, TWO_PI, 180, endpoint=False)
@@ -622,6 +633,10 @@ CASES = {
     # a box about a skew axis: at 359 deg the gap between the end of each arc turned by
     # theta and its start closes along curves that are not images of edges (case 1.3)
     "box-skew-axis": (box_mesh((0, 0, 0), (1.83, 1.15, 1.06)), (-0.64, -1.09, -0.62), (0.37, 0.47, -1.54)),
+    # a tessellated cylinder about a parallel axis outside it: pairs of vertical edges
+    # mirror images across the meridian plane through its centre, the walls of their
+    # common image met by their own copies
+    "prism16-parallel-axis": (prism_mesh((3.0, 0.0), 1.0, 1.0, 16), (0.0, 0.0, 0.0), (0, 0, 1)),
 }
 ORACLE = [("box-axis-through", d) for d in (1, 180, 359, 360)] + [
     ("box-axis-outside", 180), ("box-axis-outside", 360),
@@ -631,7 +646,8 @@ ORACLE = [("box-axis-through", d) for d in (1, 180, 359, 360)] + [
     ("hole-axis-tilted-through-hole", 180), ("hole-axis-along-edge", 1),
     ("hole-axis-along-edge", 360), ("cavity-axis-through", 60),
     ("cavity-axis-through", 360), ("two-components", 150), ("tetra-mirror-edges", 160),
-    ("tetra-mirror-edges", 270), ("box-skew-axis", 359), ("box-skew-axis", 90)]
+    ("tetra-mirror-edges", 270), ("box-skew-axis", 359), ("box-skew-axis", 90),
+    ("tetra-mirror-edges", 25), ("prism16-parallel-axis", 90), ("prism16-parallel-axis", 200)]
 
 
 def membership(res, mesh, point, direction, theta, tol, n=800, seed=0):
