@@ -3732,6 +3732,176 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
     return ok;
 }
 
+/* Parity of the ray from p along dir through the triangles of component comp (tcomp per
+ * triangle): 1 inside, 0 outside, -1 when the ray grazes an edge or vertex (undecided). */
+static int ray_parity(const sw_ctx *c, const int64_t *tcomp, int64_t comp, const double *p,
+                      const double *dir)
+{
+    int inside = 0;
+    for (int64_t t = 0; t < c->notri; t++) {
+        if (tcomp[t] != comp)
+            continue;
+        const double *a = c->ox + 3 * c->otri[3 * t], *b = c->ox + 3 * c->otri[3 * t + 1],
+                     *d = c->ox + 3 * c->otri[3 * t + 2];
+        double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        double e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+        double q[3] = {dir[1] * e2[2] - dir[2] * e2[1], dir[2] * e2[0] - dir[0] * e2[2],
+                       dir[0] * e2[1] - dir[1] * e2[0]};
+        double det = e1[0] * q[0] + e1[1] * q[1] + e1[2] * q[2];
+        if (det == 0)
+            continue;
+        double w[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+        double u = (w[0] * q[0] + w[1] * q[1] + w[2] * q[2]) / det;
+        double rr[3] = {w[1] * e1[2] - w[2] * e1[1], w[2] * e1[0] - w[0] * e1[2], w[0] * e1[1] - w[1] * e1[0]};
+        double v = (dir[0] * rr[0] + dir[1] * rr[1] + dir[2] * rr[2]) / det;
+        double tt = (e2[0] * rr[0] + e2[1] * rr[1] + e2[2] * rr[2]) / det;
+        const double g = 1e-9;
+        if (u < -g || v < -g || u + v > 1 + g || tt < -g)
+            continue;
+        if (u < g || v < g || u + v > 1 - g || tt < g)
+            return -1;
+        inside ^= 1;
+    }
+    return inside;
+}
+
+/*
+ * A shell of the result lying wholly inside another (two walls of a sliver left inside the
+ * solid where pieces of the decomposition did not cancel) bounds nothing the union does
+ * not already hold, but it is no part of the boundary: such shells are dropped.  A shell
+ * is dropped only when every one of its sampled vertices is inside the other shell by two
+ * rays that do not graze it; shells that cross others are left as they are.
+ */
+static int drop_nested_shells(sw_ctx *c, int *overlap)
+{
+    *overlap = 0;
+    int64_t nt = c->notri, nv = c->nout;
+    int64_t *parent = malloc((size_t)(nv + 1) * sizeof *parent);
+    int64_t *tcomp = malloc((size_t)(nt + 1) * sizeof *tcomp);
+    if (!parent || !tcomp) {
+        free(parent);
+        free(tcomp);
+        return ctx_nomem(c);
+    }
+    for (int64_t i = 0; i < nv; i++)
+        parent[i] = i;
+    for (int64_t t = 0; t < nt; t++) {
+        mfg_uf_union(parent, c->otri[3 * t], c->otri[3 * t + 1]);
+        mfg_uf_union(parent, c->otri[3 * t], c->otri[3 * t + 2]);
+    }
+    /* components: roots, their volumes */
+    int64_t ncomp = 0, *roots = NULL, capr = 0;
+    double *vol = NULL;
+    int64_t capv = 0;
+    int ok = 1;
+    for (int64_t t = 0; t < nt && ok; t++) {
+        int64_t r = mfg_uf_find(parent, c->otri[3 * t]);
+        int64_t k = 0;
+        while (k < ncomp && roots[k] != r)
+            k++;
+        if (k == ncomp) {
+            if (ncomp >= 64) { /* many shells: leave them (the search below is quadratic) */
+                ncomp = 0;
+                break;
+            }
+            if (!grow((void **)&roots, &capr, ncomp + 1, sizeof *roots) ||
+                !grow((void **)&vol, &capv, ncomp + 1, sizeof *vol)) {
+                ok = ctx_nomem(c);
+                break;
+            }
+            roots[ncomp] = r;
+            vol[ncomp++] = 0;
+        }
+        tcomp[t] = k;
+        const double *a = c->ox + 3 * c->otri[3 * t], *b = c->ox + 3 * c->otri[3 * t + 1],
+                     *d = c->ox + 3 * c->otri[3 * t + 2];
+        vol[k] += a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) +
+                  a[2] * (b[0] * d[1] - b[1] * d[0]);
+    }
+    char *drop = ok && ncomp > 1 ? calloc((size_t)ncomp, 1) : NULL;
+    if (ok && ncomp > 1 && !drop)
+        ok = ctx_nomem(c);
+    static const double rays[2][3] = {{0.5377, 0.3141, 0.7826}, {-0.2718, 0.8660, -0.4192}};
+    for (int64_t k = 0; ok && drop && k < ncomp; k++) {
+        if (!(vol[k] > 0))
+            continue;
+        for (int64_t j = 0; j < ncomp && !drop[k]; j++) {
+            if (j == k || drop[j] || !(vol[j] > vol[k]))
+                continue;
+            /* up to 16 vertices of shell k, spread over its triangles: all inside j? */
+            int all_in = 1, tested = 0, some_in = 0;
+            int64_t nk = 0;
+            double box[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+            for (int64_t t = 0; t < nt; t++) {
+                nk += tcomp[t] == k;
+                if (tcomp[t] == j)
+                    for (int q = 0; q < 3; q++)
+                        for (int e = 0; e < 3; e++) {
+                            double x = c->ox[3 * c->otri[3 * t + q] + e];
+                            box[e] = fmin(box[e], x);
+                            box[3 + e] = fmax(box[3 + e], x);
+                        }
+            }
+            int64_t stride = nk / 16 + 1, seen = 0;
+            for (int64_t t = 0; t < nt && all_in; t++) {
+                if (tcomp[t] != k || seen++ % stride)
+                    continue;
+                const double *p = c->ox + 3 * c->otri[3 * t];
+                if (ray_parity(c, tcomp, j, p, rays[0]) != 1 || ray_parity(c, tcomp, j, p, rays[1]) != 1)
+                    all_in = 0;
+                tested++;
+            }
+            if (all_in && tested > 0) {
+                drop[k] = 1;
+                continue;
+            }
+            /* else: does shell k reach into j?  Its vertices in j's box, up to 256 */
+            int64_t nin = 0;
+            for (int64_t t = 0; t < nt; t++) {
+                if (tcomp[t] != k)
+                    continue;
+                const double *p = c->ox + 3 * c->otri[3 * t];
+                nin += p[0] > box[0] && p[1] > box[1] && p[2] > box[2] && p[0] < box[3] &&
+                       p[1] < box[4] && p[2] < box[5];
+            }
+            stride = nin / 256 + 1;
+            seen = 0;
+            for (int64_t t = 0; t < nt && !some_in; t++) {
+                if (tcomp[t] != k)
+                    continue;
+                const double *p = c->ox + 3 * c->otri[3 * t];
+                if (!(p[0] > box[0] && p[1] > box[1] && p[2] > box[2] && p[0] < box[3] &&
+                      p[1] < box[4] && p[2] < box[5]) || seen++ % stride)
+                    continue;
+                some_in = ray_parity(c, tcomp, j, p, rays[0]) == 1 &&
+                          ray_parity(c, tcomp, j, p, rays[1]) == 1;
+            }
+            if (some_in)
+                *overlap = 1; /* two shells crossing: the union's boundary is neither */
+        }
+    }
+    if (ok && drop) {
+        int64_t m = 0;
+        for (int64_t t = 0; t < nt; t++) {
+            if (drop[tcomp[t]])
+                continue;
+            for (int q = 0; q < 3; q++)
+                c->otri[3 * m + q] = c->otri[3 * t + q];
+            c->oring[2 * m] = c->oring[2 * t];
+            c->oring[2 * m + 1] = c->oring[2 * t + 1];
+            c->odir[m] = c->odir[t];
+            m++;
+        }
+        c->notri = m;
+    }
+    free(drop);
+    free(roots);
+    free(vol);
+    free(parent);
+    free(tcomp);
+    return ok;
+}
+
 /* Two copies of one triangle with opposite orientations (a strip of no width laid on a
  * face, a face met by its own copy) bound nothing: both go. */
 static int cancel_twins(sw_ctx *c)
@@ -4001,6 +4171,16 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
             mfg_status cs = mfg_mesh_check_closed(c.ox, c.nout, c.otri, c.notri, &rep);
             if (cs == MFG_OK) {
                 valid = 1;
+                int overlap = 0;
+                if (!drop_nested_shells(&c, &overlap)) {
+                    ok = 0;
+                    break;
+                }
+                if (overlap) {
+                    /* treated like an open surface: another placement, or a refusal */
+                    valid = 0;
+                    snprintf(why, sizeof why, "two of its shells cross each other");
+                }
             } else {
                 if (cs == MFG_ERR_NOMEM) {
                     ok = ctx_nomem(&c);

@@ -812,3 +812,38 @@ def test_no_degenerate_triangles_or_unused_vertices(name, deg):
     assert rep.unused_vertices == 0, f"{rep.unused_vertices} unused vertices of {rep.nvertices}"
     gap_check(rep.degenerate_triangles == 0,
               f"{rep.degenerate_triangles} zero-area triangles of {rep.ntriangles}")
+
+
+# Found by the random battery with an interior-wall check: results whose surface had
+# shells of sliver walls lying wholly inside the solid (points of the surface 2 tol and
+# more inside SV), which the membership oracle cannot see (it samples away from the
+# surface). (prism radius, height, n), axis point, axis direction, angle in radians.
+INTERIOR = {
+    "prism12-359deg": ((1.188232750042165, 0.4306250597663276, 12),
+                       (0.7113709083975337, 0.40176230581040473, -0.18280653388187887),
+                       (-0.12939496764165498, -0.34345434005173375, 0.7860743028178568),
+                       6.265732014659643),
+    "prism12-256deg": ((1.3973133138719034, 0.6692312387231282, 12),
+                       (-0.18067839668600696, -0.14201333724526424, -0.73145241649836),
+                       (0.3190884516865476, -1.2469762247076281, -1.1069310243514836),
+                       4.47645290070224),
+}
+
+
+@pytest.mark.parametrize("name", sorted(INTERIOR))
+def test_no_surface_point_deep_inside_the_swept_volume(name):
+    """Every part of the result's surface is boundary: no triangle's centre has a ball of
+    radius 2 tol (14 points on it) wholly inside SV by the exact oracle."""
+    (radius, h, n), point, direction, theta = INTERIOR[name]
+    v, t = prism_mesh((0.0, 0.0), radius, h, n)
+    tol = 1e-2
+    res = sweep(v, t, point, direction, theta, tol)
+    check_result(res, tol)
+    centres = res.vertices[res.triangles].mean(axis=1)
+    dirs = np.vstack([np.array([(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)],
+                               float) / math.sqrt(3.0), np.eye(3), -np.eye(3)])
+    ball = (centres[:, None, :] + 2 * tol * dirs[None]).reshape(-1, 3)
+    deep = inside_swept(ball, v, t, point, direction, theta).reshape(len(centres), -1).all(axis=1)
+    deep &= inside_swept(centres, v, t, point, direction, theta)
+    assert not deep.any(), (f"{int(deep.sum())} of {len(centres)} triangle centres lie 2 tol "
+                            f"deep in SV, e.g. {centres[np.nonzero(deep)[0][:3]].round(4).tolist()}")
