@@ -3770,7 +3770,8 @@ static int ray_parity(const sw_ctx *c, const int64_t *tcomp, int64_t comp, const
  * solid where pieces of the decomposition did not cancel) bounds nothing the union does
  * not already hold, but it is no part of the boundary: such shells are dropped.  A shell
  * is dropped only when every one of its sampled vertices is inside the other shell by two
- * rays that do not graze it; shells that cross others are left as they are.
+ * rays that do not graze it.  A shell with some vertex inside another and some not
+ * crosses it: *overlap is set, and the caller treats the result as it treats an open one.
  */
 static int drop_nested_shells(sw_ctx *c, int *overlap)
 {
