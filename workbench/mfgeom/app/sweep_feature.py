@@ -311,6 +311,13 @@ def mesh_of(vertices, triangles):
         os.remove(path)
 
 
+def _zero_area_count(vertices, triangles):
+    """The mesh's zero-area triangles: their collinear corners are what OCCT's sewing and
+    solid checks trip over (a known gap of the library's sweep), named in the messages."""
+    from mfgeom import core
+    return core.mesh_check(vertices, triangles).degenerate_triangles
+
+
 def solid_of_mesh(vertices, triangles, volume):
     """The Solid representation: a Part solid of the triangles (double precision) with
     coplanar neighbours merged into faces (OCCT's refine, ``removeSplitter``).  It must
@@ -324,14 +331,16 @@ def solid_of_mesh(vertices, triangles, volume):
     shell = Part.Shape()
     shell.makeShapeFromMesh((points, facets), _SEWING)
     if len(shell.Shells) != 1 or not shell.Shells[0].isClosed():
+        flat = _zero_area_count(vertices, triangles)
         raise MfgeomError(f"the swept mesh did not give one closed shell "
-                          f"({len(shell.Shells)} shells); use the Mesh representation")
+                          f"({len(shell.Shells)} shells"
+                          + (f", {flat} zero-area triangles" if flat else "")
+                          + "); use the Mesh representation")
     solid = Part.Solid(shell.Shells[0])
     if solid.Volume < 0:
         solid.reverse()
     if not solid.isValid():
-        from mfgeom import core
-        flat = core.mesh_check(vertices, triangles).degenerate_triangles
+        flat = _zero_area_count(vertices, triangles)
         raise MfgeomError("the solid of the swept mesh's triangles is not valid"
                           + (f" ({flat} zero-area triangles)" if flat else "")
                           + "; use the Mesh representation")
