@@ -4073,6 +4073,20 @@ static void reset_attempt(sw_ctx *c, sw_out *o)
 }
 
 /* Arguments other than the mesh (which mfg_mesh_require_closed checks). */
+/* The volume enclosed by triangles tris (n of them) over the points xyz (divergence
+ * theorem about the origin; local coordinates keep the numbers small). */
+static double mesh_volume(const double *xyz, const int64_t *tris, int64_t n)
+{
+    double vol = 0;
+    for (int64_t t = 0; t < n; t++) {
+        const double *a = xyz + 3 * tris[3 * t], *b = xyz + 3 * tris[3 * t + 1],
+                     *d = xyz + 3 * tris[3 * t + 2];
+        vol += a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) +
+               a[2] * (b[0] * d[1] - b[1] * d[0]);
+    }
+    return vol / 6;
+}
+
 static mfg_status check_sweep_args(const double *axis_point, const double *axis_dir,
                                    double angle, double tolerance, mfg_mesh **out_mesh)
 {
@@ -4139,6 +4153,7 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
      * result is not a closed 2-manifold (checked as the input is), the decomposition is
      * built again on a grid placed differently; after the last placement the call fails
      * with MFG_ERR_INTERNAL rather than return an open surface. */
+    double in_volume = ok ? mesh_volume(c.lx, triangles, ntriangles) : 0;
     static const double grid_scale[4] = {1.0123456789, 1.0371093751, 0.9812988281, 1.0557861328};
     static const double grid_shift[4] = {0.0371, 0.0629, 0.0147, 0.0853};
     mfg_mesh_report rep;
@@ -4181,6 +4196,11 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
                     /* treated like an open surface: another placement, or a refusal */
                     valid = 0;
                     snprintf(why, sizeof why, "two of its shells cross each other");
+                } else if (!(mesh_volume(c.ox, c.otri, c.notri) >= in_volume * (1 - 1e-9))) {
+                    /* SV holds O (t = 0): a closed surface holding less is wrong somewhere,
+                     * like an open one (found by fuzz_api) */
+                    valid = 0;
+                    snprintf(why, sizeof why, "it holds less volume than the input");
                 }
             } else {
                 if (cs == MFG_ERR_NOMEM) {
@@ -4260,20 +4280,17 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
                     S.bbox[k] = fmin(S.bbox[k], m->vertices[3 * i + k]);
                     S.bbox[3 + k] = fmax(S.bbox[3 + k], m->vertices[3 * i + k]);
                 }
-            /* volume about the axis point (local coordinates: small numbers) */
-            double vol = 0, area = 0;
+            double area = 0;
             for (int64_t t = 0; t < c.notri; t++) {
                 const double *a = c.ox + 3 * c.otri[3 * t], *b = c.ox + 3 * c.otri[3 * t + 1],
                              *d = c.ox + 3 * c.otri[3 * t + 2];
-                vol += a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) +
-                       a[2] * (b[0] * d[1] - b[1] * d[0]);
                 double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
                 double e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
                 double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
                        cz = e1[0] * e2[1] - e1[1] * e2[0];
                 area += 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
             }
-            S.volume = vol / 6;
+            S.volume = mesh_volume(c.ox, c.otri, c.notri); /* about the axis point */
             S.area = area;
             *out_stats = S;
         }
