@@ -3732,6 +3732,24 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
     return ok;
 }
 
+/* Six times the signed volume of the tetrahedron (origin, a, b, d): a triangle's share of
+ * the volume its closed surface encloses (divergence theorem about the origin). */
+static double tet_volume6(const double *a, const double *b, const double *d)
+{
+    return a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) +
+           a[2] * (b[0] * d[1] - b[1] * d[0]);
+}
+
+/* The volume enclosed by triangles tris (n of them) over the points xyz (about the
+ * origin; local coordinates keep the numbers small). */
+static double mesh_volume(const double *xyz, const int64_t *tris, int64_t n)
+{
+    double vol = 0;
+    for (int64_t t = 0; t < n; t++)
+        vol += tet_volume6(xyz + 3 * tris[3 * t], xyz + 3 * tris[3 * t + 1], xyz + 3 * tris[3 * t + 2]);
+    return vol / 6;
+}
+
 /* Parity of the ray from p along dir through the triangles of component comp (tcomp per
  * triangle): 1 inside, 0 outside, -1 when the ray grazes an edge or vertex (undecided). */
 static int ray_parity(const sw_ctx *c, const int64_t *tcomp, int64_t comp, const double *p,
@@ -3792,8 +3810,8 @@ static int drop_nested_shells(sw_ctx *c, int *overlap)
     }
     /* components: roots, their volumes */
     int64_t ncomp = 0, *roots = NULL, capr = 0;
-    double *vol = NULL;
-    int64_t capv = 0;
+    double *vol = NULL, *box = NULL;
+    int64_t capv = 0, capb = 0, *count = NULL, capn = 0;
     int ok = 1;
     for (int64_t t = 0; t < nt && ok; t++) {
         int64_t r = mfg_uf_find(parent, c->otri[3 * t]);
@@ -3806,18 +3824,32 @@ static int drop_nested_shells(sw_ctx *c, int *overlap)
                 break;
             }
             if (!grow((void **)&roots, &capr, ncomp + 1, sizeof *roots) ||
-                !grow((void **)&vol, &capv, ncomp + 1, sizeof *vol)) {
+                !grow((void **)&vol, &capv, ncomp + 1, sizeof *vol) ||
+                !grow((void **)&count, &capn, ncomp + 1, sizeof *count) ||
+                !grow((void **)&box, &capb, 6 * (ncomp + 1), sizeof *box)) {
                 ok = ctx_nomem(c);
                 break;
             }
             roots[ncomp] = r;
-            vol[ncomp++] = 0;
+            vol[ncomp] = 0;
+            count[ncomp] = 0;
+            for (int e = 0; e < 3; e++) {
+                box[6 * ncomp + e] = INFINITY;
+                box[6 * ncomp + 3 + e] = -INFINITY;
+            }
+            ncomp++;
         }
         tcomp[t] = k;
+        count[k]++;
         const double *a = c->ox + 3 * c->otri[3 * t], *b = c->ox + 3 * c->otri[3 * t + 1],
                      *d = c->ox + 3 * c->otri[3 * t + 2];
-        vol[k] += a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) +
-                  a[2] * (b[0] * d[1] - b[1] * d[0]);
+        vol[k] += tet_volume6(a, b, d);
+        for (int q = 0; q < 3; q++)
+            for (int e = 0; e < 3; e++) {
+                double x = c->ox[3 * c->otri[3 * t + q] + e];
+                box[6 * k + e] = fmin(box[6 * k + e], x);
+                box[6 * k + 3 + e] = fmax(box[6 * k + 3 + e], x);
+            }
     }
     char *drop = ok && ncomp > 1 ? calloc((size_t)ncomp, 1) : NULL;
     if (ok && ncomp > 1 && !drop)
@@ -3831,19 +3863,8 @@ static int drop_nested_shells(sw_ctx *c, int *overlap)
                 continue;
             /* up to 16 vertices of shell k, spread over its triangles: all inside j? */
             int all_in = 1, tested = 0, some_in = 0;
-            int64_t nk = 0;
-            double box[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
-            for (int64_t t = 0; t < nt; t++) {
-                nk += tcomp[t] == k;
-                if (tcomp[t] == j)
-                    for (int q = 0; q < 3; q++)
-                        for (int e = 0; e < 3; e++) {
-                            double x = c->ox[3 * c->otri[3 * t + q] + e];
-                            box[e] = fmin(box[e], x);
-                            box[3 + e] = fmax(box[3 + e], x);
-                        }
-            }
-            int64_t stride = nk / 16 + 1, seen = 0;
+            const double *bj = box + 6 * j;
+            int64_t stride = count[k] / 16 + 1, seen = 0;
             for (int64_t t = 0; t < nt && all_in; t++) {
                 if (tcomp[t] != k || seen++ % stride)
                     continue;
@@ -3862,8 +3883,8 @@ static int drop_nested_shells(sw_ctx *c, int *overlap)
                 if (tcomp[t] != k)
                     continue;
                 const double *p = c->ox + 3 * c->otri[3 * t];
-                nin += p[0] > box[0] && p[1] > box[1] && p[2] > box[2] && p[0] < box[3] &&
-                       p[1] < box[4] && p[2] < box[5];
+                nin += p[0] > bj[0] && p[1] > bj[1] && p[2] > bj[2] && p[0] < bj[3] &&
+                       p[1] < bj[4] && p[2] < bj[5];
             }
             stride = nin / 256 + 1;
             seen = 0;
@@ -3871,8 +3892,8 @@ static int drop_nested_shells(sw_ctx *c, int *overlap)
                 if (tcomp[t] != k)
                     continue;
                 const double *p = c->ox + 3 * c->otri[3 * t];
-                if (!(p[0] > box[0] && p[1] > box[1] && p[2] > box[2] && p[0] < box[3] &&
-                      p[1] < box[4] && p[2] < box[5]) || seen++ % stride)
+                if (!(p[0] > bj[0] && p[1] > bj[1] && p[2] > bj[2] && p[0] < bj[3] &&
+                      p[1] < bj[4] && p[2] < bj[5]) || seen++ % stride)
                     continue;
                 some_in = ray_parity(c, tcomp, j, p, rays[0]) == 1 &&
                           ray_parity(c, tcomp, j, p, rays[1]) == 1;
@@ -3898,6 +3919,8 @@ static int drop_nested_shells(sw_ctx *c, int *overlap)
     free(drop);
     free(roots);
     free(vol);
+    free(count);
+    free(box);
     free(parent);
     free(tcomp);
     return ok;
@@ -4073,20 +4096,6 @@ static void reset_attempt(sw_ctx *c, sw_out *o)
 }
 
 /* Arguments other than the mesh (which mfg_mesh_require_closed checks). */
-/* The volume enclosed by triangles tris (n of them) over the points xyz (divergence
- * theorem about the origin; local coordinates keep the numbers small). */
-static double mesh_volume(const double *xyz, const int64_t *tris, int64_t n)
-{
-    double vol = 0;
-    for (int64_t t = 0; t < n; t++) {
-        const double *a = xyz + 3 * tris[3 * t], *b = xyz + 3 * tris[3 * t + 1],
-                     *d = xyz + 3 * tris[3 * t + 2];
-        vol += a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) +
-               a[2] * (b[0] * d[1] - b[1] * d[0]);
-    }
-    return vol / 6;
-}
-
 static mfg_status check_sweep_args(const double *axis_point, const double *axis_dir,
                                    double angle, double tolerance, mfg_mesh **out_mesh)
 {
