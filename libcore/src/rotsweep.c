@@ -484,6 +484,75 @@ static void edge_at_z(const sw_ctx *c, int64_t i, int64_t j, double z, double ou
     out[2] = z;
 }
 
+/* Union-find root with path halving. */
+static int64_t uf_root(int64_t *parent, int64_t i)
+{
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+/* Faces perpendicular to the axis made exactly so.  A CAD part's flat face at z = 10 comes
+ * out of tessellation and of the axis frame with heights a few ulps apart
+ * (10.000000000000004 beside 10 on the bench arm); such a face then has edge images that
+ * are not quite horizontal, no image of its own, and cells straddling its plane that no
+ * curve explains: they were refined to the finest size and fanned, and the fans broke
+ * the result's manifoldness.  Vertices joined by triangles whose heights agree to 2^-40
+ * of the part's size get the height of the smallest vertex index of their group, when
+ * the whole group agrees that well: a move of the order of the frame's own rounding. */
+static int flatten_axial_faces(sw_ctx *c, const int64_t *tris)
+{
+    double zlo = INFINITY, zhi = -INFINITY, rhi = 0;
+    for (int64_t i = 0; i < c->nv; i++) {
+        zlo = fmin(zlo, c->lx[3 * i + 2]);
+        zhi = fmax(zhi, c->lx[3 * i + 2]);
+        rhi = fmax(rhi, c->vr[i]);
+    }
+    double eps = ldexp(fmax(rhi, zhi - zlo), -40);
+    int64_t *parent = malloc((size_t)(c->nv + 1) * sizeof *parent);
+    double *lo = malloc((size_t)(2 * c->nv + 1) * sizeof *lo);
+    if (!parent || !lo) {
+        free(parent);
+        free(lo);
+        return ctx_nomem(c);
+    }
+    for (int64_t i = 0; i < c->nv; i++)
+        parent[i] = i;
+    for (int64_t t = 0; t < c->nt; t++) {
+        const int64_t *v = tris + 3 * t;
+        double z0 = c->lx[3 * v[0] + 2], z1 = c->lx[3 * v[1] + 2], z2 = c->lx[3 * v[2] + 2];
+        if (fmax(z0, fmax(z1, z2)) - fmin(z0, fmin(z1, z2)) > eps)
+            continue;
+        for (int k = 1; k < 3; k++) {
+            int64_t a = uf_root(parent, v[0]), b = uf_root(parent, v[k]);
+            if (a != b) { /* the smaller index is the root: the group's height */
+                if (a < b)
+                    parent[b] = a;
+                else
+                    parent[a] = b;
+            }
+        }
+    }
+    double *hi = lo + c->nv;
+    for (int64_t i = 0; i < c->nv; i++)
+        lo[i] = INFINITY, hi[i] = -INFINITY;
+    for (int64_t i = 0; i < c->nv; i++) {
+        int64_t r = uf_root(parent, i);
+        lo[r] = fmin(lo[r], c->lx[3 * i + 2]);
+        hi[r] = fmax(hi[r], c->lx[3 * i + 2]);
+    }
+    for (int64_t i = 0; i < c->nv; i++) {
+        int64_t r = uf_root(parent, i);
+        if (r != i && hi[r] - lo[r] <= eps)
+            c->lx[3 * i + 2] = c->lx[3 * r + 2];
+    }
+    free(parent);
+    free(lo);
+    return 1;
+}
+
 static int setup(sw_ctx *c, const double *xyz, const int64_t *tris, const int64_t *nb)
 {
     c->lx = malloc((size_t)(3 * c->nv + 1) * sizeof *c->lx);
@@ -499,6 +568,8 @@ static int setup(sw_ctx *c, const double *xyz, const int64_t *tris, const int64_
                                c->frame[k][2] * d[2];
         c->vr[i] = v_r(c->lx[3 * i], c->lx[3 * i + 1]);
     }
+    if (!flatten_axial_faces(c, tris))
+        return 0;
     for (int64_t t = 0; t < c->nt; t++) {
         sw_tri *T = &c->tris[t];
         const double *p[3];
@@ -582,6 +653,29 @@ static int setup(sw_ctx *c, const double *xyz, const int64_t *tris, const int64_
                 return 0;
             c->tcurves[4 * t + 3] = c->ncurves - 1;
         }
+    }
+    /* ... and the image of each face perpendicular to the axis: the segment z = const
+     * from its nearest to its farthest radius.  Circles just below such a face meet the
+     * solid and circles just above do not (or the reverse) all along it, also where no
+     * edge is imaged (a top face the axis passes through): without this curve the cells
+     * straddling the plane saw no curve and were refined to the finest size and fanned
+     * (591 fans along each of the 9-face arm's two faces).  It runs radially out to the
+     * farthest vertex, which it names, so that cell stars see it end at that image.
+     * Horizontal curves are never used to lift points (lift), only to cut cells. */
+    for (int64_t t = 0; t < c->nt; t++) {
+        sw_tri *T = &c->tris[t];
+        if (T->vertical_ok || T->zmin != T->zmax || !(T->rmax > T->rmin))
+            continue;
+        int64_t far = T->v[0];
+        for (int k = 1; k < 3; k++)
+            if (c->vr[T->v[k]] > c->vr[far])
+                far = T->v[k];
+        const double *b = c->lx + 3 * far;
+        double w = T->rmin / c->vr[far];
+        double a[3] = {w * b[0], w * b[1], b[2]};
+        if (!add_curve(c, a, b, t, -1, -1, far))
+            return 0;
+        c->tcurves[4 * t + 3] = c->ncurves - 1;
     }
     c->cstamp = calloc((size_t)(c->ncurves + 1), sizeof *c->cstamp);
     if (!c->cstamp)
@@ -1942,9 +2036,16 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
                 if (nimg == 1 && r == img[0] && z == img[1])
                     from_img = 1;
             }
-            if (!from_img)
+            /* a horizontal curve at the image's height passing through it (an edge or
+             * the image of a face perpendicular to the axis, running through the image
+             * of a vertex of that face: the 9-face arm's top corners) is two spokes of
+             * the star, one to each r side: its image is exactly the line z = const */
+            int through_img = nimg == 1 && !end_in && ncr == 2 && cv->dir[2] == 0 &&
+                              cv->p0[2] == img[1] && pts[0][1] == img[1] && pts[1][1] == img[1] &&
+                              (pts[0][0] - img[0]) * (pts[1][0] - img[0]) < 0;
+            if (!from_img && !through_img)
                 all_from_img = 0;
-            if (ncr != 1)
+            if (ncr != 1 && !through_img)
                 one_cross_each = 0;
             if (njc < SW_MAXJUNCTION && ncr <= 2) {
                 jc[njc].curve = ic;
