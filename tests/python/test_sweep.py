@@ -691,6 +691,38 @@ def test_membership_oracle(name, deg):
                     for k in wrong[:5]))
 
 
+# The bench's 9-face crank arm (examples/parts/sweep_arm.py) as FreeCAD tessellates it:
+# the chamfer leaves the top face's heights a few ulps apart (10.000000000000004 beside
+# 10), so the face perpendicular to the axis is not exactly so.  Refused at every grid
+# placement until such faces were made exactly perpendicular (flatten_axial_faces).
+ARM_V = np.array([(0, 0, 0), (84, 0, 10.000000000000004), (0, 0, 10), (90, 0, 0),
+                  (90, 0, 6.0000000000000044), (90, 14, 0), (90, 14, 6.0000000000000044),
+                  (84, 14, 10.000000000000004), (0, 38, 0), (16, 14, 0), (16, 38, 0),
+                  (0, 38, 10), (16, 14, 10), (16, 38, 10)], float)
+ARM_T = np.array([(0, 1, 2), (1, 3, 4), (0, 3, 1), (3, 5, 4), (4, 5, 6), (7, 1, 4), (7, 4, 6),
+                  (0, 8, 9), (8, 10, 9), (9, 3, 0), (9, 5, 3), (11, 2, 12), (13, 11, 12),
+                  (1, 12, 2), (7, 12, 1), (8, 0, 11), (11, 0, 2), (6, 5, 7), (7, 9, 12),
+                  (5, 9, 7), (9, 10, 12), (12, 10, 13), (10, 8, 13), (13, 8, 11)])
+
+
+@pytest.mark.parametrize("deg", [30, 90, 360])
+def test_arm_with_heights_a_few_ulps_apart(deg):
+    """The bench arm about its hub axis at the bench tolerance: returned (not refused),
+    closed, and every point farther than 2 tol from its surface classified as the exact
+    per-circle oracle classifies it."""
+    assert ARM_V[1, 2] != ARM_V[2, 2]  # the rounding this test is about
+    theta = TWO_PI if deg == 360 else math.radians(deg)
+    tol = 0.01
+    res = core.rotational_sweep(ARM_V, ARM_T, (8.0, 8.0, 0.0), (0.0, 0.0, 1.0), theta, tol)
+    check_result(res, tol)
+    p, got, want = membership(res, (ARM_V, ARM_T), (8.0, 8.0, 0.0), (0.0, 0.0, 1.0), theta,
+                              tol, n=3000)
+    assert len(p) > 2000 and 0 < want.sum() < len(p)
+    assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
+    # the part's own volume (plate less the chamfer's wedge) is a floor
+    assert res.volume > (90 * 14 + 16 * 24) * 10 - 6 * 4 * 14 / 2
+
+
 @pytest.mark.parametrize("name, deg", [("L-axis-through-vertex", 359),
                                        ("hole-axis-through-hole", 90), ("box-axis-through", 180),
                                        ("L-axis-along-edge", 180), ("cavity-axis-through", 360)])
