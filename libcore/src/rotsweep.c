@@ -2022,7 +2022,7 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
                 }
             }
             /* star: the curve must end at the vertex image and leave the cell once */
-            int from_img = 0;
+            int from_img = 0, stray_end = 0;
             for (int e = 0; e < 2; e++) {
                 double u = (double)e;
                 double r = sqrt(fmax(0, cv->qa * u * u + cv->qb * u + cv->qc));
@@ -2035,14 +2035,19 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
                 }
                 if (nimg == 1 && r == img[0] && z == img[1])
                     from_img = 1;
+                else if (r > ra && r < rb && z > za && z < zb)
+                    stray_end = 1;
             }
-            /* a horizontal curve at the image's height passing through it (an edge or
-             * the image of a face perpendicular to the axis, running through the image
-             * of a vertex of that face: the 9-face arm's top corners) is two spokes of
-             * the star, one to each r side: its image is exactly the line z = const */
-            int through_img = nimg == 1 && !end_in && ncr == 2 && cv->dir[2] == 0 &&
-                              cv->p0[2] == img[1] && pts[0][1] == img[1] && pts[1][1] == img[1] &&
-                              (pts[0][0] - img[0]) * (pts[1][0] - img[0]) < 0;
+            /* a horizontal curve at the image's height (an edge or the image of a face
+             * perpendicular to the axis, running through or from the image of a vertex
+             * of that face: the 9-face arm's top corners, the frame's corners about an
+             * axis crossing its hole) lies exactly on the line z = const through the
+             * centre: its crossings are spokes of the star, one to each r side at most,
+             * however it folds (an edge from the image that turns back through it),
+             * provided it ends nowhere else in the cell */
+            int through_img = nimg == 1 && !stray_end && ncr >= 1 && ncr <= 2 &&
+                              cv->dir[2] == 0 && cv->p0[2] == img[1] && pts[0][1] == img[1] &&
+                              (ncr == 1 || pts[1][1] == img[1]);
             if (!from_img && !through_img)
                 all_from_img = 0;
             if (ncr != 1 && !through_img)
