@@ -3340,7 +3340,20 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
         sw_vtx2 w0 = w;
         if (we->v2 >= 0 && W->push[we->v2])
             w0.r = w.r / cos(MFG_PI / (double)ring_steps(c, we->r));
-        lo = hi = ring_vertex(c, o, &w0, 0);
+        /* the ring starts at angle 0, or at the vertex already there: the other strips
+         * on this circle drop the grid vertex at an angle where a line ends (below), and
+         * on an outer wall's circle the two are not one point (a 4-edge hole next to the
+         * apex of the tetrahedron about its edge) */
+        lo = -1;
+        int64_t nr = we->v2 >= 0 ? W->ring_start[we->v2 + 1] - W->ring_start[we->v2] : we->ring_n;
+        for (int64_t i = 0; i < nr && lo < 0; i++) {
+            int64_t vid = we->v2 >= 0 ? W->rvid[W->ring_start[we->v2] + i] : W->evring[we->ring_first + i];
+            if (fabs(angle_diff(o->phi[vid], 0)) <= 1e-9)
+                lo = vid;
+        }
+        if (lo < 0)
+            lo = ring_vertex(c, o, &w0, 0);
+        hi = lo;
         if (lo < 0)
             return 0;
         plo = 0;

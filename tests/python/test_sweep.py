@@ -627,9 +627,9 @@ CASES = {
     "cavity-axis-through": (hollow_box(), (1.1, 0.9, 1.0), (0.2, 1.0, 0.1)),
     "two-components": (two_boxes(), (0.0, 0.0, 0.0), (0.1, 0.0, 1.0)),
     # two edges mirror images across a meridian plane: one (r, z) image at two angles
-    # an edge on the axis ending in a vertex on it: returned before the gap-closing curves,
-    # refused after them (a 4-edge hole next to the apex, where an outer wall's ring is
-    # pushed out to circumscribe its circle and the pieces beside it are not)
+    # an edge on the axis ending in vertices on it: refused at every angle for a while (a
+    # 4-edge hole next to the apex: an outer wall's full ring started at its grid vertex
+    # at angle 0, pushed out, where the strips beside it used a line's vertex)
     "tetra-axis-edge": ((np.array([(0, 0, 0), (1, 0, 0), (0, 1.3, 0), (0, 0, 1)], float),
                          np.array([(0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)])),
                         (0.0, 0.0, 0.0), (0, 0, 1)),
@@ -721,6 +721,20 @@ def test_arm_with_heights_a_few_ulps_apart(deg):
     assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
     # the part's own volume (plate less the chamfer's wedge) is a floor
     assert res.volume > (90 * 14 + 16 * 24) * 10 - 6 * 4 * 14 / 2
+
+
+@pytest.mark.parametrize("deg", [5, 57, 90, 180, 270, 355, 360])
+def test_tetrahedron_with_an_edge_on_the_axis(deg):
+    """tetra-axis-edge (an edge on the axis, its two vertices imaged on it) is returned
+    (not refused: no known-gap escape here), closed, and the oracle agrees."""
+    (v, t), point, direction = CASES["tetra-axis-edge"]
+    theta = TWO_PI if deg == 360 else math.radians(deg)
+    tol = 3e-2 * 1.3
+    res = core.rotational_sweep(v, t, point, direction, theta, tol)
+    check_result(res, tol)
+    p, got, want = membership(res, (v, t), point, direction, theta, tol)
+    assert len(p) > 400 and 0 < want.sum() < len(p)
+    assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
 
 
 @pytest.mark.parametrize("name, deg", [("L-axis-through-vertex", 359),
