@@ -1306,11 +1306,28 @@ static int cmp_double_asc(const void *pa, const void *pb);
 
 /* The SV arcs on the circle (r, z).  A circle through a vertex or along an edge within
  * rounding can count entries and exits that do not pair up; it is then moved by a few
- * units in the last place of the part's size (far below any tolerance) until they do. */
+ * units in the last place of the part's size (far below any tolerance) until they do.
+ * A sample on the axis (r = 0: corners and loop vertices of the cells along it) is taken
+ * as the limit r -> 0+, on a circle of radius axis_radius: the structure of the polygons
+ * touching the axis, which is what the samples stand for.  At r = 0 itself the "circle"
+ * is a point, full or empty by ray parity, where the axis lies in a face or along an edge
+ * of the solid an arbitrary answer that never matched its neighbours' arcs: every cell
+ * along such an axis was refined down to blocks (box about an edge: one column of blocks
+ * along the edge, blocks beyond the caps). */
+static double axis_radius(const sw_ctx *c)
+{
+    /* far below the finest cell (a curve passing between the axis and it at a corner's
+     * height is a near-coincidence the grid placement avoids), far above the rounding
+     * moves below */
+    return fmin(0.25 * c->h, fmax(ldexp(c->h, -12), ldexp(c->ext, -26)));
+}
+
 static int circle_arcs(sw_ctx *c, double r, double z, sw_struct *out)
 {
     static const double dr[4] = {0, 0x1p-34, -0x1p-29, 0x1p-24};
     static const double dz[4] = {0, 0x1p-35, 0x1p-30, -0x1p-25};
+    if (r <= 0)
+        r = axis_radius(c);
     for (int k = 0; k < 4; k++) {
         int64_t mark = c->narcs, xmark = c->nxpool;
         int bad = 0;
@@ -1924,6 +1941,11 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
     }
     /* curves of the bounding triangles through the cell */
     int64_t npass = 0, ncross_split = 0, all_from_img = 1, one_cross_each = 1;
+    /* a vertex image on the axis lies on the cell's side r = 0, never strictly inside:
+     * a half star round it (below) when every curve is a spoke from it */
+    int img_on_axis = nimg == 1 && img[0] == 0 && ra == 0 && img[1] > za && img[1] < zb;
+    int all_spokes = 1;
+    double aeps = 1e-9 * (rb + fabs(zb)) + 1e-6 * c->tol;
     double split_u[2] = {0, 0}, split_p[2][2] = {{0, 0}, {0, 0}};
     int64_t second_curve = -1, ncross_second = 0;
     double second_u[2] = {0, 0}, second_p[2][2] = {{0, 0}, {0, 0}};
@@ -2047,6 +2069,24 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
                 all_from_img = 0;
             if (ncr != 1 && !through_img)
                 one_cross_each = 0;
+            if (img_on_axis) {
+                /* a spoke of the half star: from the image (or, a horizontal curve
+                 * folded on itself, through it) out of the cell once; its crossing
+                 * with the axis side, if any is found, is the image itself.  The image
+                 * of a segment from a point of the axis is straight ((r, z) linear in
+                 * the parameter), so the spoke is exactly its chord. */
+                int nat = 0, nother = 0;
+                for (int j = 0; j < ncr; j++) {
+                    if (pts[j][0] == ra && fabs(pts[j][1] - img[1]) <= aeps)
+                        nat++;
+                    else
+                        nother++;
+                }
+                /* through the image: a crossing of the axis side there (a gap-closing
+                 * curve's computed end, a horizontal curve folded on itself) */
+                if (end_in || nother != 1 || nat > 1 || !(from_img || nat == 1))
+                    all_spokes = 0;
+            }
             if (njc < SW_MAXJUNCTION && ncr <= 2) {
                 jc[njc].curve = ic;
                 jc[njc].ncr = ncr;
@@ -2096,6 +2136,14 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
     if (nimg == 1 && img_inside && npass >= 1 && all_from_img && one_cross_each) {
         L->kind = LEAF_STAR;
         L->cr = img[0];
+        L->cz = img[1];
+        L->cvtx = imgv;
+        return 1;
+    }
+    if (img_on_axis && npass >= 1 && all_spokes) {
+        /* the half star: built round the image on the axis side (build_polygons) */
+        L->kind = LEAF_STAR;
+        L->cr = 0;
         L->cz = img[1];
         L->cvtx = imgv;
         return 1;
@@ -2631,6 +2679,65 @@ static int cut_chords(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t 
     return res;
 }
 
+/*
+ * The half star round a vertex image on the axis (analyse_cell): the image lies on the
+ * cell's side r = 0, where the loop already has a vertex if a curve's crossing with that
+ * side was found there (within rounding).  That vertex becomes the centre (one 2-D vertex
+ * at the image, at the image's exact coordinates); the other vertices of the side
+ * strictly between its corners are crossings at the image too (analyse_cell allows no
+ * other) and are dropped.  Then one triangle from the centre to every loop edge that
+ * does not touch it, each with the structure at its own centroid.  No cell lies across
+ * the side r = 0, so its vertices belong to this cell alone.
+ */
+static int half_star(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t nloop)
+{
+    int64_t s = (int64_t)1 << (c->lmax - L->level);
+    double za = grid_z(c, L->iz), zb = grid_z(c, L->iz + s);
+    int64_t *w = malloc((size_t)(nloop + 1) * sizeof *w);
+    if (!w)
+        return ctx_nomem(c);
+    int64_t n = 0, centre = -1, at = -1;
+    for (int64_t i = 0; i < nloop; i++) {
+        const sw_vtx2 *v = &c->v2[loop[i]];
+        if (v->r == 0 && v->z > za && v->z < zb) {
+            if (centre < 0)
+                centre = loop[i];
+            continue;
+        }
+        w[n++] = loop[i];
+        if (v->r == 0 && v->z == zb)
+            at = n; /* the side r = 0 runs down from here */
+    }
+    if (centre < 0) {
+        hkey k = mkkey(3, dbits(0), dbits(L->cz), 0);
+        centre = add_v2(c, &k, 0, L->cz, -1, 0, L->cvtx);
+        if (centre < 0) {
+            free(w);
+            return 0;
+        }
+    }
+    if (at < 0) { /* no corner (0, zb): cannot happen; a block is always safe */
+        free(w);
+        return add_block(c, L, loop, nloop);
+    }
+    sw_vtx2 *cv = &c->v2[centre];
+    cv->z = L->cz;
+    cv->mvtx = L->cvtx;
+    memmove(w + at + 1, w + at, (size_t)(n - at) * sizeof *w);
+    w[at] = centre;
+    n++;
+    int ok = 1;
+    for (int64_t i = 0; i < n && ok; i++) {
+        int64_t a = w[i], b = w[(i + 1) % n];
+        if (a == centre || b == centre)
+            continue;
+        int64_t tri[3] = {centre, a, b};
+        ok = add_poly(c, tri, 3);
+    }
+    free(w);
+    return ok;
+}
+
 static int build_polygons(sw_ctx *c)
 {
     if (!hmap_init(&c->v2map, 4 * c->nleaves + 64))
@@ -2701,6 +2808,10 @@ static int build_polygons(sw_ctx *c)
         }
         if (kind == LEAF_FAN) {
             ok = add_block(c, L, loop, nloop);
+            continue;
+        }
+        if (kind == LEAF_STAR && L->cr == 0) {
+            ok = half_star(c, L, loop, nloop);
             continue;
         }
         /* star round the vertex image */
@@ -3303,6 +3414,7 @@ static int edge_walls(sw_ctx *c, sw_out *o, sw_walls *W, int64_t u, int64_t v, i
 typedef struct sw_pl {
     int64_t vid;
     double off;
+    int grid;              /* a grid vertex of an outer wall's circumscribed polygon */
 } sw_pl;
 
 static int cmp_pl(const void *pa, const void *pb)
@@ -3336,6 +3448,7 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
     }
     double plo, span;
     int64_t lo, hi;
+    int lo_grid = 0; /* a full ring starting at the grid vertex at angle 0 */
     if (full) {
         sw_vtx2 w0 = w;
         if (we->v2 >= 0 && W->push[we->v2])
@@ -3351,8 +3464,10 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
             if (fabs(angle_diff(o->phi[vid], 0)) <= 1e-9)
                 lo = vid;
         }
-        if (lo < 0)
+        if (lo < 0) {
             lo = ring_vertex(c, o, &w0, 0);
+            lo_grid = 1;
+        }
         hi = lo;
         if (lo < 0)
             return 0;
@@ -3379,7 +3494,11 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
         return ctx_nomem(c);
     sw_pl *pl = *out;
     int64_t n = 0;
+    int pushed = we->v2 >= 0 && W->push[we->v2];
+    memset(pl, 0, (size_t)cap_need * sizeof *pl);
+    lo_grid = lo_grid && pushed;
     pl[n].vid = lo;
+    pl[n].grid = lo_grid;
     pl[n++].off = 0;
     const double dtiny = 1e-9;
     if (span > 0) {
@@ -3413,10 +3532,12 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
                 if (id < 0)
                     return 0;
                 pl[n].vid = id;
+                pl[n].grid = pushed;
                 pl[n++].off = off;
             }
         }
         pl[n].vid = hi;
+        pl[n].grid = lo_grid; /* a full ring ends where it starts */
         pl[n++].off = span;
     } else if (hi != lo) {
         /* two lines meeting (within rounding) at this end: a strip end of no width still
@@ -3431,6 +3552,53 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
     for (int64_t i = 0; i < n; i++)
         if (m == 0 || pl[i].vid != pl[m - 1].vid)
             pl[m++] = pl[i];
+    if (pushed && span > 0 && m > 1) {
+        /* An outer wall's circle between two vertices that are not both grid vertices
+         * of the circumscribed polygon: an arc end lies on the circle itself, so the
+         * chord to its neighbour cuts into SV (an arc shorter than one grid step had
+         * only its chord: the box about an edge turned by 1 deg held less than SV).
+         * The point where the tangents there meet (at an arc end: the circle's tangent;
+         * at a grid vertex: the polygon's side, tangent half a step away) goes in
+         * between.  It depends only on the two vertices, which every strip using this
+         * stretch of the circle has consecutive, so they all get it. */
+        if (!grow((void **)out, capout, 2 * m + 2, sizeof **out))
+            return ctx_nomem(c);
+        pl = *out;
+        int64_t mm = m;
+        double half = MFG_PI / (double)nsteps;
+        sw_pl *ins = malloc((size_t)(mm + 1) * sizeof *ins);
+        if (!ins)
+            return ctx_nomem(c);
+        int64_t nins = 0;
+        for (int64_t i = 0; i + 1 < mm; i++) {
+            if (pl[i].grid && pl[i + 1].grid)
+                continue;
+            double t0 = pl[i].off + (pl[i].grid ? half : 0);
+            double t1 = pl[i + 1].off - (pl[i + 1].grid ? half : 0);
+            if (!(t1 - t0 > dtiny))
+                continue;
+            sw_vtx2 wx = w;
+            wx.r = w.r / cos(0.5 * (t1 - t0));
+            int64_t id = ring_vertex(c, o, &wx, plo + 0.5 * (t0 + t1));
+            if (id < 0) {
+                free(ins);
+                return 0;
+            }
+            ins[nins].vid = id;
+            ins[nins].off = 0.5 * (t0 + t1);
+            ins[nins++].grid = 0;
+        }
+        for (int64_t i = 0; i < nins; i++)
+            pl[m++] = ins[i];
+        free(ins);
+        qsort(pl, (size_t)m, sizeof *pl, cmp_pl);
+        /* a point welded to a neighbour (a circle of a radius near the weld quantum) */
+        int64_t m2 = 0;
+        for (int64_t i = 0; i < m; i++)
+            if (m2 == 0 || pl[i].vid != pl[m2 - 1].vid)
+                pl[m2++] = pl[i];
+        m = m2;
+    }
     for (int64_t i = 0; i < m; i++)
         pl[i].off = span > 0 ? pl[i].off / span : 0;
     if (m > 1)
