@@ -673,7 +673,14 @@ static int setup(sw_ctx *c, const double *xyz, const int64_t *tris, const int64_
         const double *b = c->lx + 3 * far;
         double w = T->rmin / c->vr[far];
         double a[3] = {w * b[0], w * b[1], b[2]};
-        if (!add_curve(c, a, b, t, -1, -1, far))
+        /* when the nearest point is a vertex (a corner nearest the axis), the curve
+         * starts at that vertex's image too, and names it: a star there sees every
+         * curve end at the image (its computed start differs from it by rounding) */
+        int64_t near = -1;
+        for (int k = 0; k < 3; k++)
+            if (c->vr[T->v[k]] == T->rmin && T->v[k] != far)
+                near = T->v[k];
+        if (!add_curve(c, a, b, t, -1, near, far))
             return 0;
         c->tcurves[4 * t + 3] = c->ncurves - 1;
     }

@@ -534,6 +534,20 @@ def test_full_turn_of_a_box_off_the_axis_is_an_annulus():
     ring(res, tol, r, big, 0.0, 1.0)
 
 
+@pytest.mark.parametrize("deg", [45.0, 360.0])
+def test_caps_of_a_box_off_the_axis_are_exact(deg):
+    """SV of a box about an axis parallel to its edges spans exactly the box's heights:
+    its caps are the box's top and bottom turned.  The corner nearest the axis is imaged
+    where the image curve of the face perpendicular to the axis starts; that curve did
+    not name the corner, so no star was built there and the blocks reached a cell's size
+    beyond the caps."""
+    v, t = box_mesh((1.0, 0.5, 0.0), (2.0, 1.5, 1.0))
+    res = sweep(v, t, (0, 0, 0), (0, 0, 1), TWO_PI if deg == 360 else math.radians(deg), 2e-2)
+    check_result(res, 2e-2)
+    assert res.bbox[0][2] == pytest.approx(0.0, abs=1e-12)
+    assert res.bbox[1][2] == pytest.approx(1.0, abs=1e-12)
+
+
 def test_full_turn_of_a_prism_about_a_parallel_axis_is_an_annulus():
     """A 16-gon prism of radius 1 centred 3 off the axis (vertex 8 at distance 2, vertex
     0 at 4): its walls of mirror-image edges are met by their own copies."""
