@@ -553,6 +553,30 @@ static int flatten_axial_faces(sw_ctx *c, const int64_t *tris)
     return 1;
 }
 
+/* Vertices on the axis, as the frame computes them: at r of the order of its rounding
+ * (1e-16 for a part moved off the world axes), not 0.  Their images then lie a hair
+ * inside the first column of cells instead of on its side r = 0, and the curves from them
+ * cross that column's sides within rounding of its corners, where the polygons' loops
+ * drop such crossings (a cell cut along them found no ends to cut at and became one
+ * coarse block: a box about an edge, moved, covered a whole turn near the axis, wrong by
+ * the membership oracle).  Within 2^-40 of the part's size of the axis, a vertex is put
+ * on it: a move of the order of the frame's own rounding. */
+static void axis_vertices(sw_ctx *c)
+{
+    double zlo = INFINITY, zhi = -INFINITY, rhi = 0;
+    for (int64_t i = 0; i < c->nv; i++) {
+        zlo = fmin(zlo, c->lx[3 * i + 2]);
+        zhi = fmax(zhi, c->lx[3 * i + 2]);
+        rhi = fmax(rhi, c->vr[i]);
+    }
+    double eps = ldexp(fmax(rhi, zhi - zlo), -40);
+    for (int64_t i = 0; i < c->nv; i++)
+        if (c->vr[i] <= eps) {
+            c->lx[3 * i] = c->lx[3 * i + 1] = 0;
+            c->vr[i] = 0;
+        }
+}
+
 static int setup(sw_ctx *c, const double *xyz, const int64_t *tris, const int64_t *nb)
 {
     c->lx = malloc((size_t)(3 * c->nv + 1) * sizeof *c->lx);
@@ -568,6 +592,7 @@ static int setup(sw_ctx *c, const double *xyz, const int64_t *tris, const int64_
                                c->frame[k][2] * d[2];
         c->vr[i] = v_r(c->lx[3 * i], c->lx[3 * i + 1]);
     }
+    axis_vertices(c);
     if (!flatten_axial_faces(c, tris))
         return 0;
     for (int64_t t = 0; t < c->nt; t++) {
