@@ -22,7 +22,8 @@
  *    B n R(theta) A, kept as a gap-closing curve).  A cell crossed by one curve is
  *    split along the chord between the curve's two crossings with the cell's sides; a
  *    cell holding one vertex image and only the curves that end there is split into a
- *    star round it (also round the junction of gap-closing curves); a cell crossed by
+ *    star round it (also round the junction of gap-closing curves; round an image on the
+ *    axis, which lies on the side r = 0 of its cell, a half star); a cell crossed by
  *    several curves that do not cross in it is cut along all their chords.  Other cells
  *    are refined, down to a size below the tolerance; a cell
  *    still mixed there is cut into a fan round its centre and each piece takes the
