@@ -1977,6 +1977,10 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
     /* a vertex image on the axis lies on the cell's side r = 0, never strictly inside:
      * a half star round it (below) when every curve is a spoke from it */
     int img_on_axis = nimg == 1 && img[0] == 0 && ra == 0 && img[1] > za && img[1] < zb;
+    /* ... and, with no vertex image, round the point where curves touch the axis (an
+     * edge or a face diagonal crossing it): their images fold there */
+    int axis_touch = nimg == 0 && ra == 0;
+    double touch_z = NAN;
     int all_spokes = 1;
     double aeps = 1e-9 * (rb + fabs(zb)) + 1e-6 * c->tol;
     double split_u[2] = {0, 0}, split_p[2][2] = {{0, 0}, {0, 0}};
@@ -2120,6 +2124,26 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
                 if (end_in || nother != 1 || nat > 1 || !(from_img || nat == 1))
                     all_spokes = 0;
             }
+            if (axis_touch) {
+                /* through the touching point, its one crossing with the axis side: each
+                 * half of the curve a spoke from it (straight, as above), out of the cell
+                 * once */
+                int nat = 0, nother = 0;
+                for (int j = 0; j < ncr; j++) {
+                    if (pts[j][0] != ra) {
+                        nother++;
+                        continue;
+                    }
+                    if (!(touch_z == touch_z))
+                        touch_z = pts[j][1];
+                    if (fabs(pts[j][1] - touch_z) <= aeps)
+                        nat++;
+                    else
+                        all_spokes = 0;
+                }
+                if (end_in || nat != 1 || nother < 1 || nother > 2)
+                    all_spokes = 0;
+            }
             if (njc < SW_MAXJUNCTION && ncr <= 2) {
                 jc[njc].curve = ic;
                 jc[njc].ncr = ncr;
@@ -2173,12 +2197,12 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
         L->cvtx = imgv;
         return 1;
     }
-    if (img_on_axis && npass >= 1 && all_spokes) {
+    if ((img_on_axis || (axis_touch && touch_z == touch_z)) && npass >= 1 && all_spokes) {
         /* the half star: built round the image on the axis side (build_polygons) */
         L->kind = LEAF_STAR;
         L->cr = 0;
-        L->cz = img[1];
-        L->cvtx = imgv;
+        L->cz = img_on_axis ? img[1] : touch_z;
+        L->cvtx = img_on_axis ? imgv : -1;
         return 1;
     }
     if (npass == 2 && nimg == 0 && ncross_split == 2 && ncross_second == 2 &&

@@ -547,6 +547,26 @@ def test_box_about_an_edge_moved(seed):
     assert np.array_equal(got, inside), f"{int((got != inside).sum())} of {len(p)} points differ"
 
 
+@pytest.mark.parametrize("deg", [45.0, 90.0])
+def test_axis_in_a_face_crossed_by_its_diagonal(deg):
+    """A box with the axis in its face x = 0, whose diagonal crosses the axis at z = 0.5:
+    near there SV's boundary is the face itself (angle -90 deg, y <= 0) and the face
+    turned (angle 90 deg + theta).  The diagonal's image folds at the axis, on the side
+    r = 0 of its cell, so no curve explained that cell and it became a block, whose caps
+    stand at other angles; now a half star round the fold."""
+    v, t = box_mesh((0.0, -0.5, 0.0), (1.0, 0.5, 1.0))
+    theta = math.radians(deg)
+    res = sweep(v, t, (0, 0, 0), (0, 0, 1), theta, 2e-2)
+    check_result(res, 2e-2)
+    p = res.vertices
+    near = (np.hypot(p[:, 0], p[:, 1]) < 0.1) & (np.abs(p[:, 2] - 0.5) < 0.1)
+    end = np.array([math.cos(math.pi / 2 + theta), math.sin(math.pi / 2 + theta)])
+    on_start = (p[:, 1] <= 1e-12) & (np.abs(p[:, 0]) <= 1e-9)
+    on_end = (p[:, :2] @ end >= -1e-12) & (np.abs(p[:, 0] * end[1] - p[:, 1] * end[0]) <= 1e-9)
+    assert near.any() and not (near & ~on_start & ~on_end).any(), \
+        p[near & ~on_start & ~on_end][:5].tolist()
+
+
 def test_full_turn_of_a_box_off_the_axis_is_an_annulus():
     v, t = box_mesh((1.0, -0.5, 0.0), (2.0, 0.5, 1.0))
     tol = 3e-2
