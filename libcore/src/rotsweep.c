@@ -1974,6 +1974,7 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
     }
     /* curves of the bounding triangles through the cell */
     int64_t npass = 0, ncross_split = 0, all_from_img = 1, one_cross_each = 1;
+    int star_sag_ok = 1;
     /* a vertex image on the axis lies on the cell's side r = 0, never strictly inside:
      * a half star round it (below) when every curve is a spoke from it */
     int img_on_axis = nimg == 1 && img[0] == 0 && ra == 0 && img[1] > za && img[1] < zb;
@@ -2092,8 +2093,16 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
                     r = c->vr[cv->vtx[e]];
                     z = c->lx[3 * cv->vtx[e] + 2];
                 }
-                if (nimg == 1 && r == img[0] && z == img[1])
+                if (nimg == 1 && r == img[0] && z == img[1]) {
                     from_img = 1;
+                    /* the spoke is the chord from the image to the crossing: within
+                     * tol/4 of the curve, as a split's chord (an edge whose image leaves
+                     * the image of its end nearest the axis tangentially bends away from
+                     * its chord by more than the tolerance over a coarse cell: the
+                     * result missed SV there by 3 tol, box about a face diagonal) */
+                    if (ncr == 1 && curve_sag(cv, fmin(u, us[0]), fmax(u, us[0])) > 0.25 * c->tol)
+                        star_sag_ok = 0;
+                }
             }
             /* a horizontal curve at the image's height passing through it (an edge or
              * the image of a face perpendicular to the axis, running through the image
@@ -2190,7 +2199,7 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
             }
         }
     }
-    if (nimg == 1 && img_inside && npass >= 1 && all_from_img && one_cross_each) {
+    if (nimg == 1 && img_inside && npass >= 1 && all_from_img && one_cross_each && star_sag_ok) {
         L->kind = LEAF_STAR;
         L->cr = img[0];
         L->cz = img[1];

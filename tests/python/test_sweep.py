@@ -567,6 +567,22 @@ def test_axis_in_a_face_crossed_by_its_diagonal(deg):
         p[near & ~on_start & ~on_end][:5].tolist()
 
 
+@pytest.mark.parametrize("deg", [86.0, 260.0])
+def test_box_about_a_face_diagonal(deg):
+    """The axis along a face's diagonal: the bottom edge from the corner nearest the axis
+    leaves that corner's image tangentially (r - r0 ~ 3 z^2), and a star round the image
+    at a coarse cell cut it by a chord 3 tol away from it: points of SV that far inside
+    were outside the result.  (Refused at every angle but the full turn before the full
+    rings started at the lines' vertices.)"""
+    v, t = box_mesh((0.0, 0.0, 0.0), (0.74474063, 0.80743494, 1.68418376))
+    point, direction = (0.0, 0.0, 0.0), (0.74474063, 0.0, 1.68418376)
+    theta, tol = math.radians(deg), 1e-2
+    res = sweep(v, t, point, direction, theta, tol)
+    check_result(res, tol)
+    p, got, want = membership(res, (v, t), point, direction, theta, tol, n=20000, seed=5)
+    assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
+
+
 def test_full_turn_of_a_box_off_the_axis_is_an_annulus():
     v, t = box_mesh((1.0, -0.5, 0.0), (2.0, 0.5, 1.0))
     tol = 3e-2
