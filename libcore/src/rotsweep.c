@@ -1773,6 +1773,23 @@ static int junction_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, dou
             }
         }
     }
+    /* ... or an end of a silhouette or of a face's image that is no vertex's image: where
+     * the image of an edge folds back at its point nearest the axis (a horizontal edge
+     * of a part about a parallel axis: the silhouette of the side face through it ends
+     * there, and the image of the cap starts there) */
+    for (int i = 0; i < njc && !(J[0] == J[0]); i++) {
+        const sw_curve *cv = &c->curves[jc[i].curve];
+        if (cv->tri[1] >= 0 || cv->gexit >= 0)
+            continue;
+        for (int e = 0; e < 2; e++) {
+            double r = curve_r(cv, e), z = cv->p0[2] + e * cv->dir[2];
+            if (cv->vtx[e] < 0 && r > ra && r < rb && z > za && z < zb) {
+                J[0] = r;
+                J[1] = z;
+                break;
+            }
+        }
+    }
     if (!(J[0] == J[0]))
         return 0;
     if (!(J[0] - ra > eps && rb - J[0] > eps && J[1] - za > eps && zb - J[1] > eps))
@@ -1785,8 +1802,10 @@ static int junction_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, dou
         if (!(u == u))
             return 0;
         int at_end = u <= 1e-9 || u >= 1 - 1e-9;
-        /* ends at J: one crossing; passes through J: two */
-        if (jc[i].ncr != (at_end ? 1 : 2))
+        /* ends at J: one crossing; passes through J: two; a horizontal curve at J's
+         * height lies on the line through it, folded or not: one or two */
+        int along = cv->dir[2] == 0 && fabs(cv->p0[2] - J[1]) <= eps;
+        if (along ? jc[i].ncr < 1 : jc[i].ncr != (at_end ? 1 : 2))
             return 0;
         for (int k = 0; k < jc[i].ncr; k++) {
             double pr = jc[i].pts[k][0], pz = jc[i].pts[k][1];
@@ -2108,9 +2127,17 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
              * the image of a face perpendicular to the axis, running through the image
              * of a vertex of that face: the 9-face arm's top corners) is two spokes of
              * the star, one to each r side: its image is exactly the line z = const */
-            int through_img = nimg == 1 && !end_in && ncr == 2 && cv->dir[2] == 0 &&
-                              cv->p0[2] == img[1] && pts[0][1] == img[1] && pts[1][1] == img[1] &&
-                              (pts[0][0] - img[0]) * (pts[1][0] - img[0]) < 0;
+            int through_img = nimg == 1 && cv->dir[2] == 0 && cv->p0[2] == img[1];
+            /* ... also when it ends at the image or folds back over it (a diagonal of a
+             * face perpendicular to the axis, whose image runs in to its nearest point
+             * and back out to the vertex): every point of it in the cell is on that
+             * line, so every crossing is a spoke, if no end other than the image lies
+             * inside the cell */
+            for (int e = 0; e < 2 && through_img; e++) {
+                double r = cv->vtx[e] >= 0 ? c->vr[cv->vtx[e]] : curve_r(cv, (double)e);
+                if (r > ra && r < rb && !(cv->vtx[e] >= 0 ? r == img[0] : fabs(r - img[0]) <= aeps))
+                    through_img = 0;
+            }
             if (!from_img && !through_img)
                 all_from_img = 0;
             if (ncr != 1 && !through_img)

@@ -609,6 +609,20 @@ def test_caps_of_a_box_off_the_axis_are_exact(deg):
     assert res.bbox[1][2] == pytest.approx(1.0, abs=1e-12)
 
 
+@pytest.mark.parametrize("lo, hi, deg", [((0.0, -0.5), (1.0, 0.5), 90.0), ((0.0, -0.5), (1.0, 0.5), 360.0),
+                                         ((-1.0, -0.5), (2.0, 1.0), 360.0), ((-1.0, -0.5), (2.0, 1.0), 30.0)])
+def test_caps_exact_where_edge_images_fold(lo, hi, deg):
+    """Boxes about a parallel axis in a face or through them: the images of the caps'
+    edges fold back at their points nearest the axis (where the side faces' silhouettes
+    end and the caps' images start), and the caps' diagonals fold over the images of
+    the corners.  Neither was a star, so blocks stood there, a cell beyond the caps."""
+    v, t = box_mesh((lo[0], lo[1], 0.0), (hi[0], hi[1], 1.0))
+    res = sweep(v, t, (0, 0, 0), (0, 0, 1), TWO_PI if deg == 360 else math.radians(deg), 2e-2)
+    check_result(res, 2e-2)
+    assert res.bbox[0][2] == pytest.approx(0.0, abs=1e-12)
+    assert res.bbox[1][2] == pytest.approx(1.0, abs=1e-12)
+
+
 def test_full_turn_of_a_prism_about_a_parallel_axis_is_an_annulus():
     """A 16-gon prism of radius 1 centred 3 off the axis (vertex 8 at distance 2, vertex
     0 at 4): its walls of mirror-image edges are met by their own copies."""
