@@ -1723,7 +1723,7 @@ static int crossing_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, dou
 }
 
 /* A curve through a cell and its crossings with the cell's sides. */
-#define SW_MAXJUNCTION 8
+#define SW_MAXJUNCTION 16
 typedef struct sw_jcurve {
     int64_t curve;
     int ncr;

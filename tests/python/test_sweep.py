@@ -623,6 +623,21 @@ def test_caps_exact_where_edge_images_fold(lo, hi, deg):
     assert res.bbox[1][2] == pytest.approx(1.0, abs=1e-12)
 
 
+def test_caps_exact_where_many_cap_curves_meet():
+    """The L of test_rotsweep.c (make_l(0.5)) about a parallel axis inside it, a full turn:
+    the caps' fan of diagonals and their images fold near the axis, where more than 8
+    curves pass through one cell (the edges, the caps' images, both caps' triangles): a
+    junction took at most 8, so blocks stood there, a cell beyond the caps."""
+    xy = [(0, 0), (1.5, 0), (1.5, 0.5), (0.5, 0.5), (0.5, 1.5), (0, 1.5)]
+    v, t = extrude(xy, [[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5]], [[0, 1, 2, 3, 4, 5]], 0.0, 1.0)
+    res = sweep(v, t, (0.25, 0.25, 0), (0, 0, 1), TWO_PI, 2e-2)
+    check_result(res, 2e-2)
+    assert res.bbox[0][2] == pytest.approx(0.0, abs=1e-12)
+    assert res.bbox[1][2] == pytest.approx(1.0, abs=1e-12)
+    # the solid of revolution: r from 0 (the axis is inside) to the farthest corner
+    assert_volume(res, math.pi * (1.25 ** 2 + 0.25 ** 2) * 1.0, 2e-2)
+
+
 def test_full_turn_of_a_prism_about_a_parallel_axis_is_an_annulus():
     """A 16-gon prism of radius 1 centred 3 off the axis (vertex 8 at distance 2, vertex
     0 at 4): its walls of mirror-image edges are met by their own copies."""
