@@ -22,7 +22,8 @@
  *    B n R(theta) A, kept as a gap-closing curve).  A cell crossed by one curve is
  *    split along the chord between the curve's two crossings with the cell's sides; a
  *    cell holding one vertex image and only the curves that end there is split into a
- *    star round it (also round the junction of gap-closing curves); a cell crossed by
+ *    star round it (also round the junction of gap-closing curves; round an image on the
+ *    axis, which lies on the side r = 0 of its cell, a half star); a cell crossed by
  *    several curves that do not cross in it is cut along all their chords.  Other cells
  *    are refined, down to a size below the tolerance; a cell
  *    still mixed there is cut into a fan round its centre and each piece takes the
@@ -553,6 +554,30 @@ static int flatten_axial_faces(sw_ctx *c, const int64_t *tris)
     return 1;
 }
 
+/* Vertices on the axis, as the frame computes them: at r of the order of its rounding
+ * (1e-16 for a part moved off the world axes), not 0.  Their images then lie a hair
+ * inside the first column of cells instead of on its side r = 0, and the curves from them
+ * cross that column's sides within rounding of its corners, where the polygons' loops
+ * drop such crossings (a cell cut along them found no ends to cut at and became one
+ * coarse block: a box about an edge, moved, covered a whole turn near the axis, wrong by
+ * the membership oracle).  Within 2^-40 of the part's size of the axis, a vertex is put
+ * on it: a move of the order of the frame's own rounding. */
+static void axis_vertices(sw_ctx *c)
+{
+    double zlo = INFINITY, zhi = -INFINITY, rhi = 0;
+    for (int64_t i = 0; i < c->nv; i++) {
+        zlo = fmin(zlo, c->lx[3 * i + 2]);
+        zhi = fmax(zhi, c->lx[3 * i + 2]);
+        rhi = fmax(rhi, c->vr[i]);
+    }
+    double eps = ldexp(fmax(rhi, zhi - zlo), -40);
+    for (int64_t i = 0; i < c->nv; i++)
+        if (c->vr[i] <= eps) {
+            c->lx[3 * i] = c->lx[3 * i + 1] = 0;
+            c->vr[i] = 0;
+        }
+}
+
 static int setup(sw_ctx *c, const double *xyz, const int64_t *tris, const int64_t *nb)
 {
     c->lx = malloc((size_t)(3 * c->nv + 1) * sizeof *c->lx);
@@ -568,6 +593,7 @@ static int setup(sw_ctx *c, const double *xyz, const int64_t *tris, const int64_
                                c->frame[k][2] * d[2];
         c->vr[i] = v_r(c->lx[3 * i], c->lx[3 * i + 1]);
     }
+    axis_vertices(c);
     if (!flatten_axial_faces(c, tris))
         return 0;
     for (int64_t t = 0; t < c->nt; t++) {
@@ -673,7 +699,14 @@ static int setup(sw_ctx *c, const double *xyz, const int64_t *tris, const int64_
         const double *b = c->lx + 3 * far;
         double w = T->rmin / c->vr[far];
         double a[3] = {w * b[0], w * b[1], b[2]};
-        if (!add_curve(c, a, b, t, -1, -1, far))
+        /* when the nearest point is a vertex (a corner nearest the axis), the curve
+         * starts at that vertex's image too, and names it: a star there sees every
+         * curve end at the image (its computed start differs from it by rounding) */
+        int64_t near = -1;
+        for (int k = 0; k < 3; k++)
+            if (c->vr[T->v[k]] == T->rmin && T->v[k] != far)
+                near = T->v[k];
+        if (!add_curve(c, a, b, t, -1, near, far))
             return 0;
         c->tcurves[4 * t + 3] = c->ncurves - 1;
     }
@@ -1306,11 +1339,28 @@ static int cmp_double_asc(const void *pa, const void *pb);
 
 /* The SV arcs on the circle (r, z).  A circle through a vertex or along an edge within
  * rounding can count entries and exits that do not pair up; it is then moved by a few
- * units in the last place of the part's size (far below any tolerance) until they do. */
+ * units in the last place of the part's size (far below any tolerance) until they do.
+ * A sample on the axis (r = 0: corners and loop vertices of the cells along it) is taken
+ * as the limit r -> 0+, on a circle of radius axis_radius: the structure of the polygons
+ * touching the axis, which is what the samples stand for.  At r = 0 itself the "circle"
+ * is a point, full or empty by ray parity, where the axis lies in a face or along an edge
+ * of the solid an arbitrary answer that never matched its neighbours' arcs: every cell
+ * along such an axis was refined down to blocks (box about an edge: one column of blocks
+ * along the edge, blocks beyond the caps). */
+static double axis_radius(const sw_ctx *c)
+{
+    /* far below the finest cell (a curve passing between the axis and it at a corner's
+     * height is a near-coincidence the grid placement avoids), far above the rounding
+     * moves below */
+    return fmin(0.25 * c->h, fmax(ldexp(c->h, -12), ldexp(c->ext, -26)));
+}
+
 static int circle_arcs(sw_ctx *c, double r, double z, sw_struct *out)
 {
     static const double dr[4] = {0, 0x1p-34, -0x1p-29, 0x1p-24};
     static const double dz[4] = {0, 0x1p-35, 0x1p-30, -0x1p-25};
+    if (r <= 0)
+        r = axis_radius(c);
     for (int k = 0; k < 4; k++) {
         int64_t mark = c->narcs, xmark = c->nxpool;
         int bad = 0;
@@ -1673,7 +1723,7 @@ static int crossing_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, dou
 }
 
 /* A curve through a cell and its crossings with the cell's sides. */
-#define SW_MAXJUNCTION 8
+#define SW_MAXJUNCTION 16
 typedef struct sw_jcurve {
     int64_t curve;
     int ncr;
@@ -1723,6 +1773,23 @@ static int junction_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, dou
             }
         }
     }
+    /* ... or an end of a silhouette or of a face's image that is no vertex's image: where
+     * the image of an edge folds back at its point nearest the axis (a horizontal edge
+     * of a part about a parallel axis: the silhouette of the side face through it ends
+     * there, and the image of the cap starts there) */
+    for (int i = 0; i < njc && !(J[0] == J[0]); i++) {
+        const sw_curve *cv = &c->curves[jc[i].curve];
+        if (cv->tri[1] >= 0 || cv->gexit >= 0)
+            continue;
+        for (int e = 0; e < 2; e++) {
+            double r = curve_r(cv, e), z = cv->p0[2] + e * cv->dir[2];
+            if (cv->vtx[e] < 0 && r > ra && r < rb && z > za && z < zb) {
+                J[0] = r;
+                J[1] = z;
+                break;
+            }
+        }
+    }
     if (!(J[0] == J[0]))
         return 0;
     if (!(J[0] - ra > eps && rb - J[0] > eps && J[1] - za > eps && zb - J[1] > eps))
@@ -1735,8 +1802,10 @@ static int junction_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, dou
         if (!(u == u))
             return 0;
         int at_end = u <= 1e-9 || u >= 1 - 1e-9;
-        /* ends at J: one crossing; passes through J: two */
-        if (jc[i].ncr != (at_end ? 1 : 2))
+        /* ends at J: one crossing; passes through J: two; a horizontal curve at J's
+         * height lies on the line through it, folded or not: one or two */
+        int along = cv->dir[2] == 0 && fabs(cv->p0[2] - J[1]) <= eps;
+        if (along ? jc[i].ncr < 1 : jc[i].ncr != (at_end ? 1 : 2))
             return 0;
         for (int k = 0; k < jc[i].ncr; k++) {
             double pr = jc[i].pts[k][0], pz = jc[i].pts[k][1];
@@ -1924,6 +1993,16 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
     }
     /* curves of the bounding triangles through the cell */
     int64_t npass = 0, ncross_split = 0, all_from_img = 1, one_cross_each = 1;
+    int star_sag_ok = 1;
+    /* a vertex image on the axis lies on the cell's side r = 0, never strictly inside:
+     * a half star round it (below) when every curve is a spoke from it */
+    int img_on_axis = nimg == 1 && img[0] == 0 && ra == 0 && img[1] > za && img[1] < zb;
+    /* ... and, with no vertex image, round the point where curves touch the axis (an
+     * edge or a face diagonal crossing it): their images fold there */
+    int axis_touch = nimg == 0 && ra == 0;
+    double touch_z = NAN;
+    int all_spokes = 1;
+    double aeps = 1e-9 * (rb + fabs(zb)) + 1e-6 * c->tol;
     double split_u[2] = {0, 0}, split_p[2][2] = {{0, 0}, {0, 0}};
     int64_t second_curve = -1, ncross_second = 0;
     double second_u[2] = {0, 0}, second_p[2][2] = {{0, 0}, {0, 0}};
@@ -2022,7 +2101,7 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
                 }
             }
             /* star: the curve must end at the vertex image and leave the cell once */
-            int from_img = 0, stray_end = 0;
+            int from_img = 0;
             for (int e = 0; e < 2; e++) {
                 double u = (double)e;
                 double r = sqrt(fmax(0, cv->qa * u * u + cv->qb * u + cv->qc));
@@ -2033,25 +2112,74 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
                     r = c->vr[cv->vtx[e]];
                     z = c->lx[3 * cv->vtx[e] + 2];
                 }
-                if (nimg == 1 && r == img[0] && z == img[1])
+                if (nimg == 1 && r == img[0] && z == img[1]) {
                     from_img = 1;
-                else if (r > ra && r < rb && z > za && z < zb)
-                    stray_end = 1;
+                    /* the spoke is the chord from the image to the crossing: within
+                     * tol/4 of the curve, as a split's chord (an edge whose image leaves
+                     * the image of its end nearest the axis tangentially bends away from
+                     * its chord by more than the tolerance over a coarse cell: the
+                     * result missed SV there by 3 tol, box about a face diagonal) */
+                    if (ncr == 1 && curve_sag(cv, fmin(u, us[0]), fmax(u, us[0])) > 0.25 * c->tol)
+                        star_sag_ok = 0;
+                }
             }
-            /* a horizontal curve at the image's height (an edge or the image of a face
-             * perpendicular to the axis, running through or from the image of a vertex
-             * of that face: the 9-face arm's top corners, the frame's corners about an
-             * axis crossing its hole) lies exactly on the line z = const through the
-             * centre: its crossings are spokes of the star, one to each r side at most,
-             * however it folds (an edge from the image that turns back through it),
-             * provided it ends nowhere else in the cell */
-            int through_img = nimg == 1 && !stray_end && ncr >= 1 && ncr <= 2 &&
-                              cv->dir[2] == 0 && cv->p0[2] == img[1] && pts[0][1] == img[1] &&
-                              (ncr == 1 || pts[1][1] == img[1]);
+            /* a horizontal curve at the image's height passing through it (an edge or
+             * the image of a face perpendicular to the axis, running through the image
+             * of a vertex of that face: the 9-face arm's top corners) is two spokes of
+             * the star, one to each r side: its image is exactly the line z = const */
+            int through_img = nimg == 1 && cv->dir[2] == 0 && cv->p0[2] == img[1];
+            /* ... also when it ends at the image or folds back over it (a diagonal of a
+             * face perpendicular to the axis, whose image runs in to its nearest point
+             * and back out to the vertex): every point of it in the cell is on that
+             * line, so every crossing is a spoke, if no end other than the image lies
+             * inside the cell */
+            for (int e = 0; e < 2 && through_img; e++) {
+                double r = cv->vtx[e] >= 0 ? c->vr[cv->vtx[e]] : curve_r(cv, (double)e);
+                if (r > ra && r < rb && !(cv->vtx[e] >= 0 ? r == img[0] : fabs(r - img[0]) <= aeps))
+                    through_img = 0;
+            }
             if (!from_img && !through_img)
                 all_from_img = 0;
             if (ncr != 1 && !through_img)
                 one_cross_each = 0;
+            if (img_on_axis) {
+                /* a spoke of the half star: from the image (or, a horizontal curve
+                 * folded on itself, through it) out of the cell once; its crossing
+                 * with the axis side, if any is found, is the image itself.  The image
+                 * of a segment from a point of the axis is straight ((r, z) linear in
+                 * the parameter), so the spoke is exactly its chord. */
+                int nat = 0, nother = 0;
+                for (int j = 0; j < ncr; j++) {
+                    if (pts[j][0] == ra && fabs(pts[j][1] - img[1]) <= aeps)
+                        nat++;
+                    else
+                        nother++;
+                }
+                /* through the image: a crossing of the axis side there (a gap-closing
+                 * curve's computed end, a horizontal curve folded on itself) */
+                if (end_in || nother != 1 || nat > 1 || !(from_img || nat == 1))
+                    all_spokes = 0;
+            }
+            if (axis_touch) {
+                /* through the touching point, its one crossing with the axis side: each
+                 * half of the curve a spoke from it (straight, as above), out of the cell
+                 * once */
+                int nat = 0, nother = 0;
+                for (int j = 0; j < ncr; j++) {
+                    if (pts[j][0] != ra) {
+                        nother++;
+                        continue;
+                    }
+                    if (!(touch_z == touch_z))
+                        touch_z = pts[j][1];
+                    if (fabs(pts[j][1] - touch_z) <= aeps)
+                        nat++;
+                    else
+                        all_spokes = 0;
+                }
+                if (end_in || nat != 1 || nother < 1 || nother > 2)
+                    all_spokes = 0;
+            }
             if (njc < SW_MAXJUNCTION && ncr <= 2) {
                 jc[njc].curve = ic;
                 jc[njc].ncr = ncr;
@@ -2098,11 +2226,19 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
             }
         }
     }
-    if (nimg == 1 && img_inside && npass >= 1 && all_from_img && one_cross_each) {
+    if (nimg == 1 && img_inside && npass >= 1 && all_from_img && one_cross_each && star_sag_ok) {
         L->kind = LEAF_STAR;
         L->cr = img[0];
         L->cz = img[1];
         L->cvtx = imgv;
+        return 1;
+    }
+    if ((img_on_axis || (axis_touch && touch_z == touch_z)) && npass >= 1 && all_spokes) {
+        /* the half star: built round the image on the axis side (build_polygons) */
+        L->kind = LEAF_STAR;
+        L->cr = 0;
+        L->cz = img_on_axis ? img[1] : touch_z;
+        L->cvtx = img_on_axis ? imgv : -1;
         return 1;
     }
     if (npass == 2 && nimg == 0 && ncross_split == 2 && ncross_second == 2 &&
@@ -2636,6 +2772,65 @@ static int cut_chords(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t 
     return res;
 }
 
+/*
+ * The half star round a vertex image on the axis (analyse_cell): the image lies on the
+ * cell's side r = 0, where the loop already has a vertex if a curve's crossing with that
+ * side was found there (within rounding).  That vertex becomes the centre (one 2-D vertex
+ * at the image, at the image's exact coordinates); the other vertices of the side
+ * strictly between its corners are crossings at the image too (analyse_cell allows no
+ * other) and are dropped.  Then one triangle from the centre to every loop edge that
+ * does not touch it, each with the structure at its own centroid.  No cell lies across
+ * the side r = 0, so its vertices belong to this cell alone.
+ */
+static int half_star(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t nloop)
+{
+    int64_t s = (int64_t)1 << (c->lmax - L->level);
+    double za = grid_z(c, L->iz), zb = grid_z(c, L->iz + s);
+    int64_t *w = malloc((size_t)(nloop + 1) * sizeof *w);
+    if (!w)
+        return ctx_nomem(c);
+    int64_t n = 0, centre = -1, at = -1;
+    for (int64_t i = 0; i < nloop; i++) {
+        const sw_vtx2 *v = &c->v2[loop[i]];
+        if (v->r == 0 && v->z > za && v->z < zb) {
+            if (centre < 0)
+                centre = loop[i];
+            continue;
+        }
+        w[n++] = loop[i];
+        if (v->r == 0 && v->z == zb)
+            at = n; /* the side r = 0 runs down from here */
+    }
+    if (centre < 0) {
+        hkey k = mkkey(3, dbits(0), dbits(L->cz), 0);
+        centre = add_v2(c, &k, 0, L->cz, -1, 0, L->cvtx);
+        if (centre < 0) {
+            free(w);
+            return 0;
+        }
+    }
+    if (at < 0) { /* no corner (0, zb): cannot happen; a block is always safe */
+        free(w);
+        return add_block(c, L, loop, nloop);
+    }
+    sw_vtx2 *cv = &c->v2[centre];
+    cv->z = L->cz;
+    cv->mvtx = L->cvtx;
+    memmove(w + at + 1, w + at, (size_t)(n - at) * sizeof *w);
+    w[at] = centre;
+    n++;
+    int ok = 1;
+    for (int64_t i = 0; i < n && ok; i++) {
+        int64_t a = w[i], b = w[(i + 1) % n];
+        if (a == centre || b == centre)
+            continue;
+        int64_t tri[3] = {centre, a, b};
+        ok = add_poly(c, tri, 3);
+    }
+    free(w);
+    return ok;
+}
+
 static int build_polygons(sw_ctx *c)
 {
     if (!hmap_init(&c->v2map, 4 * c->nleaves + 64))
@@ -2706,6 +2901,10 @@ static int build_polygons(sw_ctx *c)
         }
         if (kind == LEAF_FAN) {
             ok = add_block(c, L, loop, nloop);
+            continue;
+        }
+        if (kind == LEAF_STAR && L->cr == 0) {
+            ok = half_star(c, L, loop, nloop);
             continue;
         }
         /* star round the vertex image */
@@ -3308,6 +3507,7 @@ static int edge_walls(sw_ctx *c, sw_out *o, sw_walls *W, int64_t u, int64_t v, i
 typedef struct sw_pl {
     int64_t vid;
     double off;
+    int grid;              /* a grid vertex of an outer wall's circumscribed polygon */
 } sw_pl;
 
 static int cmp_pl(const void *pa, const void *pb)
@@ -3341,11 +3541,27 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
     }
     double plo, span;
     int64_t lo, hi;
+    int lo_grid = 0; /* a full ring starting at the grid vertex at angle 0 */
     if (full) {
         sw_vtx2 w0 = w;
         if (we->v2 >= 0 && W->push[we->v2])
             w0.r = w.r / cos(MFG_PI / (double)ring_steps(c, we->r));
-        lo = hi = ring_vertex(c, o, &w0, 0);
+        /* the ring starts at angle 0, or at the vertex already there: the other strips
+         * on this circle drop the grid vertex at an angle where a line ends (below), and
+         * on an outer wall's circle the two are not one point (a 4-edge hole next to the
+         * apex of the tetrahedron about its edge) */
+        lo = -1;
+        int64_t nr = we->v2 >= 0 ? W->ring_start[we->v2 + 1] - W->ring_start[we->v2] : we->ring_n;
+        for (int64_t i = 0; i < nr && lo < 0; i++) {
+            int64_t vid = we->v2 >= 0 ? W->rvid[W->ring_start[we->v2] + i] : W->evring[we->ring_first + i];
+            if (fabs(angle_diff(o->phi[vid], 0)) <= 1e-9)
+                lo = vid;
+        }
+        if (lo < 0) {
+            lo = ring_vertex(c, o, &w0, 0);
+            lo_grid = 1;
+        }
+        hi = lo;
         if (lo < 0)
             return 0;
         plo = 0;
@@ -3371,7 +3587,11 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
         return ctx_nomem(c);
     sw_pl *pl = *out;
     int64_t n = 0;
+    int pushed = we->v2 >= 0 && W->push[we->v2];
+    memset(pl, 0, (size_t)cap_need * sizeof *pl);
+    lo_grid = lo_grid && pushed;
     pl[n].vid = lo;
+    pl[n].grid = lo_grid;
     pl[n++].off = 0;
     const double dtiny = 1e-9;
     if (span > 0) {
@@ -3405,10 +3625,12 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
                 if (id < 0)
                     return 0;
                 pl[n].vid = id;
+                pl[n].grid = pushed;
                 pl[n++].off = off;
             }
         }
         pl[n].vid = hi;
+        pl[n].grid = lo_grid; /* a full ring ends where it starts */
         pl[n++].off = span;
     } else if (hi != lo) {
         /* two lines meeting (within rounding) at this end: a strip end of no width still
@@ -3423,6 +3645,53 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
     for (int64_t i = 0; i < n; i++)
         if (m == 0 || pl[i].vid != pl[m - 1].vid)
             pl[m++] = pl[i];
+    if (pushed && span > 0 && m > 1) {
+        /* An outer wall's circle between two vertices that are not both grid vertices
+         * of the circumscribed polygon: an arc end lies on the circle itself, so the
+         * chord to its neighbour cuts into SV (an arc shorter than one grid step had
+         * only its chord: the box about an edge turned by 1 deg held less than SV).
+         * The point where the tangents there meet (at an arc end: the circle's tangent;
+         * at a grid vertex: the polygon's side, tangent half a step away) goes in
+         * between.  It depends only on the two vertices, which every strip using this
+         * stretch of the circle has consecutive, so they all get it. */
+        if (!grow((void **)out, capout, 2 * m + 2, sizeof **out))
+            return ctx_nomem(c);
+        pl = *out;
+        int64_t mm = m;
+        double half = MFG_PI / (double)nsteps;
+        sw_pl *ins = malloc((size_t)(mm + 1) * sizeof *ins);
+        if (!ins)
+            return ctx_nomem(c);
+        int64_t nins = 0;
+        for (int64_t i = 0; i + 1 < mm; i++) {
+            if (pl[i].grid && pl[i + 1].grid)
+                continue;
+            double t0 = pl[i].off + (pl[i].grid ? half : 0);
+            double t1 = pl[i + 1].off - (pl[i + 1].grid ? half : 0);
+            if (!(t1 - t0 > dtiny))
+                continue;
+            sw_vtx2 wx = w;
+            wx.r = w.r / cos(0.5 * (t1 - t0));
+            int64_t id = ring_vertex(c, o, &wx, plo + 0.5 * (t0 + t1));
+            if (id < 0) {
+                free(ins);
+                return 0;
+            }
+            ins[nins].vid = id;
+            ins[nins].off = 0.5 * (t0 + t1);
+            ins[nins++].grid = 0;
+        }
+        for (int64_t i = 0; i < nins; i++)
+            pl[m++] = ins[i];
+        free(ins);
+        qsort(pl, (size_t)m, sizeof *pl, cmp_pl);
+        /* a point welded to a neighbour (a circle of a radius near the weld quantum) */
+        int64_t m2 = 0;
+        for (int64_t i = 0; i < m; i++)
+            if (m2 == 0 || pl[i].vid != pl[m2 - 1].vid)
+                pl[m2++] = pl[i];
+        m = m2;
+    }
     for (int64_t i = 0; i < m; i++)
         pl[i].off = span > 0 ? pl[i].off / span : 0;
     if (m > 1)
