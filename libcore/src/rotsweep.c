@@ -4303,6 +4303,121 @@ static int drop_nested_shells(sw_ctx *c, int *overlap)
 
 /* Two copies of one triangle with opposite orientations (a strip of no width laid on a
  * face, a face met by its own copy) bound nothing: both go. */
+/* Height of corner m over the line through p and q, and whether m projects strictly
+ * between them. */
+static double corner_height(const double *p, const double *q, const double *m, int *between)
+{
+    double d[3], e[3];
+    for (int k = 0; k < 3; k++) {
+        d[k] = q[k] - p[k];
+        e[k] = m[k] - p[k];
+    }
+    double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    double de = d[0] * e[0] + d[1] * e[1] + d[2] * e[2];
+    double x[3] = {d[1] * e[2] - d[2] * e[1], d[2] * e[0] - d[0] * e[2], d[0] * e[1] - d[1] * e[0]};
+    *between = dd > 0 && de > 0 && de < dd;
+    return dd > 0 ? sqrt((x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) / dd) : INFINITY;
+}
+
+/* The smallest height of triangle (a, b, d) over its longest side. */
+static double tri_flatness(const double *a, const double *b, const double *d)
+{
+    const double *v[3] = {a, b, d};
+    double best = -1, h = INFINITY;
+    for (int k = 0; k < 3; k++) {
+        const double *p = v[k], *q = v[(k + 1) % 3];
+        double l = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
+                   (q[2] - p[2]) * (q[2] - p[2]);
+        if (l > best) {
+            int between;
+            best = l;
+            h = corner_height(p, q, v[(k + 2) % 3], &between);
+        }
+    }
+    return h;
+}
+
+/* Slivers flipped away.  Where a wall's strip or a face's fan has three corners on one
+ * line (a ruling of a cylinder cut at a vertex of the neighbouring strip, a face's
+ * collinear corners), the triangle has no area; OCCT's sewing and solid check (the
+ * Solid representation) take its corners for a self-intersecting wire, and the bench
+ * arm came out with 64 such triangles.  A triangle (p, q, m) whose corner m lies within
+ * 2^-30 of the part's size of its longest side p q, between p and q, is replaced with
+ * its neighbour (q, p, d) across that side by (q, m, d) and (m, p, d): the neighbour
+ * split at m, the same surface up to that height.  Skipped when the edge m d exists
+ * already (the mesh would stop being a 2-manifold) or a new triangle would be a sliver
+ * too; the mesh stays closed and oriented either way. */
+static int flip_out_slivers(sw_ctx *c)
+{
+    double eps = ldexp(c->ext, -30);
+    hmap he;
+    if (!hmap_init(&he, 3 * c->notri))
+        return ctx_nomem(c);
+    int ok = 1;
+    /* directed edge (a, b) -> triangle + 1 (0: gone) */
+    for (int64_t t = 0; t < c->notri && ok; t++)
+        for (int k = 0; k < 3 && ok; k++) {
+            hkey key = mkkey(c->otri[3 * t + k], c->otri[3 * t + (k + 1) % 3], 0, 0);
+            ok = hmap_put(&he, &key, t + 1);
+        }
+    /* a run of collinear corners (a ruling cut at several vertices) is a chain of
+     * slivers, each the neighbour of the next across its longest side: the outermost
+     * flips first, the next one on the following pass */
+    int64_t flipped = 1;
+    for (int pass = 0; pass < 16 && flipped && ok; pass++) {
+        flipped = 0;
+        for (int64_t t = 0; t < c->notri && ok; t++) {
+            int64_t *T = c->otri + 3 * t;
+            const double *P[3] = {c->ox + 3 * T[0], c->ox + 3 * T[1], c->ox + 3 * T[2]};
+            if (!(tri_flatness(P[0], P[1], P[2]) <= eps))
+                continue;
+            /* the longest side p -> q, m opposite */
+            int kl = 0;
+            double best = -1;
+            for (int k = 0; k < 3; k++) {
+                const double *a = P[k], *b = P[(k + 1) % 3];
+                double l = (b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
+                           (b[2] - a[2]) * (b[2] - a[2]);
+                if (l > best)
+                    best = l, kl = k;
+            }
+            int64_t p = T[kl], q = T[(kl + 1) % 3], mm = T[(kl + 2) % 3];
+            int between;
+            (void)corner_height(c->ox + 3 * p, c->ox + 3 * q, c->ox + 3 * mm, &between);
+            if (!between)
+                continue;
+            hkey kqp = mkkey(q, p, 0, 0);
+            int64_t t2 = hmap_get(&he, &kqp) - 1;
+            if (t2 < 0 || t2 == t)
+                continue;
+            int64_t *U = c->otri + 3 * t2;
+            int64_t d = -1;
+            for (int k = 0; k < 3; k++)
+                if (U[k] != p && U[k] != q)
+                    d = U[k];
+            hkey kmd = mkkey(mm, d, 0, 0), kdm = mkkey(d, mm, 0, 0);
+            if (d < 0 || d == mm || hmap_get(&he, &kmd) > 0 || hmap_get(&he, &kdm) > 0)
+                continue;
+            const double *X = c->ox;
+            if (!(tri_flatness(X + 3 * q, X + 3 * mm, X + 3 * d) > eps) ||
+                !(tri_flatness(X + 3 * mm, X + 3 * p, X + 3 * d) > eps))
+                continue;
+            T[0] = q, T[1] = mm, T[2] = d;
+            U[0] = mm, U[1] = p, U[2] = d;
+            hkey gone[2] = {mkkey(p, q, 0, 0), kqp};
+            hkey toT[3] = {mkkey(q, mm, 0, 0), kmd, mkkey(d, q, 0, 0)};
+            hkey toU[3] = {mkkey(mm, p, 0, 0), mkkey(p, d, 0, 0), kdm};
+            for (int k = 0; k < 2 && ok; k++)
+                ok = hmap_put(&he, &gone[k], 0);
+            for (int k = 0; k < 3 && ok; k++)
+                ok = hmap_put(&he, &toT[k], t + 1) && hmap_put(&he, &toU[k], t2 + 1);
+            flipped++;
+        }
+    }
+    hmap_free(&he);
+    return ok ? 1 : ctx_nomem(c);
+}
+
 static int cancel_twins(sw_ctx *c)
 {
     hmap m;
@@ -4601,6 +4716,8 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
                         "a closed 2-manifold (%s) on 4 placements of the decomposition; please "
                         "report this input", why);
     }
+    if (ok)
+        ok = flip_out_slivers(&c);
     mfg_mesh *m = NULL;
     if (ok) {
         m = calloc(1, sizeof *m);
