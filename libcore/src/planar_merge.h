@@ -13,10 +13,12 @@
  * group joined through shared edges is triangulated again on its boundary vertices only:
  * its boundary loops (every vertex kept, collinear ones too), not its inner vertices, and
  * nothing else of the mesh changes, so the mesh stays closed, oriented and manifold.  A
- * region is left as it is when it is not a clean planar region (a triangle turned over in
- * the plane, loops that do not close or cross, an inner vertex used elsewhere, a new edge
- * that exists elsewhere, an area that differs by more than 1e-9 relative) or when nothing
- * would be gained.  Merged triangles are written after the kept ones (group is not
+ * region is left as it is when it is not a clean planar region (corners more than 1e-12
+ * of their coordinates off one plane, loops that do not close or that cross, an inner
+ * vertex used elsewhere, a new edge that exists elsewhere, an area that differs by more
+ * than 1e-9 relative) or when nothing would be gained.  Pieces folded over each other
+ * inside a region (slivers turned over in the plane) are allowed: only the boundary
+ * counts, and the new triangles cover what its winding number says.  Merged triangles are written after the kept ones (group is not
  * reordered: it describes the input).
  *
  * Returns 1 and updates tris and *ntris (never more triangles than before); *nregions
