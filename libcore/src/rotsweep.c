@@ -55,6 +55,7 @@
 
 #include "mesh.h"
 #include "mfg_internal.h"
+#include "planar_merge.h"
 
 
 #define MFG_TWO_PI 6.283185307179586476925286766559
@@ -356,6 +357,8 @@ struct sw_ctx {
     int64_t caporing;
     double *odir;          /* per triangle: the wall's direction off that circle */
     int64_t capodir;
+    int64_t *oface;        /* per triangle: a face piece's plane (2 tri + exit), else -1 */
+    int64_t capoface;
 };
 
 static int ctx_nomem(sw_ctx *c)
@@ -3100,7 +3103,8 @@ static int emit_tri_ring(sw_ctx *c, int64_t a, int64_t b, int64_t d, int64_t rin
         return 1;
     if (!grow((void **)&c->otri, &c->capotri, c->notri + 1, 3 * sizeof *c->otri) ||
         !grow((void **)&c->oring, &c->caporing, c->notri + 1, 2 * sizeof *c->oring) ||
-        !grow((void **)&c->odir, &c->capodir, c->notri + 1, sizeof *c->odir))
+        !grow((void **)&c->odir, &c->capodir, c->notri + 1, sizeof *c->odir) ||
+        !grow((void **)&c->oface, &c->capoface, c->notri + 1, sizeof *c->oface))
         return ctx_nomem(c);
     c->otri[3 * c->notri] = a;
     c->otri[3 * c->notri + 1] = b;
@@ -3108,13 +3112,21 @@ static int emit_tri_ring(sw_ctx *c, int64_t a, int64_t b, int64_t d, int64_t rin
     c->oring[2 * c->notri] = ring_a;
     c->oring[2 * c->notri + 1] = ring_b;
     c->odir[c->notri] = dir;
+    c->oface[c->notri] = -1;
     c->notri++;
     return 1;
 }
 
-static int emit_tri(sw_ctx *c, int64_t a, int64_t b, int64_t d)
+/* A face triangle: a piece of input triangle tri's plane (turned by theta for an exit),
+ * which merge_faces joins with the other pieces of that plane; tri < 0 for none. */
+static int emit_tri(sw_ctx *c, int64_t a, int64_t b, int64_t d, int64_t tri, int isexit)
 {
-    return emit_tri_ring(c, a, b, d, -1, -1, 0);
+    int64_t n = c->notri;
+    if (!emit_tri_ring(c, a, b, d, -1, -1, 0))
+        return 0;
+    if (c->notri > n && tri >= 0)
+        c->oface[n] = 2 * tri + isexit;
+    return 1;
 }
 
 /* Number of grid steps on a circle of radius r: chord sag r (1 - cos(pi / N)) below half
@@ -3893,11 +3905,12 @@ static int emit_faces(sw_ctx *c, sw_out *o, sw_walls *W)
                 }
                 while (m > 1 && face[m - 1] == face[0])
                     m--;
+                int64_t ft = e == 0 ? arc->start.tri : arc->end.tri;
                 for (int64_t i = 1; i + 1 < m && ok; i++) {
                     if (e == 0)
-                        ok = emit_tri(c, face[0], face[i], face[i + 1]);
+                        ok = emit_tri(c, face[0], face[i], face[i + 1], ft, e);
                     else
-                        ok = emit_tri(c, face[0], face[i + 1], face[i]);
+                        ok = emit_tri(c, face[0], face[i + 1], face[i], ft, e);
                 }
             }
         }
@@ -4287,6 +4300,7 @@ static int drop_nested_shells(sw_ctx *c, int *overlap)
             c->oring[2 * m] = c->oring[2 * t];
             c->oring[2 * m + 1] = c->oring[2 * t + 1];
             c->odir[m] = c->odir[t];
+            c->oface[m] = c->oface[t];
             m++;
         }
         c->notri = m;
@@ -4454,6 +4468,7 @@ static int cancel_twins(sw_ctx *c)
                 c->oring[2 * n] = c->oring[2 * t];
                 c->oring[2 * n + 1] = c->oring[2 * t + 1];
                 c->odir[n] = c->odir[t];
+                c->oface[n] = c->oface[t];
                 n++;
             }
         c->notri = n;
@@ -4462,6 +4477,102 @@ static int cancel_twins(sw_ctx *c)
     }
     free(dead);
     hmap_free(&m);
+    return ok;
+}
+
+/* The face pieces of one input plane (an input face: edge-adjacent triangles in one plane,
+ * at the start or turned by theta), and the walls in one plane z = const (the annuli
+ * swept by faces perpendicular to the axis: every corner at that height), merged
+ * back into one triangulated region each: the decomposition cuts every face into one
+ * piece per cell, which only adds inner vertices (planar_merge.c).  Where the merged
+ * surface would not pass the closed-manifold check, the pieces are kept.  oring, odir and
+ * oface no longer describe the triangles after it. */
+static int merge_faces(sw_ctx *c)
+{
+    int64_t *root = malloc((size_t)(c->nt + 1) * sizeof *root);
+    int64_t *group = malloc((size_t)(c->notri + 1) * sizeof *group);
+    int64_t *keep = malloc((size_t)(3 * c->notri + 1) * sizeof *keep);
+    hmap zs;
+    memset(&zs, 0, sizeof zs);
+    if (!root || !group || !keep || !hmap_init(&zs, 64)) {
+        free(root);
+        free(group);
+        free(keep);
+        hmap_free(&zs);
+        return ctx_nomem(c);
+    }
+    for (int64_t t = 0; t < c->nt; t++)
+        root[t] = t;
+    /* neighbours across an edge (a curve with two triangles) in one plane: the fourth
+     * vertex on the first one's plane up to rounding, the normals the same way */
+    for (int64_t i = 0; i < c->ncurves; i++) {
+        const sw_curve *cv = &c->curves[i];
+        if (cv->tri[1] < 0)
+            continue;
+        const sw_tri *A = &c->tris[cv->tri[0]], *B = &c->tris[cv->tri[1]];
+        double na = sqrt(A->n[0] * A->n[0] + A->n[1] * A->n[1] + A->n[2] * A->n[2]);
+        if (!(na > 0) || A->n[0] * B->n[0] + A->n[1] * B->n[1] + A->n[2] * B->n[2] <= 0)
+            continue;
+        int flat = 1;
+        for (int k = 0; k < 3; k++) {
+            const double *p = c->lx + 3 * B->v[k];
+            if (fabs(A->n[0] * p[0] + A->n[1] * p[1] + A->n[2] * p[2] - A->d) > 1e-12 * c->ext * na)
+                flat = 0;
+        }
+        if (!flat)
+            continue;
+        int64_t a = cv->tri[0], b = cv->tri[1];
+        while (root[a] != a)
+            a = root[a] = root[root[a]];
+        while (root[b] != b)
+            b = root[b] = root[root[b]];
+        if (a != b)
+            root[a < b ? b : a] = a < b ? a : b;
+    }
+    int ok = 1;
+    for (int64_t t = 0; t < c->notri && ok; t++) {
+        const int64_t *tv = c->otri + 3 * t;
+        double z = c->ox[3 * tv[0] + 2];
+        if (c->oface[t] < 0 && c->ox[3 * tv[1] + 2] == z && c->ox[3 * tv[2] + 2] == z) {
+            hkey k = mkkey(dbits(z), 0, 0, 0);
+            int64_t id = hmap_get(&zs, &k);
+            if (id < 0) {
+                id = 2 * c->nt + zs.n;
+                ok = hmap_put(&zs, &k, id);
+            }
+            group[t] = id;
+            continue;
+        }
+        int64_t f = c->oface[t];
+        if (f < 0) {
+            group[t] = -1;
+            continue;
+        }
+        int64_t r = f / 2;
+        while (root[r] != r)
+            r = root[r];
+        group[t] = 2 * r + (f & 1);
+    }
+    memcpy(keep, c->otri, (size_t)(3 * c->notri) * sizeof *keep);
+    int64_t nkeep = c->notri;
+    if (ok)
+        ok = mfg_merge_planar_groups(c->ox, c->nout, c->otri, &c->notri, group, NULL);
+    if (!ok) {
+        ctx_nomem(c);
+    } else if (c->notri != nkeep) {
+        mfg_mesh_report rep;
+        mfg_status cs = mfg_mesh_check_closed(c->ox, c->nout, c->otri, c->notri, &rep);
+        if (cs == MFG_ERR_NOMEM)
+            ok = ctx_nomem(c);
+        if (cs != MFG_OK) {
+            memcpy(c->otri, keep, (size_t)(3 * nkeep) * sizeof *keep);
+            c->notri = nkeep;
+        }
+    }
+    free(root);
+    free(group);
+    free(keep);
+    hmap_free(&zs);
     return ok;
 }
 
@@ -4537,6 +4648,7 @@ static void free_decomposition(sw_ctx *c)
     free(c->otri);
     free(c->oring);
     free(c->odir);
+    free(c->oface);
     c->leaves = NULL; c->nleaves = c->capleaves = 0;
     c->leaf_curves = NULL; c->nleaf_curves = c->capleaf_curves = 0;
     c->v2 = NULL; c->nv2 = c->capv2 = 0;
@@ -4546,7 +4658,8 @@ static void free_decomposition(sw_ctx *c)
     c->otri = NULL; c->notri = c->capotri = 0;
     c->oring = NULL;
     c->odir = NULL;
-    c->caporing = c->capodir = 0;
+    c->oface = NULL;
+    c->caporing = c->capodir = c->capoface = 0;
 }
 
 static void ctx_free(sw_ctx *c)
@@ -4701,6 +4814,10 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
                     valid = 0;
                     snprintf(why, sizeof why, "it holds less volume than the input");
                 }
+                /* the merge of planar pieces last, on the shells that are kept (it reads oface,
+                 * which drop_nested_shells keeps aligned with the triangles) */
+                if (valid)
+                    ok = merge_faces(&c);
             } else {
                 if (cs == MFG_ERR_NOMEM) {
                     ok = ctx_nomem(&c);
