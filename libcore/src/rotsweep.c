@@ -2258,7 +2258,9 @@ typedef struct sw_ipt {
 static int cmp_ipt(const void *pa, const void *pb)
 {
     const sw_ipt *a = pa, *b = pb;
-    return (a->key > b->key) - (a->key < b->key);
+    if (a->key != b->key)
+        return (a->key > b->key) - (a->key < b->key);
+    return (a->curve > b->curve) - (a->curve < b->curve);
 }
 
 /* Appends to *loop the vertices of the sub-side from integer point (ax, az) to (bx, bz)
@@ -2273,6 +2275,7 @@ static int sub_side(sw_ctx *c, const sw_leaf *L, int64_t ax, int64_t az, int64_t
     if (!grow((void **)loop, caploop, *nloop + 1, sizeof **loop))
         return ctx_nomem(c);
     (*loop)[(*nloop)++] = a;
+    int64_t first_x = *nloop;
     int rside = ax == bx;
     double val = rside ? grid_r(c, ax) : grid_z(c, az);
     double pa = rside ? grid_z(c, az) : grid_r(c, ax), pb = rside ? grid_z(c, bz) : grid_r(c, bx);
@@ -2304,13 +2307,17 @@ static int sub_side(sw_ctx *c, const sw_leaf *L, int64_t ax, int64_t az, int64_t
             int m = curve_side(&c->curves[ic], rside, val, lo, hi, pos, us);
             for (int q = 0; q < m && np < 64; q++) {
                 pts[np].pos = pos[q];
-                pts[np].key = dirn * pos[q];
+                pts[np].key = pos[q];
                 pts[np].u = us[q];
                 pts[np].curve = ic;
                 np++;
             }
         }
     }
+    /* Crossings within eps of one another are one vertex, made from the lowest of them:
+     * sorted upwards whichever way this leaf runs along the side, so that the leaf across
+     * (running the other way) makes the same vertex - a silhouette ending on an edge just
+     * beside the side gave two vertices a rounding apart, one per leaf, and a crack. */
     qsort(pts, (size_t)np, sizeof *pts, cmp_ipt);
     /* the same merge distance as analyse_cell's chord test */
     double eps = 1e-9 * (hi - lo) + 1e-12 * (fabs(hi) + fabs(lo) + fabs(val));
@@ -2346,6 +2353,12 @@ static int sub_side(sw_ctx *c, const sw_leaf *L, int64_t ax, int64_t az, int64_t
             return ctx_nomem(c);
         (*loop)[(*nloop)++] = id;
     }
+    if (dirn < 0) /* back into this leaf's direction */
+        for (int64_t i = first_x, j = *nloop - 1; i < j; i++, j--) {
+            int64_t t = (*loop)[i];
+            (*loop)[i] = (*loop)[j];
+            (*loop)[j] = t;
+        }
     return 1;
 }
 
