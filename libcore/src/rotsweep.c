@@ -1892,8 +1892,10 @@ static int cmp_iv(const void *pa, const void *pb)
 /*
  * Hidden triangles.  Every triangle near a cell used to cut it with its curves, also where
  * it is crossed strictly inside an SV arc on every circle of the cell: on a tessellated
- * torus swept by a large angle the images of all its edges crossed one another.  A cell
- * now ignores the triangles it can show to be hidden, by this argument.
+ * torus swept by a half or a full turn the images of all its edges crossed one another.
+ * A cell now ignores the triangles it can show to be hidden, by this argument.  (At 90 deg
+ * the bench torus has almost nothing hidden: 660 of 702 crossings of 233 random circles
+ * start or end an SV arc.)
  *
  * Let Phi_t be an interval of angles holding every point of triangle t whose (r, z) lies in
  * the cell (tri_cell_angles: t clipped to the slab and the annulus of the cell, with a
@@ -1919,8 +1921,10 @@ static int cmp_iv(const void *pa, const void *pb)
  * not from the samples alone: the argument holds when the samples differ too.  A full turn
  * with one inside gap hides everything (C is the whole circle).
  *
- * The triangles only one of whose crossings is hidden (an exit covered by a later arc while
- * its own arc starts the SV arc) are not: a block is the unit.  A triangle of a hidden
+ * A block is the unit, not a triangle: a triangle whose crossings all lie in C, so that it
+ * never starts or ends an arc, can still change SV - an arc of O born at its silhouette
+ * covers [phi, phi + theta], which can reach past C and swallow the end of another arc
+ * (the bench torus has such notches: they are kept).  A triangle of a hidden
  * block loses its edges, silhouette and gap-closing curves in the cell, and its vertices
  * are no vertex images there (the neighbours of the visible ones keep their common edges).
  */
