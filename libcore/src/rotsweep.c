@@ -2279,6 +2279,7 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
     }
     /* curves of the bounding triangles through the cell */
     int64_t npass = 0, ncross_split = 0, all_from_img = 1, one_cross_each = 1;
+    int spokes_straight = 1;
     double split_u[2] = {0, 0}, split_p[2][2] = {{0, 0}, {0, 0}};
     int64_t second_curve = -1, ncross_second = 0;
     double second_u[2] = {0, 0}, second_p[2][2] = {{0, 0}, {0, 0}};
@@ -2390,8 +2391,16 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
                     r = c->vr[cv->vtx[e]];
                     z = c->lx[3 * cv->vtx[e] + 2];
                 }
-                if (nimg == 1 && r == img[0] && z == img[1])
+                if (nimg == 1 && r == img[0] && z == img[1]) {
                     from_img = 1;
+                    /* the spoke is its chord within tol/4, as for the other cuts: in a
+                     * large cell an edge image bows away from its chord, and the fan
+                     * pieces between them took the structure at their centres (a box
+                     * about a far skew axis lost a sliver of SV 1.4 tol wide once a
+                     * neighbour's hidden curves no longer cut the fan finer) */
+                    if (ncr == 1 && curve_sag(cv, fmin(u, us[0]), fmax(u, us[0])) > 0.25 * c->tol)
+                        spokes_straight = 0;
+                }
             }
             /* a horizontal curve at the image's height passing through it (an edge or
              * the image of a face perpendicular to the axis, running through the image
@@ -2450,7 +2459,8 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
             }
         }
     }
-    if (nimg == 1 && img_inside && npass >= 1 && all_from_img && one_cross_each) {
+    if (nimg == 1 && img_inside && npass >= 1 && all_from_img && one_cross_each &&
+        spokes_straight) {
         L->kind = LEAF_STAR;
         L->cr = img[0];
         L->cz = img[1];
