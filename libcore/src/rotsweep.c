@@ -2293,6 +2293,8 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
         /* Every triangle near the cell counts, not only those bounding SV at the
          * samples: a face can enter the cell between samples (the inner wall of a
          * ring-shaped sweep entered a large cell whose five samples all missed it).
+         * Only the triangles shown hidden on every circle of the cell are left out
+         * (mark_hidden).
          * The last two placements fall back to the bounding triangles only, which
          * closes surfaces the full rule leaves open at vertices on the axis (a cube
          * spun about its diagonal), at the price of that blind spot. */
@@ -2396,8 +2398,8 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
                     /* the spoke is its chord within tol/4, as for the other cuts: in a
                      * large cell an edge image bows away from its chord, and the fan
                      * pieces between them took the structure at their centres (a box
-                     * about a far skew axis lost a sliver of SV 1.4 tol wide once a
-                     * neighbour's hidden curves no longer cut the fan finer) */
+                     * about a far skew axis lost slivers of SV up to 1.4 tol wide, with
+                     * walls inside SV at their edges) */
                     if (ncr == 1 && curve_sag(cv, fmin(u, us[0]), fmax(u, us[0])) > 0.25 * c->tol)
                         spokes_straight = 0;
                 }
