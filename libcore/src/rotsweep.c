@@ -305,6 +305,9 @@ struct sw_ctx {
     double quantum;        /* output weld distance */
     double ext;            /* the part's extent in the axis frame */
     int bounding_only;     /* cells look at the curves of bounding triangles only */
+    int64_t coarse_blocks; /* blocks in cells above the finest size (a cut that failed) */
+    hmap refine;           /* (level, ix, iz) of such cells: refined when the tree is
+                              built again (analyse_cell) */
     int64_t leaf_cap;      /* a placement stops past this many leaves (0: no cap) ... */
     int capped;            /* ... and says so here */
     double origin[3], frame[3][3]; /* rows: e1, e2, axis */
@@ -2282,6 +2285,19 @@ typedef struct sw_samples {
  * curves that pass through the cell to leaf_curves. */
 static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
 {
+    if (L->level < c->lmax && c->refine.keys) {
+        /* a cell whose cut failed when the polygons were built last time */
+        hkey rk = mkkey(L->level, L->ix, L->iz, 0);
+        if (hmap_get(&c->refine, &rk) >= 0) {
+            L->cfirst = c->nleaf_curves;
+            L->cn = 0;
+            L->split_curve = -1;
+            L->cvtx = -1;
+            L->empty = 0;
+            L->kind = LEAF_REFINE;
+            return 1;
+        }
+    }
     int64_t s = (int64_t)1 << (c->lmax - L->level);
     double ra = grid_r(c, L->ix), rb = grid_r(c, L->ix + s);
     double za = grid_z(c, L->iz), zb = grid_z(c, L->iz + s);
@@ -2929,6 +2945,12 @@ static int add_poly(sw_ctx *c, const int64_t *vs, int64_t n)
  */
 static int add_block(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t nloop)
 {
+    if (L->level < c->lmax) {
+        hkey rk = mkkey(L->level, L->ix, L->iz, 0);
+        if (!hmap_put(&c->refine, &rk, 1))
+            return ctx_nomem(c);
+        c->coarse_blocks++;
+    }
     int64_t s = (int64_t)1 << (c->lmax - L->level);
     double ra = grid_r(c, L->ix), rb = grid_r(c, L->ix + s);
     double za = grid_z(c, L->iz), zb = grid_z(c, L->iz + s);
@@ -5030,6 +5052,7 @@ static void free_decomposition(sw_ctx *c)
 
 static void ctx_free(sw_ctx *c)
 {
+    hmap_free(&c->refine);
     free(c->lx);
     free(c->vr);
     free(c->tris);
@@ -5172,7 +5195,39 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
                      lw ? "; " : "", attempt, (long long)c.leaf_cap);
             continue;
         }
-        ok = ok && build_polygons(&c);
+        /* A cut that fails in build_polygons (a chord or star whose vertices do not come
+         * out on the loop) leaves a block the size of its cell, beyond the tolerance where
+         * the cell is coarse: the cube spun about its diagonal had vertices 1.03 tol
+         * outside SV, from blocks a quarter of the part wide.  Such cells are refined when
+         * the tree is built again, until no cut fails above the finest size; a placement
+         * that still has such blocks after 8 rounds is given up (another placement, or a
+         * refusal). */
+        hmap_free(&c.refine);
+        if (ok && !hmap_init(&c.refine, 64))
+            ok = ctx_nomem(&c);
+        int rounds = 0;
+        for (;;) {
+            c.coarse_blocks = 0;
+            ok = ok && build_polygons(&c);
+            if (!ok || !c.coarse_blocks || ++rounds > 8)
+                break;
+            reset_attempt(&c, &o);
+            ok = build_quadtree(&c);
+            if (ok && c.capped)
+                break;
+        }
+        if (ok && c.capped) {
+            size_t lw = strlen(why);
+            snprintf(why + lw, sizeof why - lw, "%splacement %d given up past %lld cells",
+                     lw ? "; " : "", attempt, (long long)c.leaf_cap);
+            continue;
+        }
+        if (ok && c.coarse_blocks) {
+            size_t lw = strlen(why);
+            snprintf(why + lw, sizeof why - lw, "%splacement %d: %lld cuts failed in coarse cells",
+                     lw ? "; " : "", attempt, (long long)c.coarse_blocks);
+            continue;
+        }
         if (ok)
             ok = hmap_init(&c.outmap, 1024) && hmap_init(&o.lifts, 1024) ? 1 : ctx_nomem(&c);
         if (ok)
