@@ -53,6 +53,7 @@ FUSE_COPIES = (12, 36)
 FUSE_TIMEOUT = 600.0        # s: a fuse still running then is reported as "> 600 s"
 PLANAR_PARTS = ("arm", "box")
 OURS_TIMEOUT = 300.0        # s per mesh (all its repeats)
+OURS_MEMORY_FRACTION = 0.5  # of physical memory, as our child's address-space limit
 BOX = (30.0, 20.0, 10.0)    # a x b x c, spun about its edge of length c (the z axis)
 TORUS = (20.0, 6.0)         # major, minor radius; its own axis along x
 TORUS_AXIS = ((3.0, 2.0, 0.0), (0.0, 0.0, 1.0))   # through the ring's hole and tube
@@ -360,7 +361,7 @@ def main():
             try:
                 r = subprocess.run([sys.executable, os.path.abspath(__file__)], env=oenv,
                                    capture_output=True, text=True, check=False,
-                                   timeout=OURS_TIMEOUT)
+                                   timeout=OURS_TIMEOUT, preexec_fn=_cap_memory)
             except subprocess.TimeoutExpired:
                 r = subprocess.CompletedProcess([], 1, "", f"stopped after {OURS_TIMEOUT:g} s")
             if r.returncode != 0 or not os.path.exists(out):
@@ -385,6 +386,16 @@ def main():
                   f"({case['reference_s']:.1f} s)", file=sys.stderr, flush=True)
     _print(meta, fuse36, args.quick)
     return 1 if failed else 0
+
+
+def _cap_memory():
+    """Our call's child gets at most OURS_MEMORY_FRACTION of the machine's memory as
+    address space: past it the library's allocations fail and it reports
+    MFG_ERR_NOMEM (shown in the table), instead of the kernel's OOM killer picking a
+    process, possibly not ours."""
+    total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    cap = int(total * OURS_MEMORY_FRACTION)
+    resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
 
 
 def _run_fuse(name, n, env, tmp, timeout):
