@@ -504,6 +504,20 @@ static int64_t uf_root(int64_t *parent, int64_t i)
     return i;
 }
 
+/* 2^-40 of the part's size in the axis frame (its largest radius or its height): the
+ * order of the frame transform's own rounding, below which the input conditioning below
+ * moves vertices. */
+static double frame_rounding(const sw_ctx *c)
+{
+    double zlo = INFINITY, zhi = -INFINITY, rhi = 0;
+    for (int64_t i = 0; i < c->nv; i++) {
+        zlo = fmin(zlo, c->lx[3 * i + 2]);
+        zhi = fmax(zhi, c->lx[3 * i + 2]);
+        rhi = fmax(rhi, c->vr[i]);
+    }
+    return ldexp(fmax(rhi, zhi - zlo), -40);
+}
+
 /* Faces perpendicular to the axis made exactly so.  A CAD part's flat face at z = 10 comes
  * out of tessellation and of the axis frame with heights a few ulps apart
  * (10.000000000000004 beside 10 on the bench arm); such a face then has edge images that
@@ -514,13 +528,7 @@ static int64_t uf_root(int64_t *parent, int64_t i)
  * the whole group agrees that well: a move of the order of the frame's own rounding. */
 static int flatten_axial_faces(sw_ctx *c, const int64_t *tris)
 {
-    double zlo = INFINITY, zhi = -INFINITY, rhi = 0;
-    for (int64_t i = 0; i < c->nv; i++) {
-        zlo = fmin(zlo, c->lx[3 * i + 2]);
-        zhi = fmax(zhi, c->lx[3 * i + 2]);
-        rhi = fmax(rhi, c->vr[i]);
-    }
-    double eps = ldexp(fmax(rhi, zhi - zlo), -40);
+    double eps = frame_rounding(c);
     int64_t *parent = malloc((size_t)(c->nv + 1) * sizeof *parent);
     double *lo = malloc((size_t)(2 * c->nv + 1) * sizeof *lo);
     if (!parent || !lo) {
@@ -573,13 +581,7 @@ static int flatten_axial_faces(sw_ctx *c, const int64_t *tris)
  * on it: a move of the order of the frame's own rounding. */
 static void axis_vertices(sw_ctx *c)
 {
-    double zlo = INFINITY, zhi = -INFINITY, rhi = 0;
-    for (int64_t i = 0; i < c->nv; i++) {
-        zlo = fmin(zlo, c->lx[3 * i + 2]);
-        zhi = fmax(zhi, c->lx[3 * i + 2]);
-        rhi = fmax(rhi, c->vr[i]);
-    }
-    double eps = ldexp(fmax(rhi, zhi - zlo), -40);
+    double eps = frame_rounding(c);
     for (int64_t i = 0; i < c->nv; i++)
         if (c->vr[i] <= eps) {
             c->lx[3 * i] = c->lx[3 * i + 1] = 0;
