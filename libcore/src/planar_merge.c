@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mfg_internal.h"
 #include "polygon_triangulate.h"
 #include "predicates.h"
 
@@ -81,15 +82,6 @@ static int edges_put(pm_edges *m, int64_t a, int64_t b, int64_t v)
     m->b[s] = b;
     m->v[s] = v;
     return 1;
-}
-
-static int64_t uf_find(int64_t *parent, int64_t x)
-{
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    return x;
 }
 
 typedef struct pm_item {
@@ -520,15 +512,12 @@ int mfg_merge_planar_groups(const double *xyz, int64_t nvertices, int64_t *tris,
                 continue;
             for (int q = 0; q < 3; q++) {
                 int64_t tw = edges_get(&P.he, tris[3 * t + (q + 1) % 3], tris[3 * t + q]);
-                if (tw >= 0 && group[tw / 3] == group[t]) {
-                    int64_t a = uf_find(parent, t), b = uf_find(parent, tw / 3);
-                    if (a != b)
-                        parent[a < b ? b : a] = a < b ? a : b;
-                }
+                if (tw >= 0 && group[tw / 3] == group[t])
+                    mfg_uf_union(parent, t, tw / 3);
             }
         }
         for (int64_t t = 0; t < nt; t++) {
-            comp[t] = group[t] < 0 ? -1 : uf_find(parent, t);
+            comp[t] = group[t] < 0 ? -1 : mfg_uf_find(parent, t);
             if (comp[t] >= 0) {
                 items[nitems].comp = comp[t];
                 items[nitems].tri = t;

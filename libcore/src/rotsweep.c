@@ -494,16 +494,6 @@ static void edge_at_z(const sw_ctx *c, int64_t i, int64_t j, double z, double ou
     out[2] = z;
 }
 
-/* Union-find root with path halving. */
-static int64_t uf_root(int64_t *parent, int64_t i)
-{
-    while (parent[i] != i) {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    return i;
-}
-
 /* 2^-40 of the part's size in the axis frame (its largest radius or its height): the
  * order of the frame transform's own rounding, below which the input conditioning below
  * moves vertices. */
@@ -543,26 +533,19 @@ static int flatten_axial_faces(sw_ctx *c, const int64_t *tris)
         double z0 = c->lx[3 * v[0] + 2], z1 = c->lx[3 * v[1] + 2], z2 = c->lx[3 * v[2] + 2];
         if (fmax(z0, fmax(z1, z2)) - fmin(z0, fmin(z1, z2)) > eps)
             continue;
-        for (int k = 1; k < 3; k++) {
-            int64_t a = uf_root(parent, v[0]), b = uf_root(parent, v[k]);
-            if (a != b) { /* the smaller index is the root: the group's height */
-                if (a < b)
-                    parent[b] = a;
-                else
-                    parent[a] = b;
-            }
-        }
+        for (int k = 1; k < 3; k++) /* the smallest index is the root: the group's height */
+            mfg_uf_union(parent, v[0], v[k]);
     }
     double *hi = lo + c->nv;
     for (int64_t i = 0; i < c->nv; i++)
         lo[i] = INFINITY, hi[i] = -INFINITY;
     for (int64_t i = 0; i < c->nv; i++) {
-        int64_t r = uf_root(parent, i);
+        int64_t r = mfg_uf_find(parent, i);
         lo[r] = fmin(lo[r], c->lx[3 * i + 2]);
         hi[r] = fmax(hi[r], c->lx[3 * i + 2]);
     }
     for (int64_t i = 0; i < c->nv; i++) {
-        int64_t r = uf_root(parent, i);
+        int64_t r = mfg_uf_find(parent, i);
         if (r != i && hi[r] - lo[r] <= eps)
             c->lx[3 * i + 2] = c->lx[3 * r + 2];
     }
