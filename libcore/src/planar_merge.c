@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hashmap.h"
 #include "mfg_internal.h"
 #include "polygon_triangulate.h"
 #include "predicates.h"
@@ -26,62 +27,21 @@
  * not on the plane. */
 #define PM_FLAT 1e-12
 
-/* A map from directed edges (a, b) to an int64 value, of fixed capacity. */
-typedef struct pm_edges {
-    int64_t *a, *b, *v;
-    int64_t cap;
-} pm_edges;
-
-static int edges_init(pm_edges *m, int64_t want)
+/* Directed edges (a, b) -> an int64 value, on the library's shared map (hashmap.h). */
+static int64_t edges_get(const hmap *m, int64_t a, int64_t b)
 {
-    int64_t c = 64;
-    while (c < 2 * want)
-        c *= 2;
-    m->a = malloc((size_t)c * sizeof *m->a);
-    m->b = malloc((size_t)c * sizeof *m->b);
-    m->v = malloc((size_t)c * sizeof *m->v);
-    m->cap = c;
-    if (!m->a || !m->b || !m->v)
+    hkey k = mkkey(a, b, 0, 0);
+    return hmap_get(m, &k);
+}
+
+/* sets (a, b) -> v (v >= 0) unless (a, b) is there already: 1 set, 0 there already (the
+ * value is kept), -1 out of memory */
+static int edges_put(hmap *m, int64_t a, int64_t b, int64_t v)
+{
+    hkey k = mkkey(a, b, 0, 0);
+    if (hmap_get(m, &k) >= 0)
         return 0;
-    for (int64_t i = 0; i < c; i++)
-        m->a[i] = -1;
-    return 1;
-}
-
-static void edges_free(pm_edges *m)
-{
-    free(m->a);
-    free(m->b);
-    free(m->v);
-}
-
-static int64_t edges_slot(const pm_edges *m, int64_t a, int64_t b)
-{
-    uint64_t h = (uint64_t)a * 0x9E3779B97F4A7C15ull ^ ((uint64_t)b + 0x632BE59BD9B4E019ull) * 0xBF58476D1CE4E5B9ull;
-    h ^= h >> 29;
-    int64_t i = (int64_t)(h & (uint64_t)(m->cap - 1));
-    while (m->a[i] >= 0 && (m->a[i] != a || m->b[i] != b))
-        i = (i + 1) & (m->cap - 1);
-    return i;
-}
-
-/* the value of (a, b), -1 when absent */
-static int64_t edges_get(const pm_edges *m, int64_t a, int64_t b)
-{
-    int64_t s = edges_slot(m, a, b);
-    return m->a[s] >= 0 ? m->v[s] : -1;
-}
-
-/* sets (a, b) -> v; 0 when (a, b) was there already (the value is kept) */
-static int edges_put(pm_edges *m, int64_t a, int64_t b, int64_t v)
-{
-    int64_t s = edges_slot(m, a, b);
-    if (m->a[s] >= 0)
-        return 0;
-    m->a[s] = a;
-    m->b[s] = b;
-    m->v[s] = v;
-    return 1;
+    return hmap_put(m, &k, v) ? 1 : -1;
 }
 
 typedef struct pm_item {
@@ -260,8 +220,8 @@ typedef struct pm_ctx {
     const int64_t *tris;
     int64_t nt;
     const int64_t *comp;  /* per triangle: its region (a triangle index), -1 */
-    pm_edges he;          /* (a, b) -> half-edge 3 t + k */
-    pm_edges added;       /* new inner edges of regions already merged */
+    hmap he;              /* (a, b) -> half-edge 3 t + k */
+    hmap added;           /* new inner edges of regions already merged */
     int64_t *deg;         /* per vertex: triangles using it */
     int64_t *cnt, *stamp; /* per vertex: uses in the current region */
     char *onloop;         /* per vertex: on a loop of the current region */
@@ -463,8 +423,8 @@ static int merge_region(pm_ctx *P, const pm_item *its, int64_t n, int64_t *nnew)
         return 0;
     for (int64_t i = 0; i < 3 * nt; i++) {
         const pm_pair *e = &w->newe[i];
-        if (!has_pair(w->olde, nb, e->a, e->b))
-            edges_put(&P->added, e->a, e->b, C);
+        if (!has_pair(w->olde, nb, e->a, e->b) && edges_put(&P->added, e->a, e->b, C) < 0)
+            return -1;
     }
     *nnew = nt;
     return 1;
@@ -492,13 +452,16 @@ int mfg_merge_planar_groups(const double *xyz, int64_t nvertices, int64_t *tris,
     P.onloop = calloc((size_t)(nvertices + 1), 1);
     P.bidx = malloc((size_t)(3 * nt + 1) * sizeof *P.bidx);
     int ok = comp && parent && items && dead && out && P.deg && P.cnt && P.stamp && P.onloop && P.bidx &&
-             edges_init(&P.he, 3 * nt) && edges_init(&P.added, 3 * nt);
+             hmap_init(&P.he, 3 * nt) && hmap_init(&P.added, 64); /* added grows as regions merge */
     P.comp = comp;
     int manifold = 1;
     /* half-edges; a mesh with an edge twice in one direction is left alone */
     for (int64_t t = 0; t < nt && ok && manifold; t++)
         for (int q = 0; q < 3; q++) {
-            if (!edges_put(&P.he, tris[3 * t + q], tris[3 * t + (q + 1) % 3], 3 * t + q))
+            int put = edges_put(&P.he, tris[3 * t + q], tris[3 * t + (q + 1) % 3], 3 * t + q);
+            if (put < 0)
+                ok = 0;
+            else if (put == 0)
                 manifold = 0;
             P.deg[tris[3 * t + q]]++;
         }
@@ -575,8 +538,8 @@ int mfg_merge_planar_groups(const double *xyz, int64_t nvertices, int64_t *tris,
     free(P.stamp);
     free(P.onloop);
     free(P.bidx);
-    edges_free(&P.he);
-    edges_free(&P.added);
+    hmap_free(&P.he);
+    hmap_free(&P.added);
     work_free(&P.w);
     return ok;
 }
