@@ -4612,21 +4612,28 @@ static double corner_height(const double *p, const double *q, const double *m, i
     return dd > 0 ? sqrt((x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) / dd) : INFINITY;
 }
 
-/* The smallest height of triangle (a, b, d) over its longest side. */
-static double tri_flatness(const double *a, const double *b, const double *d)
+/* The height of triangle (a, b, d) over its longest side; *side (optional) gets that
+ * side's index k (from corner k to k + 1), *between whether the opposite corner projects
+ * strictly between its ends. */
+static double tri_flatness(const double *a, const double *b, const double *d, int *side,
+                           int *between)
 {
     const double *v[3] = {a, b, d};
-    double best = -1, h = INFINITY;
+    double best = -1;
+    int kl = 0;
     for (int k = 0; k < 3; k++) {
         const double *p = v[k], *q = v[(k + 1) % 3];
         double l = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
                    (q[2] - p[2]) * (q[2] - p[2]);
-        if (l > best) {
-            int between;
-            best = l;
-            h = corner_height(p, q, v[(k + 2) % 3], &between);
-        }
+        if (l > best)
+            best = l, kl = k;
     }
+    int btw;
+    double h = corner_height(v[kl], v[(kl + 1) % 3], v[(kl + 2) % 3], &btw);
+    if (side)
+        *side = kl;
+    if (between)
+        *between = btw;
     return h;
 }
 
@@ -4661,24 +4668,13 @@ static int flip_out_slivers(sw_ctx *c)
         flipped = 0;
         for (int64_t t = 0; t < c->notri && ok; t++) {
             int64_t *T = c->otri + 3 * t;
-            const double *P[3] = {c->ox + 3 * T[0], c->ox + 3 * T[1], c->ox + 3 * T[2]};
-            if (!(tri_flatness(P[0], P[1], P[2]) <= eps))
-                continue;
             /* the longest side p -> q, m opposite */
-            int kl = 0;
-            double best = -1;
-            for (int k = 0; k < 3; k++) {
-                const double *a = P[k], *b = P[(k + 1) % 3];
-                double l = (b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
-                           (b[2] - a[2]) * (b[2] - a[2]);
-                if (l > best)
-                    best = l, kl = k;
-            }
-            int64_t p = T[kl], q = T[(kl + 1) % 3], mm = T[(kl + 2) % 3];
-            int between;
-            (void)corner_height(c->ox + 3 * p, c->ox + 3 * q, c->ox + 3 * mm, &between);
-            if (!between)
+            int kl, between;
+            double h = tri_flatness(c->ox + 3 * T[0], c->ox + 3 * T[1], c->ox + 3 * T[2], &kl,
+                                    &between);
+            if (!(h <= eps) || !between)
                 continue;
+            int64_t p = T[kl], q = T[(kl + 1) % 3], mm = T[(kl + 2) % 3];
             hkey kqp = mkkey(q, p, 0, 0);
             int64_t t2 = hmap_get(&he, &kqp) - 1;
             if (t2 < 0 || t2 == t)
@@ -4692,8 +4688,8 @@ static int flip_out_slivers(sw_ctx *c)
             if (d < 0 || d == mm || hmap_get(&he, &kmd) > 0 || hmap_get(&he, &kdm) > 0)
                 continue;
             const double *X = c->ox;
-            if (!(tri_flatness(X + 3 * q, X + 3 * mm, X + 3 * d) > eps) ||
-                !(tri_flatness(X + 3 * mm, X + 3 * p, X + 3 * d) > eps))
+            if (!(tri_flatness(X + 3 * q, X + 3 * mm, X + 3 * d, NULL, NULL) > eps) ||
+                !(tri_flatness(X + 3 * mm, X + 3 * p, X + 3 * d, NULL, NULL) > eps))
                 continue;
             T[0] = q, T[1] = mm, T[2] = d;
             U[0] = mm, U[1] = p, U[2] = d;
