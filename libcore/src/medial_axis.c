@@ -158,6 +158,15 @@ static void bis_make(const ma_elems *E, ma_bis *b, int64_t e1, int64_t e2, doubl
     if (s1 && s2) {
         double n1x = E->nx[e1], n1y = E->ny[e1], n2x = E->nx[e2], n2y = E->ny[e2];
         double det = n1x * n2y - n1y * n2x;
+        /* Start on the bisector itself: a junction point is only equidistant to the
+         * event accuracy, and r(t) extrapolates from r0 (the start would carry its
+         * offset along the whole line). */
+        double f = (Px - E->ax[e1]) * n1x + (Py - E->ay[e1]) * n1y -
+                   (Px - E->ax[e2]) * n2x - (Py - E->ay[e2]) * n2y;
+        double gx = n1x - n2x, gy = n1y - n2y, g2 = gx * gx + gy * gy;
+        if (g2 > 1e-24)
+            Px -= f * gx / g2, Py -= f * gy / g2;
+        b->Px = Px, b->Py = Py;
         b->r0 = (Px - E->ax[e1]) * n1x + (Py - E->ay[e1]) * n1y;
         if (fabs(det) < 1e-12) { /* parallel edges: the midline, r constant */
             double ux = -n1y, uy = n1x;
@@ -196,6 +205,10 @@ static void bis_make(const ma_elems *E, ma_bis *b, int64_t e1, int64_t e2, doubl
             wx = -wx, wy = -wy;
         b->kind = MA_PP;
         b->dx = wx, b->dy = wy, b->v1x = x1, b->v1y = y1;
+        /* start on the bisector: project P along the line v1 v2 (see the line case) */
+        double ex = x2 - x1, ey = y2 - y1, el2 = ex * ex + ey * ey;
+        double f = (Px - 0.5 * (x1 + x2)) * ex + (Py - 0.5 * (y1 + y2)) * ey;
+        b->Px = Px - f * ex / el2, b->Py = Py - f * ey / el2;
     }
 }
 

@@ -246,6 +246,50 @@ static void test_L(void)
     mfg_medial_axis_free(A);
 }
 
+/* Jittered stars (n tips, radii 100 / 40 +- 15 %) with small square holes: no exact
+ * axis, but the topology is fixed by Euler (a connected axis with one cycle per hole:
+ * branches = junctions + leaves - 1 + holes; degrees + leaves = 2 branches; every tip is
+ * a leaf) and every sample must have radius = clearance.  Regression: junction points are
+ * equidistant only to the event accuracy, and a line bisector started from one carried
+ * that offset along (radius errors 4.9e-7 on 200 segments, 1.7e-9 of the diagonal). */
+static void test_stars(void)
+{
+    for (int c = 0; c < 4; c++) {
+        int n = c < 2 ? 25 : 100, holes = c % 2 ? 4 + c : 0;
+        int64_t nv = 2 * n + 4 * holes;
+        double *xy = malloc((size_t)nv * 2 * sizeof *xy);
+        int64_t off[16];
+        for (int i = 0; i < 2 * n; i++) {
+            double rad = (i % 2 ? 40.0 : 100.0) * (1 + 0.15 * rng_uniform(-1, 1));
+            xy[2 * i] = rad * cos(i * M_PI / n);
+            xy[2 * i + 1] = rad * sin(i * M_PI / n);
+        }
+        off[0] = 0, off[1] = 2 * n;
+        for (int h = 0; h < holes; h++) {
+            double cx = 20 * cos(h * 2 * M_PI / holes), cy = 20 * sin(h * 2 * M_PI / holes);
+            double sq[4][2] = {{-2, -2}, {-2, 2}, {2, 2}, {2, -2}};
+            for (int k = 0; k < 4; k++) {
+                xy[2 * (off[h + 1] + k)] = cx + sq[k][0];
+                xy[2 * (off[h + 1] + k) + 1] = cy + sq[k][1];
+            }
+            off[h + 2] = off[h + 1] + 4;
+        }
+        struct mfg_medial_axis *A = NULL;
+        CHECK_EQ_INT(mfg_medial_axis(xy, off, 1 + holes, 1e-2, &A), MFG_OK);
+        if (A) {
+            int64_t leaves = count_leaves(A), deg = 0;
+            for (int64_t j = 0; j < A->njunctions; j++)
+                deg += A->junction_degree[j];
+            CHECK_EQ_INT(leaves, n);
+            CHECK_EQ_INT(A->nbranches, A->njunctions + leaves - 1 + holes);
+            CHECK_EQ_INT(deg + leaves, 2 * A->nbranches);
+            check_axis(A, xy, off, 1 + holes, 2 * 115.0, 1e-2);
+            mfg_medial_axis_free(A);
+        }
+        free(xy);
+    }
+}
+
 static void expect_error(const double *xy, const int64_t *off, int64_t nrings, double tol,
                          mfg_status want, const char *needle)
 {
@@ -303,6 +347,7 @@ int main(void)
     test_square();
     test_frame();
     test_L();
+    test_stars();
     test_bad_input();
     return mfg_test_report("medial_axis");
 }
