@@ -474,6 +474,9 @@ static int trace(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2
     if (first && !push_sample(C, x, y, r))
         return TR_NOMEM;
     double t = leaving ? 1e-7 * E->diag : 0.0; /* lesson 5: leave the junction's disc */
+    /* Samples are spaced by the sampling step from the last one; the (many, short)
+     * advancement steps near an event add no samples. */
+    double t_last = t;
     for (int iter = 0; iter < 1000000; iter++) {
         double px, py, pr;
         bis_at(&b, t, &px, &py, &pr);
@@ -488,9 +491,10 @@ static int trace(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2
         if (m > 0.1 * E->diag)
             m = 0.1 * E->diag;
         double dt = m / bis_speed(&b, t, t + m);
-        double ms = bis_max_step(&b, t, C->tol);
-        if (ms < dt)
-            dt = ms;
+        double room = t_last + bis_max_step(&b, t_last, C->tol) - t;
+        int sample = room <= dt;
+        if (sample)
+            dt = room > 0 ? room : 0;
         if (b.kind == MA_LL && b.sg < 0 && pr < dt)
             dt = pr; /* land on the leaf exactly */
         double x1, y1, r1;
@@ -520,6 +524,7 @@ static int trace(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2
             int64_t ea = b.e1 == who ? en : b.e1, eb = b.e1 == who ? b.e2 : en;
             bis_make(E, &b, ea, eb, phx, phy, tx, ty);
             t = 1e-9 * E->diag;
+            t_last = t;
             for (int k = 0; k < 3; k++) { /* lesson 2: a double transition */
                 bis_at(&b, t, &x1, &y1, &r1);
                 how = bis_window(E, &b, x1, y1, &who);
@@ -534,8 +539,11 @@ static int trace(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2
             continue;
         }
         t += dt;
-        if (!push_sample(C, x1, y1, r1))
-            return TR_NOMEM;
+        if (sample) {
+            if (!push_sample(C, x1, y1, r1))
+                return TR_NOMEM;
+            t_last = t;
+        }
     }
     return TR_STUCK;
 }

@@ -146,6 +146,9 @@ static void test_rectangle(void)
         CHECK_EQ_INT(A->junction_degree[j2], 3);
         CHECK_EQ_INT(A->junction_offsets[j1 + 1] - A->junction_offsets[j1], 3);
     }
+    /* straight bisectors with linear radii need no samples between their ends (the
+     * advancement steps towards an event are not samples) */
+    CHECK_EQ_INT(A->npoints, 2 * A->nbranches);
     check_axis(A, xy, off, 1, diag, 1e-2);
     mfg_medial_axis_free(A);
 }
