@@ -421,7 +421,7 @@ static int64_t port_pick(const ma_ctx *C, int64_t j, double a, int farthest)
 }
 
 /* ---- tracing ---------------------------------------------------------------------- */
-enum { TR_LEAF, TR_EVENT, TR_NOMEM, TR_STUCK };
+enum { TR_LEAF, TR_EVENT, TR_NOMEM, TR_STUCK, TR_BADPAIR };
 
 static int push_sample(ma_ctx *C, double x, double y, double r)
 {
@@ -483,6 +483,13 @@ static int trace(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2
         if (b.kind == MA_LL && b.sg < 0 && pr <= C->eps) /* r reached 0: a convex corner */
             return push_sample(C, px, py, 0.0) ? TR_LEAF : TR_NOMEM;
         double m = margin(C, &b, px, py, pr);
+        if (!isfinite(px) || !isfinite(py) || isnan(m) ||
+            (b.kind == MA_PL && !(b.h > 0))) {
+            /* a pair without a bisector on the interior side (a parabola whose focus is
+             * not inside of its directrix): fail now rather than spin */
+            ev[0] = (double)b.e1, ev[1] = (double)b.e2;
+            return TR_BADPAIR;
+        }
         if (m <= C->eps) {
             ev[0] = px, ev[1] = py, ev[2] = pr;
             bis_tangent(&b, t, E->diag, &ev[3], &ev[4]);
@@ -562,6 +569,12 @@ static mfg_status run_branch(ma_ctx *C, double x, double y, double r, int64_t e1
         int rc = trace(C, x, y, r, e1, e2, dx, dy, leaving, first, ev);
         if (rc == TR_NOMEM)
             return mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (samples)");
+        if (rc == TR_BADPAIR)
+            return mfg_fail(MFG_ERR_INTERNAL,
+                            "medial axis: the trace from (%g, %g) reached elements %lld and "
+                            "%lld, which have no bisector inside the face (a missed window "
+                            "event; known on very thin spikes)",
+                            x, y, (long long)ev[0], (long long)ev[1]);
         if (rc == TR_STUCK)
             return mfg_fail(MFG_ERR_INTERNAL,
                             "medial axis: the trace of the bisector of elements %lld and %lld "
