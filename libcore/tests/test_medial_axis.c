@@ -293,6 +293,57 @@ static void test_stars(void)
     }
 }
 
+/* Regression: needle spikes (50 vertices of a 3 000-segment jittered star, closed by
+ * three far vertices).  A junction gathered with 1e-7 of the diagonal took in a segment
+ * and a reflex vertex of the neighbouring spike that do not touch its disc (2e-5 away);
+ * their foot angles misordered the ports, one port paired the two segments adjacent at a
+ * reflex vertex, and the trace failed with MFG_ERR_INTERNAL.  Fixed (gather with 10 eps),
+ * but the result is still wrong: two branches end at radius 0 inside the face (a window
+ * switch at a convex vertex taken for the leaf, 0.34 from the boundary), so the branch
+ * count misses one.  Run as the disabled ctest medial_axis_needles. */
+static void test_needles(void)
+{
+    static const double xy[] = {
+        72.727948803394881, -68.296089846282328, 26.784289635784919, -25.046763931211419,
+        62.25854615773801, -57.975825529300941, 26.844922366916759, -24.893505051084603,
+        69.533650922143636, -64.208760357318681, 28.907731846216841, -26.582022082572845,
+        72.582463410587494, -66.462979005712086, 29.985713004317791, -27.342354351447206,
+        73.459386718108917, -66.702413187672306, 25.511737822987964, -23.067805022073408,
+        69.11916928533303, -62.235179563020885, 33.909710012322833, -30.404083441903737,
+        64.018494679871537, -57.158768427803011, 31.992414611888869, -28.444160323062256,
+        74.341725231271766, -65.818279168703654, 31.867023257388077, -28.094560186983465,
+        71.373219429620079, -62.658776359315539, 28.94174522821082, -25.300914399698453,
+        75.804825797113864, -65.989098736742633, 33.939571944385605, -29.420122372875166,
+        71.802230328493138, -61.978022655228699, 26.565695394492149, -22.833973918122631,
+        65.448599641146757, -56.017023633894979, 33.928297855606083, -28.916111920145497,
+        71.983776146670266, -61.089893099210975, 27.064584582687385, -22.871347230199994,
+        78.727940418187842, -66.248127410053655, 33.832038880743838, -28.348225672638986,
+        79.076727675730936, -65.977828380808759, 27.5523189359028, -22.890627172425557,
+        74.872294652349481, -61.939748896473702, 28.711049647831445, -23.650735407795349,
+        66.104396445964582, -54.221520385114964, 35.308218842773321, -28.837750111027532,
+        76.633401897934988, -62.322706067400553, 27.679345496885237, -22.414292032665802,
+        86.835265789743715, -70.017194258328757, 35.730516380419765, -28.687025747304045,
+        85.513291186276177, -68.362162063465576, 28.982690309725733, -23.070395416922565,
+        71.093759849099527, -56.348219714110691, 31.636262315235431, -24.966888580190751,
+        80.598425542713073, -63.333644482331898, 35.079490245011499, -27.446562084257128,
+        89.944773822903926, -70.0705336594432, 35.497432523766605, -27.534631103551959,
+        75.39416653125447, -58.229206720713044, 32.522887155157704, -25.009843431918878,
+        70.439407804819936, -53.932957160618159, 31.990617527041714, -24.3879718295968, 0, 0,
+        -150, 0, -150, -150};
+    int64_t off[] = {0, 53};
+    struct mfg_medial_axis *A = NULL;
+    CHECK_EQ_INT(mfg_medial_axis(xy, off, 1, 1e-2, &A), MFG_OK);
+    if (!A)
+        return;
+    int64_t leaves = count_leaves(A), deg = 0;
+    for (int64_t j = 0; j < A->njunctions; j++)
+        deg += A->junction_degree[j];
+    CHECK_EQ_INT(A->nbranches, A->njunctions + leaves - 1);
+    CHECK_EQ_INT(deg + leaves, 2 * A->nbranches);
+    check_axis(A, xy, off, 1, 250.0, 1e-2);
+    mfg_medial_axis_free(A);
+}
+
 static void expect_error(const double *xy, const int64_t *off, int64_t nrings, double tol,
                          mfg_status want, const char *needle)
 {
@@ -344,8 +395,12 @@ static void test_bad_input(void)
     mfg_medial_axis_free(NULL);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
+    if (argc > 1 && strcmp(argv[1], "needles") == 0) { /* known wrong: see CMakeLists */
+        test_needles();
+        return mfg_test_report("medial_axis needles");
+    }
     test_rectangle();
     test_square();
     test_frame();
