@@ -395,6 +395,63 @@ MFG_API mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices,
                                         double tolerance, mfg_mesh **out_mesh,
                                         mfg_sweep_stats *out_stats);
 
+/* ------------------------------------------------------------------------- */
+/* Medial axis of a planar face (issue 9, section 2)                         */
+/* ------------------------------------------------------------------------- */
+
+/*
+ * The medial axis of a face (the locus of centres of maximal inscribed discs), as
+ * branches -- polylines with the clearance radius (distance to the boundary) at every
+ * sample, parabolic arcs sampled -- joined at junctions.  Flat arrays, as mfg_regions.
+ *
+ *   branch_offsets[0..nbranches]  branch b is samples branch_offsets[b] ..
+ *                                 branch_offsets[b+1]-1 (npoints in all)
+ *   points[2*i], points[2*i+1]    sample i;  radii[i] its distance to the boundary
+ *   branch_ends[2*b], [2*b+1]     junction index at the branch's first / last sample,
+ *                                 -1 for a leaf (a convex corner of the face, radius 0)
+ *   junction_points[2*j], [2*j+1], junction_radii[j]
+ *   junction_degree[j]            number of branches leaving junction j
+ *   junction_offsets[0..njunctions] into junction_elements: the boundary elements the
+ *                                 junction's disc touches: edge e (from vertex e to the
+ *                                 next vertex of its ring, indices of the caller's xy)
+ *                                 -> e; a reflex vertex k -> -1-k.
+ * A junction's disc touches >= 3 elements (the centre of a square touches 4 and has
+ * degree 4); points where the axis passes from one element to another without a third
+ * (the ends of a parabolic arc) are samples, not junctions.
+ */
+struct mfg_medial_axis {
+    int64_t nbranches;
+    int64_t *branch_offsets;
+    int64_t npoints;
+    double *points;
+    double *radii;
+    int64_t *branch_ends;
+    int64_t njunctions;
+    double *junction_points;
+    double *junction_radii;
+    int64_t *junction_degree;
+    int64_t *junction_offsets;
+    int64_t *junction_elements;
+};
+
+/* Rings exactly as mfg_classify_points (flat xy + ring_offsets; outer boundary and holes,
+ * the interior by the even-odd rule; any orientation).  Consecutive equal vertices and a
+ * repeated closing vertex are dropped, as are vertices where the boundary goes straight
+ * on.  tol > 0 in model units: samples lie within tol of the true axis and linearly
+ * interpolated radii between samples within tol of the true clearance.
+ * Errors (nothing is allocated, *out is left untouched): MFG_ERR_NULL; MFG_ERR_INVALID
+ * for NaN/Inf or out-of-range coordinates, tol <= 0, bad offsets, rings that cross or
+ * touch each other or themselves (the detail names the two edges: the axis of such a
+ * boundary is not defined); MFG_ERR_DEGENERATE for a ring with fewer than 3 distinct
+ * vertices or no area; MFG_ERR_NOMEM.  Release the result with mfg_medial_axis_free.
+ * Present limits: every clearance query scans all edges (O(n) per step); junctions
+ * closer than tol are not merged; the order of branches follows the tracing. */
+MFG_API mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets,
+                                   int64_t nrings, double tol,
+                                   struct mfg_medial_axis **out);
+/* Releases a result of mfg_medial_axis.  NULL is allowed. */
+MFG_API void mfg_medial_axis_free(struct mfg_medial_axis *axis);
+
 #ifdef __cplusplus
 }
 #endif
