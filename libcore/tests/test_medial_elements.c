@@ -603,6 +603,51 @@ static void test_float32_tilted(void)
     }
 }
 
+/* A zero-area triangle inside a face (A, C and the diagonal's midpoint M) bridges the
+ * face's triangles: no face of its own, the counts stay 6 / 12 / 8, and M (inside the
+ * face) is no element. */
+static void test_zero_area_bridge(void)
+{
+    static tmesh m, r;
+    grid_cube(&m, 40, 1);
+    memset(&r, 0, sizeof r);
+    r.nv = m.nv;
+    memcpy(r.xyz, m.xyz, sizeof m.xyz);
+    for (int64_t t = 0; t < m.nt; t++) {
+        const int64_t *tv = m.tri + 3 * t;
+        if (m.xyz[3 * tv[0] + 2] == 40 && m.xyz[3 * tv[1] + 2] == 40 && m.xyz[3 * tv[2] + 2] == 40)
+            continue;
+        tri(&r, tv[0], tv[1], tv[2]);
+    }
+    int64_t A = vtx(&r, 0, 0, 40), B = vtx(&r, 40, 0, 40), C = vtx(&r, 40, 40, 40),
+            D = vtx(&r, 0, 40, 40), M = vtx(&r, 20, 20, 40);
+    tri(&r, A, B, C);
+    int64_t zt = r.nt;
+    tri(&r, A, C, M); /* zero area */
+    tri(&r, M, C, D);
+    tri(&r, A, M, D);
+    md_elements el;
+    mfg_status st = md_elements_build(r.xyz, r.nv, r.tri, r.nt, 0.5, &el);
+    CHECK_EQ_INT(st, MFG_OK);
+    if (st != MFG_OK) {
+        fprintf(stderr, "  %s\n", mfg_last_error());
+        return;
+    }
+    CHECK_EQ_INT(el.nfaces, 6);
+    CHECK_EQ_INT(el.nedges, 12);
+    CHECK_EQ_INT(el.nverts, 8);
+    int64_t top = face_with(&el, 0, 0, 1, 40);
+    CHECK_EQ_INT(el.face_of_triangle[zt], -1);
+    CHECK_EQ_INT(el.face_of_triangle[zt + 1], top);
+    CHECK_EQ_INT(el.face_of_triangle[zt + 2], top);
+    for (int k = 0; k < 3; k++) {
+        CHECK_EQ_INT(el.side_elem[3 * zt + k], top);
+        if (el.tris[3 * zt + k] == M)
+            CHECK_EQ_INT(el.corner_elem[3 * zt + k], top);
+    }
+    md_elements_free(&el);
+}
+
 /* ---- refusals ------------------------------------------------------------------------- */
 
 static void expect_refused(const tmesh *m, double tol, mfg_status st, const char *text)
@@ -645,6 +690,7 @@ int main(void)
     test_bisector();
     test_distance_field();
     test_float32_tilted();
+    test_zero_area_bridge();
     test_refusals();
     return mfg_test_report("medial_elements");
 }
