@@ -101,6 +101,10 @@ double md_region_margin(const md_elements *el, int64_t e, const double x[3], int
 /* Restricted distance d_e: d_e^car when x is in e's Voronoi region, otherwise +INFINITY. */
 double md_dist(const md_elements *el, int64_t e, const double x[3]);
 
+/* Distance from x to e's closure (the face polygon, the segment, the point): 1-Lipschitz,
+ * <= md_dist wherever that is finite; the octree's pruning bound (design 3). */
+double md_dist_closed(const md_elements *el, int64_t e, const double x[3]);
+
 /* 1 when one element lies in the other's closure (or a == b). */
 int md_incident(const md_elements *el, int64_t a, int64_t b);
 
@@ -114,6 +118,20 @@ int64_t md_nearest_set_brute(const md_elements *el, const double x[3], double de
                              int64_t *out, double *D);
 
 /* ---- medial_bisector.c ---------------------------------------------------------------- */
+
+/* The bisector forms of design 4.0, numbered as the public mfg_bisector_form will be. */
+enum {
+    MD_FORM_PLANE_PLANE_PARALLEL = 1, MD_FORM_PLANE_PLANE = 2,
+    MD_FORM_PLANE_LINE_PARALLEL = 3, MD_FORM_PLANE_LINE_PERPENDICULAR = 4,
+    MD_FORM_PLANE_LINE_OBLIQUE = 5, MD_FORM_PLANE_POINT = 6,
+    MD_FORM_LINE_LINE_PARALLEL = 7, MD_FORM_LINE_LINE_CROSSING = 8, MD_FORM_LINE_LINE_SKEW = 9,
+    MD_FORM_LINE_POINT = 10, MD_FORM_POINT_POINT = 11
+};
+
+/* The form (1 .. 11) of the bisector of elements a and b (either order), decided exactly
+ * on the stored doubles: mfg_parallel3 and mfg_dot3_sign on the unit normals and
+ * directions, mfg_orient3d on the edges' end points (crossing vs skew lines). */
+int md_form(const md_elements *el, int64_t a, int64_t b);
 
 /* g(s) = d_a^car(p + s (q - p)) - d_b^car(p + s (q - p)) for s in [0, 1].  When g(0) and
  * g(1) differ in sign (or one is 0), finds a root: one Newton step with the exact

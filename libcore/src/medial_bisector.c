@@ -7,6 +7,7 @@
 #include <math.h>
 
 #include "medial.h"
+#include "predicates.h"
 
 /* Unit roundoff of IEEE double (2^-53). */
 #define U 1.1102230246251565e-16
@@ -112,4 +113,45 @@ int md_root_on_segment(const md_elements *el, int64_t a, int64_t b, const double
     if (s_out)
         *s_out = best.s;
     return 1;
+}
+
+int md_form(const md_elements *el, int64_t a, int64_t b)
+{
+    int ka = md_kind(el, a), kb = md_kind(el, b);
+    if (ka < kb) { /* a: the higher kind (face, edge, vertex) */
+        int64_t t = a;
+        a = b;
+        b = t;
+        int k = ka;
+        ka = kb;
+        kb = k;
+    }
+    const double *na = ka == MD_FACE ? el->face_plane + 4 * a : NULL;
+    const double *ua = ka == MD_EDGE ? el->edge_dir + 3 * (a - el->nfaces) : NULL;
+    if (ka == MD_FACE) {
+        if (kb == MD_FACE)
+            return mfg_parallel3(na, el->face_plane + 4 * b) ? MD_FORM_PLANE_PLANE_PARALLEL
+                                                             : MD_FORM_PLANE_PLANE;
+        if (kb == MD_EDGE) {
+            const double *ub = el->edge_dir + 3 * (b - el->nfaces);
+            if (mfg_dot3_sign(na, ub) == 0)
+                return MD_FORM_PLANE_LINE_PARALLEL;
+            return mfg_parallel3(na, ub) ? MD_FORM_PLANE_LINE_PERPENDICULAR
+                                         : MD_FORM_PLANE_LINE_OBLIQUE;
+        }
+        return MD_FORM_PLANE_POINT;
+    }
+    if (ka == MD_EDGE) {
+        if (kb == MD_EDGE) {
+            const double *ub = el->edge_dir + 3 * (b - el->nfaces);
+            if (mfg_parallel3(ua, ub))
+                return MD_FORM_LINE_LINE_PARALLEL;
+            const double *A = el->edge_seg + 6 * (a - el->nfaces);
+            const double *B = el->edge_seg + 6 * (b - el->nfaces);
+            return mfg_orient3d(A, A + 3, B, B + 3) == 0 ? MD_FORM_LINE_LINE_CROSSING
+                                                          : MD_FORM_LINE_LINE_SKEW;
+        }
+        return MD_FORM_LINE_POINT;
+    }
+    return MD_FORM_POINT_POINT;
 }

@@ -957,6 +957,56 @@ double md_region_margin(const md_elements *el, int64_t e, const double x[3], int
     return m;
 }
 
+/* Distance from p to triangle abc: the plane's foot when it falls inside, otherwise the
+ * nearest of the three sides. */
+static double tri_dist(const double *p, const double *a, const double *b, const double *c)
+{
+    double ab[3], ac[3], n[3], ap[3];
+    sub3(b, a, ab);
+    sub3(c, a, ac);
+    sub3(p, a, ap);
+    cross3(ab, ac, n);
+    double nn = dot3(n, n);
+    if (nn > 0) {
+        /* Barycentric signs of the foot: each side's cross product against n. */
+        double bp[3], cp[3], t[3], bc[3], ca[3];
+        sub3(p, b, bp);
+        sub3(p, c, cp);
+        sub3(c, b, bc);
+        sub3(a, c, ca);
+        cross3(ab, ap, t);
+        int in = dot3(t, n) >= 0;
+        cross3(bc, bp, t);
+        in = in && dot3(t, n) >= 0;
+        cross3(ca, cp, t);
+        in = in && dot3(t, n) >= 0;
+        if (in)
+            return fabs(dot3(ap, n)) / sqrt(nn);
+    }
+    return fmin(seg_dist(p, a, b), fmin(seg_dist(p, b, c), seg_dist(p, c, a)));
+}
+
+double md_dist_closed(const md_elements *el, int64_t e, const double x[3])
+{
+    int kind = md_kind(el, e);
+    if (kind == MD_FACE) {
+        double best = INFINITY;
+        for (int64_t q = el->face_tri_offsets[e]; q < el->face_tri_offsets[e + 1]; q++) {
+            const int64_t *tv = el->tris + 3 * el->face_tris[q];
+            best = fmin(best, tri_dist(x, el->xyz + 3 * tv[0], el->xyz + 3 * tv[1],
+                                       el->xyz + 3 * tv[2]));
+        }
+        return best;
+    }
+    if (kind == MD_EDGE) {
+        const double *A = el->edge_seg + 6 * (e - el->nfaces);
+        return seg_dist(x, A, A + 3);
+    }
+    double d[3];
+    sub3(x, el->vert_xyz + 3 * (e - el->nfaces - el->nedges), d);
+    return norm3(d);
+}
+
 double md_dist(const md_elements *el, int64_t e, const double x[3])
 {
     if (md_region_margin(el, e, x, NULL) < 0)
