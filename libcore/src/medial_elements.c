@@ -79,7 +79,9 @@ static int cmp_pair(const void *pa, const void *pb)
     const pair64 *x = pa, *y = pb;
     if (x->a != y->a)
         return x->a < y->a ? -1 : 1;
-    return (x->b > y->b) - (x->b < y->b);
+    if (x->b != y->b)
+        return x->b < y->b ? -1 : 1;
+    return (x->w > y->w) - (x->w < y->w); /* angle sums in an order-free order */
 }
 
 /* CSR from sorted (a, b) pairs with duplicates removed: offsets[n + 1], list. */
@@ -776,17 +778,17 @@ mfg_status md_elements_build(const double *xyz, int64_t nv, const int64_t *trian
                 sub3(e.xyz + 3 * e.tris[3 * t + (k + 1) % 3], e.xyz + 3 * v, a);
                 sub3(e.xyz + 3 * e.tris[3 * t + (k + 2) % 3], e.xyz + 3 * v, b);
                 cross3(a, b, c);
-                pr[np++] = (pair64){vert_map[v] * (nF + 1) + label[t], t, atan2(norm3(c), dot3(a, b))};
+                pr[np++] = (pair64){vert_map[v], label[t], atan2(norm3(c), dot3(a, b))};
             }
         }
         qsort(pr, (size_t)np, sizeof *pr, cmp_pair);
         for (int64_t i = 0; i < np;) {
             int64_t j = i;
             double sum = 0;
-            while (j < np && pr[j].a == pr[i].a)
+            while (j < np && pr[j].a == pr[i].a && pr[j].b == pr[i].b)
                 sum += pr[j++].w;
             if (sum >= PI_D - STRAIGHT_SLACK)
-                e.vert_region_empty[pr[i].a / (nF + 1)] = 1;
+                e.vert_region_empty[pr[i].a] = 1;
             i = j;
         }
     }
