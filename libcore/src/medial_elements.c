@@ -720,6 +720,36 @@ mfg_status md_elements_build(const double *xyz, int64_t nv, const int64_t *trian
         vchain[bs[q].v0] = id;
         vchain[bs[q].v1] = id;
     }
+    /* A zero-area triangle's corners are collinear: when one of its sides lies on an edge
+     * element, all its sides (and their twins) and its non-vertex corners do, whichever
+     * face claimed it.  Repeated until nothing changes (slivers in a row). */
+    for (int changed = 1; changed;) {
+        changed = 0;
+        for (int64_t t = 0; t < nt; t++) {
+            if (!zero[t])
+                continue;
+            int64_t E = -1;
+            for (int k = 0; k < 3; k++)
+                if (e.side_elem[3 * t + k] >= nF)
+                    E = e.side_elem[3 * t + k];
+            if (E < 0)
+                continue;
+            for (int k = 0; k < 3; k++) {
+                int64_t sd = 3 * t + k, v = e.tris[sd], w = e.tris[3 * t + (k + 1) % 3];
+                if (e.side_elem[sd] < nF) {
+                    int64_t tw = twin_side(e.tris, nbr[sd], v, w);
+                    e.side_elem[sd] = E;
+                    if (tw >= 0)
+                        e.side_elem[tw] = E;
+                    changed = 1;
+                }
+                if (vert_map[v] < 0 && vchain[v] != E) {
+                    vchain[v] = E;
+                    changed = 1;
+                }
+            }
+        }
+    }
     for (int64_t t = 0; t < nt; t++)
         for (int k = 0; k < 3; k++) {
             int64_t v = e.tris[3 * t + k];

@@ -787,6 +787,59 @@ static void test_random_roots(void)
            roots, forms, worst, worst_abs);
 }
 
+/* A zero-area sliver (A, M, B) along the cube's edge A = (0,0,40), B = (40,0,40), with M
+ * splitting the front face's side: still 6 / 12 / 8, the sliver has no face, and the edge
+ * A-B is one element whichever face claimed the sliver. */
+static void test_zero_area_on_edge(void)
+{
+    static tmesh m, r;
+    grid_cube(&m, 40, 1);
+    memset(&r, 0, sizeof r);
+    r.nv = m.nv;
+    memcpy(r.xyz, m.xyz, sizeof m.xyz);
+    for (int64_t t = 0; t < m.nt; t++) {
+        const int64_t *tv = m.tri + 3 * t;
+        if (m.xyz[3 * tv[0] + 1] == 0 && m.xyz[3 * tv[1] + 1] == 0 && m.xyz[3 * tv[2] + 1] == 0)
+            continue; /* the front face y = 0, rebuilt below */
+        tri(&r, tv[0], tv[1], tv[2]);
+    }
+    int64_t P0 = vtx(&r, 0, 0, 0), P1 = vtx(&r, 40, 0, 0), A = vtx(&r, 0, 0, 40),
+            B = vtx(&r, 40, 0, 40), M = vtx(&r, 20, 0, 40);
+    tri(&r, P0, P1, B);
+    tri(&r, P0, B, M);
+    tri(&r, P0, M, A);
+    int64_t zt = r.nt;
+    tri(&r, A, M, B); /* zero area */
+    md_elements el;
+    mfg_status st = md_elements_build(r.xyz, r.nv, r.tri, r.nt, 0.5, &el);
+    CHECK_EQ_INT(st, MFG_OK);
+    if (st != MFG_OK) {
+        fprintf(stderr, "  %s\n", mfg_last_error());
+        return;
+    }
+    CHECK_EQ_INT(el.nfaces, 6);
+    CHECK_EQ_INT(el.nedges, 12);
+    CHECK_EQ_INT(el.nverts, 8);
+    CHECK_EQ_INT(el.face_of_triangle[zt], -1);
+    double a[3] = {0, 0, 40}, b[3] = {40, 0, 40};
+    int64_t E = edge_with(&el, a, b);
+    CHECK(E >= 0);
+    if (E >= 0)
+        CHECK_EQ_INT(el.edge_convex[E - el.nfaces], 1);
+    /* M lies on the edge: every corner at M, and every side of the sliver, is the edge's. */
+    int corners = 0;
+    for (int64_t t = 0; t < r.nt; t++)
+        for (int k = 0; k < 3; k++)
+            if (el.tris[3 * t + k] == M) {
+                corners++;
+                CHECK_EQ_INT(el.corner_elem[3 * t + k], E);
+            }
+    CHECK_EQ_INT(corners, 3);
+    for (int k = 0; k < 3; k++)
+        CHECK_EQ_INT(el.side_elem[3 * zt + k], E);
+    md_elements_free(&el);
+}
+
 /* ---- refusals ------------------------------------------------------------------------- */
 
 static void expect_refused(const tmesh *m, double tol, mfg_status st, const char *text)
@@ -830,6 +883,7 @@ int main(void)
     test_distance_field();
     test_float32_tilted();
     test_zero_area_bridge();
+    test_zero_area_on_edge();
     test_forms();
     test_dist_closed();
     test_random_roots();
