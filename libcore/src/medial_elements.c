@@ -903,22 +903,26 @@ static double seg_dist(const double *x, const double *a, const double *b)
     return norm3(r);
 }
 
-/* Is the projection p of a point on face f's plane inside one of its triangles?  2-D
- * test after dropping the dominant axis; each triangle is taken with its own turn. */
+/* Is the projection p of a point on face f's plane inside the face?  Winding number of
+ * its boundary sides (outer loop and holes) after dropping the dominant axis (Sunday's
+ * rule with exact orientations): O(boundary sides), not O(triangles).  The dropped axis
+ * may mirror the face, which flips the winding's sign but not whether it is 0. */
 static int face_contains(const md_elements *el, int64_t f, const double *p)
 {
     int ax = el->face_axis[f], i0 = (ax + 1) % 3, i1 = (ax + 2) % 3;
-    for (int64_t q = el->face_tri_offsets[f]; q < el->face_tri_offsets[f + 1]; q++) {
-        const int64_t *tv = el->tris + 3 * el->face_tris[q];
-        const double *a = el->xyz + 3 * tv[0], *b = el->xyz + 3 * tv[1], *c = el->xyz + 3 * tv[2];
-        int o = mfg_orient2d(a[i0], a[i1], b[i0], b[i1], c[i0], c[i1]);
-        int o0 = mfg_orient2d(a[i0], a[i1], b[i0], b[i1], p[i0], p[i1]);
-        int o1 = mfg_orient2d(b[i0], b[i1], c[i0], c[i1], p[i0], p[i1]);
-        int o2 = mfg_orient2d(c[i0], c[i1], a[i0], a[i1], p[i0], p[i1]);
-        if (o0 * o >= 0 && o1 * o >= 0 && o2 * o >= 0)
-            return 1;
+    int64_t wn = 0;
+    for (int64_t q = el->face_side_offsets[f]; q < el->face_side_offsets[f + 1]; q++) {
+        int64_t sd = el->face_sides[q], t = sd / 3, k = sd % 3;
+        const double *a = el->xyz + 3 * el->tris[3 * t + k];
+        const double *b = el->xyz + 3 * el->tris[3 * t + (k + 1) % 3];
+        if (a[i1] <= p[i1]) {
+            if (b[i1] > p[i1] && mfg_orient2d(a[i0], a[i1], b[i0], b[i1], p[i0], p[i1]) > 0)
+                wn++;
+        } else if (b[i1] <= p[i1] && mfg_orient2d(a[i0], a[i1], b[i0], b[i1], p[i0], p[i1]) < 0) {
+            wn--;
+        }
     }
-    return 0;
+    return wn != 0;
 }
 
 double md_region_margin(const md_elements *el, int64_t e, const double x[3], int64_t *which)
@@ -941,7 +945,8 @@ double md_region_margin(const md_elements *el, int64_t e, const double x[3], int
                 w = el->side_elem[sd];
             }
         }
-        m = face_contains(el, e, p) ? best : -best;
+        /* On the boundary (best == 0) the foot is in the closed face. */
+        m = best == 0 || face_contains(el, e, p) ? best : -best;
         if (s < m) {
             m = s;
             w = -1;
