@@ -251,43 +251,66 @@ static void test_cube(void)
 }
 
 /* Shuffled triangles with rotated corners give the same elements bit for bit. */
-static void test_canonical_ids(void)
+static void check_shuffle_invariant(const tmesh *m, double tol)
 {
-    static tmesh m, r;
-    grid_cube(&m, 40, 3);
-    r = m;
+    static tmesh r;
+    r = *m;
     int64_t perm[1024];
-    for (int64_t t = 0; t < m.nt; t++)
+    for (int64_t t = 0; t < m->nt; t++)
         perm[t] = t;
-    for (int64_t t = m.nt - 1; t > 0; t--) {
+    for (int64_t t = m->nt - 1; t > 0; t--) {
         int64_t j = rng_int(0, t), x = perm[t];
         perm[t] = perm[j];
         perm[j] = x;
     }
-    for (int64_t t = 0; t < m.nt; t++) {
+    for (int64_t t = 0; t < m->nt; t++) {
         int rot = (int)rng_int(0, 2);
         for (int k = 0; k < 3; k++)
-            r.tri[3 * perm[t] + k] = m.tri[3 * t + (k + rot) % 3];
+            r.tri[3 * perm[t] + k] = m->tri[3 * t + (k + rot) % 3];
     }
     md_elements a, b;
-    CHECK_EQ_INT(md_elements_build(m.xyz, m.nv, m.tri, m.nt, 0.5, &a), MFG_OK);
-    CHECK_EQ_INT(md_elements_build(r.xyz, r.nv, r.tri, r.nt, 0.5, &b), MFG_OK);
+    CHECK_EQ_INT(md_elements_build(m->xyz, m->nv, m->tri, m->nt, tol, &a), MFG_OK);
+    CHECK_EQ_INT(md_elements_build(r.xyz, r.nv, r.tri, r.nt, tol, &b), MFG_OK);
     CHECK_EQ_INT(a.nelements, b.nelements);
-    if (a.nelements == b.nelements && a.nelements == 26) {
-        CHECK(!memcmp(a.face_plane, b.face_plane, 4 * 6 * sizeof(double)));
-        CHECK(!memcmp(a.edge_seg, b.edge_seg, 6 * 12 * sizeof(double)));
-        CHECK(!memcmp(a.edge_faces, b.edge_faces, 2 * 12 * sizeof(int64_t)));
-        CHECK(!memcmp(a.edge_ends, b.edge_ends, 2 * 12 * sizeof(int64_t)));
-        CHECK(!memcmp(a.edge_w, b.edge_w, 6 * 12 * sizeof(double)));
-        CHECK(!memcmp(a.vert_xyz, b.vert_xyz, 3 * 8 * sizeof(double)));
-        CHECK(!memcmp(a.bound_offsets, b.bound_offsets, 27 * sizeof(int64_t)));
+    if (a.nelements == b.nelements && a.nelements > 0 && a.nfaces == b.nfaces &&
+        a.nedges == b.nedges) {
+        size_t nf = (size_t)a.nfaces, ne = (size_t)a.nedges, nx = (size_t)a.nverts;
+        CHECK(!memcmp(a.face_plane, b.face_plane, 4 * nf * sizeof(double)));
+        CHECK(!memcmp(a.edge_seg, b.edge_seg, 6 * ne * sizeof(double)));
+        CHECK(!memcmp(a.edge_faces, b.edge_faces, 2 * ne * sizeof(int64_t)));
+        CHECK(!memcmp(a.edge_ends, b.edge_ends, 2 * ne * sizeof(int64_t)));
+        CHECK(!memcmp(a.edge_w, b.edge_w, 6 * ne * sizeof(double)));
+        CHECK(!memcmp(a.edge_convex, b.edge_convex, ne * sizeof(int32_t)));
+        CHECK(!memcmp(a.vert_xyz, b.vert_xyz, 3 * nx * sizeof(double)));
+        CHECK(!memcmp(a.vert_region_empty, b.vert_region_empty, nx * sizeof(int32_t)));
+        CHECK(!memcmp(a.bound_offsets, b.bound_offsets, ((size_t)a.nelements + 1) * sizeof(int64_t)));
+        CHECK(!memcmp(a.bound, b.bound, (size_t)a.bound_offsets[a.nelements] * sizeof(int64_t)));
         int same = 1;
-        for (int64_t t = 0; t < m.nt; t++)
+        for (int64_t t = 0; t < m->nt; t++) {
             same &= a.face_of_triangle[t] == b.face_of_triangle[perm[t]];
+            /* the same triangle's sides and corners, whatever its rotation */
+            for (int k = 0; k < 3; k++) {
+                int kk = -1;
+                for (int j = 0; j < 3; j++)
+                    if (b.tris[3 * perm[t] + j] == a.tris[3 * t + k])
+                        kk = j;
+                same &= kk >= 0 && a.corner_elem[3 * t + k] == b.corner_elem[3 * perm[t] + kk] &&
+                        a.side_elem[3 * t + k] == b.side_elem[3 * perm[t] + kk];
+            }
+        }
         CHECK(same);
     }
     md_elements_free(&a);
     md_elements_free(&b);
+}
+
+static void test_canonical_ids(void)
+{
+    static tmesh m;
+    grid_cube(&m, 40, 3);
+    check_shuffle_invariant(&m, 0.5);
+    l_bracket(&m);
+    check_shuffle_invariant(&m, 0.4);
 }
 
 static void test_l_bracket(void)
