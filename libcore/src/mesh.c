@@ -67,6 +67,11 @@ static int zero_area(const double *a, const double *b, const double *c)
            mfg_orient2d(a[2], a[0], b[2], b[0], c[2], c[0]) == 0;
 }
 
+int mfg_triangle_zero_area(const double *a, const double *b, const double *c)
+{
+    return zero_area(a, b, c);
+}
+
 /* The corner of side `side`'s triangle at vertex v (an end of that side). */
 static int64_t corner_at(const int64_t *tris, int64_t side, int64_t v)
 {

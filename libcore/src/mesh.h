@@ -25,4 +25,7 @@ mfg_status mfg_mesh_require_closed(const double *xyz, int64_t nvertices,
                                    const int64_t *triangles, int64_t ntriangles,
                                    mfg_mesh_report *report, int64_t **out_neighbours);
 
+/* 1 when triangle abc has zero area, exactly (its three projected orientations vanish). */
+int mfg_triangle_zero_area(const double *a, const double *b, const double *c);
+
 #endif

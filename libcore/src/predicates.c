@@ -305,6 +305,47 @@ int mfg_orient3(const double a[3], const double b[3], const double c[3])
     return expansion_sign(n, s);
 }
 
+/* Exact det[a, b, c] on raw coordinates, as an expansion of up to 24 components. */
+static int det3_expansion(const double a[3], const double b[3], const double c[3], double *h)
+{
+    double t0[8], t1[8], t2[8], s01[16], tmp[24];
+    int n0 = cofactor_term(a[0], b[1], c[2], b[2], c[1], t0);
+    int n1 = cofactor_term(a[1], b[2], c[0], b[0], c[2], t1);
+    int n2 = cofactor_term(a[2], b[0], c[1], b[1], c[0], t2);
+    int n01 = sum_expansion(n0, t0, n1, t1, s01, tmp);
+    return sum_expansion(n01, s01, n2, t2, h, tmp);
+}
+
+int mfg_orient3d(const double a[3], const double b[3], const double c[3], const double d[3])
+{
+    double adx = a[0] - d[0], ady = a[1] - d[1], adz = a[2] - d[2];
+    double bdx = b[0] - d[0], bdy = b[1] - d[1], bdz = b[2] - d[2];
+    double cdx = c[0] - d[0], cdy = c[1] - d[1], cdz = c[2] - d[2];
+    double bc = bdx * cdy - cdx * bdy, ca = cdx * ady - adx * cdy, ab = adx * bdy - bdx * ady;
+    double det = adz * bc + bdz * ca + cdz * ab;
+    double perm = (fabs(bdx * cdy) + fabs(cdx * bdy)) * fabs(adz) +
+                  (fabs(cdx * ady) + fabs(adx * cdy)) * fabs(bdz) +
+                  (fabs(adx * bdy) + fabs(bdx * ady)) * fabs(cdz);
+    /* Shewchuk's o3derrboundA = (7 + 56u) u on the permanent of the differences (each
+     * difference rounds once, then the 3x3 determinant's products and sums). */
+    double bound = (7.0 + 56.0 * U) * U * perm;
+    if (perm > 1e-250 && perm < 1e250) {
+        if (det > bound)
+            return 1;
+        if (-det > bound)
+            return -1;
+    }
+    /* Exact: the four determinants of the raw coordinates (no rounded difference). */
+    double acd[24], abc[24], bcd[24], abd[24], s1[48], s2[48], ns2[48], s[96], tmp[96];
+    int n_acd = det3_expansion(a, c, d, acd), n_abc = det3_expansion(a, b, c, abc);
+    int n_bcd = det3_expansion(b, c, d, bcd), n_abd = det3_expansion(a, b, d, abd);
+    int n1 = sum_expansion(n_acd, acd, n_abc, abc, s1, tmp);
+    int n2 = sum_expansion(n_bcd, bcd, n_abd, abd, s2, tmp);
+    negate(n2, s2, ns2);
+    int n = sum_expansion(n1, s1, n2, ns2, s, tmp);
+    return expansion_sign(n, s);
+}
+
 /* Exact a . b as an expansion of up to 6 components. */
 static int dot3_expansion(const double a[3], const double b[3], double *e)
 {

@@ -52,6 +52,13 @@ int mfg_cross_dot_sign(const double a[3], const double b[3], const double c[3],
  * (exact; a and b must be non-zero). */
 int mfg_parallel3(const double a[3], const double b[3]);
 
+/* Sign of Shewchuk's orient3d: det[a - d, b - d, c - d] =
+ * det[a,c,d] + det[a,b,c] - det[b,c,d] - det[a,b,d].  +1 when d lies below the plane of
+ * a, b, c, i.e. on the side from which a, b, c turn clockwise: for a triangle
+ * counter-clockwise seen from outside a solid, +1 means d is on the inner side.  Exact
+ * for coordinates allowed by mfg_coord_ok. */
+int mfg_orient3d(const double a[3], const double b[3], const double c[3], const double d[3]);
+
 /* a x b with each component computed from exact products (Kahan's trick): nearly
  * parallel vectors still give an accurate direction instead of rounding noise or 0. */
 void mfg_cross3_accurate(const double a[3], const double b[3], double out[3]);

@@ -1,0 +1,146 @@
+/* SPDX-License-Identifier: LGPL-2.1-or-later */
+/* medial.h - private: the 3-D medial surface (issue 9, seed 004, Lee & Lee).  The
+ * boundary elements of the merged polyhedron (faces, edges, vertices), their distances
+ * restricted to their Voronoi regions (the paper's special bisectors), and the roots of
+ * the bisector of two elements (design: /work/notes/issue9_design.md, sections 1 and 4.0).
+ * Work package A: medial_elements.c, medial_bisector.c.  The BVH, octree and extraction
+ * modules (medial_bvh.c, medial_voxels.c, medial_sheets.c, medial_junctions.c) add their
+ * prototypes here. */
+#ifndef MFG_MEDIAL_H
+#define MFG_MEDIAL_H
+
+#include <stdint.h>
+
+#include "mfgeom.h"
+
+/* Element kinds, as the public mfg_element_kind will number them. */
+enum { MD_VERTEX = 0, MD_EDGE = 1, MD_FACE = 2 };
+
+/*
+ * The elements of a closed mesh: the solid's faces (adjacent coplanar triangles merged),
+ * edges (chains of mesh edges between two faces, straight to within eta) and vertices
+ * (the chains' ends).  Element ids: faces 0 .. nfaces-1, then edges, then vertices; each
+ * group is sorted by a key of its coordinates, so no id depends on the triangle order.
+ * Everything below is owned by the struct (md_elements_free).
+ */
+typedef struct md_elements {
+    int64_t nfaces, nedges, nverts, nelements;
+    double diag; /* L: the bounding-box diagonal */
+    double eta;  /* near-coplanar merge threshold: min(1e-7 L, 1e-3 tolerance) */
+
+    /* The mesh, with each triangle's corners rotated so that the lexicographically smallest
+     * one comes first (orientation kept): tris[3t + k], t in input order. */
+    int64_t nv, nt;
+    double *xyz;
+    int64_t *tris;
+
+    /* Faces, by face index f (= element id). */
+    double *face_plane;         /* 4 per face: outward unit normal n, offset delta (n.x = delta) */
+    int32_t *face_axis;         /* dominant coordinate of n: the plane is projected along it */
+    int64_t *face_tri_offsets;  /* nfaces + 1 */
+    int64_t *face_tris;         /* the face's non-degenerate triangles, ascending */
+    int64_t *face_side_offsets; /* nfaces + 1 */
+    int64_t *face_sides;        /* the sides 3t + k of its triangles on its boundary */
+
+    /* Edges, by edge index i (element id nfaces + i). */
+    double *edge_seg;           /* 6 per edge: A then B, A the lexicographically smaller end */
+    double *edge_dir;           /* 3 per edge: unit u = (B - A) / len */
+    double *edge_len;           /* 1 per edge */
+    int64_t *edge_faces;        /* 2 per edge: the face ids, ascending */
+    double *edge_w;             /* 6 per edge: each face's in-plane unit normal at the edge,
+                                   pointing into the face (same order as edge_faces) */
+    int64_t *edge_ends;         /* 2 per edge: vertex element ids of A and B */
+    int32_t *edge_convex;       /* 1 convex (the solid's angle < 180 deg), 0 reflex */
+
+    /* Vertices, by vertex index j (element id nfaces + nedges + j). */
+    double *vert_xyz;           /* 3 per vertex */
+    int64_t *vert_mesh;         /* its mesh vertex */
+    int32_t *vert_region_empty; /* 1 when a face corner at it is >= 180 deg (design 1.7) */
+
+    /* Closure: bound[bound_offsets[e] .. bound_offsets[e+1]) are the element ids in e's
+     * relative boundary, ascending (a face: its edges and vertices; an edge: its ends). */
+    int64_t *bound_offsets, *bound;
+    /* Edge element ids at each vertex (vertex index j), ascending. */
+    int64_t *vert_edge_offsets, *vert_edges;
+
+    /* Tables in input order: the face of each triangle (-1 for zero area), and the
+     * element whose relative interior holds each triangle side (from corner k to k+1 of
+     * the rotated triangle) and corner (a face when it lies inside one). */
+    int64_t *face_of_triangle, *side_elem, *corner_elem;
+} md_elements;
+
+/* ---- medial_elements.c ---------------------------------------------------------------- */
+
+/* Builds the elements of a closed mesh.  Refuses (with mfg_fail's detail) everything
+ * mfg_mesh_require_closed refuses, and a tolerance that is not finite and > 0, >= L, or
+ * below L / 2^20.  On failure *out is left zeroed (nothing to free). */
+mfg_status md_elements_build(const double *xyz, int64_t nvertices, const int64_t *triangles,
+                             int64_t ntriangles, double tolerance, md_elements *out);
+
+/* Releases what md_elements_build allocated (a zeroed struct is fine). */
+void md_elements_free(md_elements *el);
+
+/* MD_FACE, MD_EDGE or MD_VERTEX for element id e. */
+static inline int md_kind(const md_elements *el, int64_t e)
+{
+    return e < el->nfaces ? MD_FACE : (e < el->nfaces + el->nedges ? MD_EDGE : MD_VERTEX);
+}
+
+/* Carrier distance d_e^car: s_F = delta - n.x (signed, > 0 inside), the distance to the
+ * edge's line, or to the vertex.  grad (may be NULL) gets its gradient: -n, the unit
+ * vector from the foot on the line, or from the vertex (0 on the carrier itself). */
+double md_dist_car(const md_elements *el, int64_t e, const double x[3], double grad[3]);
+
+/* Margin of x in e's Voronoi region (design 1.7): >= 0 iff the foot of x on e's carrier
+ * lies in e's closure (for a face also s_F >= 0); the value is the smallest of the
+ * linear constraints l(x) (a face: the signed in-plane distance to its nearest boundary
+ * side).  *which (may be NULL) gets the element of e's boundary whose constraint is the
+ * smallest (a face's edge or an edge's end), or -1 (a face's s_F, a vertex's region). */
+double md_region_margin(const md_elements *el, int64_t e, const double x[3], int64_t *which);
+
+/* Restricted distance d_e: d_e^car when x is in e's Voronoi region, otherwise +INFINITY. */
+double md_dist(const md_elements *el, int64_t e, const double x[3]);
+
+/* Distance from x to e's closure (the face polygon, the segment, the point): 1-Lipschitz,
+ * <= md_dist wherever that is finite; the octree's pruning bound (design 3). */
+double md_dist_closed(const md_elements *el, int64_t e, const double x[3]);
+
+/* 1 when one element lies in the other's closure (or a == b). */
+int md_incident(const md_elements *el, int64_t a, int64_t b);
+
+/* 1 when the closures of a and b meet (they share an edge or a vertex, or are incident). */
+int md_adjacent(const md_elements *el, int64_t a, int64_t b);
+
+/* D(x) = min_e d_e(x) over all elements (brute force; the BVH comes in medial_bvh.c) and
+ * the touching set {e : d_e(x) <= D + delta}, ascending, written to out (room for
+ * nelements).  Returns its size; *D gets D(x) (+INFINITY when no region holds x). */
+int64_t md_nearest_set_brute(const md_elements *el, const double x[3], double delta,
+                             int64_t *out, double *D);
+
+/* ---- medial_bisector.c ---------------------------------------------------------------- */
+
+/* The bisector forms of design 4.0, numbered as the public mfg_bisector_form will be. */
+enum {
+    MD_FORM_PLANE_PLANE_PARALLEL = 1, MD_FORM_PLANE_PLANE = 2,
+    MD_FORM_PLANE_LINE_PARALLEL = 3, MD_FORM_PLANE_LINE_PERPENDICULAR = 4,
+    MD_FORM_PLANE_LINE_OBLIQUE = 5, MD_FORM_PLANE_POINT = 6,
+    MD_FORM_LINE_LINE_PARALLEL = 7, MD_FORM_LINE_LINE_CROSSING = 8, MD_FORM_LINE_LINE_SKEW = 9,
+    MD_FORM_LINE_POINT = 10, MD_FORM_POINT_POINT = 11
+};
+
+/* The form (1 .. 11) of the bisector of elements a and b (either order), decided exactly
+ * on the stored doubles: mfg_parallel3 and mfg_dot3_sign on the unit normals and
+ * directions, mfg_orient3d on the edges' end points (crossing vs skew lines). */
+int md_form(const md_elements *el, int64_t a, int64_t b);
+
+/* g(s) = d_a^car(p + s (q - p)) - d_b^car(p + s (q - p)) for s in [0, 1].  When g(0) and
+ * g(1) differ in sign (or one is 0), finds a root: one Newton step with the exact
+ * gradients, then Illinois regula falsi safeguarded by bisection, stopping at
+ * |g| <= 4u (d_a + d_b) or a 2-ulp bracket (design 4.0).  The result depends only on
+ * (p, q) as given: callers pass the segment from its smaller key so that both
+ * neighbours get the same bits.  Returns 1 with the point in out and s in *s_out (may be
+ * NULL), or 0 (out untouched) when g does not change sign on the segment. */
+int md_root_on_segment(const md_elements *el, int64_t a, int64_t b, const double p[3],
+                       const double q[3], double out[3], double *s_out);
+
+#endif
