@@ -452,6 +452,115 @@ MFG_API mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets
 /* Releases a result of mfg_medial_axis.  NULL is allowed. */
 MFG_API void mfg_medial_axis_free(struct mfg_medial_axis *axis);
 
+/* ------------------------------------------------------------------------- */
+/* Medial surface of a polyhedral solid (issue 9, section 1; seed 004)        */
+/* ------------------------------------------------------------------------- */
+
+/* Kinds of boundary elements of the merged polyhedron.  Element ids: faces 0 .. nfaces-1,
+ * then edges, then vertices; each group sorted by a key of its coordinates, so no id
+ * depends on the order of the input triangles. */
+typedef enum { MFG_ELEM_VERTEX = 0, MFG_ELEM_EDGE = 1, MFG_ELEM_FACE = 2 } mfg_element_kind;
+
+/* Seam and junction kinds (the paper's section 3.2):
+ *   BRANCH      three (seam) / four (junction) or more sheets meet;
+ *   SMOOTH      a sheet passes from one element pair to another (e.g. (face, face) to
+ *               (face, reflex edge)) without a third sheet;
+ *   DEGENERATE  a curve where >= 4 elements are equidistant (the axis of a square prism). */
+typedef enum { MFG_MEDIAL_BRANCH = 0, MFG_MEDIAL_SMOOTH = 1, MFG_MEDIAL_DEGENERATE = 2 } mfg_medial_kind;
+
+/* Bisector forms of two elements (1 .. 11): 1 plane-plane parallel, 2 plane-plane,
+ * 3 plane-line parallel, 4 plane-line perpendicular, 5 plane-line oblique, 6 plane-point,
+ * 7 line-line parallel, 8 line-line crossing, 9 line-line skew, 10 line-point,
+ * 11 point-point. */
+
+/* Flag: the full medial surface (default: the major part, sheets between elements whose
+ * closures are disjoint). */
+#define MFG_MEDIAL_FULL 1u
+
+/*
+ * The medial surface (locus of centres of maximal inscribed balls) with every piece tied
+ * to the boundary elements it touches and the radius (distance to the boundary) at every
+ * point.  Flat, offset-prefixed arrays as mfg_regions.
+ *
+ * Elements of the merged polyhedron:
+ *   element_kinds[e]           mfg_element_kind
+ *   element_convex[e]          edges: 1 convex, 0 reflex; faces and vertices: -1
+ *   face_of_triangle[t]        the face of input triangle t (-1: zero area)
+ *   face_planes[4f..]          outward unit normal n and offset d (n.x = d)
+ *   edge_segments[6i..]        edge i (element nfaces + i): its two end points
+ *   vertex_points[3j..]        vertex j (element nfaces + nedges + j)
+ * Sheets (surface pieces equidistant from 2 elements), triangle meshes:
+ *   sheet_elements[2s..]       the two elements, ascending;  sheet_forms[s] 1 .. 11
+ *   sheet_vertex_offsets[s .. s+1]    into sheet_vertices (3 per vertex), sheet_radii
+ *   sheet_triangle_offsets[s .. s+1]  into sheet_triangles (3 per triangle; indices local
+ *                                     to the sheet's vertices)
+ * Seams (curves where >= 3 elements are equidistant), polylines joining junctions:
+ *   seam_kinds[c]; seam_point_offsets[c .. c+1] into seam_points (3 per), seam_radii;
+ *   seam_element_offsets[c .. c+1] into seam_elements (ascending);
+ *   seam_ends[2c..]            junction index at the first / last point, or -1
+ * Junctions (centres of maximal balls touching >= 4 elements):
+ *   junction_kinds[j]; junction_points[3j..]; junction_radii[j];
+ *   junction_element_offsets[j .. j+1] into junction_elements (ascending)
+ * Cost, for benchmarks: cells_visited (octree cells tested), leaves, leaf_size.
+ */
+typedef struct mfg_medial {
+    int64_t nelements, nfaces, nedges, nvertices, ntriangles;
+    int32_t *element_kinds;
+    int32_t *element_convex;
+    int64_t *face_of_triangle;
+    double *face_planes;
+    double *edge_segments;
+    double *vertex_points;
+
+    int64_t nsheets;
+    int64_t *sheet_elements;
+    int32_t *sheet_forms;
+    int64_t *sheet_vertex_offsets;
+    int64_t *sheet_triangle_offsets;
+    double *sheet_vertices;
+    double *sheet_radii;
+    int64_t *sheet_triangles;
+
+    int64_t nseams;
+    int32_t *seam_kinds;
+    int64_t *seam_point_offsets;
+    double *seam_points;
+    double *seam_radii;
+    int64_t *seam_element_offsets;
+    int64_t *seam_elements;
+    int64_t *seam_ends;
+
+    int64_t njunctions;
+    int32_t *junction_kinds;
+    double *junction_points;
+    double *junction_radii;
+    int64_t *junction_element_offsets;
+    int64_t *junction_elements;
+
+    int64_t cells_visited, leaves;
+    double leaf_size;
+} mfg_medial;
+
+/* The medial surface of the solid bounded by a closed, consistently oriented triangle
+ * mesh (2-manifold, watertight, planar faces: adjacent coplanar triangles are merged into
+ * one face).  A curved solid comes in tessellated; the result is then the medial surface
+ * of that polyhedron.  tolerance > 0 (absolute, model units): sheet vertices lie on the
+ * analytic bisector up to rounding, sheets within tolerance of the true bisector, seam
+ * polylines within tolerance of the true seams.  flags: 0 (major part) or
+ * MFG_MEDIAL_FULL.  nthreads: 0 = the online CPUs; the result does not depend on it, nor
+ * on the order of the triangles.
+ * Errors (nothing is allocated, *out left untouched): MFG_ERR_NULL; MFG_ERR_INVALID (NaN,
+ * out-of-range coordinates or indices, open, non-manifold or inconsistently oriented
+ * mesh, tolerance not finite and > 0 or not below the bounding-box diagonal, unknown
+ * flags); MFG_ERR_DEGENERATE (no triangles, zero-area triangles only, zero volume);
+ * MFG_ERR_NOMEM.  Release the result with mfg_medial_free. */
+MFG_API mfg_status mfg_medial_surface(const double *xyz, int64_t nvertices,
+                                      const int64_t *triangles, int64_t ntriangles,
+                                      double tolerance, uint32_t flags, int32_t nthreads,
+                                      mfg_medial **out);
+/* Releases a result of mfg_medial_surface.  NULL is allowed. */
+MFG_API void mfg_medial_free(mfg_medial *medial);
+
 #ifdef __cplusplus
 }
 #endif

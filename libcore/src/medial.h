@@ -143,4 +143,132 @@ int md_form(const md_elements *el, int64_t a, int64_t b);
 int md_root_on_segment(const md_elements *el, int64_t a, int64_t b, const double p[3],
                        const double q[3], double out[3], double *s_out);
 
+/* ---- medial_bvh.c (work package B) ------------------------------------------------------ */
+
+/* A bounding-volume hierarchy over the non-degenerate triangles of el (design 2): median
+ * splits on centroid Morton codes (deterministic), leaves of <= 4 triangles, double
+ * AABBs.  Immutable after md_bvh_build: queries from many threads at once are safe. */
+typedef struct md_bvh md_bvh;
+
+/* MFG_OK or MFG_ERR_NOMEM (*out NULL). */
+mfg_status md_bvh_build(const md_elements *el, md_bvh **out);
+void md_bvh_free(md_bvh *bvh);
+
+/* Unsigned distance from x to the boundary; *elem (may be NULL) gets the element whose
+ * relative interior holds the nearest boundary point (ties: the smallest id), *inside
+ * (may be NULL) 1 when x is inside the solid (by the angle-weighted pseudonormal of that
+ * element), 0 outside.  For x inside, this equals D(x) = min_e md_dist(e, x). */
+double md_bvh_nearest(const md_bvh *bvh, const md_elements *el, const double x[3],
+                      int64_t *elem, int *inside);
+
+/* The elements whose closure meets the closed ball B(x, R) (faces, edges and vertices),
+ * ascending, without duplicates.  Writes at most cap ids to out and returns the full
+ * count (call again with more room when it is larger than cap). */
+int64_t md_bvh_within(const md_bvh *bvh, const md_elements *el, const double x[3], double R,
+                      int64_t *out, int64_t cap);
+
+/* ---- medial_voxels.c (work package C1): the adaptive octree ------------------------------ */
+
+/* The leaf lattice: leaf (i, j, k) is the cube [origin + h (i, j, k), origin + h (i+1, j+1,
+ * k+1)].  Lattice point (i, j, k) is computed as origin[d] + h * (double)i_d, nothing else,
+ * so that every leaf sharing the point gets the same bits. */
+typedef struct md_lattice {
+    double origin[3];
+    double h;      /* leaf side: the largest S / 2^depth <= tolerance */
+    int32_t depth; /* leaves per axis: 2^depth */
+} md_lattice;
+
+/* A leaf that a bisector may cross (design 3).  C: the candidate elements (every element
+ * that can be nearest somewhere in the cell), ascending; P: the pairs (a < b, element ids)
+ * whose bisector may cross the cell and be medial there (non-incident; in major mode
+ * disjoint closures); nT: |T_2rho(centre)|, the elements within D + 2 rho at the centre
+ * (>= 4: a junction or degenerate-seam leaf, design 4.3). */
+typedef struct md_leaf {
+    int32_t ijk[3];
+    int32_t nC, nP, nT;
+    int64_t C_off; /* into md_leaves.C */
+    int64_t P_off; /* into md_leaves.P (2 ids per pair) */
+} md_leaf;
+
+typedef struct md_leaves {
+    md_lattice lat;
+    int64_t nleaves;
+    md_leaf *leaf;      /* sorted by (i, j, k) lexicographically: independent of threads */
+    int64_t *C;         /* pooled candidate sets */
+    int64_t *P;         /* pooled pairs */
+    int64_t cells_visited;
+} md_leaves;
+
+/* Builds the leaves of the adaptive octree over el's bounding box: cells pruned when
+ * outside the solid or when no pair of candidates can have a medial bisector in them;
+ * candidates inherited from the parent below depth 3.  full: 0 major pairs only, 1 all
+ * non-incident pairs.  nthreads >= 1.  MFG_OK, MFG_ERR_NOMEM (out zeroed). */
+mfg_status md_octree_build(const md_elements *el, const md_bvh *bvh, double tolerance,
+                           int full, int nthreads, md_leaves *out);
+void md_leaves_free(md_leaves *leaves);
+
+/* ---- medial_sheets.c (work package C2): sheets on the analytic bisectors ------------------ */
+
+/* The sheets of all leaves' pairs before assembly (design 4.1): marching tetrahedra (6 Kuhn
+ * tets per leaf) on f_ab = d_a^car - d_b^car, vertices by md_root_on_segment from the
+ * segment's smaller lattice key, trimmed where another element is nearer or a or b leaves
+ * its Voronoi region, with exact boundary points there.  Vertices are welded (one vertex
+ * per (pair, lattice edge) or per boundary point).
+ *   tri_pair[2t..]   the pair of triangle t (a < b)
+ *   seg_*            seam segments: the trimmed boundary of the sheets, each with the
+ *                    three elements equidistant there (ascending) and its kind
+ *                    (MFG_MEDIAL_BRANCH when the third element is not incident to a or b,
+ *                    MFG_MEDIAL_SMOOTH when it is a sub-element of a or b that left its
+ *                    region). */
+typedef struct md_soup {
+    int64_t nverts;
+    double *xyz;      /* 3 per vertex */
+    double *radius;   /* D at the vertex */
+    int64_t ntris;
+    int64_t *tris;    /* 3 per triangle */
+    int64_t *tri_pair;
+    int64_t nsegs;
+    int64_t *seg_verts;  /* 2 per segment, into xyz */
+    int64_t *seg_elems;  /* 3 per segment */
+    int32_t *seg_kind;
+} md_soup;
+
+mfg_status md_sheets_extract(const md_elements *el, const md_bvh *bvh, const md_leaves *leaves,
+                             double tolerance, int nthreads, md_soup *out);
+void md_soup_free(md_soup *soup);
+
+/* ---- medial_junctions.c (work package C3): junctions and degenerate seams ----------------- */
+
+/* A point equidistant from a set of elements (design 4.3).  rank 3: an isolated point
+ * (a junction); rank 2: a point of a curve of such points (a degenerate seam) whose
+ * direction is dir. */
+#define MD_JMAX 32
+typedef struct md_junction {
+    double x[3];
+    double r;
+    double dir[3];       /* rank 2: unit tangent of the degenerate seam; else 0 */
+    int32_t rank;        /* 3 junction, 2 degenerate seam point */
+    int32_t kind;        /* mfg_medial_kind */
+    int32_t n;
+    int64_t elems[MD_JMAX]; /* the touching elements, ascending */
+} md_junction;
+
+/* The paper's search for the points in the box [lo, lo + side]^3 equidistant from all of
+ * T (nT >= 4 element ids, ascending): subdivision down to side <= tolerance / 8, then
+ * Gauss-Newton polish (md_junction_polish).  Writes at most cap results, returns their
+ * count (or -1 with mfg_fail on NOMEM). */
+int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo[3], double side,
+                       const int64_t *T, int nT, double tolerance, md_junction *out, int cap);
+
+/* Gauss-Newton on d_t0 = d_ti (i >= 1) from x0, with the SVD of the Jacobian (an incident
+ * pair uses its region boundary instead); returns 1 with *out filled (rank, kind, the
+ * elements within 1e-9 L of D) when it converges inside the box grown by tolerance. */
+int md_junction_polish(const md_elements *el, const md_bvh *bvh, const double x0[3],
+                       const int64_t *T, int nT, const double lo[3], double side,
+                       double tolerance, md_junction *out);
+
+/* ---- medial.c: the public entry point, assembly (sheets as connected components of one
+ * pair's triangles, seams chained and snapped to junctions, junctions merged, major/full
+ * filtering) and mfg_medial_free. -------------------------------------------------------- */
+
 #endif
