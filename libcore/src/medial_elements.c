@@ -303,7 +303,16 @@ mfg_status md_elements_build(const double *xyz, int64_t nv, const int64_t *trian
     int64_t nfaces = 0, nbs = 0, nchains = 0, nvel = 0;
 
     e.diag = L;
-    e.eta = fmin(1e-7 * L, 1e-3 * tolerance);
+    /* Near-coplanar merge threshold (design 1.3): tilted faces from float32 STL or OCC are
+     * never exactly coplanar.  Float32 rounding grows with the coordinates' magnitude,
+     * not with the part's size: a part 100 away from the origin has vertices up to
+     * 2^-24 * 140 off, and a small seed triangle tilts its plane by that over its own
+     * size, so eta also scales with max|coordinate| (2^-20 of it).  It stays below
+     * 1e-3 tolerance: a merged face moves the medial surface by far less than tolerance. */
+    double M = 0.0;
+    for (int k = 0; k < 6; k++)
+        M = fmax(M, fabs(rep.bbox[k]));
+    e.eta = fmin(1e-3 * tolerance, fmax(1e-7 * L, 0x1p-20 * M));
     e.nv = nv;
     e.nt = nt;
     e.xyz = malloc((size_t)(3 * nv + 1) * sizeof *e.xyz);
