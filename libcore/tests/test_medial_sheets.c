@@ -250,6 +250,7 @@ static void equidistance(const md_elements *el, const md_soup *s, double *dv, do
 typedef struct edge_rec {
     int64_t u, v;
     int src; /* 0 triangle side, 1 seam segment */
+    int fwd; /* a triangle side: 1 when the triangle runs from u to v */
 } edge_rec;
 
 static int cmp_edge(const void *pa, const void *pb)
@@ -264,7 +265,8 @@ static int cmp_edge(const void *pa, const void *pb)
 
 /* The welded mesh of pair (a, b): counts of edges in 1, 2 and more triangles, and of the
  * edges in one triangle that are not seam segments (*open) and seam segments of the pair
- * that are not triangle edges (*lost). */
+ * that are not triangle edges (*lost).  Also checks that the two triangles at an edge run
+ * along it in opposite directions (one orientation over the sheet). */
 static void manifold(const md_soup *s, int64_t a, int64_t b, int64_t *n1, int64_t *n2, int64_t *nmore,
                      int64_t *open, int64_t *lost)
 {
@@ -278,6 +280,7 @@ static void manifold(const md_soup *s, int64_t a, int64_t b, int64_t *n1, int64_
             E[n].u = u < v ? u : v;
             E[n].v = u < v ? v : u;
             E[n].src = 0;
+            E[n].fwd = u < v;
             n++;
         }
     }
@@ -292,17 +295,21 @@ static void manifold(const md_soup *s, int64_t a, int64_t b, int64_t *n1, int64_
         E[n].u = u < v ? u : v;
         E[n].v = u < v ? v : u;
         E[n].src = 1;
+        E[n].fwd = 0;
         n++;
     }
     qsort(E, (size_t)n, sizeof *E, cmp_edge);
     *n1 = *n2 = *nmore = *open = *lost = 0;
     for (int64_t i = 0; i < n;) {
-        int64_t j = i, nt = 0, ns = 0;
+        int64_t j = i, nt = 0, ns = 0, nf = 0;
         while (j < n && E[j].u == E[i].u && E[j].v == E[i].v) {
             nt += E[j].src == 0;
             ns += E[j].src == 1;
+            nf += E[j].src == 0 && E[j].fwd;
             j++;
         }
+        if (nt == 2)
+            CHECK_EQ_INT(nf, 1);
         if (nt == 1)
             (*n1)++;
         else if (nt == 2)
@@ -588,8 +595,71 @@ static void test_cube_full(double h)
     md_elements_free(&el);
 }
 
-int main(void)
+#ifdef MFG_SHEETS_ALLOC_FAIL
+#include "alloc_shim.h"
+
+/* md_sheets_extract with each allocation failing in turn (one thread: the failing
+ * allocator is single-threaded): MFG_ERR_NOMEM, the output zeroed, no block leaked; or,
+ * when libc absorbs the failure (qsort), the same soup. */
+static void test_alloc_fail(void)
 {
+    tmesh m;
+    box(&m, 100, 60, 20);
+    md_elements el;
+    CHECK_EQ_INT(md_elements_build(m.xyz, m.nv, m.tri, m.nt, 8, &el), MFG_OK);
+    md_leaves lv;
+    brute_leaves(&el, 8, 1, &lv);
+    md_soup ref;
+    CHECK_EQ_INT(md_sheets_extract(&el, NULL, &lv, 8, 1, &ref), MFG_OK);
+    CHECK(ref.ntris > 0 && ref.nsegs > 0);
+    int done = 0;
+    long n, absorbed = 0;
+    for (n = 1; n < 100000 && !done; n++) {
+        md_soup s;
+        memset(&s, 0x5a, sizeof s);
+        alloc_shim_arm(n);
+        mfg_status st = md_sheets_extract(&el, NULL, &lv, 8, 1, &s);
+        int same = st == MFG_OK && same_soup(&s, &ref);
+        if (st == MFG_OK)
+            md_soup_free(&s);
+        alloc_shim_stats a = alloc_shim_disarm();
+        CHECK_EQ_INT(a.net, 0);
+        if (a.failed == 0) {
+            done = 1;
+            CHECK_EQ_INT(st, MFG_OK);
+            continue;
+        }
+        if (st == MFG_OK) {
+            absorbed++;
+            CHECK(same);
+            continue;
+        }
+        CHECK_EQ_INT(st, MFG_ERR_NOMEM);
+        CHECK(s.nverts == 0 && s.ntris == 0 && s.nsegs == 0 && s.xyz == NULL && s.tris == NULL &&
+              s.seg_pair == NULL);
+    }
+    CHECK(done);
+    printf("allocations failed in turn: %ld (%ld absorbed by libc)\n", n - 2, absorbed);
+    md_soup_free(&ref);
+    brute_free(&lv);
+    md_elements_free(&el);
+}
+
+#endif
+
+/* "alloc" (the allocation-failure build only): md_sheets_extract under failing allocations;
+ * otherwise the analytic solids. */
+int main(int argc, char **argv)
+{
+#ifdef MFG_SHEETS_ALLOC_FAIL
+    if (argc > 1 && !strcmp(argv[1], "alloc")) {
+        test_alloc_fail();
+        return mfg_test_report("medial_sheets_alloc");
+    }
+#else
+    (void)argc;
+    (void)argv;
+#endif
     test_cuboid(2.5);
     test_cuboid(3.7);
     test_l_bracket(2.0);
