@@ -63,15 +63,16 @@ typedef struct pvert {
     int64_t rec;
     double tau;
     int64_t arg;
-    int argk; /* the term of tau that arg belongs to: TRIM_A, TRIM_B or TRIM_NU */
+    int argk; /* the term of tau that arg belongs to: TRIM_A, TRIM_B, TRIM_NU, TRIM_OUT */
     int lo, hi;
 } pvert;
 
-enum { TRIM_A = 0, TRIM_B = 1, TRIM_NU = 2 };
+enum { TRIM_A = 0, TRIM_B = 1, TRIM_NU = 2, TRIM_OUT = 3 };
 
 /* The state of one (leaf, pair). */
 typedef struct ctx {
     const md_elements *el;
+    const md_bvh *bvh; /* NULL: no inside test */
     const int64_t *C;
     int nC;
     int64_t a, b;
@@ -195,11 +196,21 @@ static void unit_free(unit_buf *u)
 
 /* ---- the trim ----------------------------------------------------------------------- */
 
-/* tau(x) = min(l_a, l_b, nu), nu = min over c in C \ {a, b} of d_c(x) - d_a^car(x), with
- * restricted d_c (design 4.1).  *arg gets the element of the smallest term (l_a, l_b: the
- * element of the boundary whose constraint is smallest, -1 for a face's own plane; nu:
- * c) and *argk which term it is; ties go to the smaller id.  *D gets min over C of
- * d_c(x). */
+/* The signed distance to the boundary (> 0 inside), from the BVH. */
+static double signed_dist(const ctx *c, const double *x)
+{
+    int inside;
+    double d = md_bvh_nearest(c->bvh, c->el, x, NULL, &inside);
+    return inside ? d : -d;
+}
+
+/* tau(x) = min(l_a, l_b, nu, D), nu = min over c in C \ {a, b} of d_c(x) - d_a^car(x), with
+ * restricted d_c, and D the signed distance to the boundary when there is a BVH (design
+ * 4.1: outside the solid, e.g. in a non-convex notch, the restricted distances of the
+ * faces facing away are +inf and nothing else would trim).  *arg gets the element of the
+ * smallest term (l_a, l_b: the element of the boundary whose constraint is smallest, -1
+ * for a face's own plane; nu: c; D: -1) and *argk which term it is; ties go to the smaller
+ * id.  *D gets min over C of d_c(x). */
 static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, double *D)
 {
     const md_elements *el = c->el;
@@ -233,6 +244,14 @@ static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, d
         t = nu;
         w = wn;
         k = TRIM_NU;
+    }
+    if (c->bvh && t >= 0) { /* only the sign of tau matters where it is already < 0 */
+        double sd = signed_dist(c, x);
+        if (sd < 0) {
+            t = sd;
+            w = -1;
+            k = TRIM_OUT;
+        }
     }
     *arg = w;
     *argk = k;
@@ -400,6 +419,8 @@ static int boundary_point(ctx *c, int iu, int iv)
  * d_t^car - d_a^car. */
 static double trim_term(const ctx *c, int k, int64_t t, const double *x)
 {
+    if (k == TRIM_OUT)
+        return signed_dist(c, x);
     if (k == TRIM_A)
         return md_region_margin(c->el, c->a, x, NULL);
     if (k == TRIM_B)
@@ -693,10 +714,11 @@ static int do_tet(ctx *c, const int *v, int tet)
 static const int KUHN[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
                                {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
 
-static mfg_status do_leaf(const md_elements *el, const md_leaves *lv, const md_leaf *L, unit_buf *ub,
-                          ctx *c)
+static mfg_status do_leaf(const md_elements *el, const md_bvh *bvh, const md_leaves *lv,
+                          const md_leaf *L, unit_buf *ub, ctx *c)
 {
     c->el = el;
+    c->bvh = bvh;
     c->C = lv->C + L->C_off;
     c->nC = L->nC;
     c->out = ub;
@@ -731,6 +753,7 @@ static mfg_status do_leaf(const md_elements *el, const md_leaves *lv, const md_l
 
 typedef struct job {
     const md_elements *el;
+    const md_bvh *bvh;
     const md_leaves *lv;
     int64_t nunits;
     unit_buf *units;
@@ -756,7 +779,7 @@ static void *worker(void *arg)
         if (end > j->lv->nleaves)
             end = j->lv->nleaves;
         for (int64_t i = u * UNIT_LEAVES; i < end && ub->st == MFG_OK; i++)
-            ub->st = do_leaf(j->el, j->lv, j->lv->leaf + i, ub, c);
+            ub->st = do_leaf(j->el, j->bvh, j->lv, j->lv->leaf + i, ub, c);
         if (ub->st != MFG_OK)
             atomic_store(&j->failed, 1);
     }
@@ -905,7 +928,6 @@ done:
 mfg_status md_sheets_extract(const md_elements *el, const md_bvh *bvh, const md_leaves *leaves,
                              double tolerance, int nthreads, md_soup *out)
 {
-    (void)bvh;       /* D comes from each leaf's candidates: they hold every nearest element */
     (void)tolerance; /* the leaf side h sets every threshold here */
     if (!out)
         return mfg_fail(MFG_ERR_NULL, "md_sheets_extract: out is NULL");
@@ -915,6 +937,7 @@ mfg_status md_sheets_extract(const md_elements *el, const md_bvh *bvh, const md_
     int64_t nunits = (leaves->nleaves + UNIT_LEAVES - 1) / UNIT_LEAVES;
     job j;
     j.el = el;
+    j.bvh = bvh;
     j.lv = leaves;
     j.nunits = nunits;
     j.units = calloc((size_t)(nunits ? nunits : 1), sizeof *j.units);
