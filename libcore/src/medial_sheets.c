@@ -73,6 +73,7 @@ enum { TRIM_A = 0, TRIM_B = 1, TRIM_NU = 2, TRIM_OUT = 3 };
 typedef struct ctx {
     const md_elements *el;
     const md_bvh *bvh; /* NULL: no inside test */
+    int deep;          /* the leaf lies deeper than 2h inside the solid: no inside test */
     const int64_t *C;
     int nC;
     int64_t a, b;
@@ -217,16 +218,25 @@ static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, d
     int64_t wa, wb;
     double la = md_region_margin(el, c->a, x, &wa);
     double lb = md_region_margin(el, c->b, x, &wb);
-    double da = md_dist_car(el, c->a, x, NULL);
+    double da = md_dist_car(el, c->a, x, NULL), db = md_dist_car(el, c->b, x, NULL);
     double dmin = INFINITY, nu = INFINITY;
+    if (la >= 0)
+        dmin = da;
+    if (lb >= 0 && db < dmin)
+        dmin = db;
     int64_t wn = -1;
     for (int i = 0; i < c->nC; i++) {
         int64_t e = c->C[i];
-        double d = md_dist(el, e, x);
+        if (e == c->a || e == c->b)
+            continue;
+        /* d_e >= d_e^car: the region test (the costly part) only where it can matter. */
+        double d = md_dist_car(el, e, x, NULL);
+        if (!(d < dmin) && !(d - da < nu))
+            continue;
+        if (md_region_margin(el, e, x, NULL) < 0)
+            continue; /* d_e = +inf */
         if (d < dmin)
             dmin = d;
-        if (e == c->a || e == c->b || d == INFINITY)
-            continue;
         if (d - da < nu) { /* C ascending: the first of equals is the smaller id */
             nu = d - da;
             wn = e;
@@ -245,7 +255,7 @@ static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, d
         w = wn;
         k = TRIM_NU;
     }
-    if (c->bvh && t >= 0) { /* only the sign of tau matters where it is already < 0 */
+    if (c->bvh && !c->deep && t >= 0) { /* only the sign matters where tau < 0 already */
         double sd = signed_dist(c, x);
         if (sd < 0) {
             t = sd;
@@ -317,6 +327,19 @@ static void edge_of(const ctx *c, const pvert *p, int32_t *e)
     e[3] = p->lo ^ p->hi;
 }
 
+/* The value at x of the trim term (kind k, element t): the region margin of a or b, or
+ * d_t^car - d_a^car. */
+static double trim_term(const ctx *c, int k, int64_t t, const double *x)
+{
+    if (k == TRIM_OUT)
+        return signed_dist(c, x);
+    if (k == TRIM_A)
+        return md_region_margin(c->el, c->a, x, NULL);
+    if (k == TRIM_B)
+        return md_region_margin(c->el, c->b, x, NULL);
+    return md_dist_car(c->el, t, x, NULL) - md_dist_car(c->el, c->a, x, NULL);
+}
+
 /* The boundary point on the polygon edge between marching-tets vertices iu and iv, whose
  * trims differ in sign.  The polygon edge lies in the tet face of its two lattice edges;
  * they share the corner A of the lone sign of f, the others are B < C (lattice order).
@@ -364,8 +387,19 @@ static int boundary_point(ctx *c, int iu, int iv)
         bestD = c->out->v[p0->rec].r;
     }
     const double *PA = c->cx[A], *PB = c->cx[B], *PC = c->cx[C];
+    double xn[3], gn = 0, gp = 0, tol = 1e-15 * c->el->diag;
+    memcpy(xn, p0->tau < 0 ? x0 : x1, sizeof xn);
+    int phase = 0, last = 0;
     for (int it = 0; it < BISECT_STEPS; it++) {
+        /* Phase 0 bisects the sign of tau (which may jump where a region ends) down to a
+         * bracket of 2^-10; phase 1 then solves the trimming term of the negative end,
+         * which is continuous, by Illinois regula falsi (every 4th step a bisection). */
         double tm = 0.5 * (tn + tp);
+        if (phase == 1 && it % 4 != 3) {
+            double r = tn + (tp - tn) * (gn / (gn - gp));
+            if ((r - tn) * (r - tp) < 0)
+                tm = r;
+        }
         if (tm == tn || tm == tp)
             break;
         double q[3], x[3];
@@ -377,18 +411,50 @@ static int boundary_point(ctx *c, int iu, int iv)
             for (int d = 0; d < 3; d++)
                 x[d] = x0[d] + tm * (x1[d] - x0[d]);
         }
-        int64_t arg;
-        int argk;
-        double D, tau = trim_tau(c, x, &arg, &argk, &D);
-        if (tau < 0) {
+        if (phase == 0) {
+            int64_t arg;
+            int argk;
+            double D, tau = trim_tau(c, x, &arg, &argk, &D);
+            if (tau < 0) {
+                tn = tm;
+                argn = arg;
+                argkn = argk;
+                memcpy(xn, x, sizeof xn);
+            } else {
+                tp = tm;
+                memcpy(best, x, sizeof best);
+            }
+            if (fabs(tp - tn) <= 0x1p-10) {
+                gn = trim_term(c, argkn, argn, xn);
+                gp = trim_term(c, argkn, argn, best);
+                phase = gn < 0 && gp >= 0; /* otherwise the bisection goes on */
+            }
+            continue;
+        }
+        double g = trim_term(c, argkn, argn, x);
+        if (fabs(g) <= tol) {
+            memcpy(best, x, sizeof best);
+            break;
+        }
+        if (g < 0) {
             tn = tm;
-            argn = arg;
-            argkn = argk;
+            gn = g;
+            if (last < 0)
+                gp *= 0.5;
+            last = -1;
         } else {
             tp = tm;
+            gp = g;
             memcpy(best, x, sizeof best);
-            bestD = D;
+            if (last > 0)
+                gn *= 0.5;
+            last = 1;
         }
+    }
+    {
+        int64_t arg;
+        int argk;
+        trim_tau(c, best, &arg, &argk, &bestD);
     }
     vkey k;
     k.a = c->a;
@@ -413,19 +479,6 @@ static int boundary_point(ctx *c, int iu, int iv)
     c->bpi[c->nbp] = c->npv;
     c->nbp++;
     return c->npv++;
-}
-
-/* The value at x of the trim term (kind k, element t): the region margin of a or b, or
- * d_t^car - d_a^car. */
-static double trim_term(const ctx *c, int k, int64_t t, const double *x)
-{
-    if (k == TRIM_OUT)
-        return signed_dist(c, x);
-    if (k == TRIM_A)
-        return md_region_margin(c->el, c->a, x, NULL);
-    if (k == TRIM_B)
-        return md_region_margin(c->el, c->b, x, NULL);
-    return md_dist_car(c->el, t, x, NULL) - md_dist_car(c->el, c->a, x, NULL);
 }
 
 static void corner_eqs(const ctx *c, const pvert *p, const pvert *q, const double *x, double *F)
@@ -728,6 +781,15 @@ static mfg_status do_leaf(const md_elements *el, const md_bvh *bvh, const md_lea
             c->cijk[k][d] = L->ijk[d] + ((k >> d) & 1);
             c->cx[k][d] = lv->lat.origin[d] + lv->lat.h * (double)c->cijk[k][d];
         }
+    /* Every point evaluated for this leaf (corners grown by h / 2 included) lies within
+     * 2h of its centre. */
+    c->deep = 0;
+    if (bvh && L->nP > 0) {
+        double ctr[3];
+        for (int d = 0; d < 3; d++)
+            ctr[d] = lv->lat.origin[d] + lv->lat.h * ((double)L->ijk[d] + 0.5);
+        c->deep = signed_dist(c, ctr) > 2 * lv->lat.h;
+    }
     for (int p = 0; p < L->nP; p++) {
         c->a = lv->P[L->P_off + 2 * p];
         c->b = lv->P[L->P_off + 2 * p + 1];
