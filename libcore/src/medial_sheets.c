@@ -5,10 +5,12 @@
  * Kuhn tets about the leaf's main diagonal, with every vertex a root of f_ab on its lattice
  * edge (md_root_on_segment, from the edge's smaller lattice point); then each polygon is
  * trimmed where tau < 0, tau = min(region margins of a and b, min over the other candidates
- * c of d_c - d_a^car): where tau changes sign along a polygon edge the boundary point is
- * found on f_ab = 0 inside the tet face, and the trimmed boundary becomes seam segments.
- * Every float depends only on lattice points and the elements, so the leaves that share a
- * lattice edge or a tet face get the same bits, and welding is by key alone. */
+ * c of d_c - d_a^car, and with a BVH the signed distance to the boundary): where tau
+ * changes sign along a polygon edge the boundary point is found on f_ab = 0 inside the tet
+ * face; where the two ends of a cut are trimmed by different terms, the sheet's corner is
+ * inserted (Newton on three equations); the cuts become seam segments.  Every float of a
+ * shared vertex depends only on lattice points and the elements, so the leaves that share
+ * a lattice edge or a tet face get the same bits, and welding is by key alone. */
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -22,17 +24,19 @@
 #define UNIT_LEAVES 16
 /* Triangles smaller than this times h^2 are dropped (design 4.1). */
 #define AREA_DROP 1e-6
-/* Bisection steps for a boundary point; they stop earlier at a 1-ulp bracket. */
+/* Steps for a boundary point; they stop earlier at a 1-ulp bracket or a zero. */
 #define BISECT_STEPS 80
-/* Room per (leaf, pair): the 19 Kuhn edges of a cube, plus at most one boundary point per
- * tet face (18 distinct: 12 on the cube's faces, 6 inside). */
+/* Room per (leaf, pair): the 19 Kuhn edges of a cube, at most one boundary point per tet
+ * face (18 distinct: 12 on the cube's faces, 6 inside), at most 2 corners per tet (12). */
 #define MAX_PV 64
 #define MAX_BP 48
 
 /* A vertex key: the pair, and either one lattice edge (a vertex of the marching tets;
- * e[1] all -1, c = -2) or the two lattice edges of the polygon edge that holds a boundary
- * point (ascending) and the element that trims it.  A lattice edge is its smaller lattice
- * point (i, j, k) and its Kuhn direction (1 .. 7: bit d set when it steps along axis d). */
+ * e[1] all -1, c = -2), or the two lattice edges of the polygon edge that holds a boundary
+ * point (in a fixed order) and the element that trims it, or for a sheet corner (found in
+ * one polygon only) the leaf's lattice point with direction 8 + tet, the cut's position
+ * in the polygon, c = -3.  A lattice edge is its smaller lattice point (i, j, k) and its
+ * Kuhn direction (1 .. 7: bit d set when it steps along axis d). */
 typedef struct vkey {
     int64_t a, b;
     int32_t e[2][4];
