@@ -267,7 +267,7 @@ class ThicknessFunctions(unittest.TestCase):
 
     def test_faces_and_face_thickness(self):
         sheets = self.sheets()
-        faces, owner = mid.sheet_faces(sheets)
+        faces, owner = mid.sheet_faces(sheets, 0.01)
         self.assertEqual((len(faces), owner), (2, [0, 1]))   # coplanar triangles merged
         shape = mid.shell_of(faces, 0.01)
         self.assertAlmostEqual(shape.Area, 3.0)

@@ -33,6 +33,11 @@ VERSION = 1
 TYPE = "Mfgeom::MidSurface"
 DEFAULT_BINS = 10
 CSV_HEADER = ("sheet", "x", "y", "z", "radius", "thickness")
+# A sheet is planar (one face) when all its vertices lie within this fraction of the
+# tolerance of a plane: the library places them on the analytic bisector up to rounding.
+PLANAR_FRACTION = 1e-3
+# Non-planar sheets: coplanar triangles are merged (OCCT, slow) up to this many.
+MERGE_LIMIT = 2000
 # Sewing tolerance of the sheets' faces, relative to the medial surface's tolerance:
 # neighbouring sheets meet along a seam sampled within the tolerance.
 _SEWING_FRACTION = 1.0
@@ -96,26 +101,133 @@ def write_csv(path, sheets):
     return len(sheet_of)
 
 
-def sheet_faces(sheets):
-    """Part faces of every sheet: its triangles made into a shape, coplanar neighbours
-    merged; returns (faces, sheet index of each face)."""
+def sheet_faces(sheets, tolerance):
+    """Part faces of every sheet; returns (faces, sheet index of each face).
+
+    A planar sheet (every vertex within ``PLANAR_FRACTION * tolerance`` of its
+    least-squares plane: the mid-plane of a wall, a bisector of two parallel faces)
+    becomes one planar face bounded by the mesh's boundary loops (outer loop and holes),
+    whose collinear runs are straightened: fast for any triangle count (the library
+    samples a 16 x 8 mm sheet with 1.6e5 triangles at 0.1 mm).  Any other sheet keeps its
+    triangles as faces (OCCT's makeShapeFromMesh, ~0.4 ms per triangle), coplanar
+    neighbours merged when there are at most MERGE_LIMIT of them."""
     import Part
     faces, owner = [], []
     for s in range(len(sheets)):
         pts, tri, _r = sheets.sheet(s)
         if not len(tri):
             continue
+        face = _planar_face(pts, tri, tolerance)
+        if face is not None:
+            faces.append(face)
+            owner.append(s)
+            continue
         shape = Part.Shape()
         shape.makeShapeFromMesh(([FreeCAD.Vector(*p) for p in pts.tolist()],
                                  [tuple(t) for t in tri.tolist()]), 1e-7)
-        try:
-            merged = shape.removeSplitter()
-        except Part.OCCError:
-            merged = shape   # keep the triangles: still a valid mid-surface
-        for face in merged.Faces:
-            faces.append(face)
+        merged = shape
+        if len(tri) <= MERGE_LIMIT:
+            try:
+                merged = shape.removeSplitter()
+            except Part.OCCError:
+                pass   # keep the triangles: still a valid mid-surface
+        for f in merged.Faces:
+            faces.append(f)
             owner.append(s)
     return faces, owner
+
+
+def _mesh_area(pts, tri):
+    return 0.5 * float(np.linalg.norm(np.cross(pts[tri[:, 1]] - pts[tri[:, 0]],
+                                               pts[tri[:, 2]] - pts[tri[:, 0]]), axis=1).sum())
+
+
+def boundary_loops(tri):
+    """The boundary of a triangle mesh as closed loops of vertex indices, each walked in
+    the direction its triangles give (so holes run opposite to the outer loop).  A
+    boundary edge is a directed edge whose reverse no triangle uses."""
+    tri = np.asarray(tri, dtype=np.int64).reshape(-1, 3)
+    directed = np.vstack([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
+    present = set(map(tuple, directed.tolist()))
+    following = {}
+    for a, b in directed.tolist():
+        if (b, a) not in present:
+            following.setdefault(a, []).append(b)
+    loops = []
+    while following:
+        start = next(iter(following))
+        loop, v = [start], start
+        while True:
+            nxt = following[v].pop()
+            if not following[v]:
+                del following[v]
+            if nxt == start:
+                break
+            loop.append(nxt)
+            v = nxt
+            if v not in following:   # an open chain (not a manifold boundary): give up
+                return None
+        loops.append(loop)
+    return loops
+
+
+def _straightened(points, eps):
+    """The closed polygon ``points`` (k, 3) with the samples along straight runs left
+    out: greedily from a surely kept corner (the farthest from the centroid), a run is
+    extended while every sample it skips lies within ``eps`` of its chord."""
+    n = len(points)
+    start = int(np.argmax(np.linalg.norm(points - points.mean(axis=0), axis=1)))
+    ring = np.roll(points, -start, axis=0)
+    ring = np.vstack([ring, ring[:1]])   # closed: the run may end back at the start
+    kept, anchor, j = [0], 0, 1
+    while j < n:
+        nxt = j + 1
+        chord = ring[nxt] - ring[anchor]
+        length = np.linalg.norm(chord)
+        inner = ring[anchor + 1:nxt]
+        if length > 0:
+            off = np.linalg.norm(np.cross(inner - ring[anchor], chord), axis=1) / length
+        else:
+            off = np.linalg.norm(inner - ring[anchor], axis=1)
+        if off.max() > eps:   # ring[j] is a corner
+            kept.append(j)
+            anchor = j
+        j = nxt
+    return ring[kept]
+
+
+def _planar_face(pts, tri, tolerance):
+    """One planar Part face of a planar sheet, or None (not planar, or its boundary is
+    not a set of simple loops OCCT makes a valid face of with the mesh's area)."""
+    import Part
+    centre = pts.mean(axis=0)
+    _u, _s, vt = np.linalg.svd(pts - centre, full_matrices=False)
+    normal = vt[2]
+    flat = PLANAR_FRACTION * tolerance
+    if np.abs((pts - centre) @ normal).max() > flat:
+        return None
+    loops = boundary_loops(tri)
+    if not loops:
+        return None
+    on_plane = pts - np.outer((pts - centre) @ normal, normal)
+    wires = []
+    for loop in loops:
+        ring = _straightened(on_plane[loop], flat)
+        if len(ring) < 3:
+            return None
+        vecs = [FreeCAD.Vector(*p) for p in ring.tolist()]
+        wires.append(Part.makePolygon(vecs + [vecs[0]]))
+    try:
+        face = Part.makeFace(wires, "Part::FaceMakerBullseye")
+    except Part.OCCError:
+        return None
+    if face.ShapeType != "Face":
+        face = face.Faces[0] if len(face.Faces) == 1 else None
+    area = _mesh_area(pts, tri)
+    if face is None or not face.isValid() or abs(face.Area - area) > 1e-6 * area + \
+            flat * sum(w.Length for w in wires):
+        return None
+    return face
 
 
 def shell_of(faces, tolerance):
@@ -235,7 +347,7 @@ class MidSurface(FeatureProxy):
             raise MfgeomError(f"'{source.Label}' has no sheets: the part has no wall "
                               "whose two sides face each other (not thin-walled?)")
         report = ThicknessReport(sheets, obj.Bins)
-        faces, _owner = sheet_faces(sheets)
+        faces, _owner = sheet_faces(sheets, float(source.Tolerance.Value))
         shape = shell_of(faces, float(source.Tolerance.Value))
         if obj.CsvFile:
             write_csv(os.path.expanduser(obj.CsvFile), sheets)
