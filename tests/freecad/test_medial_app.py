@@ -275,6 +275,26 @@ class ThicknessFunctions(unittest.TestCase):
                           mid.face_thickness(shape, sheets, 0.01)))
         np.testing.assert_allclose([t for _z, t in by_z], [2.0, 4.0])
 
+    def test_planar_sheet_with_hole(self):
+        """A frame-shaped planar sheet (3 x 3 with a 1 x 1 hole, 8 triangles, tilted in
+        space) becomes one planar face of area 8 with two wires; its boundary loops run
+        opposite ways."""
+        xy = [(0, 0), (3, 0), (3, 3), (0, 3), (1, 1), (2, 1), (2, 2), (1, 2)]
+        pts = np.array([_np(PLACEMENT.multVec(App.Vector(x, y, 0))) for x, y in xy])
+        tris = [(0, 1, 5), (0, 5, 4), (1, 2, 6), (1, 6, 5), (2, 3, 7), (2, 7, 6),
+                (3, 0, 4), (3, 4, 7)]
+        loops = sorted(mid.boundary_loops(tris), key=min)
+        self.assertEqual([sorted(lp) for lp in loops], [[0, 1, 2, 3], [4, 5, 6, 7]])
+        outer = loops[0][loops[0].index(0):] + loops[0][:loops[0].index(0)]
+        inner = loops[1][loops[1].index(4):] + loops[1][:loops[1].index(4)]
+        self.assertEqual((outer, inner), ([0, 1, 2, 3], [4, 7, 6, 5]))
+        sheets = msf.SheetMesh(pts, tris, np.ones(8), [0, 8], [0, 8], [(0, 1)])
+        faces, _owner = mid.sheet_faces(sheets, 0.01)
+        self.assertEqual(len(faces), 1)
+        self.assertEqual(faces[0].Surface.TypeId, "Part::GeomPlane")
+        self.assertEqual(len(faces[0].Wires), 2)
+        self.assertAlmostEqual(faces[0].Area, 8.0, delta=1e-9)
+
     def test_ramp_colours(self):
         """The thickness ramp keeps away from FreeCAD's selection and pre-selection
         colours (>= 50 CIELAB units for normal, protan and deutan vision) and its tenths

@@ -148,11 +148,13 @@ def boundary_loops(tri):
     boundary edge is a directed edge whose reverse no triangle uses."""
     tri = np.asarray(tri, dtype=np.int64).reshape(-1, 3)
     directed = np.vstack([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
-    present = set(map(tuple, directed.tolist()))
+    n = int(tri.max()) + 1 if len(tri) else 0
+    # vectorised: 1.6e5-triangle sheets have ~5e5 directed edges, few on the boundary
+    key = directed[:, 0] * n + directed[:, 1]
+    reverse = directed[:, 1] * n + directed[:, 0]
     following = {}
-    for a, b in directed.tolist():
-        if (b, a) not in present:
-            following.setdefault(a, []).append(b)
+    for a, b in directed[~np.isin(reverse, key)].tolist():
+        following.setdefault(a, []).append(b)
     loops = []
     while following:
         start = next(iter(following))
@@ -418,6 +420,7 @@ def make_mid_surface(doc, source, csv_path=None, tolerance=None, bins=DEFAULT_BI
         if made is not None:
             doc.removeObject(made.Name)
         raise
-    if made is not None and FreeCAD.GuiUp and made.ViewObject is not None:
-        made.ViewObject.Visibility = False   # the mid-surface shows the same sheets
+    if FreeCAD.GuiUp and medial.ViewObject is not None:
+        # the mid-surface draws the same sheets and legend: one legend in the view
+        medial.ViewObject.Visibility = False
     return obj
