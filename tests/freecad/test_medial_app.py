@@ -45,7 +45,7 @@ from mfgeom import core, palette  # noqa: E402
 from mfgeom.app import medial_axis_feature as maf  # noqa: E402
 from mfgeom.app import medial_surface_feature as msf  # noqa: E402
 from mfgeom.app import mid_surface_feature as mid  # noqa: E402
-from mfgeom.errors import InputError, MfgeomError  # noqa: E402
+from mfgeom.errors import InputError  # noqa: E402
 
 A, B, C = 20.0, 12.0, 4.0        # the cuboid (x, y, z): a > b > c
 PLACEMENT = App.Placement(App.Vector(5, -7, 11), App.Rotation(App.Vector(1, 2, 3), 37))

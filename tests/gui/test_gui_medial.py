@@ -224,7 +224,17 @@ def _():
     proxy = vobj.Proxy
     assert proxy.sheets.triangle_count == obj.SheetTriangleOffsets[-1] > 0
     labels = proxy.legend.labels
-    assert labels[0] == f"{2 * obj.MinRadius:.3g} mm" and labels[-1] == f"{2 * obj.MaxRadius:.3g} mm"
+    assert labels[0] == f"{2 * obj.MinRadius:.3g} mm", labels
+    assert labels[-1] == f"{2 * obj.MaxRadius:.3g} mm", labels
+    # per-vertex colours: the thinnest vertex gets the ramp's first colour, the thickest
+    # its last (the legend's ends)
+    from mfgeom import palette
+    radii = list(obj.SheetRadii)
+    colours = proxy.sheets.colours
+    assert max(abs(a - b) for a, b in zip(colours[radii.index(min(radii))],
+                                          palette.THICKNESS_RAMP[0])) < 1e-9
+    assert max(abs(a - b) for a, b in zip(colours[radii.index(max(radii))],
+                                          palette.THICKNESS_RAMP[-1])) < 1e-9
     state["medial"] = obj
 
 
