@@ -309,6 +309,11 @@ class ViewProviderMidSurface(PanelViewProvider):
         if prop == "MeanThickness":   # the last result _execute writes
             self._draw(obj)
 
+    def claimChildren(self):
+        # the medial surface it is made from sits under it in the tree (hidden)
+        source = getattr(getattr(self, "Object", None), "Source", None)
+        return [source] if source is not None else []
+
     def make_panel(self, obj):
         from mfgeom.gui.medial_panel import MidSurfacePanel
         return MidSurfacePanel(obj=obj)
