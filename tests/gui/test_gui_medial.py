@@ -182,7 +182,18 @@ def _():
     # a LENGTH x WIDTH rectangle: four corner branches and the centre line
     assert (obj.BranchCount, obj.JunctionCount) == (5, 2), (obj.BranchCount, obj.JunctionCount)
     assert abs(obj.MaxRadius - thin_wall.WIDTH / 2) < 1e-9, obj.MaxRadius
-    assert obj.ViewObject.Visibility and obj.ViewObject.Proxy is not None
+    vobj = obj.ViewObject
+    assert vobj.Visibility and vobj.DisplayMode == "Width", vobj.DisplayMode
+    # the wires coloured by width: a corner (radius 0) the ramp's first colour, the
+    # centre line (radius WIDTH / 2) its last
+    from mfgeom import palette
+    colours, radii = vobj.Proxy.colours, list(obj.Radii)
+    assert len(colours) == len(radii)
+    for r, want in ((0.0, palette.THICKNESS_RAMP[0]),
+                    (thin_wall.WIDTH / 2, palette.THICKNESS_RAMP[-1])):
+        k = min(range(len(radii)), key=lambda i: abs(radii[i] - r))
+        assert max(abs(a - b) for a, b in zip(colours[k], want)) < 1e-9, (r, colours[k])
+    assert vobj.Proxy.legend.labels[-1] == f"{thin_wall.WIDTH:.3g} mm"
     assert "mfgeom.make_medial_axis(App.getDocument('MedialGui'), " \
            "(App.getDocument('MedialGui').getObject('Tray'), " in console_text()
     state["axis"] = obj

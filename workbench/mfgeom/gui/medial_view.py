@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """View providers of the medial features (issue 9) and the colour legend they share.
 
-* Medial axis of a face: Part's own display of its wires (dark, thick) and junction
-  vertices (magenta points).
+* Medial axis of a face: display mode "Width": its wires coloured per point by the
+  face's local width (2 x clearance radius) on the same ramp, the junctions as black
+  points, and the legend; Part's modes show the plain wires.
 * Medial surface: display mode "Thickness": the sheets as one Coin indexed face set
   coloured per vertex by thickness (2 x radius, mfgeom.palette.THICKNESS_RAMP), the seams
   as black lines, the junctions as black points, and the legend of the colour scale.
@@ -24,7 +25,7 @@ from mfgeom import palette
 from mfgeom.gui.view_base import PanelViewProvider
 
 THICKNESS_MODE = "Thickness"
-PART_MODE = "Flat Lines"
+WIDTH_MODE = "Width"
 LEGEND_STEPS = 4            # labelled intervals of the bar (ends and quarters)
 # The bar in the overlay camera's unit square (x, y in [-1, 1] across the whole view).
 LEGEND_X = (-0.96, -0.91)
@@ -57,12 +58,16 @@ class Legend:
         camera.farDistance = 10.0
         light = coin.SoLightModel()
         light.model = coin.SoLightModel.BASE_COLOR
+        # its own line width and point size, whatever the view provider's root set
+        style = coin.SoDrawStyle()
+        style.lineWidth = 1.0
+        style.pointSize = 1.0
         self._bar = coin.SoSeparator()
         self._text = coin.SoSeparator()
         # Empties the bounding box the overlay adds: Fit all frames the model only.
         reset = coin.SoResetTransform()
         reset.whatToReset = coin.SoResetTransform.BBOX
-        for n in (pick, camera, light, self._bar, self._text, reset):
+        for n in (pick, camera, light, style, self._bar, self._text, reset):
             self.node.addChild(n)
         self.labels = []
 
@@ -96,6 +101,9 @@ class Legend:
                (x0, y0, 0.001)]
         outline.point.setValues(0, len(box), box)
         line = coin.SoLineSet()
+        overall = coin.SoMaterialBinding()
+        overall.value = coin.SoMaterialBinding.OVERALL
+        frame.addChild(overall)
         frame.addChild(black)
         frame.addChild(outline)
         frame.addChild(line)
@@ -168,7 +176,9 @@ class ColouredSheets:
 
 
 class ViewProviderMedialAxis(PanelViewProvider):
-    """Part's display of the medial axis' wires and junctions."""
+    """The medial axis of a face: display mode "Width" (default) draws its wires coloured
+    per point by the local width of the face (2 x clearance radius) on the thickness ramp,
+    the junctions as black points and the legend; Part's modes show the plain shape."""
 
     icon = "mfgeom_medial_axis.svg"
 
@@ -177,15 +187,83 @@ class ViewProviderMedialAxis(PanelViewProvider):
         self.Object = vobj.Object
         vobj.LineColor = (0.05, 0.05, 0.05)
         vobj.LineWidth = 3.0
-        vobj.PointColor = (1.0, 0.0, 1.0)
-        vobj.PointSize = 7.0
+        vobj.PointColor = palette.JUNCTION
+        vobj.PointSize = 5.0
 
     def attach(self, vobj):
+        from pivy import coin
         self.Object = vobj.Object
+        root = coin.SoSeparator()
+        light = coin.SoLightModel()
+        light.model = coin.SoLightModel.BASE_COLOR
+        style = coin.SoDrawStyle()
+        style.lineWidth = 4.0
+        style.pointSize = 7.0
+        self._coords = coin.SoCoordinate3()
+        self._material = coin.SoMaterial()
+        binding = coin.SoMaterialBinding()
+        binding.value = coin.SoMaterialBinding.PER_VERTEX
+        self._lines = coin.SoLineSet()
+        junctions = coin.SoSeparator()
+        colour = coin.SoBaseColor()
+        colour.rgb.setValue(*palette.JUNCTION)
+        self._junction_coords = coin.SoCoordinate3()
+        junctions.addChild(colour)
+        junctions.addChild(self._junction_coords)
+        junctions.addChild(coin.SoPointSet())
+        self.legend = Legend()
+        for node in (light, style, self._coords, self._material, binding, self._lines,
+                     junctions, self.legend.node):
+            root.addChild(node)
+        vobj.addDisplayMode(root, WIDTH_MODE)
+        self._draw(vobj.Object)
+
+    def getDisplayModes(self, vobj):
+        return [WIDTH_MODE]
+
+    def getDefaultDisplayMode(self):
+        return WIDTH_MODE
+
+    def setDisplayMode(self, mode):
+        return mode
+
+    def updateData(self, obj, prop):
+        if prop == "BranchCount":   # the last result _execute writes
+            self._draw(obj)
 
     def make_panel(self, obj):
         from mfgeom.gui.medial_panel import MedialAxisPanel
         return MedialAxisPanel(obj=obj)
+
+    def _draw(self, obj):
+        if getattr(self, "_coords", None) is None or "Radii" not in obj.PropertiesList:
+            return
+        shape = obj.Shape
+        wires = shape.Wires if not shape.isNull() else []
+        points = [[(v.Point.x, v.Point.y, v.Point.z) for v in w.OrderedVertexes]
+                  for w in wires]
+        width = 2.0 * np.asarray(obj.Radii, dtype=np.float64)
+        flat = [p for w in points for p in w]
+        if len(flat) != len(width):   # not recomputed yet (or an old file): no colours
+            flat, points, width = [], [], np.zeros(0)
+        lo, hi = (float(width.min()), float(width.max())) if len(width) else (0.0, 0.0)
+        self.colours = palette.ramp_colors(width, lo, hi) if len(width) else np.zeros((0, 3))
+        self._coords.point.setNum(len(flat))
+        self._material.diffuseColor.setNum(len(flat))
+        if flat:
+            self._coords.point.setValues(0, len(flat), flat)
+            self._material.diffuseColor.setValues(0, len(flat),
+                                                  self.colours.astype(np.float32))
+        self._lines.numVertices.setNum(len(points))
+        if points:
+            self._lines.numVertices.setValues(0, len(points), [len(w) for w in points])
+        loose = ([v.Point for v in shape.SubShapes if v.ShapeType == "Vertex"]
+                 if not shape.isNull() else [])
+        self._junction_coords.point.setNum(len(loose))
+        if loose:
+            self._junction_coords.point.setValues(0, len(loose),
+                                                  [(p.x, p.y, p.z) for p in loose])
+        self.legend.update(lo, hi, "Width")
 
 
 class ViewProviderMedialSurface(PanelViewProvider):
