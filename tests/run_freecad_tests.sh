@@ -78,6 +78,17 @@ if [ $sweep_rc -ne 0 ] || ! grep -qE "^freecad-sweep: [0-9]+ passed, 0 failed$" 
   failed=1
 fi
 
+echo "--- FreeCAD medial axis / surface tests (freecadcmd)"
+medial_log="$FREECAD_USER_HOME/medial.log"
+freecadcmd tests/freecad/test_medial_app.py > "$medial_log" 2>&1
+medial_rc=$?
+grep -E "^(FAIL|ERROR): |^medial library: |^freecad-medial: " "$medial_log"
+if [ $medial_rc -ne 0 ] || ! grep -qE "^freecad-medial: [0-9]+ passed, 0 failed$" "$medial_log" ||
+   grep -q "Traceback" "$medial_log"; then
+  echo "medial tests: FAILED (exit $medial_rc)"; grep -n -A12 "Traceback" "$medial_log" | head -120
+  failed=1
+fi
+
 echo "--- FreeCAD GUI tests (freecad under xvfb)"
 bash tests/gui/run_gui_tests.sh || failed=1
 

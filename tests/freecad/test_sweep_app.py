@@ -28,12 +28,14 @@ if os.path.join(REPO, "workbench") not in sys.path:
     sys.path.append(os.path.join(REPO, "workbench"))
 
 sys.path.append(os.path.join(REPO, "tests", "python"))
+sys.path.append(HERE)  # isolated_run
 
 import mfgeom  # noqa: E402
 from mfgeom.errors import MfgeomError  # noqa: E402
 
 STRICT = os.environ.get("MFG_SWEEP_STRICT", "") not in ("", "0")
 import sweep_oracle  # noqa: E402  (independent of libmfgeom: numpy only)
+from isolated_run import isolated  # noqa: E402
 from mfgeom.app import sweep_feature as sf  # noqa: E402
 from mfgeom.errors import InputError  # noqa: E402
 
@@ -415,32 +417,6 @@ class Feature(unittest.TestCase):
             self.assertTrue(case["back_valid"] and not case["back_touched"], prop)
             self.assertEqual(case["back_volume"], out["volume"], prop)
 
-
-def isolated(name, body):
-    """Runs ``body`` in its own freecadcmd (workbench on sys.path, mfgeom imported) and
-    returns the JSON it prints on a line starting with '=== result '."""
-    import json
-    import subprocess
-    folder = tempfile.mkdtemp()
-    script = os.path.join(folder, f"{name}.py")
-    with open(script, "w", encoding="utf-8") as f:
-        f.write(ISOLATED_PREAMBLE.format(workbench=os.path.join(REPO, "workbench")) + body)
-    run = subprocess.run(["freecadcmd", script], stdout=subprocess.PIPE,
-                         stderr=subprocess.STDOUT, text=True, timeout=300)
-    lines = [line for line in run.stdout.splitlines() if line.startswith("=== result ")]
-    if len(lines) != 1:
-        raise AssertionError(f"{name}: no result line\n{run.stdout[-3000:]}")
-    return json.loads(lines[0][len("=== result "):])
-
-
-ISOLATED_PREAMBLE = """
-import json
-import sys
-sys.path.append({workbench!r})
-import FreeCAD as App
-import Part
-import mfgeom
-"""
 
 LIBRARY_FAILURE_SCRIPT = """
 doc = App.newDocument("LibraryFailure")

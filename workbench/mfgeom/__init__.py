@@ -88,3 +88,35 @@ def make_rotational_sweep(doc, source, axis_point=(0.0, 0.0, 0.0), axis_dir=(0.0
     See :func:`mfgeom.app.sweep_feature.make_rotational_sweep`."""
     from mfgeom.app.sweep_feature import make_rotational_sweep as _make
     return _make(doc, source, axis_point, axis_dir, angle_deg, tolerance, **kwargs)
+
+
+@needs_library
+def make_medial_axis(doc, face_ref, tolerance=0.01, name="MedialAxis"):
+    """Create the parametric medial axis of the planar face ``face_ref`` = ``(obj,
+    "FaceN")`` in ``doc``: wires on the face with the clearance radius along them,
+    within ``tolerance`` (mm, a length Quantity or "0.01 mm").
+    See :func:`mfgeom.app.medial_axis_feature.make_medial_axis`."""
+    from mfgeom.app.medial_axis_feature import make_medial_axis as _make
+    return _make(doc, face_ref, tolerance, name=name)
+
+
+@needs_library
+def make_medial_surface(doc, source, tolerance=None, major_only=True, **kwargs):
+    """Create the parametric medial surface of the solid ``source`` in ``doc``: sheets
+    coloured by thickness (2 x radius), seams as wires, junctions as vertices.
+    ``tolerance``: mm (default None: 0.5 % of the bounding-box diagonal); ``major_only``:
+    the mid-surface part only.  Keywords: ``deflection`` (mm, curved faces), ``name``.
+    See :func:`mfgeom.app.medial_surface_feature.make_medial_surface`."""
+    from mfgeom.app.medial_surface_feature import make_medial_surface as _make
+    return _make(doc, source, tolerance, major_only, **kwargs)
+
+
+@needs_library
+def make_mid_surface(doc, source, csv_path=None, tolerance=None, **kwargs):
+    """Create the FEM mid-surface (a shell) with the local thickness of a thin-walled
+    part: ``source`` is a solid (its major medial surface is made first) or a medial
+    surface feature; ``csv_path``: write the points and their thickness there.
+    Keywords: ``bins`` (thickness histogram), ``deflection``, ``name``.
+    See :func:`mfgeom.app.mid_surface_feature.make_mid_surface`."""
+    from mfgeom.app.mid_surface_feature import make_mid_surface as _make
+    return _make(doc, source, csv_path, tolerance, **kwargs)

@@ -129,3 +129,51 @@ def contrast(a, b, vision="normal"):
     ``vision`` (one of VISIONS)."""
     la, lb = _lab(a, vision), _lab(b, vision)
     return sum((p - q) ** 2 for p, q in zip(la, lb)) ** 0.5
+
+
+# ---------------------------------------------------------------- medial surface (issue 9)
+# Wall thickness (2 x the medial radius) on the sheets of a medial surface: a sequential
+# ramp from thin (dark wine, the "look here" end) through magenta and a pale middle to
+# thick (dark blue).  It runs along the blue-yellow / lightness axes that survive red-green
+# deficiency and keeps away from green, yellow and orange: every ramp colour is >= 53
+# CIELAB units from FreeCAD's selection green and pre-selection yellow for normal, protan
+# and deutan vision, and tenths of the ramp differ by >= 9 units (tests/freecad/
+# test_medial_app.py keeps these floors).  (Tol's "sunset", tried first, is 1 unit from
+# the selection green for a deuteranope at its orange.)
+THICKNESS_RAMP = (
+    _rgb(125, 0, 60),      # thinnest
+    _rgb(200, 60, 130),
+    _rgb(240, 170, 210),
+    _rgb(235, 235, 245),
+    _rgb(130, 170, 225),
+    _rgb(40, 80, 170),
+    _rgb(20, 30, 90),      # thickest
+)
+# Seams (curves where three or more boundary elements are equidistant) and junctions.
+SEAM = _rgb(0, 0, 0)
+JUNCTION = _rgb(0, 0, 0)     # drawn as larger points on the seams
+
+
+def ramp_color(t, ramp=THICKNESS_RAMP):
+    """The colour at ``t`` in [0, 1] (clamped; NaN gives the first colour) of a ramp of
+    colours spaced evenly, linearly interpolated in RGB."""
+    t = 0.0 if not t >= 0.0 else min(float(t), 1.0)
+    x = t * (len(ramp) - 1)
+    i = min(int(x), len(ramp) - 2)
+    f = x - i
+    a, b = ramp[i], ramp[i + 1]
+    return tuple(a[k] + (b[k] - a[k]) * f for k in range(3))
+
+
+def ramp_colors(values, lo, hi, ramp=THICKNESS_RAMP):
+    """(n, 3) float colours of ``values`` on the ramp between ``lo`` and ``hi`` (all the
+    middle colour when hi <= lo).  Needs numpy."""
+    import numpy as np
+    v = np.asarray(values, dtype=np.float64)
+    t = (v - lo) / (hi - lo) if hi > lo else np.full(v.shape, 0.5)
+    t = np.nan_to_num(np.clip(t, 0.0, 1.0), nan=0.0)
+    stops = np.asarray(ramp, dtype=np.float64)
+    x = t * (len(stops) - 1)
+    i = np.minimum(x.astype(np.int64), len(stops) - 2)
+    f = (x - i)[:, None]
+    return stops[i] * (1.0 - f) + stops[i + 1] * f

@@ -174,6 +174,14 @@ class FaceDomain:
         d = xyz - self._origin
         return np.column_stack((d @ self._eu, d @ self._ev))
 
+    def plane_points(self, xy):
+        """The 3-D points (global) of 2-D coordinates ``xy`` (k, 2) of a planar face's
+        domain: the inverse of the projection (2-D lengths are mm)."""
+        if self.method != "plane":
+            raise ValueError("plane_points: the face is not planar")
+        xy = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
+        return self._origin + np.outer(xy[:, 0], self._eu) + np.outer(xy[:, 1], self._ev)
+
     # ------------------------------------------------------------- curved faces
     def _build_uv(self):
         self.method = "uv"

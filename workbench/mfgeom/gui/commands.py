@@ -112,6 +112,50 @@ class RotationalSweepCommand(BaseCommand):
         return sweep_panel.SweepPanel(source, axis)
 
 
+class MedialAxisCommand(BaseCommand):
+    """The medial axis of a planar face, with the clearance radius along it (issue 9)."""
+
+    icon = "mfgeom_medial_axis.svg"
+    menu_text = "Medial axis of face"
+    tooltip = ("The medial axis of a planar face (centres of the largest inscribed discs) "
+               "as wires on the face,\nwith the clearance radius along them.\nSelect one "
+               "planar face; the task panel asks for the tolerance.")
+
+    def panel_for(self, selection):
+        from mfgeom.gui import medial_panel
+        return medial_panel.MedialAxisPanel(medial_panel.face_from_selection(selection))
+
+
+class MedialSurfaceCommand(BaseCommand):
+    """The medial surface of a solid, coloured by wall thickness (issue 9)."""
+
+    icon = "mfgeom_medial_surface.svg"
+    menu_text = "Medial surface"
+    tooltip = ("The medial surface of a solid (centres of the largest inscribed balls): "
+               "sheets coloured by the wall thickness (2 x radius),\nseams and junctions.\n"
+               "Select a solid (planar faces; curved ones are tessellated); the task panel "
+               "asks for the tolerance, major part only and the deflection.")
+
+    def panel_for(self, selection):
+        from mfgeom.gui import medial_panel
+        return medial_panel.MedialSurfacePanel(medial_panel.solid_from_selection(selection))
+
+
+class MidSurfaceCommand(BaseCommand):
+    """The FEM mid-surface of a thin-walled part with its thickness (issue 9)."""
+
+    icon = "mfgeom_mid_surface.svg"
+    menu_text = "Mid-surface for FEM"
+    tooltip = ("The mid-surface of a thin-walled part as a shell, with the local "
+               "thickness as data:\na thickness report (min / max / mean / histogram) in the "
+               "Report view and a CSV file.\nSelect the solid or its medial surface.")
+
+    def panel_for(self, selection):
+        from mfgeom.gui import medial_panel
+        return medial_panel.MidSurfacePanel(
+            medial_panel.solid_from_selection(selection, allow_medial=True))
+
+
 COMMANDS = {"Mfgeom_PartingAnalysis": PartingAnalysisCommand(),
             "Mfgeom_ClassifyPoints": ClassifyPointsCommand(),
             "Mfgeom_RotationalSweep": RotationalSweepCommand()}
@@ -119,6 +163,10 @@ COMMANDS = {"Mfgeom_PartingAnalysis": PartingAnalysisCommand(),
 # The clearance check of a swept volume (issue 8); last, after the sweep it checks.
 from mfgeom.gui.clearance_command import ClearanceCheckCommand  # noqa: E402
 COMMANDS["Mfgeom_ClearanceCheck"] = ClearanceCheckCommand()
+# The medial axis and surface (issue 9).
+COMMANDS["Mfgeom_MedialAxis"] = MedialAxisCommand()
+COMMANDS["Mfgeom_MedialSurface"] = MedialSurfaceCommand()
+COMMANDS["Mfgeom_MidSurface"] = MidSurfaceCommand()
 
 for _name, _command in COMMANDS.items():
     FreeCADGui.addCommand(_name, _command)

@@ -1,0 +1,313 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""FreeCAD GUI test of the medial commands (issue 9), run as a macro under a virtual X
+server by tests/gui/run_gui_tests.sh: ``xvfb-run -a freecad tests/gui/test_gui_medial.py``.
+
+On the bundled ribbed tray (examples/parts/thin_wall.py): the three commands in the
+toolbar with their icons; wrong selections (nothing, a curved face, a whole object for
+the face command; nothing, a sheet, two solids for the solid commands) show a message and
+create nothing; "Medial axis of face" on the tray's bottom face: the task panel, OK
+creates a valid axis (analytic: 5 branches, largest radius half the tray's width) in one
+undo step, echoed in the Python console; "Medial surface" on the tray: the panel offers
+0.5 % of the bounding-box diagonal; while the library's extraction is not built, OK shows
+its "not built yet" in the panel and creates nothing (the document unchanged); once it
+extracts, OK creates the coloured medial surface (display mode "Thickness", per-vertex
+colours on the ramp, the legend's labels span the thickness range), and "Mid-surface for
+FEM" with a CSV path creates the shell, writes the CSV and reports the thickness; the
+screenshot shows the coloured mid-surface with its legend in the half-transparent tray
+(before that: the medial axis on the tray).  Prints ``freecad-gui-medial: N passed, M
+failed``; leaves with os._exit(rc).
+"""
+
+import os
+import sys
+import tempfile
+
+import FreeCAD as App
+import FreeCADGui as Gui
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+if os.path.join(ROOT, "workbench") not in sys.path:
+    sys.path.append(os.path.join(ROOT, "workbench"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "examples", "parts"))
+from gui_harness import DialogCloser, check, finish, press, pump, qt, state  # noqa: E402
+import thin_wall  # noqa: E402
+
+WORKBENCH = "MfgeomWorkbench"
+AXIS, SURFACE, MID = "Mfgeom_MedialAxis", "Mfgeom_MedialSurface", "Mfgeom_MidSurface"
+OUT = os.environ.get("MFGEOM_GUI_OUT") or os.path.join(ROOT, "out", "gui-tests")
+
+dialogs = DialogCloser()
+
+
+def _library_state():
+    """As tests/freecad/test_medial_app.py: "extracts", "stub" or "no binding"."""
+    import numpy as np
+    from mfgeom import core
+    if not hasattr(core, "medial_surface"):
+        return "no binding"
+    box = np.array([[x, y, z] for z in (0, 1) for y in (0, 2) for x in (0, 3)], dtype=float)
+    tri = np.array([[0, 2, 3], [0, 3, 1], [4, 5, 7], [4, 7, 6], [0, 1, 5], [0, 5, 4],
+                    [1, 3, 7], [1, 7, 5], [3, 2, 6], [3, 6, 7], [2, 0, 4], [2, 4, 6]])
+    try:
+        core.medial_surface(box, tri, 0.05)
+    except core.MfgError as exc:
+        if "not built yet" in str(exc):
+            return "stub"
+        raise
+    return "extracts"
+
+
+STATE = _library_state()
+EXTRACTS = STATE == "extracts"
+print(f"medial library: {STATE}")
+
+
+def task_panel():
+    """The open medial panel's widgets by object name, and the task view's buttons."""
+    _, QtGui = qt()
+    Gui.updateGui()
+    mw = Gui.getMainWindow()
+    spins = [w for w in mw.findChildren(QtGui.QDoubleSpinBox)
+             if w.objectName() == "tolerance" and w.isVisible()]
+    if not Gui.Control.activeDialog() or not spins:
+        return None
+    panel = spins[0].parentWidget()
+    widgets = {w.objectName(): w for w in panel.findChildren(QtGui.QWidget) if w.objectName()}
+    boxes = [b for b in mw.findChildren(QtGui.QDialogButtonBox)
+             if b.isVisible() and b.button(QtGui.QDialogButtonBox.Ok) is not None]
+    assert len(boxes) == 1, f"{len(boxes)} visible OK button boxes"
+    for key, role in (("ok", QtGui.QDialogButtonBox.Ok), ("cancel", QtGui.QDialogButtonBox.Cancel),
+                      ("apply", QtGui.QDialogButtonBox.Apply)):
+        widgets[key] = boxes[0].button(role)
+    return widgets
+
+
+def of_type(doc, kind):
+    return [o for o in doc.Objects if getattr(getattr(o, "Proxy", None), "Type", "") == kind]
+
+
+def select(items):
+    Gui.Selection.clearSelection()
+    for obj, sub in items:
+        if sub:
+            Gui.Selection.addSelection(obj, sub)
+        else:
+            Gui.Selection.addSelection(obj)
+
+
+def refused(command, items, want):
+    """Runs ``command`` on the selection ``items``: a message containing ``want``, no
+    panel, nothing new in the document."""
+    doc = state["doc"]
+    names, undo = [o.Name for o in doc.Objects], doc.UndoCount
+    select(items)
+    dialogs.take()
+    Gui.runCommand(command)
+    assert pump(lambda: dialogs.texts, 5), f"no message for {command} on {items}"
+    texts = dialogs.take()
+    assert task_panel() is None, "a panel opened on a wrong selection"
+    assert any(want in t for t in texts), (want, texts)
+    assert [o.Name for o in doc.Objects] == names and doc.UndoCount == undo
+
+
+def console_text():
+    _, QtGui = qt()
+    mw = Gui.getMainWindow()
+    texts = [w.toPlainText() for w in mw.findChildren(QtGui.QPlainTextEdit)
+             + mw.findChildren(QtGui.QTextEdit) if w.objectName() == "Python console"]
+    return texts[0] if texts else ""
+
+
+@check("workbench activates; the three commands in the toolbar with their icons")
+def _():
+    _, QtGui = qt()
+    Gui.activateWorkbench(WORKBENCH)
+    mw = Gui.getMainWindow()
+    bars = [b for b in mw.findChildren(QtGui.QToolBar)
+            if b.windowTitle() == "Manufacturing Geometry"]
+    texts = [a.text() for a in bars[0].actions()]
+    for command, text in ((AXIS, "Medial axis of face"), (SURFACE, "Medial surface"),
+                          (MID, "Mid-surface for FEM")):
+        assert command in Gui.listCommands(), command
+        assert text in texts, (text, texts)
+        assert os.path.isfile(Gui.Command.get(command).getInfo()["pixmap"]), command
+
+
+@check("wrong selections show a message and create nothing")
+def _():
+    import Part
+    doc = App.newDocument("MedialGui")
+    Gui.ActiveDocument = Gui.getDocument(doc.Name)
+    tray = thin_wall.add_to(doc, "Tray")
+    cyl = doc.addObject("Part::Cylinder", "Cyl")
+    cyl.Placement.Base = App.Vector(80, 0, 0)
+    sheet = doc.addObject("Part::Feature", "Sheet")
+    sheet.Shape = Part.makePlane(5, 5, App.Vector(0, -20, 0))
+    doc.recompute()
+    state.update(doc=doc, tray=tray)
+    side = next(f"Face{i + 1}" for i, f in enumerate(cyl.Shape.Faces)
+                if f.Surface.TypeId != "Part::GeomPlane")
+    refused(AXIS, [], "Select one planar face")
+    refused(AXIS, [(cyl, side)], "not planar")
+    refused(AXIS, [(tray, "")], "Select one planar face")
+    refused(SURFACE, [], "Select a solid")
+    refused(SURFACE, [(sheet, "Face1")], "not a solid")
+    refused(SURFACE, [(tray, ""), (cyl, "")], "2 objects")
+    refused(MID, [(sheet, "")], "not a solid")
+    for obj in (cyl, sheet):
+        doc.removeObject(obj.Name)
+    doc.recompute()
+
+
+@check("Medial axis of face: the tray's bottom face, OK creates the axis in one undo step")
+def _():
+    doc, tray = state["doc"], state["tray"]
+    bottom = next(f"Face{i + 1}" for i, f in enumerate(tray.Shape.Faces)
+                  if abs(f.BoundBox.ZMax) < 1e-9)
+    select([(tray, bottom)])
+    undo = doc.UndoCount
+    Gui.runCommand(AXIS)
+    panel = task_panel()
+    assert panel is not None, "no task panel"
+    assert f"{tray.Label}.{bottom}" in panel["what"].text(), panel["what"].text()
+    panel["tolerance"].setValue(0.01)
+    press(panel["ok"])
+    assert task_panel() is None, "OK left the panel open"
+    new = of_type(doc, "Mfgeom::MedialAxis")
+    assert len(new) == 1, new
+    obj = new[0]
+    assert obj.isValid() and "Touched" not in obj.State, (obj.getStatusString(), obj.State)
+    assert doc.UndoCount == undo + 1, (undo, doc.UndoCount)
+    # a LENGTH x WIDTH rectangle: four corner branches and the centre line
+    assert (obj.BranchCount, obj.JunctionCount) == (5, 2), (obj.BranchCount, obj.JunctionCount)
+    assert abs(obj.MaxRadius - thin_wall.WIDTH / 2) < 1e-9, obj.MaxRadius
+    vobj = obj.ViewObject
+    assert vobj.Visibility and vobj.DisplayMode == "Width", vobj.DisplayMode
+    # the wires coloured by width: a corner (radius 0) the ramp's first colour, the
+    # centre line (radius WIDTH / 2) its last
+    from mfgeom import palette
+    colours, radii = vobj.Proxy.colours, list(obj.Radii)
+    assert len(colours) == len(radii)
+    for r, want in ((0.0, palette.THICKNESS_RAMP[0]),
+                    (thin_wall.WIDTH / 2, palette.THICKNESS_RAMP[-1])):
+        k = min(range(len(radii)), key=lambda i: abs(radii[i] - r))
+        assert max(abs(a - b) for a, b in zip(colours[k], want)) < 1e-9, (r, colours[k])
+    assert vobj.Proxy.legend.labels[-1] == f"{thin_wall.WIDTH:.3g} mm"
+    assert "mfgeom.make_medial_axis(App.getDocument('MedialGui'), " \
+           "(App.getDocument('MedialGui').getObject('Tray'), " in console_text()
+    state["axis"] = obj
+
+
+@check("Medial surface: the panel's default tolerance; OK " +
+       ("creates the coloured medial surface" if EXTRACTS
+        else "shows the library's error and changes nothing"))
+def _():
+    doc, tray = state["doc"], state["tray"]
+    select([(tray, "")])
+    names, undo = [o.Name for o in doc.Objects], doc.UndoCount
+    Gui.runCommand(SURFACE)
+    panel = task_panel()
+    assert panel is not None, "no task panel"
+    want = 0.005 * tray.Shape.BoundBox.DiagonalLength
+    assert abs(panel["tolerance"].value() - want) < 1e-6, (panel["tolerance"].value(), want)
+    assert panel["major"].isChecked()
+    press(panel["ok"])
+    if not EXTRACTS:
+        left = task_panel()
+        assert left is not None, "the panel closed on a failure"
+        text = left["message"].text()
+        assert ("not built yet" in text if STATE == "stub"
+                else "no medial surface binding" in text), text
+        assert "\n" not in text, text
+        assert [o.Name for o in doc.Objects] == names and doc.UndoCount == undo
+        assert all(o.isValid() for o in doc.Objects)
+        press(left["cancel"])
+        assert task_panel() is None
+        return
+    assert task_panel() is None, "OK left the panel open"
+    new = of_type(doc, "Mfgeom::MedialSurface")
+    assert len(new) == 1 and new[0].isValid(), new
+    obj = new[0]
+    assert doc.UndoCount == undo + 1
+    vobj = obj.ViewObject
+    assert vobj.DisplayMode == "Thickness", vobj.DisplayMode
+    proxy = vobj.Proxy
+    assert proxy.sheets.triangle_count == obj.SheetTriangleOffsets[-1] > 0
+    labels = proxy.legend.labels
+    assert labels[0] == f"{2 * obj.MinRadius:.3g} mm", labels
+    assert labels[-1] == f"{2 * obj.MaxRadius:.3g} mm", labels
+    # per-vertex colours: the thinnest vertex gets the ramp's first colour, the thickest
+    # its last (the legend's ends)
+    from mfgeom import palette
+    radii = list(obj.SheetRadii)
+    colours = proxy.sheets.colours
+    assert max(abs(a - b) for a, b in zip(colours[radii.index(min(radii))],
+                                          palette.THICKNESS_RAMP[0])) < 1e-9
+    assert max(abs(a - b) for a, b in zip(colours[radii.index(max(radii))],
+                                          palette.THICKNESS_RAMP[-1])) < 1e-9
+    state["medial"] = obj
+
+
+if EXTRACTS:
+    @check("Mid-surface for FEM: the medial surface selected, a CSV path, OK")
+    def _():
+        doc = state["doc"]
+        medial = state["medial"]
+        select([(medial, "")])
+        path = os.path.join(tempfile.mkdtemp(), "tray-thickness.csv")
+        Gui.runCommand(MID)
+        panel = task_panel()
+        assert panel is not None, "no task panel"
+        assert not panel["tolerance"].isEnabled()
+        panel["csv"].setText(path)
+        press(panel["ok"])
+        assert task_panel() is None, "OK left the panel open"
+        new = of_type(doc, "Mfgeom::MidSurface")
+        assert len(new) == 1 and new[0].isValid(), new
+        obj = new[0]
+        assert os.path.isfile(path)
+        with open(path, encoding="utf-8") as f:
+            assert sum(1 for _line in f) == len(obj.Thickness) + 1
+        assert obj.Shape.Faces and obj.MinThickness > 0
+        assert abs(obj.MinThickness - thin_wall.RIB) < 2 * medial.Tolerance.Value, \
+            obj.MinThickness
+        assert obj.ViewObject.DisplayMode == "Thickness"
+        assert obj.ViewObject.Proxy.sheets.triangle_count > 0
+        state["mid"] = obj
+
+
+@check("screenshot")
+def _():
+    doc = state["doc"]
+    os.makedirs(OUT, exist_ok=True)
+    tray = state["tray"]
+    tray.ViewObject.Transparency = 80
+    if "mid" in state:
+        for name in ("medial", "axis"):
+            state[name].ViewObject.Visibility = False
+        state["mid"].ViewObject.Visibility = True
+        path = os.path.join(OUT, "medial-mid-surface.png")
+    else:
+        path = os.path.join(OUT, "medial-axis.png")
+    Gui.Selection.clearSelection()
+    view = Gui.getDocument(doc.Name).ActiveView
+    view.viewIsometric()
+    view.fitAll()
+    Gui.updateGui()
+    view.saveImage(path, 1000, 700, "White")
+    assert os.path.getsize(path) > 5000
+    state["image"] = path
+
+
+@check("undo removes the last feature, redo brings it back")
+def _():
+    doc = state["doc"]
+    count = len(doc.Objects)
+    doc.undo()
+    assert len(doc.Objects) < count
+    doc.redo()
+    assert len(doc.Objects) == count and all(o.isValid() for o in doc.Objects)
+
+
+finish("freecad-gui-medial")
