@@ -79,10 +79,8 @@ typedef struct job job;
 
 typedef struct worker {
     job *J;
-    level *lev;          /* lev[d], d = 0 .. depth */
-    int64_t *lev_C;      /* (depth + 1) x nelements */
-    double *lev_dc;      /* (depth + 1) x nelements */
-    double *lev_inb;     /* (depth + 1) x nelements */
+    level *lev;          /* lev[d], d = 0 .. depth: the cells on the current path */
+    int64_t *lev_cap;    /* room in lev[d]'s arrays (grown on demand: C shrinks with depth) */
     /* per-cell scratch, nelements each */
     int64_t *cand;
     double *dc, *inb, *car, *mg, *var;
@@ -223,6 +221,19 @@ static int cell(worker *w, int d, const int32_t ijk[3], const level *par, level 
         for (int64_t e = 0; e < nc; e++)
             w->cand[e] = e;
         cand = w->cand;
+    }
+
+    if (nc > w->lev_cap[d]) {
+        int64_t cap = w->lev_cap[d];
+        if (!grow((void **)&me->C, &cap, nc, sizeof *me->C))
+            return CELL_NOMEM;
+        cap = w->lev_cap[d];
+        if (!grow((void **)&me->dc, &cap, nc, sizeof *me->dc))
+            return CELL_NOMEM;
+        cap = w->lev_cap[d];
+        if (!grow((void **)&me->inb, &cap, nc, sizeof *me->inb))
+            return CELL_NOMEM;
+        w->lev_cap[d] = cap;
     }
 
     /* 1. Closed distances and u.  A face's exact closed distance costs O(its sides)
@@ -446,10 +457,14 @@ static void *work(void *arg)
 
 static void worker_free(worker *w)
 {
+    if (w->lev)
+        for (int d = 0; d <= w->J->lat.depth; d++) {
+            free(w->lev[d].C);
+            free(w->lev[d].dc);
+            free(w->lev[d].inb);
+        }
     free(w->lev);
-    free(w->lev_C);
-    free(w->lev_dc);
-    free(w->lev_inb);
+    free(w->lev_cap);
     free(w->cand);
     free(w->dc);
     free(w->inb);
@@ -469,9 +484,7 @@ static int worker_init(worker *w, job *J)
     w->J = J;
     size_t n = (size_t)J->el->nelements + 1, nl = (size_t)J->lat.depth + 1;
     w->lev = calloc(nl, sizeof *w->lev);
-    w->lev_C = malloc(nl * n * sizeof *w->lev_C);
-    w->lev_dc = malloc(nl * n * sizeof *w->lev_dc);
-    w->lev_inb = malloc(nl * n * sizeof *w->lev_inb);
+    w->lev_cap = calloc(nl, sizeof *w->lev_cap);
     w->cand = malloc(n * sizeof *w->cand);
     w->dc = malloc(n * sizeof *w->dc);
     w->inb = malloc(n * sizeof *w->inb);
@@ -479,15 +492,10 @@ static int worker_init(worker *w, job *J)
     w->mg = malloc(n * sizeof *w->mg);
     w->var = malloc(n * sizeof *w->var);
     w->A = malloc(n * sizeof *w->A);
-    if (!w->lev || !w->lev_C || !w->lev_dc || !w->lev_inb || !w->cand || !w->dc || !w->inb || !w->car ||
+    if (!w->lev || !w->lev_cap || !w->cand || !w->dc || !w->inb || !w->car ||
         !w->mg || !w->var || !w->A) {
         worker_free(w);
         return 0;
-    }
-    for (size_t d = 0; d < nl; d++) {
-        w->lev[d].C = w->lev_C + d * n;
-        w->lev[d].dc = w->lev_dc + d * n;
-        w->lev[d].inb = w->lev_inb + d * n;
     }
     return 1;
 }
