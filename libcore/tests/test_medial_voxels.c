@@ -571,6 +571,30 @@ int main(int argc, char **argv)
                 check_identical(&S[s], &el, bvh, &lv, tol0, full);
             md_leaves_free(&lv);
         }
+        /* Coarse tolerances: leaves at depth 1 .. 4, above the inheritance depth 3 and the
+         * work-unit depth (clamped to the leaf depth). */
+        if (all || !strcmp(only, "a") || !strcmp(only, "b") || !strcmp(only, "c"))
+            for (int i = 0; i < 3; i++) {
+                static const double fr[3] = {0.6, 0.3, 0.05};
+                md_elements e2;
+                double tol = tol_of(&el, fr[i]);
+                CHECK_EQ_INT(md_elements_build(S[s].m.xyz, S[s].m.nv, S[s].m.tri, S[s].m.nt,
+                                               tol, &e2), MFG_OK);
+                md_bvh *b2 = NULL;
+                CHECK_EQ_INT(md_bvh_build(&e2, &b2), MFG_OK);
+                for (int full = 0; full < 2; full++) {
+                    md_leaves lv;
+                    CHECK_EQ_INT(md_octree_build(&e2, b2, tol, full, 1, &lv), MFG_OK);
+                    printf("%s %s, tol %.3g L: depth %d, %lld leaves\n", S[s].name,
+                           full ? "full" : "major", fr[i], lv.lat.depth, (long long)lv.nleaves);
+                    check_complete(&S[s], &e2, &lv, full, 1000);
+                    check_leaves(&S[s], &e2, &lv, full);
+                    check_identical(&S[s], &e2, b2, &lv, tol, full);
+                    md_leaves_free(&lv);
+                }
+                md_bvh_free(b2);
+                md_elements_free(&e2);
+            }
         if ((all || !strcmp(only, "d")) && S[s].major_area > 0) {
             /* (d) leaves ~ A / h^2: each halving of the tolerance halves h exactly. */
             for (int i = 0; i < 3; i++) {
