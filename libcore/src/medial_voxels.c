@@ -31,12 +31,19 @@
  *     u(c); var_e is the variation of d_e^car over the cell: (s/2) |n|_1 for a face (its
  *     carrier distance is linear), rho for an edge's line or a vertex;
  *   - |d_a^car(c) - d_b^car(c)| <= var_a + var_b + delta and |dc_a(c) - dc_b(c)| <= 2 rho +
- *     delta: the bisector (or, with delta, the band of near-medial points) may cross.
+ *     delta: the bisector (or, with delta, the band of near-medial points) may cross;
+ *   - every half-space h(x) = g.x - k >= 0 that contains a's region (region_halfspaces) has
+ *     h(x) >= 0, so its maximum over the cube, h(c) + (s/2) |g|_1, is >= 0; and for one
+ *     half-space of a and one of b, the sum h_a + h_b is >= 0 at x, so its maximum over
+ *     the cube is >= 0 (the regions may meet in the cell).
  * Every test below is one of these inequalities (plus tau for rounding), so a pair that is
- * (near-)medial somewhere in a cell survives in that cell and all its ancestors.  The slack
- * delta = h / 4 keeps the pairs whose distances differ by at most h / 4 in the leaf: the
- * sheet extraction's tetrahedra then never miss a crossing through rounding, and the
- * test's completeness check (near-medial sample points) has a margin.
+ * (near-)medial somewhere in a cell survives in that cell and all its ancestors.  They
+ * replace design 3's step 4 ("both distances <= D + 2 rho at the centre or a corner"): at
+ * the centre that holds for every pair of C, and restricted distances at the corners can
+ * miss a region that passes between them.  The slack delta = h / 4 keeps the pairs whose
+ * distances differ by at most h / 4 in the leaf, which covers rounding and gives the
+ * completeness test (near-medial sample points) a margin; it costs a second layer of
+ * leaves where a sheet runs within h / 8 of a lattice plane.
  *
  * Inheritance (design 3, step 2): at depth >= 3 the candidates are the parent's C.  The
  * child's ball lies in the parent's: |c - c_p| = rho (the child's), u(c) <= u(c_p) + rho
@@ -45,6 +52,10 @@
  * A face's closed distance needs the signed in-plane distance of the centre's projection
  * to the face's boundary (O(sides)); a lower bound of it is inherited (the projection is
  * 1-Lipschitz), and while it stays positive the closed distance is |s_F|, O(1).
+ *
+ * Cost: a cell costs O(|parent's C|) distance evaluations, plus O(|A|^2) pair tests at the
+ * leaves (A: the admissible elements); above the leaves the pair search stops at the
+ * first pair.
  *
  * Parallelism (design 5): the cells at depth wd (the smallest with 8^wd >= 16 threads)
  * are the work units, in Morton order, taken from an atomic counter; each thread has its
