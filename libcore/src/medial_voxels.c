@@ -119,7 +119,7 @@ struct job {
     const md_bvh *bvh;
     md_lattice lat;
     int full;
-    double delta;     /* h / 4: the slack of the pair tests */
+    double delta;     /* h / 64: the slack of the pair tests */
     double tau;       /* rounding: 1e-9 L + 4 eta */
     double shift;     /* 4 L: moves a point off a face to read its in-plane margin */
     int8_t *may_pair; /* per element: may enter P */
