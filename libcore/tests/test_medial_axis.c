@@ -297,10 +297,13 @@ static void test_stars(void)
  * three far vertices).  A junction gathered with 1e-7 of the diagonal took in a segment
  * and a reflex vertex of the neighbouring spike that do not touch its disc (2e-5 away);
  * their foot angles misordered the ports, one port paired the two segments adjacent at a
- * reflex vertex, and the trace failed with MFG_ERR_INTERNAL.  Fixed (gather with 10 eps),
- * but the result is still wrong: two branches end at radius 0 inside the face (a window
- * switch at a convex vertex taken for the leaf, 0.34 from the boundary), so the branch
- * count misses one.  Run as the disabled ctest medial_axis_needles. */
+ * reflex vertex, and the trace failed with MFG_ERR_INTERNAL.  Then two branches ended at
+ * radius 0 inside the face, 0.34 from the boundary: the conservative advancement's
+ * margin measured an edge as +inf while the foot of the centre lay beyond the edge's
+ * ends, so it was not a lower bound of the clearance and a step jumped over the contact
+ * with a neighbouring needle's edge; the window switch at the needle's convex tip was
+ * then taken for the leaf.  Fixed by exact event roots (every element's first contact
+ * with the moving disc in closed form).  Run as the ctest medial_axis_needles. */
 static void test_needles(void)
 {
     static const double xy[] = {
@@ -397,7 +400,7 @@ static void test_bad_input(void)
 
 int main(int argc, char **argv)
 {
-    if (argc > 1 && strcmp(argv[1], "needles") == 0) { /* known wrong: see CMakeLists */
+    if (argc > 1 && strcmp(argv[1], "needles") == 0) {
         test_needles();
         return mfg_test_report("medial_axis needles");
     }
