@@ -6,28 +6,25 @@
  * vertices as points; convex vertices are the leaves of the axis (radius 0).  The axis is
  * a union of bisectors of element pairs: segment-segment (a line, or the midline of two
  * parallel edges), point-segment (a parabola), point-point (a line).  A trace starts at a
- * leaf and follows the bisector of its pair; it advances conservatively on the clearance
- * margin m(t) = min over the other elements of d_e(p(t)) - r(t) (a step never exceeds
- * m / (|p'| + |r'|), so no third element can be passed) until a third element touches
- * the disc: an event.  At an event every element touching the disc is gathered, sorted
- * by the angle of its foot point, and each angularly consecutive pair that is not
- * (segment, its own endpoint) is a port -- a branch leaving the junction.  Where the
- * foot of a segment element leaves the open segment at a reflex vertex, the element is
- * switched to that vertex (a transition along the branch, not a junction).
+ * leaf and follows the bisector of its pair.  The bisector's point and radius are
+ * polynomials of degree <= 2 in its parameter, so the first contact of every other element
+ * with the moving disc (|p - v| = r for a reflex vertex, |n . (p - a)| = r with the foot
+ * inside the open edge) is a root of a quadratic: exact in closed form.  The first event
+ * is found by a best-first branch and bound over a BVH of the edges (node capsules give a
+ * closed-form lower bound of their first contact).  At an event every element touching
+ * the disc is gathered, sorted by the angle of its foot point, and each angularly
+ * consecutive pair that is not (segment, its own endpoint) is a port -- a branch leaving
+ * the junction.  Where the foot of a segment element leaves the open segment at a reflex
+ * vertex (again a closed-form root), the element is switched to that vertex (a
+ * transition along the branch, not a junction).  Junctions joined by a branch shorter
+ * than tol are then contracted, and the result is put in canonical order (assemble).
  *
- * Status (first version, 2026-11-29):
- * - the nearest elements are found by scanning all of them (O(n) per advancement
- *   step) and events are approached by conservative advancement (hundreds of steps
- *   per branch): 1 000 segments take 2 s, 2 000 take 14 s (design target: 20 ms for
- *   1 000).  Next: the design's BVH and exact per-element event roots.
- * - needle spikes (3 000-segment jittered star, seed 7; test_needles, the disabled
- *   ctest medial_axis_needles): with the junction gather at 1e-7 diag a port paired the
- *   two segments adjacent at a reflex vertex (MFG_ERR_INTERNAL); fixed (gather 10 eps),
- *   but two branches still end at radius 0 inside the face, 0.34 from the boundary: a
- *   window switch at a convex vertex is taken for the leaf where a third element should
- *   have produced an event first.  Not yet diagnosed.
- * - junctions closer than tol are not merged; branch order follows the tracing; the
- *   crossing check is O(n^2). */
+ * History: the first version advanced conservatively on a clearance margin that measured
+ * an edge whose foot lies beyond its ends as +inf -- not a lower bound of the clearance --
+ * so on needle spikes a step could jump over a contact (false leaves), and it scanned all
+ * edges per step (1 000 segments: 2 s).  Now (same machine, 2 cores): 1 000 segments
+ * ~10 ms, 10 000 ~0.1-0.2 s, 100 000 ~1.6 s on jittered needle stars
+ * (bench/bench_medial_axis.py).  The crossing check uses the same index. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -737,7 +734,8 @@ static double elem_entry(const ma_elems *E, const ma_bis *b, int64_t e, double l
     if (b->kind == MA_PP) { /* (n . (p - a))^2 - |p - f|^2, p linear in t */
         double wx = b->p0x - b->fpx, wy = b->p0y - b->fpy;
         ts[0] = quad_entry(d1 * d1 - (b->p1x * b->p1x + b->p1y * b->p1y),
-                           2 * (d0 * d1 - (b->p1x * wx + b->p1y * wy)), d0 * d0 - (wx * wx + wy * wy),
+                           2 * (d0 * d1 - (b->p1x * wx + b->p1y * wy)),
+                           d0 * d0 - (wx * wx + wy * wy),
                            lo, hi);
     } else { /* +-n . (p - a) - r: the disc meets the line from either side */
         ts[0] = quad_entry(d2 - b->r2c, d1 - b->r1c, d0 - b->r0c, lo, hi);
@@ -1227,6 +1225,224 @@ static void elems_free(ma_elems *E)
     free(E->convex), free(E->velem), free(E->vk);
 }
 
+/* ---- the result: short junction-junction branches contracted, canonical order -------- */
+
+typedef struct { double x, y, r; int64_t id; } ma_jkey;
+
+static int cmp_jkey(const void *pa, const void *pb)
+{
+    const ma_jkey *a = pa, *b = pb;
+    if (a->x != b->x)
+        return a->x < b->x ? -1 : 1;
+    if (a->y != b->y)
+        return a->y < b->y ? -1 : 1;
+    if (a->r != b->r)
+        return a->r < b->r ? -1 : 1;
+    return (a->id > b->id) - (a->id < b->id);
+}
+
+typedef struct { int64_t a, c; double ex, ey, mx, my; int64_t b; int flip; } ma_bkey;
+
+static int cmp_bkey(const void *pa, const void *pb)
+{
+    const ma_bkey *a = pa, *b = pb;
+    if (a->a != b->a)
+        return a->a < b->a ? -1 : 1;
+    if (a->c != b->c)
+        return a->c < b->c ? -1 : 1;
+    double ka[4] = {a->ex, a->ey, a->mx, a->my}, kb[4] = {b->ex, b->ey, b->mx, b->my};
+    for (int i = 0; i < 4; i++)
+        if (ka[i] != kb[i])
+            return ka[i] < kb[i] ? -1 : 1;
+    return (a->b > b->b) - (a->b < b->b);
+}
+
+typedef struct { double len; int64_t b; } ma_lkey;
+
+static int cmp_lkey(const void *pa, const void *pb)
+{
+    const ma_lkey *a = pa, *b = pb;
+    if (a->len != b->len)
+        return a->len < b->len ? -1 : 1;
+    return (a->b > b->b) - (a->b < b->b);
+}
+
+static int cmp_i64(const void *pa, const void *pb)
+{
+    int64_t a = *(const int64_t *)pa, b = *(const int64_t *)pb;
+    return (a > b) - (a < b);
+}
+
+static int64_t uf_find(int64_t *par, int64_t j)
+{
+    while (par[j] != j)
+        j = par[j] = par[par[j]];
+    return j;
+}
+
+/* The flat result.  Junctions joined by a branch shorter than tol are one junction
+ * (contracted in order of length, so a branch closing a cycle is kept: the cycle around a
+ * tiny hole stays): the representative is the member touching the most elements (then the
+ * lowest), the elements the union, the degree the branch ends at it; the ends of the other
+ * branches are moved onto it (by < tol, radius its own).  Canonical order: junctions by
+ * (x, y, r); a branch runs from its lower junction (a leaf end last), self-loops from the
+ * side with the lower second sample, and branches are sorted by (start junction, end
+ * junction -- leaves after all junctions --, far end point, middle sample). */
+static mfg_status assemble(const ma_ctx *C, struct mfg_medial_axis **out)
+{
+    const ma_elems *E = &C->E;
+    int64_t nb = C->boff.n, ns = C->px.n, nj = C->nj;
+    mfg_status st = MFG_OK;
+    size_t zb = (size_t)(nb + 1), zj = (size_t)(nj + 1);
+    int64_t *par = malloc(zj * sizeof *par), *rep = malloc(zj * sizeof *rep);
+    int64_t *newid = malloc(zj * sizeof *newid), *deg = calloc(zj, sizeof *deg);
+    int64_t *mhead = malloc(zj * sizeof *mhead), *mnext = malloc(zj * sizeof *mnext);
+    int8_t *gone = calloc(zb, 1);
+    ma_lkey *lk = malloc(zb * sizeof *lk);
+    ma_jkey *jk = malloc(zj * sizeof *jk);
+    ma_bkey *bk = malloc(zb * sizeof *bk);
+    int64_t *eids = malloc((size_t)(C->jelem.n + 1) * sizeof *eids);
+    struct mfg_medial_axis *A = calloc(1, sizeof *A);
+    if (!par || !rep || !newid || !deg || !mhead || !mnext || !gone || !lk || !jk || !bk ||
+        !eids || !A) {
+        st = mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (result)");
+        goto fail;
+    }
+    /* contract the short junction-junction branches */
+    int64_t nl = 0;
+    for (int64_t j = 0; j < nj; j++)
+        par[j] = j;
+    for (int64_t b = 0; b < nb; b++) {
+        int64_t lo = C->boff.v[b], hi = b + 1 < nb ? C->boff.v[b + 1] : ns;
+        int64_t j0 = C->bend.v[2 * b], j1 = C->bend.v[2 * b + 1];
+        if (j0 < 0 || j1 < 0 || j0 == j1)
+            continue;
+        double len = 0;
+        for (int64_t i = lo; i + 1 < hi && len < C->tol; i++)
+            len += hypot(C->px.v[i + 1] - C->px.v[i], C->py.v[i + 1] - C->py.v[i]);
+        if (len < C->tol)
+            lk[nl].len = len, lk[nl].b = b, nl++;
+    }
+    qsort(lk, (size_t)nl, sizeof *lk, cmp_lkey);
+    for (int64_t i = 0; i < nl; i++) {
+        int64_t b = lk[i].b;
+        int64_t r0 = uf_find(par, C->bend.v[2 * b]), r1 = uf_find(par, C->bend.v[2 * b + 1]);
+        if (r0 == r1)
+            continue;
+        par[r0 > r1 ? r0 : r1] = r0 > r1 ? r1 : r0;
+        gone[b] = 1;
+    }
+    /* representatives and canonical junction order */
+    for (int64_t j = 0; j < nj; j++)
+        rep[j] = mhead[j] = -1;
+    for (int64_t j = nj - 1; j >= 0; j--) {
+        int64_t r = uf_find(par, j), k = rep[r];
+        if (k < 0 || C->J[j].nelem >= C->J[k].nelem)
+            rep[r] = j;
+        mnext[j] = mhead[r], mhead[r] = j;
+    }
+    int64_t nk = 0;
+    for (int64_t j = 0; j < nj; j++)
+        if (par[j] == j) {
+            const ma_junction *J = &C->J[rep[j]];
+            jk[nk].x = J->x, jk[nk].y = J->y, jk[nk].r = J->r, jk[nk].id = j, nk++;
+        }
+    qsort(jk, (size_t)nk, sizeof *jk, cmp_jkey);
+    for (int64_t k = 0; k < nk; k++)
+        newid[jk[k].id] = k;
+    /* branches: ends mapped, orientation, order */
+    int64_t nbo = 0, nso = 0;
+    for (int64_t b = 0; b < nb; b++) {
+        if (gone[b])
+            continue;
+        int64_t lo = C->boff.v[b], hi = b + 1 < nb ? C->boff.v[b + 1] : ns;
+        int64_t j0 = C->bend.v[2 * b], j1 = C->bend.v[2 * b + 1];
+        int64_t a = j0 >= 0 ? newid[uf_find(par, j0)] : INT64_MAX;
+        int64_t c = j1 >= 0 ? newid[uf_find(par, j1)] : INT64_MAX;
+        int flip = c < a;
+        if (a == c && hi - lo >= 3) { /* a self-loop, or both ends leaves */
+            int64_t p = a == INT64_MAX ? lo : lo + 1, q = a == INT64_MAX ? hi - 1 : hi - 2;
+            flip = C->px.v[q] < C->px.v[p] || (C->px.v[q] == C->px.v[p] && C->py.v[q] < C->py.v[p]);
+        }
+        ma_bkey *K = &bk[nbo++];
+        K->a = flip ? c : a, K->c = flip ? a : c, K->b = b, K->flip = flip;
+        int64_t far = flip ? lo : hi - 1, mid = lo + (hi - lo) / 2;
+        K->ex = C->px.v[far], K->ey = C->py.v[far], K->mx = C->px.v[mid], K->my = C->py.v[mid];
+        if (K->a != INT64_MAX)
+            deg[K->a]++;
+        if (K->c != INT64_MAX)
+            deg[K->c]++;
+        nso += hi - lo;
+    }
+    qsort(bk, (size_t)nbo, sizeof *bk, cmp_bkey);
+    /* the flat arrays */
+    A->nbranches = nbo, A->npoints = nso, A->njunctions = nk;
+    A->branch_offsets = malloc((size_t)(nbo + 1) * sizeof(int64_t));
+    A->points = malloc((size_t)(2 * nso + 1) * sizeof(double));
+    A->radii = malloc((size_t)(nso + 1) * sizeof(double));
+    A->branch_ends = malloc((size_t)(2 * nbo + 1) * sizeof(int64_t));
+    A->junction_points = malloc((size_t)(2 * nk + 1) * sizeof(double));
+    A->junction_radii = malloc((size_t)(nk + 1) * sizeof(double));
+    A->junction_degree = malloc((size_t)(nk + 1) * sizeof(int64_t));
+    A->junction_offsets = malloc((size_t)(nk + 1) * sizeof(int64_t));
+    A->junction_elements = malloc((size_t)(C->jelem.n + 1) * sizeof(int64_t));
+    if (!A->branch_offsets || !A->points || !A->radii || !A->branch_ends ||
+        !A->junction_points || !A->junction_radii || !A->junction_degree ||
+        !A->junction_offsets || !A->junction_elements) {
+        st = mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (result)");
+        goto fail;
+    }
+    int64_t o = 0;
+    for (int64_t k = 0; k < nbo; k++) {
+        const ma_bkey *K = &bk[k];
+        int64_t lo = C->boff.v[K->b], hi = K->b + 1 < nb ? C->boff.v[K->b + 1] : ns;
+        A->branch_offsets[k] = o;
+        A->branch_ends[2 * k] = K->a == INT64_MAX ? -1 : K->a;
+        A->branch_ends[2 * k + 1] = K->c == INT64_MAX ? -1 : K->c;
+        for (int64_t i = 0; i < hi - lo; i++, o++) {
+            int64_t s = K->flip ? hi - 1 - i : lo + i;
+            A->points[2 * o] = C->px.v[s], A->points[2 * o + 1] = C->py.v[s];
+            A->radii[o] = C->pr.v[s];
+        }
+        for (int e = 0; e < 2; e++) { /* ends onto their (representative) junction */
+            int64_t j = A->branch_ends[2 * k + e], s = e ? o - 1 : A->branch_offsets[k];
+            if (j < 0)
+                continue;
+            const ma_junction *J = &C->J[rep[jk[j].id]];
+            A->points[2 * s] = J->x, A->points[2 * s + 1] = J->y, A->radii[s] = J->r;
+        }
+    }
+    A->branch_offsets[nbo] = o;
+    int64_t oe = 0;
+    for (int64_t k = 0; k < nk; k++) {
+        const ma_junction *J = &C->J[rep[jk[k].id]];
+        A->junction_points[2 * k] = J->x, A->junction_points[2 * k + 1] = J->y;
+        A->junction_radii[k] = J->r;
+        A->junction_degree[k] = deg[k];
+        A->junction_offsets[k] = oe;
+        int64_t ne = 0;
+        for (int64_t j = mhead[jk[k].id]; j >= 0; j = mnext[j]) { /* the members */
+            for (int64_t i = 0; i < C->J[j].nelem; i++) {
+                int64_t e = C->jelem.v[C->J[j].first_elem + i];
+                eids[ne++] = is_seg(E, e) ? E->orig[e] : -1 - E->orig[E->vk[e - E->ns]];
+            }
+        }
+        qsort(eids, (size_t)ne, sizeof *eids, cmp_i64);
+        for (int64_t i = 0; i < ne; i++)
+            if (i == 0 || eids[i] != eids[i - 1])
+                A->junction_elements[oe++] = eids[i];
+    }
+    A->junction_offsets[nk] = oe;
+    *out = A;
+    A = NULL;
+fail:
+    mfg_medial_axis_free(A);
+    free(par), free(rep), free(newid), free(deg), free(mhead), free(mnext), free(gone);
+    free(lk), free(jk), free(bk);
+    free(eids);
+    return st;
+}
+
 mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets, int64_t nrings,
                            double tol, struct mfg_medial_axis **out)
 {
@@ -1468,53 +1684,9 @@ mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets, int64_
     }
 
     /* (5) The flat result. */
-    {
-        struct mfg_medial_axis *A = calloc(1, sizeof *A);
-        int64_t nb = C.boff.n, ns = C.px.n, nj = C.nj;
-        if (!A) {
-            st = mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (result)");
-            goto done;
-        }
-        A->nbranches = nb, A->npoints = ns, A->njunctions = nj;
-        A->branch_offsets = malloc((size_t)(nb + 1) * sizeof(int64_t));
-        A->points = malloc((size_t)(2 * ns + 1) * sizeof(double));
-        A->radii = malloc((size_t)(ns + 1) * sizeof(double));
-        A->branch_ends = malloc((size_t)(2 * nb + 1) * sizeof(int64_t));
-        A->junction_points = malloc((size_t)(2 * nj + 1) * sizeof(double));
-        A->junction_radii = malloc((size_t)(nj + 1) * sizeof(double));
-        A->junction_degree = malloc((size_t)(nj + 1) * sizeof(int64_t));
-        A->junction_offsets = malloc((size_t)(nj + 1) * sizeof(int64_t));
-        A->junction_elements = malloc((size_t)(C.jelem.n + 1) * sizeof(int64_t));
-        if (!A->branch_offsets || !A->points || !A->radii || !A->branch_ends ||
-            !A->junction_points || !A->junction_radii || !A->junction_degree ||
-            !A->junction_offsets || !A->junction_elements) {
-            mfg_medial_axis_free(A);
-            st = mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (result)");
-            goto done;
-        }
-        for (int64_t b = 0; b < nb; b++)
-            A->branch_offsets[b] = C.boff.v[b];
-        A->branch_offsets[nb] = ns;
-        memcpy(A->branch_ends, C.bend.v, (size_t)(2 * nb) * sizeof(int64_t));
-        for (int64_t i = 0; i < ns; i++) {
-            A->points[2 * i] = C.px.v[i], A->points[2 * i + 1] = C.py.v[i];
-            A->radii[i] = C.pr.v[i];
-        }
-        int64_t o = 0;
-        for (int64_t j = 0; j < nj; j++) {
-            A->junction_points[2 * j] = C.J[j].x, A->junction_points[2 * j + 1] = C.J[j].y;
-            A->junction_radii[j] = C.J[j].r;
-            A->junction_degree[j] = C.J[j].nport;
-            A->junction_offsets[j] = o;
-            for (int64_t i = 0; i < C.J[j].nelem; i++) {
-                int64_t e = C.jelem.v[C.J[j].first_elem + i];
-                A->junction_elements[o++] = is_seg(E, e) ? E->orig[e] : -1 - E->orig[E->vk[e - nv]];
-            }
-        }
-        A->junction_offsets[nj] = o;
-        *out = A;
+    st = assemble(&C, out);
+    if (st == MFG_OK)
         mfg_clear_error();
-    }
 done:
     free(vx), free(vy), free(vo), free(roff);
     elems_free(E);
