@@ -36,16 +36,19 @@ def _path():
 
 
 def inside(rings, pts):
-    """Even-odd inside test of pts (m, 2)."""
+    """Even-odd inside test of pts (m, 2) (brute force, in chunks)."""
     pts = np.asarray(pts, float).reshape(-1, 2)
     res = np.zeros(len(pts), bool)
     for r in rings:
         r = np.asarray(r, float)
         a, b = r, np.roll(r, -1, axis=0)
-        c = (a[None, :, 1] > pts[:, None, 1]) != (b[None, :, 1] > pts[:, None, 1])
-        with np.errstate(divide='ignore', invalid='ignore'):
-            xi = a[None, :, 0] + (pts[:, None, 1] - a[None, :, 1]) * (b - a)[None, :, 0] / (b - a)[None, :, 1]
-        res ^= (np.count_nonzero(c & (pts[:, None, 0] < xi), axis=1) % 2).astype(bool)
+        step = max(1, 4_000_000 // max(len(r), 1))
+        for s in range(0, len(pts), step):
+            q = pts[s:s + step]
+            c = (a[None, :, 1] > q[:, None, 1]) != (b[None, :, 1] > q[:, None, 1])
+            with np.errstate(divide='ignore', invalid='ignore'):
+                xi = a[None, :, 0] + (q[:, None, 1] - a[None, :, 1]) * (b - a)[None, :, 0] / (b - a)[None, :, 1]
+            res[s:s + step] ^= (np.count_nonzero(c & (q[:, None, 0] < xi), axis=1) % 2).astype(bool)
     return res
 
 
@@ -54,8 +57,15 @@ def construct(rings, scale=1000.0):
     Path = _path()
     from FreeCAD import Vector
     vd = Path.Voronoi.Diagram(scale)
+
+    def grid(v):
+        # FreeCAD multiplies by scale and truncates toward zero (32.108 * 1000 =
+        # 32107.99... -> 32107): a quarter step away from zero makes the truncation give
+        # the nearest grid value, so Boost sees exactly the grid coordinates
+        k = round(float(v) * scale)
+        return (k + math.copysign(0.25, k if k else 1.0)) / scale
     for r in rings:
-        r = [Vector(float(x), float(y), 0) for x, y in r]
+        r = [Vector(grid(x), grid(y), 0) for x, y in r]
         for i in range(len(r)):
             vd.addSegment(r[i], r[(i + 1) % len(r)])
     t = time.perf_counter()
@@ -82,9 +92,10 @@ def _parabola(focus, seg, p0, p1, tol):
     return pts, ys
 
 
-def axis_edges(rings, tol, scale=1000.0, vd=None):
+def axis_edges(rings, tol, scale=1000.0, vd=None, inside_fn=None):
     """The interior primary finite edges of the diagram: list of (v0, v1, points (k, 2),
-    radii (k,)) with v0, v1 Boost vertex indices; and the vertex coordinates."""
+    radii (k,)) with v0, v1 Boost vertex indices; and the vertex coordinates.  inside_fn
+    (rings, points) -> bool array replaces the brute-force even-odd test (large inputs)."""
     if vd is None:
         vd, _ = construct(rings, scale)
     edges = vd.Edges                      # rebuilt at every access: keep the list
@@ -98,7 +109,7 @@ def axis_edges(rings, tol, scale=1000.0, vd=None):
     if not cand:
         return [], verts
     mids = np.array([[(verts[a][0] + verts[b][0]) / 2, (verts[a][1] + verts[b][1]) / 2] for _, a, b in cand])
-    keep = inside(rings, mids)
+    keep = (inside_fn or inside)(rings, mids)
     out = []
     for (e, a, b), k in zip(cand, keep):
         if not k:
@@ -116,11 +127,12 @@ def axis_edges(rings, tol, scale=1000.0, vd=None):
     return out, verts
 
 
-def topology(rings, tol, scale=1000.0):
+def topology(rings, tol, scale=1000.0, edges=None):
     """(branches, junctions) of Boost's axis, with junctions joined by an edge chain
     shorter than tol contracted into one (mfgeom's rule): vertices of degree != 2 are
-    junctions (degree >= 3) or leaves (degree 1)."""
-    edges, verts = axis_edges(rings, tol, scale)
+    junctions (degree >= 3) or leaves (degree 1).  `edges`: axis_edges(...)[0] if known."""
+    if edges is None:
+        edges, _ = axis_edges(rings, tol, scale)
     inc = {}
     for k, (a, b, _, _) in enumerate(edges):
         inc.setdefault(a, []).append(k)
