@@ -19,7 +19,7 @@ distance of our samples to Boost's inner axis edges (edges incident to the bound
 radius 0 at an end -- and points with radius < tol excluded) and of Boost's samples to
 ours.  Boost's input is truncated to a 1/scale grid (scale 1000; |x| < 2^31/scale): all
 inputs here are on the 1e-3 grid, so both see the same segments.  Growth: the exponent
-of time ~ n^k between the star sizes."""
+of time ~ n^k between the star sizes, and ours against the tolerance on the 10k star."""
 import argparse
 import ctypes
 import math
@@ -221,6 +221,15 @@ def main():
               if "boost" in a else math.nan)
         print(f"growth {a['nseg']} -> {c['nseg']} segments: ours time ~ n^{k:.2f}, "
               f"Boost construct ~ n^{kb:.2f}")
+    # growth with the tolerance (only the sampling of curved pieces depends on it)
+    rings = star_with_holes(10000, 16, 7)
+    print("\n| tolerance (10k star) | ours C (ms) | samples |")
+    print("|---|---|---|")
+    for tol in (1e-1, 1e-2, 1e-3, 1e-4, 1e-5):
+        t = ours_c(rings, tol, max(1, args.repeat // 2))
+        ax = core.medial_axis(rings, tol)
+        print("| %g | %s | %d |" % (tol, fmt_ms(t), sum(len(b.radii) for b in ax.branches)),
+              flush=True)
 
 
 if __name__ == "__main__":

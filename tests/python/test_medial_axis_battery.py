@@ -12,7 +12,8 @@ code with the library:
 * completeness: medial points found by bisection along the inward normals of random
   boundary points lie within tol of a branch;
 * the topology of Boost's Voronoi diagram (Path.Voronoi, where FreeCAD is installed), with
-  Boost's junctions joined by chains shorter than tol contracted as mfgeom does."""
+  Boost's junctions joined by chains shorter than tol contracted as mfgeom does.
+And invariance under translation, scaling and rotation."""
 import math
 
 import numpy as np
@@ -93,3 +94,28 @@ def test_battery(nseg, holes, seed):
     assert dn.max() <= TOL
     if medial_voronoi.available():
         assert (nb, nj) == medial_voronoi.topology(rings, TOL)
+
+
+@pytest.mark.parametrize("name", ["shift", "scale", "rotate", "huge"])
+def test_invariance(name):
+    """The same axis under translation by 1e4, scaling by 1e-3 (tol too; Boost's 1e-3
+    input grid would destroy it) and 1e6, rotation by 30 degrees: same branch and junction
+    counts, junctions (mapped back) within 1e-9 of the diagonal, same degrees."""
+    rings, _ = shape(1000, 8, 11)
+    c, s = math.cos(math.pi / 6), math.sin(math.pi / 6)
+    rot = np.array([[c, -s], [s, c]])
+    fwd, back, k = {
+        "shift": (lambda r: r + [1e4, -2e4], lambda r: r - [1e4, -2e4], 1.0),
+        "scale": (lambda r: r * 1e-3, lambda r: r * 1e3, 1e-3),
+        "huge": (lambda r: r * 1e6, lambda r: r * 1e-6, 1e6),
+        "rotate": (lambda r: r @ rot.T, lambda r: r @ rot, 1.0)}[name]
+    base = core.medial_axis(rings, TOL)
+    ax = core.medial_axis([fwd(r) for r in rings], TOL * k)
+    assert (len(ax.branches), len(ax.junctions)) == (len(base.branches), len(base.junctions))
+    P = back(ax.junctions.points)
+    d = np.hypot(P[:, None, 0] - base.junctions.points[None, :, 0],
+                 P[:, None, 1] - base.junctions.points[None, :, 1])
+    j = d.argmin(axis=1)
+    assert d[np.arange(len(j)), j].max() <= 1e-9 * 230
+    assert np.array_equal(ax.junctions.degrees, base.junctions.degrees[j])
+    assert np.abs(ax.junctions.radii / k - base.junctions.radii[j]).max() <= 1e-9 * 230
