@@ -1063,14 +1063,36 @@ static void junction_link(ma_ctx *C, int64_t j)
     C->hhead[b] = j;
 }
 
-/* The junction within `arrive` of (x, y) (the lowest index if several), or -1. */
-static int64_t junction_find(const ma_ctx *C, double x, double y)
+/* Do junctions a and b touch the same elements? */
+static int same_elements(const ma_ctx *C, int64_t a, int64_t b)
 {
+    const ma_junction *A = &C->J[a], *B = &C->J[b];
+    if (A->nelem != B->nelem)
+        return 0;
+    for (int64_t i = 0; i < A->nelem; i++) {
+        int found = 0;
+        for (int64_t k = 0; k < B->nelem && !found; k++)
+            found = C->jelem.v[A->first_elem + i] == C->jelem.v[B->first_elem + k];
+        if (!found)
+            return 0;
+    }
+    return 1;
+}
+
+/* The registered junction within `arrive` of the new (unregistered) junction jn that
+ * touches the same elements (the lowest index if several), or -1.  Position alone is
+ * not enough: at 100 000 segments distinct junctions at needle bases lie 1e-4 apart, and
+ * an arriving trace taken for the wrong one left a true junction out (a zero-length
+ * loop in its place). */
+static int64_t junction_find(const ma_ctx *C, int64_t jn)
+{
+    double x = C->J[jn].x, y = C->J[jn].y;
     int64_t ix = hcell(C, x, C->hx0), iy = hcell(C, y, C->hy0), best = -1;
     for (int64_t a = ix - 1; a <= ix + 1; a++)
         for (int64_t c = iy - 1; c <= iy + 1; c++)
             for (int64_t j = C->hhead[hbucket(C, a, c)]; j >= 0; j = C->J[j].hnext)
-                if (hypot(C->J[j].x - x, C->J[j].y - y) <= C->arrive && (best < 0 || j < best))
+                if (hypot(C->J[j].x - x, C->J[j].y - y) <= C->arrive && (best < 0 || j < best) &&
+                    same_elements(C, j, jn))
                     best = j;
     return best;
 }
@@ -1123,9 +1145,17 @@ static mfg_status run_branch(ma_ctx *C, double x, double y, double r, int64_t e1
                        : mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory");
         }
         double back = atan2(-ev[4], -ev[3]);
-        /* A known junction (lesson 4: identified with the event accuracy). */
-        int64_t j = junction_find(C, ev[0], ev[1]);
-        if (j >= 0) {
+        int64_t j = junction_make(C, ev[0], ev[1], ev[2]);
+        if (j < 0)
+            return mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (junctions)");
+        /* A known junction (lesson 4: identified with the event accuracy, and by its
+         * elements): forget the new one, arrive at the known one. */
+        int64_t jk = junction_find(C, j);
+        if (jk >= 0) {
+            C->jelem.n = C->J[j].first_elem;
+            C->np = C->J[j].first_port;
+            C->nj--;
+            j = jk;
             int64_t p = port_pick(C, j, back, 0);
             if (p >= 0)
                 C->P[p].used = 1;
@@ -1135,9 +1165,6 @@ static mfg_status run_branch(ma_ctx *C, double x, double y, double r, int64_t e1
                        ? MFG_OK
                        : mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory");
         }
-        j = junction_make(C, ev[0], ev[1], ev[2]);
-        if (j < 0)
-            return mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (junctions)");
         if (C->J[j].nport == 2) { /* a pass-through: continue the same branch */
             int64_t p = port_pick(C, j, back, 1);
             x = ev[0], y = ev[1], r = ev[2];

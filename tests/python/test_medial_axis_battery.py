@@ -119,3 +119,19 @@ def test_invariance(name):
     assert d[np.arange(len(j)), j].max() <= 1e-9 * 230
     assert np.array_equal(ax.junctions.degrees, base.junctions.degrees[j])
     assert np.abs(ax.junctions.radii / k - base.junctions.radii[j]).max() <= 1e-9 * 230
+
+
+def test_topology_100k():
+    """Regression: at 100 000 segments junctions at the needle bases lie 1e-4 apart; an
+    arriving trace identified its junction by position alone (1e-6 of the diagonal) and
+    took a neighbour for it, leaving a true junction out -- four zero-length loops, four
+    branches more than Euler allows.  Topology only (Euler, no loops); the brute-force
+    checks above would take minutes here."""
+    rings, tips = shape(100000, 16, 7)
+    ax = core.medial_axis(rings, TOL)
+    ends = np.array([b.ends for b in ax.branches])
+    leaves = int((ends == -1).sum())
+    assert leaves == tips
+    assert not np.any((ends[:, 0] == ends[:, 1]) & (ends[:, 0] >= 0))
+    assert len(ax.branches) == len(ax.junctions) + leaves - 1 + 16
+    assert int(np.sum(ax.junctions.degrees)) + leaves == 2 * len(ax.branches)
