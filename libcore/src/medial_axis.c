@@ -973,7 +973,9 @@ static int trace(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2
     if (first && !push_sample(C, x, y, r))
         return TR_NOMEM;
     *leafv = -1;
-    for (int piece = 0; piece < 10000; piece++) {
+    /* every piece ends at an event or a window switch to another element: a branch along
+     * a finely discretised arc has as many pieces as chords */
+    for (int64_t piece = 0; piece < 4 * (E->ns + E->nv) + 16; piece++) {
         if (!isfinite(b.p0x) || !isfinite(b.p0y) || (b.kind == MA_PL && !(b.h > 0))) {
             /* a pair without a bisector on the interior side (a parabola whose focus is
              * not inside of its directrix): fail rather than output a wrong branch */

@@ -461,6 +461,42 @@ static void test_canonical_order(void)
         mfg_medial_axis_free(R[v]);
 }
 
+/* Regression: a branch with more than 10 000 pieces (window switches) was reported as
+ * "did not reach an event".  A 40 x 40 square with a hole: a circle of radius 10 as a
+ * 40 000-gon (all its vertices reflex for the face).  Between two corner junctions a
+ * branch follows a quarter of the circle: a transition at each of its 10 000 vertices
+ * from edge to vertex and back.  4 leaves, 4 junctions, 8 branches (one cycle); every
+ * 997th sample checked against the brute-force clearance. */
+static void test_many_transitions(void)
+{
+    enum { NC = 40000 };
+    double *xy = malloc((size_t)(4 + NC) * 2 * sizeof *xy);
+    if (!xy)
+        return;
+    double sq[4][2] = {{-20, -20}, {20, -20}, {20, 20}, {-20, 20}};
+    for (int k = 0; k < 4; k++)
+        xy[2 * k] = sq[k][0], xy[2 * k + 1] = sq[k][1];
+    for (int i = 0; i < NC; i++) {
+        double a = 2 * M_PI * (i + 0.5) / NC;
+        xy[8 + 2 * i] = 10 * cos(a), xy[8 + 2 * i + 1] = 10 * sin(a);
+    }
+    int64_t off[] = {0, 4, 4 + NC};
+    struct mfg_medial_axis *A = NULL;
+    CHECK_EQ_INT(mfg_medial_axis(xy, off, 2, 1e-3, &A), MFG_OK);
+    if (A) {
+        CHECK_EQ_INT(A->njunctions, 4);
+        CHECK_EQ_INT(A->nbranches, 8);
+        CHECK_EQ_INT(count_leaves(A), 4);
+        int bad = 0;
+        for (int64_t i = 0; i < A->npoints; i += 997)
+            bad += fabs(ref_dist(xy, off, 2, A->points[2 * i], A->points[2 * i + 1]) -
+                        A->radii[i]) > 1e-9 * 60;
+        CHECK_EQ_INT(bad, 0);
+        mfg_medial_axis_free(A);
+    }
+    free(xy);
+}
+
 static void expect_error(const double *xy, const int64_t *off, int64_t nrings, double tol,
                          mfg_status want, const char *needle)
 {
@@ -525,6 +561,7 @@ int main(int argc, char **argv)
     test_stars();
     test_merge();
     test_canonical_order();
+    test_many_transitions();
     test_bad_input();
     return mfg_test_report("medial_axis");
 }
