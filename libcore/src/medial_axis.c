@@ -97,6 +97,7 @@ typedef struct {
     double *cap;          /* 5 per node: capsule axis (ax, ay)-(bx, by), radius */
     int64_t *kid;         /* 2 per node: children, or -1 and the leaf's first segment */
     int64_t *cnt;         /* segments of a leaf (0 for an inner node) */
+    int64_t *end;         /* one past the last segment under the node */
     const double *x, *y;  /* the segments: s from (x[s], y[s]) to (x[nxt[s]], y[nxt[s]]) */
     const int64_t *nxt;
 } ma_bvh;
@@ -141,7 +142,7 @@ static int64_t bvh_node(ma_bvh *T, int64_t lo, int64_t hi)
             bx[0] = fmin(bx[0], fmin(q[0], q[2])), bx[2] = fmax(bx[2], fmax(q[0], q[2]));
             bx[1] = fmin(bx[1], fmin(q[1], q[3])), bx[3] = fmax(bx[3], fmax(q[1], q[3]));
         }
-        T->kid[2 * me] = -1, T->kid[2 * me + 1] = lo, T->cnt[me] = hi - lo;
+        T->kid[2 * me] = -1, T->kid[2 * me + 1] = lo, T->cnt[me] = hi - lo, T->end[me] = hi;
         cap_fit(P, R, (int)(2 * (hi - lo)), T->cap + 5 * me);
         return me;
     }
@@ -152,7 +153,7 @@ static int64_t bvh_node(ma_bvh *T, int64_t lo, int64_t hi)
     bx = T->box + 4 * me;
     bx[0] = fmin(bl[0], br[0]), bx[1] = fmin(bl[1], br[1]);
     bx[2] = fmax(bl[2], br[2]), bx[3] = fmax(bl[3], br[3]);
-    T->kid[2 * me] = l, T->kid[2 * me + 1] = r, T->cnt[me] = 0;
+    T->kid[2 * me] = l, T->kid[2 * me + 1] = r, T->cnt[me] = 0, T->end[me] = hi;
     const double *cl = T->cap + 5 * l, *cr = T->cap + 5 * r;
     double P[8] = {cl[0], cl[1], cl[2], cl[3], cr[0], cr[1], cr[2], cr[3]};
     double R[4] = {cl[4], cl[4], cr[4], cr[4]};
@@ -169,7 +170,8 @@ static int bvh_build(ma_bvh *T, const double *x, const double *y, const int64_t 
     T->cap = malloc((size_t)(2 * n + 1) * 5 * sizeof *T->cap);
     T->kid = malloc((size_t)(2 * n + 1) * 2 * sizeof *T->kid);
     T->cnt = malloc((size_t)(2 * n + 1) * sizeof *T->cnt);
-    if (!T->box || !T->cap || !T->kid || !T->cnt)
+    T->end = malloc((size_t)(2 * n + 1) * sizeof *T->end);
+    if (!T->box || !T->cap || !T->kid || !T->cnt || !T->end)
         return 0;
     if (n > 0)
         bvh_node(T, 0, n);
@@ -178,7 +180,7 @@ static int bvh_build(ma_bvh *T, const double *x, const double *y, const int64_t 
 
 static void bvh_free(ma_bvh *T)
 {
-    free(T->box), free(T->cap), free(T->kid), free(T->cnt);
+    free(T->box), free(T->cap), free(T->kid), free(T->cnt), free(T->end);
 }
 
 #define MA_MIN(a, b) ((a) < (b) ? (a) : (b))
@@ -251,10 +253,11 @@ static double seg_seg_d2(double ax, double ay, double bx, double by, double cx, 
     return MA_MIN(d, pt_seg_d2(dx, dy, ax, ay, bx, by));
 }
 
-/* Appends to out every segment whose node lies within distance rad of the segment
- * (ax, ay)-(bx, by) (a capsule query; a point when a = b).  Returns 0 on NOMEM. */
+/* Appends to out every segment numbered from `from` on whose node lies within distance
+ * rad of the segment (ax, ay)-(bx, by) (a capsule query; a point when a = b).  Returns 0
+ * on NOMEM. */
 static int bvh_collect(const ma_bvh *T, double ax, double ay, double bx, double by, double rad,
-                       ivec *out)
+                       int64_t from, ivec *out)
 {
     if (T->nn == 0)
         return 1;
@@ -267,6 +270,8 @@ static int bvh_collect(const ma_bvh *T, double ax, double ay, double bx, double 
     while (sp > 0) {
         int64_t nd = stack[--sp];
         const double *b = T->box + 4 * nd;
+        if (T->end[nd] <= from)
+            continue;
         double dx = MA_MAX(0.0, MA_MAX(b[0] - q2, q0 - b[2]));
         double dy = MA_MAX(0.0, MA_MAX(b[1] - q3, q1 - b[3]));
         if (dx * dx + dy * dy > r2)
@@ -575,7 +580,7 @@ static int64_t junction_make(ma_ctx *C, double x, double y, double r)
     const ma_elems *E = &C->E;
     int64_t cnt = 0;
     C->cand.n = 0;
-    if (!bvh_collect(&C->T, x, y, x, y, r + C->gather, &C->cand))
+    if (!bvh_collect(&C->T, x, y, x, y, r + C->gather, 0, &C->cand))
         return -1;
     ma_ea *ea = malloc((size_t)(2 * C->cand.n + 1) * sizeof *ea);
     if (!ea)
@@ -837,7 +842,7 @@ static double disc_bound(const ma_bis *b, double cx, double cy, double rho)
 /* A lower bound of the first t >= 0 where the disc of b meets the capsule cp (axis a-b,
  * radius rho): first contact is with an end cap (disc_bound) or with one of the two side
  * lines |n . (p - a)| = rho (their first contact, foot ignored: earlier, so a bound). */
-static double node_bound(const ma_bis *b, const double *cp, double pad)
+static double node_bound(const ma_bis *b, const double *cp, double pad, double lim)
 {
     double ax = cp[0], ay = cp[1], rho = cp[4] + pad;
     double dx = cp[2] - ax, dy = cp[3] - ay, l = sqrt(dx * dx + dy * dy);
@@ -845,9 +850,13 @@ static double node_bound(const ma_bis *b, const double *cp, double pad)
     double d0 = pt_seg_d2(b->p0x, b->p0y, ax, ay, cp[2], cp[3]), R0 = r0 + rho;
     if (d0 <= R0 * R0)
         return 0.0;
+    /* first the circumscribed disc (one quadratic): far nodes stop here */
+    double tc = disc_bound(b, 0.5 * (ax + cp[2]), 0.5 * (ay + cp[3]), 0.5 * l + rho);
+    if (!(tc < lim))
+        return tc;
     double t = fmin(disc_bound(b, ax, ay, rho), disc_bound(b, cp[2], cp[3], rho));
     if (!(l > 0))
-        return t;
+        return fmax(t, tc);
     double nx = -dy / l, ny = dx / l;
     double e2 = nx * b->p2x + ny * b->p2y, e1 = nx * b->p1x + ny * b->p1y;
     double e0 = nx * (b->p0x - ax) + ny * (b->p0y - ay);
@@ -863,7 +872,7 @@ static double node_bound(const ma_bis *b, const double *cp, double pad)
             t = fmin(t, quad_entry(g2 - b->r2c, g1 - b->r1c, g0 - b->r0c, 0.0, INFINITY));
         }
     }
-    return t;
+    return fmax(t, tc); /* both are lower bounds */
 }
 
 /* The first event in (0, T]: the least entry root of a non-excluded element, by a
@@ -878,7 +887,7 @@ static double event_search(ma_ctx *C, const ma_bis *b, const int64_t *ex, int ne
     int64_t nh = 0;
     if (BV->nn == 0)
         return best;
-    double tb0 = node_bound(b, BV->cap, C->eps);
+    double tb0 = node_bound(b, BV->cap, C->eps, lim);
     if (!(tb0 < lim))
         return best;
     C->heapk[0] = tb0, C->heapn[0] = 0, nh = 1;
@@ -925,7 +934,7 @@ static double event_search(ma_ctx *C, const ma_bis *b, const int64_t *ex, int ne
         }
         for (int w = 0; w < 2; w++) {
             int64_t kd = BV->kid[2 * nd + w];
-            double tk = node_bound(b, BV->cap + 5 * kd, C->eps);
+            double tk = node_bound(b, BV->cap + 5 * kd, C->eps, lim);
             if (!(tk < lim))
                 continue;
             int64_t i = nh++; /* push: sift up (the heap holds at most all nodes) */
@@ -1594,7 +1603,7 @@ mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets, int64_
     for (int64_t i = 0; i < nv; i++) {
         int64_t i2 = E->next[i], jbest = -1;
         C.cand.n = 0;
-        if (!bvh_collect(&C.T, vx[i], vy[i], vx[i2], vy[i2], 1e-9 * diag0, &C.cand)) {
+        if (!bvh_collect(&C.T, vx[i], vy[i], vx[i2], vy[i2], 1e-9 * diag0, i + 1, &C.cand)) {
             st = mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (index query)");
             goto done;
         }
