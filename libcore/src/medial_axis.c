@@ -968,6 +968,22 @@ static int sample_piece(ma_ctx *C, const ma_bis *b, double ta, double tb)
     return 1;
 }
 
+/* The foot of segment `who` reached its convex end (`how` 1: start, 2: end) at the last
+ * sample (px, py, pr): the leaf, where the radius is 0.  At a radius above the event
+ * accuracy a third element must have touched first (a missed event): TR_MISSED rather
+ * than a false leaf inside the face. */
+static int corner_leaf(ma_ctx *C, int64_t who, int how, double px, double py, double pr,
+                       double ev[5], int64_t *leafv)
+{
+    *leafv = how == 1 ? who : C->E.next[who];
+    if (pr > 1e-6 * C->E.diag) {
+        ev[0] = px, ev[1] = py, ev[2] = pr;
+        return TR_MISSED;
+    }
+    C->pr.v[C->pr.n - 1] = 0.0;
+    return TR_LEAF;
+}
+
 /* Traces from (x, y, r) along the bisector of (e1, e2) in direction (dx, dy), appending
  * samples (the start too when `first`).  Each piece runs to the first of: an event (the
  * least exact entry root of a third element, searched in doubling parameter intervals
@@ -1022,15 +1038,8 @@ static int trace(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2
         bis_tangent(&b, tw, &tx, &ty);
         bis_at(&b, tw, &phx, &phy, &phr);
         int64_t en = window_switch(E, who, how);
-        if (en < 0) { /* the foot reached a convex corner: only at the leaf */
-            *leafv = how == 1 ? who : E->next[who];
-            if (phr > 1e-6 * E->diag) {
-                ev[0] = phx, ev[1] = phy, ev[2] = phr;
-                return TR_MISSED;
-            }
-            C->pr.v[C->pr.n - 1] = 0.0;
-            return TR_LEAF;
-        }
+        if (en < 0)
+            return corner_leaf(C, who, how, phx, phy, phr, ev, leafv);
         int64_t ea = b.e1 == who ? en : b.e1, eb = b.e1 == who ? b.e2 : en;
         bis_make(E, &b, ea, eb, phx, phy, tx, ty);
         for (int k = 0; k < 3; k++) { /* lesson 2: a double transition */
@@ -1040,15 +1049,8 @@ static int trace(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2
             if (!how)
                 break;
             en = window_switch(E, who, how);
-            if (en < 0) {
-                *leafv = how == 1 ? who : E->next[who];
-                if (phr > 1e-6 * E->diag) {
-                    ev[0] = phx, ev[1] = phy, ev[2] = phr;
-                    return TR_MISSED;
-                }
-                C->pr.v[C->pr.n - 1] = 0.0;
-                return TR_LEAF;
-            }
+            if (en < 0)
+                return corner_leaf(C, who, how, phx, phy, phr, ev, leafv);
             ea = b.e1 == who ? en : b.e1, eb = b.e1 == who ? b.e2 : en;
             bis_make(E, &b, ea, eb, phx, phy, tx, ty);
         }
