@@ -417,7 +417,15 @@ MFG_API mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices,
  *                                 -> e; a reflex vertex k -> -1-k.
  * A junction's disc touches >= 3 elements (the centre of a square touches 4 and has
  * degree 4); points where the axis passes from one element to another without a third
- * (the ends of a parabolic arc) are samples, not junctions.
+ * (the ends of a parabolic arc) are samples, not junctions.  Junctions joined by a
+ * branch shorter than tol are one junction (elements: the union; degree: the branches
+ * that end at it; the other branches' ends moved onto it, by < tol).
+ * Canonical order: junctions by (x, y, r); junction elements ascending; a branch runs
+ * from its lower-numbered junction to the other end (a leaf end always last); branches
+ * sorted by (start junction, end junction with leaves after all junctions, end point,
+ * middle sample).  So the result does not depend on the rings' start vertices,
+ * orientation or order, up to rounding (two junctions whose x differ by rounding only
+ * may swap).
  */
 struct mfg_medial_axis {
     int64_t nbranches;
@@ -444,8 +452,11 @@ struct mfg_medial_axis {
  * touch each other or themselves (the detail names the two edges: the axis of such a
  * boundary is not defined); MFG_ERR_DEGENERATE for a ring with fewer than 3 distinct
  * vertices or no area; MFG_ERR_NOMEM.  Release the result with mfg_medial_axis_free.
- * Present limits: every clearance query scans all edges (O(n) per step); junctions
- * closer than tol are not merged; the order of branches follows the tracing. */
+ * Cost: O(n log n) typical (a BVH of the edges; each event is an exact root found by a
+ * branch and bound); O(n^2) only for inputs where many junction discs touch the same
+ * elements.  Present limits: element ids in junction_elements refer to the caller's
+ * vertices, so they change with the ring start vertex (positions do not); a third element
+ * grazing the disc (a double root) is not an event. */
 MFG_API mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets,
                                    int64_t nrings, double tol,
                                    struct mfg_medial_axis **out);

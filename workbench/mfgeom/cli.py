@@ -24,6 +24,13 @@ reader has gone, a full disk).
     mfgeom classify-points  [FILE] [--names]
         in:  {"rings": [[[x, y], ...], ...], "points": [[x, y], ...], "tol": e}
         out: {"codes": [0 | 1 | 2, ...]}   (0 OUT, 1 IN, 2 ON; --names adds "names")
+    mfgeom medial-axis      [FILE] --tolerance T [-o OUT]
+        in:  {"rings": [[[x, y], ...], ...], "tolerance": T} or a bare list of rings
+        out: {"tolerance", "branches": [{"points": [[x, y], ...], "radii": [...],
+              "ends": [j0, j1]}], "junctions": [{"point": [x, y], "radius", "degree",
+              "elements": [...]}], "seconds"}   (ends: junction index, -1 a leaf;
+             elements: edge e -> e, reflex vertex k -> -1-k); with -o the document
+             goes to OUT and stdout gets {"output", "branches", "junctions", "points"}
     mfgeom parting PART.step|.stp|.brep|.FCStd ... [--mode mould|nc3axis] [--draft DEG]
                    [--weighting count|area] [--all-faces] [--deflection DEG]
                    [--json OUT] [--csv OUT] [-j N] [--timeout S]
@@ -272,6 +279,52 @@ def cmd_classify_points(args):
     if args.names:
         out["names"] = [CODE_NAMES[c] for c in codes]
     return out
+
+
+def cmd_medial_axis(args):
+    """The medial axis of a face given as rings (outer boundary and holes, even-odd, as
+    classify-points reads them): branches with points and radii, junctions with points,
+    radii, degrees and the boundary elements their discs touch."""
+    import time
+    import numpy as np
+    from mfgeom import core
+    doc = _read_json(args.file)
+    rings_in = doc if isinstance(doc, list) else _field(doc, "rings", required=True)
+    if not isinstance(rings_in, list):
+        raise CliError("'rings' must be a list of rings")
+    rings = [np.asarray(_vectors(r, 2, f"rings[{i}]"), dtype=np.float64).reshape(-1, 2)
+             for i, r in enumerate(rings_in)]
+    tol = args.tolerance
+    if tol is None and isinstance(doc, dict):
+        tol = doc.get("tolerance", doc.get("tol"))
+    if tol is None:
+        raise CliError("give --tolerance T (or \"tolerance\" in the input)")
+    tol = _number(tol, "tolerance")
+    if not (math.isfinite(tol) and tol > 0.0):
+        raise CliError(f"--tolerance must be positive, got {tol:g}")
+    t0 = time.perf_counter()
+    ax = core.medial_axis(rings, tol)
+    seconds = time.perf_counter() - t0
+    jn = ax.junctions
+    out = {"tolerance": tol,
+           "branches": [{"points": b.points.tolist(), "radii": b.radii.tolist(),
+                         "ends": [int(e) for e in b.ends]} for b in ax.branches],
+           "junctions": [{"point": jn.points[j].tolist(), "radius": float(jn.radii[j]),
+                          "degree": int(jn.degrees[j]),
+                          "elements": [int(e) for e in jn.elements[j]]}
+                         for j in range(len(jn))],
+           "seconds": seconds}
+    if not args.output:
+        return out
+    try:
+        with open(args.output, "w", encoding="utf-8") as f:
+            json.dump(out, f, indent=args.indent, allow_nan=False)
+            f.write("\n")
+    except OSError as exc:
+        raise CliError(f"cannot write {args.output}: {exc.strerror or exc}") from None
+    return {"output": args.output, "tolerance": tol, "branches": len(ax.branches),
+            "junctions": len(jn), "points": int(sum(len(b.radii) for b in ax.branches)),
+            "seconds": seconds}
 
 
 # --------------------------------------------------------------------------- #
@@ -528,6 +581,16 @@ def build_parser():
     sp = add("classify-points", cmd_classify_points,
              "classify 2-D points against rings (even-odd) as OUT 0 / IN 1 / ON 2")
     sp.add_argument("--names", action="store_true", help="also print OUT/IN/ON names")
+    help_text = ("the medial axis of a face given as JSON rings (outer boundary and holes): "
+                 "branches (points, radii, end junctions) and junctions (point, radius, "
+                 "degree, touching boundary elements) as JSON")
+    sp = add("medial-axis", cmd_medial_axis, help_text)
+    sp.add_argument("--tolerance", type=float, default=None, metavar="T",
+                    help="samples and interpolated radii within T of the true axis, junctions "
+                         "closer than T merged (model units; default: the input's "
+                         "\"tolerance\")")
+    sp.add_argument("-o", "--output", default=None, metavar="OUT",
+                    help="write the axis to OUT (JSON); stdout gets a summary")
     help_text = ("mould parting direction (undercuts, side cores) or 3-axis NC set-up plan "
                  "of every solid in the part files, one FreeCAD worker process per part")
     sp = sub.add_parser("parting", help=help_text, description=help_text)

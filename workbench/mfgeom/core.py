@@ -920,8 +920,12 @@ def medial_axis(rings, tolerance):
     """The medial axis of the face bounded by ``rings`` (outer boundary and holes, as
     :func:`classify_points`; a single (k, 2) array is one ring), sampled so that samples
     and linearly interpolated radii are within ``tolerance`` (absolute, > 0) of the true
-    axis and clearance.  Crossing or touching rings, NaN, rings of fewer than 3 distinct
-    vertices and a tolerance <= 0 raise MfgError with the library's detail."""
+    axis and clearance.  Junctions joined by a branch shorter than ``tolerance`` are one
+    junction; junctions and branches come in the canonical order of mfgeom.h (junctions by
+    (x, y), a branch from its lower junction, leaves last), independent of the rings'
+    start vertices, orientation and order.  Crossing or touching rings, NaN, rings of
+    fewer than 3 distinct vertices and a tolerance <= 0 raise MfgError with the library's
+    detail."""
     xy, offsets = _flatten_rings(rings)
     res = ctypes.POINTER(_MedialAxis)()
     _check(_lib.mfg_medial_axis(_ptr(xy, ctypes.c_double), _ptr(offsets, ctypes.c_int64),
