@@ -231,6 +231,8 @@ typedef struct md_soup {
     int64_t *seg_verts;  /* 2 per segment, into xyz */
     int64_t *seg_elems;  /* 3 per segment */
     int32_t *seg_kind;
+    int64_t *seg_pair;   /* 2 per segment: the pair (a < b) of the sheet it bounds (the
+                            elements alone do not tell which of the 3 sheets) */
 } md_soup;
 
 mfg_status md_sheets_extract(const md_elements *el, const md_bvh *bvh, const md_leaves *leaves,
