@@ -185,6 +185,8 @@ static void *junction_worker(void *arg)
                 job->failed[b] = 1;
                 break;
             }
+            if (n == 0)
+                continue;
             if (r->n + n > r->cap) {
                 int64_t cap = r->cap ? 2 * r->cap : 16;
                 while (cap < r->n + n)
@@ -252,7 +254,8 @@ static mfg_status find_junctions(const md_elements *el, const md_bvh *bvh, const
     }
     int64_t k = 0;
     for (int64_t b = 0; b < job.nblocks; b++) {
-        memcpy(all + k, job.res[b].j, (size_t)job.res[b].n * sizeof *all);
+        if (job.res[b].n)
+            memcpy(all + k, job.res[b].j, (size_t)job.res[b].n * sizeof *all);
         k += job.res[b].n;
     }
     *out = all;
@@ -296,7 +299,9 @@ static int cmp_junction_point(const void *pa, const void *pb)
 static int64_t merge_junctions(const md_elements *el, md_junction *J, int64_t n, double tol,
                                int full)
 {
-    qsort(J, (size_t)n, sizeof *J, cmp_junction);
+    if (n > 1)
+
+        qsort(J, (size_t)(n), sizeof *J, cmp_junction);
     int64_t m = 0;
     for (int64_t i = 0; i < n; i++) {
         int dup = 0;
@@ -315,7 +320,9 @@ static int64_t merge_junctions(const md_elements *el, md_junction *J, int64_t n,
         if (!nested && set_has_output_pair(el, J[i].elems, J[i].n, full))
             J[w++] = J[i];
     }
-    qsort(J, (size_t)w, sizeof *J, cmp_junction_point);
+    if (w > 1)
+
+        qsort(J, (size_t)(w), sizeof *J, cmp_junction_point);
     return w;
 }
 
@@ -437,7 +444,9 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
     for (int64_t t = 0; t < nt; t++)
         if (s->parent[t] >= 0)
             s->keys[nk++] = (tri_key){mfg_uf_find(s->parent, t), t};
-    qsort(s->keys, (size_t)nk, sizeof *s->keys, cmp_tri_key);
+    if (nk > 1)
+
+        qsort(s->keys, (size_t)(nk), sizeof *s->keys, cmp_tri_key);
     int64_t nref = 0;
     for (int64_t i = 0; i < nk;) {
         int64_t j = i;
@@ -470,7 +479,9 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
             s->refs[nref++] = r;
         i = j;
     }
-    qsort(s->refs, (size_t)nref, sizeof *s->refs, cmp_sheet);
+    if (nref > 1)
+
+        qsort(s->refs, (size_t)(nref), sizeof *s->refs, cmp_sheet);
 
     /* Counts, then the arrays. */
     int64_t totv = 0, tott = 0;
@@ -710,7 +721,9 @@ static int chain_segments(const md_soup *sp, const seg_ref *seg, int64_t n, seam
             vs[2 * i] = seg[i].v0;
             vs[2 * i + 1] = seg[i].v1;
         }
-        qsort(vs, (size_t)(2 * n), sizeof *vs, cmp_i64);
+        if (2 * n > 1)
+
+            qsort(vs, (size_t)(2 * n), sizeof *vs, cmp_i64);
         for (int64_t i = 0; i < 2 * n; i++)
             if (nvs == 0 || vs[nvs - 1] != vs[i])
                 vs[nvs++] = vs[i];
@@ -797,7 +810,9 @@ static int soup_seams(const md_elements *el, const md_soup *sp, const asm_state 
         r.kind = sp->seg_kind[i];
         seg[n++] = r;
     }
-    qsort(seg, (size_t)n, sizeof *seg, cmp_seg);
+    if (n > 1)
+
+        qsort(seg, (size_t)(n), sizeof *seg, cmp_seg);
     /* unique */
     int64_t m = 0;
     for (int64_t i = 0; i < n; i++)
@@ -838,7 +853,9 @@ static int cmp_dpt(const void *pa, const void *pb)
 static int degenerate_seams(const md_elements *el, md_junction *P, int64_t np, seam_out *o,
                             const md_junction *J, int64_t nj, double h, double tol, int full)
 {
-    qsort(P, (size_t)np, sizeof *P, cmp_junction);
+    if (np > 1)
+
+        qsort(P, (size_t)(np), sizeof *P, cmp_junction);
     dpt *d = malloc((size_t)(np ? np : 1) * sizeof *d);
     if (!d)
         return 0;
@@ -854,7 +871,9 @@ static int degenerate_seams(const md_elements *el, md_junction *P, int64_t np, s
             for (int64_t k = i; k < j; k++)
                 d[k - i] = (dpt){&P[k], P[k].x[0] * u[0] + P[k].x[1] * u[1] + P[k].x[2] * u[2]};
             int64_t n = j - i;
-            qsort(d, (size_t)n, sizeof *d, cmp_dpt);
+            if (n > 1)
+
+                qsort(d, (size_t)(n), sizeof *d, cmp_dpt);
             double gap = 2 * sqrt(3.0) * h;
             for (int64_t a = 0; a < n && ok;) {
                 int64_t b = a + 1;
@@ -925,7 +944,9 @@ static mfg_status seams_to_public(const seam_out *o, mfg_medial *m)
     }
     for (int64_t i = 0; i < n; i++)
         ord[i] = (seam_sort){o, i};
-    qsort(ord, (size_t)n, sizeof *ord, cmp_seam);
+    if (n > 1)
+
+        qsort(ord, (size_t)(n), sizeof *ord, cmp_seam);
     int64_t po = 0, eo = 0;
     m->seam_point_offsets[0] = 0;
     m->seam_element_offsets[0] = 0;
