@@ -300,7 +300,6 @@ static int64_t merge_junctions(const md_elements *el, md_junction *J, int64_t n,
                                int full)
 {
     if (n > 1)
-
         qsort(J, (size_t)(n), sizeof *J, cmp_junction);
     int64_t m = 0;
     for (int64_t i = 0; i < n; i++) {
@@ -321,7 +320,6 @@ static int64_t merge_junctions(const md_elements *el, md_junction *J, int64_t n,
             J[w++] = J[i];
     }
     if (w > 1)
-
         qsort(J, (size_t)(w), sizeof *J, cmp_junction_point);
     return w;
 }
@@ -445,7 +443,6 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
         if (s->parent[t] >= 0)
             s->keys[nk++] = (tri_key){mfg_uf_find(s->parent, t), t};
     if (nk > 1)
-
         qsort(s->keys, (size_t)(nk), sizeof *s->keys, cmp_tri_key);
     int64_t nref = 0;
     for (int64_t i = 0; i < nk;) {
@@ -480,7 +477,6 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
         i = j;
     }
     if (nref > 1)
-
         qsort(s->refs, (size_t)(nref), sizeof *s->refs, cmp_sheet);
 
     /* Counts, then the arrays. */
@@ -722,7 +718,6 @@ static int chain_segments(const md_soup *sp, const seg_ref *seg, int64_t n, seam
             vs[2 * i + 1] = seg[i].v1;
         }
         if (2 * n > 1)
-
             qsort(vs, (size_t)(2 * n), sizeof *vs, cmp_i64);
         for (int64_t i = 0; i < 2 * n; i++)
             if (nvs == 0 || vs[nvs - 1] != vs[i])
@@ -811,7 +806,6 @@ static int soup_seams(const md_elements *el, const md_soup *sp, const asm_state 
         seg[n++] = r;
     }
     if (n > 1)
-
         qsort(seg, (size_t)(n), sizeof *seg, cmp_seg);
     /* unique */
     int64_t m = 0;
@@ -854,7 +848,6 @@ static int degenerate_seams(const md_elements *el, md_junction *P, int64_t np, s
                             const md_junction *J, int64_t nj, double h, double tol, int full)
 {
     if (np > 1)
-
         qsort(P, (size_t)(np), sizeof *P, cmp_junction);
     dpt *d = malloc((size_t)(np ? np : 1) * sizeof *d);
     if (!d)
@@ -872,7 +865,6 @@ static int degenerate_seams(const md_elements *el, md_junction *P, int64_t np, s
                 d[k - i] = (dpt){&P[k], P[k].x[0] * u[0] + P[k].x[1] * u[1] + P[k].x[2] * u[2]};
             int64_t n = j - i;
             if (n > 1)
-
                 qsort(d, (size_t)(n), sizeof *d, cmp_dpt);
             double gap = 2 * sqrt(3.0) * h;
             for (int64_t a = 0; a < n && ok;) {
@@ -945,7 +937,6 @@ static mfg_status seams_to_public(const seam_out *o, mfg_medial *m)
     for (int64_t i = 0; i < n; i++)
         ord[i] = (seam_sort){o, i};
     if (n > 1)
-
         qsort(ord, (size_t)(n), sizeof *ord, cmp_seam);
     int64_t po = 0, eo = 0;
     m->seam_point_offsets[0] = 0;
