@@ -614,6 +614,19 @@ static void thin(polyline *pl, double tol)
     pl->rad.n = w;
 }
 
+static void polyline_reverse(polyline *pl)
+{
+    int64_t n = pl->rad.n;
+    for (int64_t i = 0; i < n / 2; i++) {
+        double t[3], r = pl->rad.v[i];
+        memcpy(t, pl->pts.v + 3 * i, sizeof t);
+        memcpy(pl->pts.v + 3 * i, pl->pts.v + 3 * (n - 1 - i), sizeof t);
+        memcpy(pl->pts.v + 3 * (n - 1 - i), t, sizeof t);
+        pl->rad.v[i] = pl->rad.v[n - 1 - i];
+        pl->rad.v[n - 1 - i] = r;
+    }
+}
+
 /* The output seams under construction. */
 typedef struct seam_out {
     int64_t n;
@@ -647,14 +660,7 @@ static int emit_seam(seam_out *o, polyline *pl, const int64_t *set, int64_t ns, 
     /* Orientation: from the lexicographically smaller end. */
     int64_t n = pl->rad.n;
     if (cmp_xyz(pl->pts.v + 3 * (n - 1), pl->pts.v) < 0)
-        for (int64_t i = 0; i < n / 2; i++) {
-            double t[3], r = pl->rad.v[i];
-            memcpy(t, pl->pts.v + 3 * i, sizeof t);
-            memcpy(pl->pts.v + 3 * i, pl->pts.v + 3 * (n - 1 - i), sizeof t);
-            memcpy(pl->pts.v + 3 * (n - 1 - i), t, sizeof t);
-            pl->rad.v[i] = pl->rad.v[n - 1 - i];
-            pl->rad.v[n - 1 - i] = r;
-        }
+        polyline_reverse(pl);
     int64_t e0 = snap_junction(J, nj, pl->pts.v, set, ns, reach);
     int64_t e1 = snap_junction(J, nj, pl->pts.v + 3 * (n - 1), set, ns, reach);
     if (e0 >= 0 && e0 == e1) {
@@ -700,9 +706,119 @@ static int emit_seam(seam_out *o, polyline *pl, const int64_t *set, int64_t ns, 
     return ok;
 }
 
+/* The polylines of one seam before they are emitted. */
+typedef struct pieces {
+    polyline *p;
+    int64_t n, cap;
+} pieces;
+
+static void pieces_free(pieces *pc)
+{
+    for (int64_t i = 0; i < pc->n; i++) {
+        free(pc->p[i].pts.v);
+        free(pc->p[i].rad.v);
+    }
+    free(pc->p);
+}
+
+/* Moves pl into pc (pl is left empty). */
+static int pieces_take(pieces *pc, polyline *pl)
+{
+    if (pc->n == pc->cap) {
+        int64_t c = pc->cap ? 2 * pc->cap : 8;
+        polyline *v = realloc(pc->p, (size_t)c * sizeof *v);
+        if (!v)
+            return 0;
+        pc->p = v;
+        pc->cap = c;
+    }
+    pc->p[pc->n++] = *pl;
+    memset(pl, 0, sizeof *pl);
+    return 1;
+}
+
+/* Joins pieces whose ends are within gap, the nearest ends first (ties: the earlier
+ * pieces), until none is left: the trimmed polygons of neighbouring leaves do not always
+ * meet (the L-bracket's smooth seams in full mode break every leaf or two). */
+static int pieces_join(pieces *pc, double gap)
+{
+    for (;;) {
+        double best = INFINITY;
+        int64_t bi = -1, bj = -1;
+        int be = 0;
+        for (int64_t i = 0; i < pc->n; i++)
+            for (int64_t j = i + 1; j < pc->n; j++)
+                for (int e = 0; e < 4; e++) { /* e & 1: i's last end; e & 2: j's last end */
+                    const polyline *a = &pc->p[i], *b = &pc->p[j];
+                    const double *pa = a->pts.v + ((e & 1) ? 3 * (a->rad.n - 1) : 0);
+                    const double *pb = b->pts.v + ((e & 2) ? 3 * (b->rad.n - 1) : 0);
+                    double d = dist3(pa, pb);
+                    if (d <= gap && d < best) {
+                        best = d;
+                        bi = i;
+                        bj = j;
+                        be = e;
+                    }
+                }
+        if (bi < 0)
+            return 1;
+        polyline *a = &pc->p[bi], *b = &pc->p[bj];
+        if (!(be & 1))
+            polyline_reverse(a); /* a now ends at the joined end */
+        if (be & 2)
+            polyline_reverse(b); /* b now starts there */
+        int skip = dist3(a->pts.v + 3 * (a->rad.n - 1), b->pts.v) == 0;
+        for (int64_t i = skip; i < b->rad.n; i++)
+            if (!dbuf_push(&a->pts, b->pts.v[3 * i]) || !dbuf_push(&a->pts, b->pts.v[3 * i + 1]) ||
+                !dbuf_push(&a->pts, b->pts.v[3 * i + 2]) || !dbuf_push(&a->rad, b->rad.v[i]))
+                return 0;
+        free(b->pts.v);
+        free(b->rad.v);
+        memmove(pc->p + bj, pc->p + bj + 1, (size_t)(pc->n - bj - 1) * sizeof *pc->p);
+        pc->n--;
+    }
+}
+
+/* Distance from p to the polyline P (n points). */
+static double polyline_dist(const double *P, int64_t n, const double *p)
+{
+    double best = n ? dist3(P, p) : INFINITY;
+    for (int64_t i = 0; i + 1 < n; i++) {
+        const double *A = P + 3 * i, *B = A + 3;
+        double ab[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]}, ap[3] = {p[0] - A[0], p[1] - A[1], p[2] - A[2]};
+        double l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+        double t = l2 > 0 ? (ap[0] * ab[0] + ap[1] * ab[1] + ap[2] * ab[2]) / l2 : 0;
+        t = t < 0 ? 0 : (t > 1 ? 1 : t);
+        double q[3] = {A[0] + t * ab[0], A[1] + t * ab[1], A[2] + t * ab[2]};
+        best = fmin(best, dist3(q, p));
+    }
+    return best;
+}
+
+/* Is the polyline within tol of one of the first ndeg seams of o (the degenerate ones),
+ * whose set holds the set s?  In full mode the square prism's diagonal sheets end on its
+ * axis, and their boundary segments there name 3 of the 4 sides: the axis is the
+ * degenerate seam, once. */
+static int covered_by_degenerate(const seam_out *o, int64_t ndeg, const polyline *pl,
+                                 const int64_t *s, int64_t ns, double tol)
+{
+    for (int64_t k = 0; k < ndeg; k++) {
+        int64_t e0 = o->el_off.v[k], e1 = o->el_off.v[k + 1];
+        if (!subset_of(s, ns, o->elems.v + e0, e1 - e0))
+            continue;
+        const double *P = o->pts.v + 3 * o->pt_off.v[k];
+        int64_t np = o->pt_off.v[k + 1] - o->pt_off.v[k], i = 0;
+        while (i < pl->rad.n && polyline_dist(P, np, pl->pts.v + 3 * i) <= tol)
+            i++;
+        if (i == pl->rad.n)
+            return 1;
+    }
+    return 0;
+}
+
 /* Chains the segments seg[0 .. n) (one element set, one pair) into polylines. */
 static int chain_segments(const md_soup *sp, const seg_ref *seg, int64_t n, seam_out *o,
-                          const md_junction *J, int64_t nj, double reach, double tol)
+                          int64_t ndeg, const md_junction *J, int64_t nj, double reach, double tol)
 {
     /* Vertex degrees over this group: a sorted vertex list, adjacency by segment. */
     int64_t *vs = malloc((size_t)(2 * n) * sizeof *vs);
@@ -711,6 +827,7 @@ static int chain_segments(const md_soup *sp, const seg_ref *seg, int64_t n, seam
     char *used = calloc((size_t)n, 1);
     int ok = vs && adj_off && adj && used;
     polyline pl = {{0}, {0}};
+    pieces pc = {0};
     int64_t nvs = 0;
     if (ok) {
         for (int64_t i = 0; i < n; i++) {
@@ -769,10 +886,18 @@ static int chain_segments(const md_soup *sp, const seg_ref *seg, int64_t n, seam
                     s = nxt;
                 }
                 if (ok)
-                    ok = emit_seam(o, &pl, seg[0].e, 3, seg[0].kind, J, nj, reach, tol);
+                    ok = pieces_take(&pc, &pl);
             }
         }
 #undef VIDX
+    /* The pieces of one seam, joined across the gaps the sampling leaves, then emitted
+     * unless a degenerate seam already covers them. */
+    if (ok)
+        ok = pieces_join(&pc, reach);
+    for (int64_t i = 0; i < pc.n && ok; i++)
+        if (!covered_by_degenerate(o, ndeg, &pc.p[i], seg[0].e, 3, tol))
+            ok = emit_seam(o, &pc.p[i], seg[0].e, 3, seg[0].kind, J, nj, reach, tol);
+    pieces_free(&pc);
     free(pl.pts.v);
     free(pl.rad.v);
     free(vs);
@@ -785,7 +910,7 @@ static int chain_segments(const md_soup *sp, const seg_ref *seg, int64_t n, seam
 /* The seams of the soup (design 4.2): per element set, the segments of its smallest pair
  * that bounds an output sheet. */
 static int soup_seams(const md_elements *el, const md_soup *sp, const asm_state *s, seam_out *o,
-                      const md_junction *J, int64_t nj, double reach, double tol)
+                      int64_t ndeg, const md_junction *J, int64_t nj, double reach, double tol)
 {
     (void)el;
     seg_ref *seg = malloc((size_t)(sp->nsegs ? sp->nsegs : 1) * sizeof *seg);
@@ -819,7 +944,7 @@ static int soup_seams(const md_elements *el, const md_soup *sp, const asm_state 
         while (j < m && !memcmp(seg[j].e, seg[i].e, sizeof seg[i].e) && seg[j].pa == seg[i].pa &&
                seg[j].pb == seg[i].pb)
             j++;
-        ok = chain_segments(sp, seg + i, j - i, o, J, nj, reach, tol);
+        ok = chain_segments(sp, seg + i, j - i, o, ndeg, J, nj, reach, tol);
         /* skip the set's other pairs */
         while (j < m && !memcmp(seg[j].e, seg[i].e, sizeof seg[i].e))
             j++;
@@ -1090,8 +1215,9 @@ mfg_status mfg_medial_surface(const double *xyz, int64_t nvertices, const int64_
     int64_t n3 = merge_junctions(&el, J3, nJ - n2, tolerance, full);
     if ((st = elements_to_public(&el, m)) != MFG_OK || (st = build_sheets(&el, &sp, h, tolerance, full, m, &as)) != MFG_OK)
         goto fail;
-    if (!soup_seams(&el, &sp, &as, &so, J3, n3, 2 * h, tolerance) ||
-        !degenerate_seams(&el, J, n2, &so, J3, n3, h, tolerance, full)) {
+    /* degenerate seams first: the soup's seams along them are dropped */
+    if (!degenerate_seams(&el, J, n2, &so, J3, n3, h, tolerance, full) ||
+        !soup_seams(&el, &sp, &as, &so, so.n, J3, n3, 2 * h, tolerance)) {
         st = MFG_ERR_NOMEM;
         goto fail;
     }

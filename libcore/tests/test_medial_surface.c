@@ -114,6 +114,17 @@ static int64_t seam_with(const mfg_medial *m, int64_t *want, int64_t n)
     return -1;
 }
 
+static int64_t seams_with(const mfg_medial *m, int64_t *want, int64_t n)
+{
+    qsort(want, (size_t)n, sizeof *want, cmp64);
+    int64_t k = 0;
+    for (int64_t c = 0; c < m->nseams; c++) {
+        int64_t o = m->seam_element_offsets[c];
+        k += m->seam_element_offsets[c + 1] - o == n && !memcmp(m->seam_elements + o, want, (size_t)n * 8);
+    }
+    return k;
+}
+
 static double diag_of(const tmesh *t)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -243,6 +254,9 @@ static void test_cube(void)
         return;
     CHECK_EQ_INT(m->nsheets, 12);
     CHECK(fabs(total_area(m) - 12 * 565.685) <= 0.01 * 12 * 565.685);
+    /* 8 seams from the centre towards the corners */
+    CHECK_EQ_INT(m->nseams, 8);
+    CHECK_EQ_INT(m->njunctions, 1);
     mfg_medial_free(m);
 }
 
@@ -290,6 +304,19 @@ static void test_square_prism(void)
         }
         CHECK_EQ_INT(bad, 0);
     }
+    mfg_medial_free(m);
+    /* Full: 4 trapezoids and 8 end triangles; 8 seams from the junctions to the corners
+     * and the axis once (the diagonal sheets' boundary segments on it name 3 sides). */
+    m = run(&t, tol, MFG_MEDIAL_FULL, 0);
+    if (!m)
+        return;
+    CHECK_EQ_INT(m->nsheets, 12);
+    double Aw = 4 * 0.5 * (100 + 80) * 10 * sqrt(2.0) + 8 * 141.421;
+    CHECK(fabs(total_area(m) - Aw) <= 0.01 * Aw);
+    CHECK_EQ_INT(m->nseams, 9);
+    CHECK_EQ_INT(m->njunctions, 2);
+    memcpy(want, sides, sizeof want);
+    CHECK_EQ_INT(seams_with(m, want, 4), 1);
     mfg_medial_free(m);
 }
 
@@ -387,6 +414,22 @@ static void test_l_bracket(void)
     if (c >= 0)
         CHECK_EQ_INT(m->seam_kinds[c], MFG_MEDIAL_SMOOTH);
     CHECK_EQ_INT(m->nseams, 13);
+    mfg_medial_free(m);
+    /* Full: the smooth seam {z0, Fi, E} from (5, 10, 5) down to the corner (10, 10, 0) is
+     * one polyline (the sheet's trimmed boundary breaks between leaves there). */
+    m = run(&t, tol, MFG_MEDIAL_FULL, 0);
+    if (!m)
+        return;
+    CHECK_EQ_INT(m->njunctions, 10);
+    int64_t want3[3] = {z0, Fi, E};
+    CHECK_EQ_INT(seams_with(m, want3, 3), 1);
+    c = seam_with(m, want3, 3);
+    if (c >= 0) {
+        int64_t p0 = m->seam_point_offsets[c], p1 = m->seam_point_offsets[c + 1] - 1;
+        CHECK(dist3(m->seam_points + 3 * p0, (double[3]){5, 10, 5}) <= eps);
+        CHECK(dist3(m->seam_points + 3 * p1, (double[3]){10, 10, 0}) <= tol);
+        CHECK_EQ_INT(m->seam_kinds[c], MFG_MEDIAL_SMOOTH);
+    }
     mfg_medial_free(m);
 }
 
