@@ -543,8 +543,24 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
 {
     if (nT < 4 || cap <= 0)
         return 0;
-    if (nT > MD_JMAX)
-        nT = MD_JMAX;
+    /* Elements whose Voronoi region stays away from the box touch nowhere in it: the
+     * region margin is 1-Lipschitz (a minimum of unit-gradient constraints, or a signed
+     * distance to the face's polygon), so margin(c) < -rho rules them out.  Convex edges
+     * and vertices (regions outside the solid) go here; near a 48-gon disc's rim they
+     * would otherwise multiply the subsets tried below beyond MAX_SUBSETS. */
+    int64_t Tk[MD_JMAX];
+    int nk = 0;
+    {
+        double c[3] = {lo[0] + 0.5 * side, lo[1] + 0.5 * side, lo[2] + 0.5 * side};
+        double rho = 0.5 * sqrt(3.0) * side + 2 * TOUCH_REL * el->diag;
+        for (int i = 0; i < nT && nk < MD_JMAX; i++)
+            if (md_region_margin(el, T[i], c, NULL) >= -rho)
+                Tk[nk++] = T[i];
+    }
+    T = Tk;
+    nT = nk;
+    if (nT < 4)
+        return 0;
     /* T may hold elements that touch nowhere in the box (it is the set near the leaf's
      * centre): when the whole set has no equidistant point here, try the sets with one
      * element fewer, and so on down to 4 (the paper drops the farthest element; at a

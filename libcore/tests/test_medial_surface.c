@@ -433,11 +433,13 @@ static void test_l_bracket(void)
     mfg_medial_free(m);
 }
 
-static void test_disc(void)
+/* At 1 % of L the leaves near the rim hold the convex edges and vertices as well (11
+ * elements within D + 2 rho): the junction search must still find all 48. */
+static void test_disc_at(double frac)
 {
     tmesh t;
     ms_disc(&t, 48, 50, 4);
-    double L = diag_of(&t), tol = 0.005 * L, eps = 1e-9 * L;
+    double L = diag_of(&t), tol = frac * L, eps = 1e-9 * L;
     mfg_medial *m = run(&t, tol, 0, 0);
     if (!m)
         return;
@@ -559,8 +561,10 @@ int main(int argc, char **argv)
         test_square_prism();
     if (!only || !strcmp(only, "lbracket"))
         test_l_bracket();
-    if (!only || !strcmp(only, "disc"))
-        test_disc();
+    if (!only || !strcmp(only, "disc")) {
+        test_disc_at(0.005);
+        test_disc_at(0.01);
+    }
     if (!only || !strcmp(only, "invariance"))
         test_invariance();
     if (!only || !strcmp(only, "errors"))
