@@ -50,6 +50,16 @@ static int cmp_xyz(const double *a, const double *b)
     return 0;
 }
 
+/* Lexicographic order where coordinates within d count as equal: a seam along x = 30
+ * has ends whose x differ by an ulp, and its direction must not hang on that. */
+static int cmp_xyz_tol(const double *a, const double *b, double d)
+{
+    for (int k = 0; k < 3; k++)
+        if (fabs(a[k] - b[k]) > d)
+            return a[k] < b[k] ? -1 : 1;
+    return 0;
+}
+
 static int cmp_i64(const void *pa, const void *pb)
 {
     int64_t a = *(const int64_t *)pa, b = *(const int64_t *)pb;
@@ -547,20 +557,32 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
 
 /* ---- seams ---------------------------------------------------------------------------------- */
 
+/* Elements of a seam set at most (more: the segment keeps its own 3). */
+#define SEAM_EMAX 8
+
 /* A seam segment with its element set and the pair of the sheet it bounds. */
 typedef struct seg_ref {
-    int64_t e[3];
+    int64_t e[SEAM_EMAX];
+    int32_t ne;
+    int32_t kind;
     int64_t pa, pb; /* the pair of the sheet the segment bounds */
     int64_t v0, v1; /* soup vertices, v0 < v1 */
-    int32_t kind;
 } seg_ref;
+
+static int cmp_set(const int64_t *a, int64_t na, const int64_t *b, int64_t nb)
+{
+    for (int64_t k = 0; k < na && k < nb; k++)
+        if (a[k] != b[k])
+            return a[k] < b[k] ? -1 : 1;
+    return (na > nb) - (na < nb);
+}
 
 static int cmp_seg(const void *pa, const void *pb)
 {
     const seg_ref *a = pa, *b = pb;
-    for (int k = 0; k < 3; k++)
-        if (a->e[k] != b->e[k])
-            return a->e[k] < b->e[k] ? -1 : 1;
+    int c = cmp_set(a->e, a->ne, b->e, b->ne);
+    if (c)
+        return c;
     if (a->pa != b->pa)
         return a->pa < b->pa ? -1 : 1;
     if (a->pb != b->pb)
@@ -659,7 +681,7 @@ static int emit_seam(seam_out *o, polyline *pl, const int64_t *set, int64_t ns, 
         return 1;
     /* Orientation: from the lexicographically smaller end. */
     int64_t n = pl->rad.n;
-    if (cmp_xyz(pl->pts.v + 3 * (n - 1), pl->pts.v) < 0)
+    if (cmp_xyz_tol(pl->pts.v + 3 * (n - 1), pl->pts.v, 1e-9 * tol) < 0)
         polyline_reverse(pl);
     int64_t e0 = snap_junction(J, nj, pl->pts.v, set, ns, reach);
     int64_t e1 = snap_junction(J, nj, pl->pts.v + 3 * (n - 1), set, ns, reach);
@@ -816,9 +838,10 @@ static int covered_by_degenerate(const seam_out *o, int64_t ndeg, const polyline
     return 0;
 }
 
-/* Chains the segments seg[0 .. n) (one element set, one pair) into polylines. */
-static int chain_segments(const md_soup *sp, const seg_ref *seg, int64_t n, seam_out *o,
-                          int64_t ndeg, const md_junction *J, int64_t nj, double reach, double tol)
+/* Chains the segments seg[0 .. n) (one element set, one pair) into polylines, joined
+ * across gaps up to gap, into *out. */
+static int chain_segments(const md_soup *sp, const seg_ref *seg, int64_t n, double gap,
+                          pieces *out)
 {
     /* Vertex degrees over this group: a sorted vertex list, adjacency by segment. */
     int64_t *vs = malloc((size_t)(2 * n) * sizeof *vs);
@@ -890,14 +913,13 @@ static int chain_segments(const md_soup *sp, const seg_ref *seg, int64_t n, seam
             }
         }
 #undef VIDX
-    /* The pieces of one seam, joined across the gaps the sampling leaves, then emitted
-     * unless a degenerate seam already covers them. */
+    /* The pieces of one seam, joined across the gaps the sampling leaves. */
     if (ok)
-        ok = pieces_join(&pc, reach);
-    for (int64_t i = 0; i < pc.n && ok; i++)
-        if (!covered_by_degenerate(o, ndeg, &pc.p[i], seg[0].e, 3, tol))
-            ok = emit_seam(o, &pc.p[i], seg[0].e, 3, seg[0].kind, J, nj, reach, tol);
-    pieces_free(&pc);
+        ok = pieces_join(&pc, gap);
+    if (ok)
+        *out = pc;
+    else
+        pieces_free(&pc);
     free(pl.pts.v);
     free(pl.rad.v);
     free(vs);
@@ -907,12 +929,52 @@ static int chain_segments(const md_soup *sp, const seg_ref *seg, int64_t n, seam
     return ok;
 }
 
+/* The element set of a segment: the elements touching at both of its ends, with the
+ * three the sheet extraction named (its boundary points are exact up to rounding, not to
+ * 1e-9 L everywhere).  Where a sheet passes into another across a line that 4 elements
+ * keep equidistant (a T-section's web sheet {x = 25, x = 35} into {both reflex edges} at
+ * y = 10) the extraction names one of two equally near trimming elements per segment;
+ * the touching set names all four, so the seam is chained as one. */
+static int segment_set(const md_elements *el, const md_bvh *bvh, const md_soup *sp, int64_t i,
+                       int64_t *set)
+{
+    int64_t s0[MD_JMAX], s1[MD_JMAX];
+    const int64_t *own = sp->seg_elems + 3 * i;
+    int n0 = md_touching_set(el, bvh, sp->xyz + 3 * sp->seg_verts[2 * i], s0, MD_JMAX, NULL);
+    int n1 = md_touching_set(el, bvh, sp->xyz + 3 * sp->seg_verts[2 * i + 1], s1, MD_JMAX, NULL);
+    if (n0 < 0 || n1 < 0)
+        return -1;
+    int n = 0;
+    /* (s0 and s1) or own: merge of sorted lists */
+    for (int a = 0, b = 0, c = 0; a < n0 || c < 3;) {
+        int64_t v = INT64_MAX;
+        if (a < n0)
+            v = s0[a];
+        if (c < 3 && own[c] < v)
+            v = own[c];
+        int in_own = c < 3 && own[c] == v, in0 = a < n0 && s0[a] == v;
+        while (b < n1 && s1[b] < v)
+            b++;
+        int in1 = b < n1 && s1[b] == v;
+        if (in_own || (in0 && in1)) {
+            if (n == SEAM_EMAX) {
+                memcpy(set, own, 3 * sizeof *set);
+                return 3;
+            }
+            set[n++] = v;
+        }
+        a += in0;
+        c += in_own;
+    }
+    return n;
+}
+
 /* The seams of the soup (design 4.2): per element set, the segments of its smallest pair
  * that bounds an output sheet. */
-static int soup_seams(const md_elements *el, const md_soup *sp, const asm_state *s, seam_out *o,
-                      int64_t ndeg, const md_junction *J, int64_t nj, double reach, double tol)
+static int soup_seams(const md_elements *el, const md_bvh *bvh, const md_soup *sp,
+                      const asm_state *s, seam_out *o, int64_t ndeg, const md_junction *J,
+                      int64_t nj, double reach, double tol)
 {
-    (void)el;
     seg_ref *seg = malloc((size_t)(sp->nsegs ? sp->nsegs : 1) * sizeof *seg);
     if (!seg)
         return 0;
@@ -922,7 +984,13 @@ static int soup_seams(const md_elements *el, const md_soup *sp, const asm_state 
         if (v0 == v1 || s->vsheet[v0] < 0 || s->vsheet[v1] < 0)
             continue; /* not on an output sheet */
         seg_ref r;
-        memcpy(r.e, sp->seg_elems + 3 * i, sizeof r.e);
+        memset(&r, 0, sizeof r);
+        int ne = segment_set(el, bvh, sp, i, r.e);
+        if (ne < 0) {
+            free(seg);
+            return 0;
+        }
+        r.ne = ne;
         r.pa = sp->seg_pair[2 * i];
         r.pb = sp->seg_pair[2 * i + 1];
         r.v0 = v0 < v1 ? v0 : v1;
@@ -937,18 +1005,35 @@ static int soup_seams(const md_elements *el, const md_soup *sp, const asm_state 
     for (int64_t i = 0; i < n; i++)
         if (m == 0 || cmp_seg(&seg[m - 1], &seg[i]) != 0)
             seg[m++] = seg[i];
+    /* Per element set, the pair whose segments chain into the fewest pieces (ties: the
+     * smallest pair, design 4.2): a sheet's trimmed boundary can break between leaves
+     * where another sheet's does not (the T-section's web sheet along y = 10). */
     int ok = 1;
     for (int64_t i = 0; i < m && ok;) {
-        /* the element set's first (smallest) pair: the group [i, j) */
-        int64_t j = i;
-        while (j < m && !memcmp(seg[j].e, seg[i].e, sizeof seg[i].e) && seg[j].pa == seg[i].pa &&
-               seg[j].pb == seg[i].pb)
-            j++;
-        ok = chain_segments(sp, seg + i, j - i, o, ndeg, J, nj, reach, tol);
-        /* skip the set's other pairs */
-        while (j < m && !memcmp(seg[j].e, seg[i].e, sizeof seg[i].e))
-            j++;
-        i = j;
+        pieces best = {0};
+        int have = 0;
+        int64_t k = i;
+        while (ok && k < m && !cmp_set(seg[k].e, seg[k].ne, seg[i].e, seg[i].ne)) {
+            int64_t j = k;
+            while (j < m && !cmp_set(seg[j].e, seg[j].ne, seg[k].e, seg[k].ne) &&
+                   seg[j].pa == seg[k].pa && seg[j].pb == seg[k].pb)
+                j++;
+            pieces pc = {0};
+            ok = chain_segments(sp, seg + k, j - k, 1.5 * reach, &pc);
+            if (ok && (!have || pc.n < best.n)) {
+                pieces_free(&best);
+                best = pc;
+                have = 1;
+            } else if (ok) {
+                pieces_free(&pc);
+            }
+            k = j;
+        }
+        for (int64_t p = 0; p < best.n && ok; p++)
+            if (!covered_by_degenerate(o, ndeg, &best.p[p], seg[i].e, seg[i].ne, tol))
+                ok = emit_seam(o, &best.p[p], seg[i].e, seg[i].ne, seg[i].kind, J, nj, reach, tol);
+        pieces_free(&best);
+        i = k;
     }
     free(seg);
     return ok;
@@ -1217,7 +1302,7 @@ mfg_status mfg_medial_surface(const double *xyz, int64_t nvertices, const int64_
         goto fail;
     /* degenerate seams first: the soup's seams along them are dropped */
     if (!degenerate_seams(&el, J, n2, &so, J3, n3, h, tolerance, full) ||
-        !soup_seams(&el, &sp, &as, &so, so.n, J3, n3, 2 * h, tolerance)) {
+        !soup_seams(&el, bvh, &sp, &as, &so, so.n, J3, n3, 2 * h, tolerance)) {
         st = MFG_ERR_NOMEM;
         goto fail;
     }

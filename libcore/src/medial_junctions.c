@@ -230,17 +230,6 @@ static int rank_of(const double lam[3])
     return r;
 }
 
-/* D(x): through the BVH, or by brute force when there is none (unit tests). */
-static double nearest_D(const md_elements *el, const md_bvh *bvh, const double x[3])
-{
-    if (bvh)
-        return md_bvh_nearest(bvh, el, x, NULL, NULL);
-    double best = INFINITY;
-    for (int64_t e = 0; e < el->nelements; e++)
-        best = fmin(best, md_dist(el, e, x));
-    return best;
-}
-
 /* Does e touch the ball of radius D at x: its carrier distance within tol of D and x in
  * its Voronoi region up to tol (a foot on the region's boundary is decided by rounding;
  * the sub-element there touches as well). */
@@ -250,29 +239,37 @@ static int touches(const md_elements *el, int64_t e, const double x[3], double D
            md_region_margin(el, e, x, NULL) >= -tol;
 }
 
-/* The touching set at x (ascending, at most cap; returns the full count, -1 on NOMEM). */
-static int touching_set(const md_elements *el, const md_bvh *bvh, const double x[3], double D,
-                        double tol, int64_t *out, int cap)
+int md_touching_set(const md_elements *el, const md_bvh *bvh, const double x[3], int64_t *out,
+                    int cap, double *Dout)
 {
-    int n = 0;
+    double tol = TOUCH_REL * el->diag;
+    int64_t stack_buf[256], *buf = stack_buf, m;
+    /* Candidates: every element when there is no BVH (unit tests), else the closures
+     * within the BVH's distance (from triangles) plus 2 tol. */
     if (!bvh) {
-        for (int64_t e = 0; e < el->nelements; e++)
-            if (touches(el, e, x, D, tol)) {
-                if (n < cap)
-                    out[n] = e;
-                n++;
-            }
-        return n;
-    }
-    int64_t stack_buf[256], *buf = stack_buf, capb = 256;
-    int64_t m = md_bvh_within(bvh, el, x, D + tol, buf, capb);
-    if (m > capb) {
-        buf = malloc((size_t)m * sizeof *buf);
-        if (!buf)
+        m = el->nelements;
+        if (m > 256 && !(buf = malloc((size_t)m * sizeof *buf)))
             return -1;
-        md_bvh_within(bvh, el, x, D + tol, buf, m);
+        for (int64_t e = 0; e < m; e++)
+            buf[e] = e;
+    } else {
+        double Db = md_bvh_nearest(bvh, el, x, NULL, NULL);
+        m = md_bvh_within(bvh, el, x, Db + 2 * tol, buf, 256);
+        if (m > 256) {
+            if (!(buf = malloc((size_t)m * sizeof *buf)))
+                return -1;
+            md_bvh_within(bvh, el, x, Db + 2 * tol, buf, m);
+        }
     }
+    /* D from the elements, not from the triangles: carrier distances of the elements whose
+     * region holds x up to tol (at a region's boundary the rounding may put x outside both
+     * neighbours' regions by an ulp).  Triangle order then cannot change a bit. */
+    double D = INFINITY;
     for (int64_t i = 0; i < m; i++)
+        if (md_region_margin(el, buf[i], x, NULL) >= -tol)
+            D = fmin(D, md_dist_car(el, buf[i], x, NULL));
+    int n = 0;
+    for (int64_t i = 0; i < m && isfinite(D); i++)
         if (touches(el, buf[i], x, D, tol)) {
             if (n < cap)
                 out[n] = buf[i];
@@ -280,6 +277,8 @@ static int touching_set(const md_elements *el, const md_bvh *bvh, const double x
         }
     if (buf != stack_buf)
         free(buf);
+    if (Dout)
+        *Dout = D;
     return n;
 }
 
@@ -331,21 +330,20 @@ int md_junction_polish(const md_elements *el, const md_bvh *bvh, const double x0
     for (int k = 0; k < 3; k++)
         if (!(x[k] >= lo[k] - tolerance && x[k] <= lo[k] + side + tolerance))
             return 0;
-    double D = nearest_D(el, bvh, x);
-    if (!(D > 0) || !isfinite(D))
+    md_junction j;
+    memset(&j, 0, sizeof j);
+    double D;
+    int n = md_touching_set(el, bvh, x, j.elems, MD_JMAX, &D);
+    if (n < 0)
+        return -1;
+    /* A ball of radius ~0 is a boundary point (a corner), not a junction. */
+    if (n > MD_JMAX || n < 4 || !(D > 1e3 * tol))
         return 0;
     /* Every element of T touches, or the point is not a medial point of T (another
      * element is nearer). */
     for (int i = 0; i < nT; i++)
         if (!touches(el, T[i], x, D, tol))
             return 0;
-    md_junction j;
-    memset(&j, 0, sizeof j);
-    int n = touching_set(el, bvh, x, D, tol, j.elems, MD_JMAX);
-    if (n < 0)
-        return -1;
-    if (n > MD_JMAX || n < 4)
-        return 0;
     j.n = n;
     int jc[MD_JMAX];
     int nc = clusters(el, j.elems, n, jc);

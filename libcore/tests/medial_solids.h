@@ -73,6 +73,22 @@ static inline void ms_l_bracket(tmesh *m)
     ms_prism(m, P, 6, 40);
 }
 
+/* T-section: flange [0,60] x [0,10], web [25,35] x [10,50], extruded over z in [0, 40];
+ * the caps are triangulated by hand (the T is not star-shaped from a corner). */
+static inline void ms_tsection(tmesh *m)
+{
+    const double P[8][2] = {{0, 0}, {60, 0}, {60, 10}, {35, 10}, {35, 50}, {25, 50}, {25, 10}, {0, 10}};
+    static const int C[6][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 6}, {0, 6, 7}, {6, 3, 4}, {6, 4, 5}};
+    ms_prism(m, P, 8, 40);
+    for (int i = 0; i < 6; i++) { /* ms_prism's first 12 triangles are the caps */
+        int64_t *t = m->tri + 6 * i;
+        for (int k = 0; k < 3; k++) {
+            t[k] = ms_vtx(m, P[C[i][k]][0], P[C[i][k]][1], 40);
+            t[3 + (3 - k) % 3] = ms_vtx(m, P[C[i][k]][0], P[C[i][k]][1], 0);
+        }
+    }
+}
+
 /* Regular n-gon disc: circumradius R, thickness H, corner 0 at (R, 0). */
 static inline void ms_disc(tmesh *m, int n, double R, double H)
 {

@@ -433,6 +433,55 @@ static void test_l_bracket(void)
     mfg_medial_free(m);
 }
 
+/* T-section (design 7): the web's mid-sheet {x = 25, x = 35} passes at y = 10 into the
+ * sheet of the two reflex edges E_L = (25, 10, z), E_R = (35, 10, z) (x = 30), which meets
+ * the flange's mid-sheets {y0, E_L}, {y0, E_R} in a BRANCH seam {y0, E_L, E_R} at
+ * y = 6.25 (|(30, y) - (25, 10)| = y), r = 6.25. */
+static void test_tsection(void)
+{
+    tmesh t;
+    ms_tsection(&t);
+    double L = diag_of(&t), tol = 0.005 * L, eps = 1e-9 * L;
+    mfg_medial *m = run(&t, tol, 0, 0);
+    if (!m)
+        return;
+    CHECK_EQ_INT(m->nfaces, 10);
+    int64_t y0 = face_with(m, 0, -1, 0, 0), wl = face_with(m, -1, 0, 0, -25), wr = face_with(m, 1, 0, 0, 35);
+    int64_t El = edge_on_line_z(m, 25, 10), Er = edge_on_line_z(m, 35, 10);
+    CHECK(y0 >= 0 && wl >= 0 && wr >= 0 && El >= 0 && Er >= 0);
+    int64_t want[3] = {y0, El, Er};
+    int64_t c = seam_with(m, want, 3);
+    CHECK(c >= 0);
+    if (c >= 0) {
+        CHECK_EQ_INT(m->seam_kinds[c], MFG_MEDIAL_BRANCH);
+        int bad = 0;
+        for (int64_t p = m->seam_point_offsets[c]; p < m->seam_point_offsets[c + 1]; p++) {
+            const double *q = m->seam_points + 3 * p;
+            bad += fabs(q[0] - 30) > eps || fabs(q[1] - 6.25) > eps || fabs(m->seam_radii[p] - 6.25) > eps;
+        }
+        CHECK_EQ_INT(bad, 0);
+        int64_t p0 = m->seam_point_offsets[c], p1 = m->seam_point_offsets[c + 1] - 1;
+        CHECK(dist3(m->seam_points + 3 * p0, (double[3]){30, 6.25, 6.25}) <= eps);
+        CHECK(dist3(m->seam_points + 3 * p1, (double[3]){30, 6.25, 33.75}) <= eps);
+    }
+    /* Where the web's sheet passes into the edges' sheet all four stay equidistant: one
+     * SMOOTH seam from (30, 10, 5) to (30, 10, 35). */
+    int64_t want4[4] = {wl, wr, El, Er};
+    CHECK_EQ_INT(seams_with(m, want4, 4), 1);
+    c = seam_with(m, want4, 4);
+    if (c >= 0) {
+        CHECK_EQ_INT(m->seam_kinds[c], MFG_MEDIAL_SMOOTH);
+        int64_t p0 = m->seam_point_offsets[c], p1 = m->seam_point_offsets[c + 1] - 1;
+        CHECK(dist3(m->seam_points + 3 * p0, (double[3]){30, 10, 5}) <= eps);
+        CHECK(dist3(m->seam_points + 3 * p1, (double[3]){30, 10, 35}) <= eps);
+    }
+    CHECK(sheet_of(m, wl, wr) >= 0 && sheet_of(m, El, Er) >= 0);
+    CHECK_EQ_INT(m->nsheets, 6);
+    CHECK_EQ_INT(m->njunctions, 14);
+    CHECK_EQ_INT(m->nseams, 19);
+    mfg_medial_free(m);
+}
+
 /* At 1 % of L the leaves near the rim hold the convex edges and vertices as well (11
  * elements within D + 2 rho): the junction search must still find all 48. */
 static void test_disc_at(double frac)
@@ -565,6 +614,8 @@ int main(int argc, char **argv)
         test_disc_at(0.005);
         test_disc_at(0.01);
     }
+    if (!only || !strcmp(only, "tsection"))
+        test_tsection();
     if (!only || !strcmp(only, "invariance"))
         test_invariance();
     if (!only || !strcmp(only, "errors"))
