@@ -50,6 +50,23 @@ reader has gone, a full disk).
              "tolerance", "input_triangles", "input_vertices", "triangles", "vertices",
              "volume", "area", "bbox": [[min], [max]], "time_s": {"read", "sweep",
              "write"}}; --json also writes it to REPORT
+    mfgeom medial-surface IN.stl|.obj --tolerance T [--full] [--threads N]
+                          [--json OUT.json] [--ply OUT.ply | --obj OUT.obj]
+        in:  a closed, outward oriented triangle mesh (as sweep), not JSON; a curved
+             solid comes in tessellated and gets the medial surface of its tessellation
+        out: the medial surface (major part; --full: all of it) within T of the true
+             one: {"input", "tolerance", "full", "threads", "input_vertices",
+             "input_triangles", "elements": {"faces", "edges", "vertices", "kinds",
+             "convex", "face_of_triangle", "face_planes", "edge_segments",
+             "vertex_points"}, "sheets": [{"elements", "form", "form_name", "area",
+             "vertices", "triangles", "radii"}, ...], "seams": [{"elements", "kind",
+             "points", "radii", "ends"}, ...], "junctions": [{"point", "radius",
+             "elements", "kind"}, ...], "cost": {...}, "time_s": {"read", "medial",
+             "write"}} (mfgeom.medialio.document).  With --json the document goes to
+             OUT.json and stdout gets a summary {"input", "json", "ply"/"obj", "faces",
+             "edges", "vertices", "sheets", "seams", "junctions", "sheet_triangles",
+             "time_s"}.  --ply writes the sheets as one ASCII PLY mesh with a per-vertex
+             "radius" and a per-face "sheet"; --obj the sheets and seams as OBJ groups
 """
 
 import argparse
@@ -424,6 +441,56 @@ def cmd_sweep(args):
     return report
 
 
+def cmd_medial_surface(args):
+    import time
+    from mfgeom import core, medialio, meshio
+    if not (math.isfinite(args.tolerance) and args.tolerance > 0.0):
+        raise CliError(f"--tolerance must be positive, got {args.tolerance:g}")
+    if args.threads < 0:
+        raise CliError(f"--threads must be >= 0 (0: every CPU), got {args.threads}")
+    outputs = [(opt, path) for opt, path in (("--json", args.json), ("--ply", args.ply),
+                                              ("--obj", args.obj)) if path]
+    for opt, path in outputs:              # a missing directory fails before the work
+        folder = os.path.dirname(os.path.abspath(str(path)))
+        if not os.path.isdir(folder):
+            raise CliError(f"cannot write {path} ({opt}): no directory {folder}")
+    t0 = time.perf_counter()
+    vertices, triangles = meshio.read_mesh(args.input)
+    t1 = time.perf_counter()
+    try:
+        m = core.medial_surface(vertices, triangles, args.tolerance,
+                                major_only=not args.full, threads=args.threads)
+    except core.MfgError as exc:           # e.g. an open mesh: say which file
+        raise CliError(f"{args.input}: {exc}") from None
+    t2 = time.perf_counter()
+    if args.ply:
+        medialio.write_ply(args.ply, m)
+    if args.obj:
+        medialio.write_obj(args.obj, m)
+    doc = {"input": args.input, "tolerance": float(args.tolerance), "full": bool(args.full),
+           "threads": int(args.threads), "input_vertices": int(len(vertices)),
+           "input_triangles": int(len(triangles))}
+    doc.update(medialio.document(m))
+    t3 = time.perf_counter()
+    times = {"read": t1 - t0, "medial": t2 - t1, "write": t3 - t2}
+    doc["time_s"] = times
+    if not args.json:
+        return doc
+    try:
+        with open(args.json, "w", encoding="utf-8") as f:
+            json.dump(doc, f, indent=args.indent, allow_nan=False)
+            f.write("\n")
+    except OSError as exc:
+        raise CliError(f"cannot write {args.json}: {exc.strerror or exc}") from None
+    summary = {"input": args.input, "json": args.json}
+    summary.update({opt[2:]: path for opt, path in outputs if opt != "--json"})
+    summary.update(faces=m.nfaces, edges=m.nedges, vertices=m.nvertices,
+                   sheets=len(m.sheets), seams=len(m.seams), junctions=len(m.junctions),
+                   sheet_triangles=int(sum(len(s.triangles) for s in m.sheets)),
+                   time_s=times)
+    return summary
+
+
 def cmd_version(args):
     from mfgeom import __version__, core
     return {"package": __version__, "library": core.version(), "library_path": core.library_path}
@@ -502,6 +569,27 @@ def build_parser():
     sp.add_argument("--json", default=None, metavar="REPORT",
                     help="also write the printed report to REPORT")
     sp.set_defaults(func=cmd_sweep, file=None)
+    help_text = ("the medial surface of a closed triangle mesh (STL/OBJ): sheets, seams and "
+                 "junctions with their radii and the boundary elements they touch, as JSON, "
+                 "PLY (per-vertex radius) or OBJ")
+    sp = sub.add_parser("medial-surface", help=help_text, description=help_text)
+    sp.add_argument("input", metavar="IN", help="closed mesh: .stl (binary or ASCII) or .obj")
+    sp.add_argument("--tolerance", type=float, required=True, metavar="T",
+                    help="largest distance of the sheets and seams from the true ones "
+                         "(model units)")
+    sp.add_argument("--full", action="store_true",
+                    help="the full medial surface (default: the major part, sheets between "
+                         "elements whose closures are disjoint)")
+    sp.add_argument("--threads", type=int, default=0, metavar="N",
+                    help="worker threads (default 0: every CPU); the result does not depend on it")
+    sp.add_argument("--json", default=None, metavar="OUT",
+                    help="write the document to OUT; stdout gets a summary")
+    out = sp.add_mutually_exclusive_group()
+    out.add_argument("--ply", default=None, metavar="OUT",
+                     help="write the sheets to OUT as ASCII PLY with a per-vertex radius")
+    out.add_argument("--obj", default=None, metavar="OUT",
+                     help="write the sheets (triangles) and seams (polylines) to OUT as OBJ")
+    sp.set_defaults(func=cmd_medial_surface, file=None)
     sv = sub.add_parser("version", help="versions of the package and the loaded library")
     sv.set_defaults(func=cmd_version, file=None)
     return p
