@@ -1,0 +1,625 @@
+/* SPDX-License-Identifier: LGPL-2.1-or-later */
+/* test_medial_voxels.c - the medial surface's adaptive octree (medial_voxels.c) on the
+ * cuboid 100 x 60 x 20, the L-bracket, the cube 40 and the 48-gon disc, in major and full
+ * mode, against brute-force references (md_nearest_set_brute, md_dist_closed) and
+ * analytic inside tests:
+ *   (a) completeness: at near-medial points x inside (sampled, then pulled onto the
+ *       bisector of their two nearest elements by Newton steps), every allowed pair of the
+ *       touching set T_{h/4}(x) is in P of the leaf that contains x;
+ *   (b) every leaf's centre is inside the solid or within rho of it; C holds every closure
+ *       within D + 2 rho of the centre, P only allowed pairs of C, nT = |T_2rho(centre)|;
+ *   (c) the output is bit-identical for 1, 2 and 7 threads, for shuffled triangles
+ *       (order, corner rotation, vertex numbering) and with or without the BVH;
+ *   (d) the leaf count grows like area / h^2 (printed at 1, 0.5 and 0.25 % of L).
+ * Usage: test_medial_voxels [a|b|c|d] (no argument: all); "cost" times a curved cup of
+ * about 5.5k triangles instead (printed, not asserted: speed targets live in bench/). */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "medial.h"
+#include "mfg_test.h"
+#include "mfgeom.h"
+
+typedef struct tmesh {
+    double xyz[3 * 512];
+    int64_t tri[3 * 1024];
+    int64_t nv, nt;
+} tmesh;
+
+static int64_t vtx(tmesh *m, double x, double y, double z)
+{
+    for (int64_t i = 0; i < m->nv; i++)
+        if (m->xyz[3 * i] == x && m->xyz[3 * i + 1] == y && m->xyz[3 * i + 2] == z)
+            return i;
+    m->xyz[3 * m->nv] = x;
+    m->xyz[3 * m->nv + 1] = y;
+    m->xyz[3 * m->nv + 2] = z;
+    return m->nv++;
+}
+
+static void tri(tmesh *m, int64_t a, int64_t b, int64_t c)
+{
+    m->tri[3 * m->nt] = a;
+    m->tri[3 * m->nt + 1] = b;
+    m->tri[3 * m->nt + 2] = c;
+    m->nt++;
+}
+
+/* A prism: the polygon P (n corners, counter-clockwise) extruded over z in [0, H], caps
+ * fanned from corner 0 (P convex or star-shaped from corner 0). */
+static void prism(tmesh *m, const double (*P)[2], int n, double H)
+{
+    memset(m, 0, sizeof *m);
+    int64_t b[64], t[64];
+    for (int i = 0; i < n; i++) {
+        b[i] = vtx(m, P[i][0], P[i][1], 0);
+        t[i] = vtx(m, P[i][0], P[i][1], H);
+    }
+    for (int i = 1; i + 1 < n; i++) {
+        tri(m, t[0], t[i], t[i + 1]);
+        tri(m, b[0], b[i + 1], b[i]);
+    }
+    for (int i = 0; i < n; i++) {
+        int j = (i + 1) % n;
+        tri(m, b[i], b[j], t[j]);
+        tri(m, b[i], t[j], t[i]);
+    }
+}
+
+/* ---- the solids ---------------------------------------------------------------------- */
+
+typedef struct solid {
+    const char *name;
+    tmesh m;
+    double major_area; /* of the major sheets, for the leaf density */
+    int (*inside)(const double *x);
+} solid;
+
+static int in_cuboid(const double *x)
+{
+    return x[0] > 0 && x[0] < 100 && x[1] > 0 && x[1] < 60 && x[2] > 0 && x[2] < 20;
+}
+
+static int in_cube(const double *x)
+{
+    return x[0] > 0 && x[0] < 40 && x[1] > 0 && x[1] < 40 && x[2] > 0 && x[2] < 40;
+}
+
+static int in_l(const double *x)
+{
+    return x[2] > 0 && x[2] < 40 && x[0] > 0 && x[1] > 0 && x[0] < 50 && x[1] < 50 &&
+           (x[0] < 10 || x[1] < 10);
+}
+
+#define DISC_N 48
+static double disc_p[DISC_N][2];
+
+static int in_disc(const double *x)
+{
+    if (!(x[2] > 0 && x[2] < 4))
+        return 0;
+    for (int i = 0; i < DISC_N; i++) {
+        const double *a = disc_p[i], *b = disc_p[(i + 1) % DISC_N];
+        if ((b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0]) <= 0)
+            return 0;
+    }
+    return 1;
+}
+
+static void make_solids(solid *S)
+{
+    static const double R[4][2] = {{0, 0}, {100, 0}, {100, 60}, {0, 60}};
+    S[0].name = "cuboid";
+    prism(&S[0].m, R, 4, 20);
+    S[0].major_area = 3200;
+    S[0].inside = in_cuboid;
+    static const double Lp[6][2] = {{0, 0}, {50, 0}, {50, 10}, {10, 10}, {10, 50}, {0, 50}};
+    S[1].name = "L-bracket";
+    prism(&S[1].m, Lp, 6, 40);
+    S[1].major_area = 2 * 1050 + 2 * 180; /* {Fo,Fi}, {Go,Gi} and roughly the {Fo,E}s */
+    S[1].inside = in_l;
+    static const double Q[4][2] = {{0, 0}, {40, 0}, {40, 40}, {0, 40}};
+    S[2].name = "cube";
+    prism(&S[2].m, Q, 4, 40);
+    S[2].major_area = 0;
+    S[2].inside = in_cube;
+    for (int i = 0; i < DISC_N; i++) {
+        disc_p[i][0] = 50 * cos(2 * M_PI * i / DISC_N);
+        disc_p[i][1] = 50 * sin(2 * M_PI * i / DISC_N);
+    }
+    S[3].name = "disc48";
+    prism(&S[3].m, (const double(*)[2])disc_p, DISC_N, 4);
+    S[3].major_area = 7216.3;
+    S[3].inside = in_disc;
+}
+
+static double tol_of(const md_elements *el, double frac) { return frac * el->diag; }
+
+/* ---- references ------------------------------------------------------------------------ */
+
+static int allowed(const md_elements *el, int64_t a, int64_t b, int full)
+{
+    return !md_incident(el, a, b) && (full || !md_adjacent(el, a, b));
+}
+
+static const md_leaf *find_leaf(const md_leaves *lv, const int32_t ijk[3])
+{
+    int64_t lo = 0, hi = lv->nleaves;
+    while (lo < hi) {
+        int64_t mid = lo + (hi - lo) / 2;
+        const int32_t *k = lv->leaf[mid].ijk;
+        int c = k[0] != ijk[0] ? (k[0] < ijk[0] ? -1 : 1)
+                : k[1] != ijk[1] ? (k[1] < ijk[1] ? -1 : 1)
+                : k[2] != ijk[2] ? (k[2] < ijk[2] ? -1 : 1) : 0;
+        if (c == 0)
+            return &lv->leaf[mid];
+        if (c < 0)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return NULL;
+}
+
+static int has_pair(const md_leaves *lv, const md_leaf *lf, int64_t a, int64_t b)
+{
+    for (int32_t p = 0; p < lf->nP; p++)
+        if (lv->P[lf->P_off + 2 * p] == a && lv->P[lf->P_off + 2 * p + 1] == b)
+            return 1;
+    return 0;
+}
+
+static int in_list(const int64_t *l, int32_t n, int64_t v)
+{
+    for (int32_t i = 0; i < n; i++)
+        if (l[i] == v)
+            return 1;
+    return 0;
+}
+
+static void leaf_centre(const md_leaves *lv, const md_leaf *lf, double c[3])
+{
+    for (int k = 0; k < 3; k++)
+        c[k] = lv->lat.origin[k] + lv->lat.h * ((double)lf->ijk[k] + 0.5);
+}
+
+/* The two elements with the smallest restricted distances at x (a < b), 0 if < 2. */
+static int two_nearest(const md_elements *el, const double *x, int64_t *a, int64_t *b)
+{
+    double d1 = INFINITY, d2 = INFINITY;
+    int64_t e1 = -1, e2 = -1;
+    for (int64_t e = 0; e < el->nelements; e++) {
+        double d = md_dist(el, e, x);
+        if (d < d1) {
+            d2 = d1;
+            e2 = e1;
+            d1 = d;
+            e1 = e;
+        } else if (d < d2) {
+            d2 = d;
+            e2 = e;
+        }
+    }
+    if (e2 < 0)
+        return 0;
+    *a = e1 < e2 ? e1 : e2;
+    *b = e1 < e2 ? e2 : e1;
+    return 1;
+}
+
+/* ---- (a) completeness -------------------------------------------------------------------- */
+
+static void check_complete(const solid *S, const md_elements *el, const md_leaves *lv, int full,
+                           int nseed)
+{
+    const double h = lv->lat.h;
+    int64_t *T = malloc((size_t)el->nelements * sizeof *T);
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t i = 0; i < S->m.nv; i++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], S->m.xyz[3 * i + k]);
+            hi[k] = fmax(hi[k], S->m.xyz[3 * i + k]);
+        }
+    long tested = 0, pairs = 0, missing = 0, two_smallest = 0, multi = 0;
+    for (int s = 0; s < nseed; s++) {
+        double x[3];
+        for (int k = 0; k < 3; k++)
+            x[k] = rng_uniform(lo[k], hi[k]);
+        if (!S->inside(x))
+            continue;
+        /* Every other seed: pull x onto the bisector of its two nearest elements (Newton
+         * on f = d_a^car - d_b^car), then jitter it by up to h / 8. */
+        int64_t a, b;
+        if ((s & 1) && two_nearest(el, x, &a, &b)) {
+            for (int it = 0; it < 3; it++) {
+                double ga[3], gb[3], g[3];
+                double f = md_dist_car(el, a, x, ga) - md_dist_car(el, b, x, gb);
+                for (int k = 0; k < 3; k++)
+                    g[k] = ga[k] - gb[k];
+                double gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+                if (!(gg > 1e-12))
+                    break;
+                for (int k = 0; k < 3; k++)
+                    x[k] -= f * g[k] / gg;
+            }
+            for (int k = 0; k < 3; k++)
+                x[k] += rng_uniform(-h / 8, h / 8);
+            if (!S->inside(x))
+                continue;
+        }
+        double D;
+        int64_t nT = md_nearest_set_brute(el, x, h / 4, T, &D);
+        if (nT < 2)
+            continue;
+        int32_t ijk[3];
+        for (int k = 0; k < 3; k++)
+            ijk[k] = (int32_t)floor((x[k] - lv->lat.origin[k]) / h);
+        const md_leaf *lf = find_leaf(lv, ijk);
+        int any = 0;
+        int64_t s1 = -1, s2 = -1;
+        if (two_nearest(el, x, &s1, &s2) && !allowed(el, s1, s2, full))
+            s1 = -1;
+        for (int64_t i = 0; i < nT; i++)
+            for (int64_t j = i + 1; j < nT; j++) {
+                if (!allowed(el, T[i], T[j], full))
+                    continue;
+                any = 1;
+                pairs++;
+                int ok = lf && has_pair(lv, lf, T[i], T[j]);
+                if (!ok) {
+                    missing++;
+                    if (missing < 10)
+                        fprintf(stderr, "  %s %s: pair (%lld,%lld) missing at (%g,%g,%g)%s\n",
+                                S->name, full ? "full" : "major", (long long)T[i],
+                                (long long)T[j], x[0], x[1], x[2], lf ? "" : " (no leaf)");
+                }
+                if (T[i] == s1 && T[j] == s2)
+                    two_smallest += ok;
+            }
+        tested += any;
+        multi += any && nT >= 3;
+    }
+    CHECK_EQ_INT(missing, 0);
+    /* The sampling reaches the sheets (and their seams) at all. */
+    if (full || S->major_area > 0)
+        CHECK(tested > 50);
+    printf("  (a) %-9s %-5s: %ld near-medial points (%ld near a seam), %ld allowed pairs, "
+           "%ld missing (two nearest held: %ld)\n",
+           S->name, full ? "full" : "major", tested, multi, pairs, missing, two_smallest);
+    free(T);
+}
+
+/* ---- (b) the leaves' contents --------------------------------------------------------------- */
+
+static void check_leaves(const solid *S, const md_elements *el, const md_leaves *lv, int full)
+{
+    const double h = lv->lat.h, rho = h * (0.5 * sqrt(3.0));
+    int64_t *T = malloc((size_t)el->nelements * sizeof *T);
+    long bad_place = 0, bad_C = 0, bad_P = 0, bad_T = 0, junction = 0, checked = 0;
+    /* Sorted by (i, j, k), without repeats. */
+    for (int64_t i = 1; i < lv->nleaves; i++) {
+        const int32_t *a = lv->leaf[i - 1].ijk, *b = lv->leaf[i].ijk;
+        CHECK(a[0] < b[0] || (a[0] == b[0] && (a[1] < b[1] || (a[1] == b[1] && a[2] < b[2]))));
+    }
+    /* The brute-force checks on about 12000 leaves (every junction leaf). */
+    int64_t stride = lv->nleaves / 12000 + 1;
+    for (int64_t i = 0; i < lv->nleaves; i++) {
+        const md_leaf *lf = &lv->leaf[i];
+        junction += lf->nT >= 4;
+        if (i % stride && lf->nT < 4)
+            continue;
+        checked++;
+        double c[3], u = INFINITY;
+        leaf_centre(lv, lf, c);
+        for (int64_t f = 0; f < el->nfaces; f++)
+            u = fmin(u, md_dist_closed(el, f, c));
+        int in = S->inside(c);
+        bad_place += !(in || u <= rho * (1 + 1e-12));
+        /* C: ascending, and holds every closure within u + 2 rho. */
+        const int64_t *C = lv->C + lf->C_off;
+        for (int32_t q = 1; q < lf->nC; q++)
+            bad_C += C[q - 1] >= C[q];
+        for (int64_t e = 0; e < el->nelements; e++)
+            if (md_dist_closed(el, e, c) <= u + 2 * rho && !in_list(C, lf->nC, e))
+                bad_C++;
+        /* P: non-empty, ascending allowed pairs of C. */
+        bad_P += lf->nP < 1;
+        for (int32_t p = 0; p < lf->nP; p++) {
+            int64_t a = lv->P[lf->P_off + 2 * p], b = lv->P[lf->P_off + 2 * p + 1];
+            bad_P += !(a < b) || !allowed(el, a, b, full) || !in_list(C, lf->nC, a) ||
+                     !in_list(C, lf->nC, b);
+        }
+        /* nT against the brute force (inside, where D is the restricted minimum). */
+        if (in) {
+            double D;
+            int64_t nT = md_nearest_set_brute(el, c, 2 * rho, T, &D);
+            bad_T += nT != lf->nT;
+        }
+    }
+    CHECK_EQ_INT(bad_place, 0);
+    CHECK_EQ_INT(bad_C, 0);
+    CHECK_EQ_INT(bad_P, 0);
+    CHECK_EQ_INT(bad_T, 0);
+    CHECK(lv->nleaves > 0);
+    printf("  (b) %-9s %-5s: %ld of %lld leaves checked, %ld with nT >= 4\n", S->name,
+           full ? "full" : "major", checked, (long long)lv->nleaves, junction);
+    free(T);
+}
+
+/* ---- (c) identical outputs ------------------------------------------------------------------- */
+
+static int same_leaves(const md_leaves *a, const md_leaves *b)
+{
+    if (memcmp(&a->lat, &b->lat, sizeof a->lat) || a->nleaves != b->nleaves ||
+        a->cells_visited != b->cells_visited)
+        return 0;
+    if (memcmp(a->leaf, b->leaf, (size_t)a->nleaves * sizeof *a->leaf))
+        return 0;
+    int64_t nC = 0, nP = 0;
+    if (a->nleaves) {
+        const md_leaf *l = &a->leaf[a->nleaves - 1];
+        nC = l->C_off + l->nC;
+        nP = l->P_off + 2 * l->nP;
+    }
+    return !memcmp(a->C, b->C, (size_t)nC * sizeof *a->C) &&
+           !memcmp(a->P, b->P, (size_t)nP * sizeof *a->P);
+}
+
+/* The same solid with triangles in random order, corners rotated, vertices renumbered. */
+static void shuffled(const tmesh *in, tmesh *out)
+{
+    int64_t perm[512], tp[1024];
+    for (int64_t i = 0; i < in->nv; i++)
+        perm[i] = i;
+    for (int64_t i = in->nv - 1; i > 0; i--) {
+        int64_t j = rng_int(0, i), t = perm[i];
+        perm[i] = perm[j];
+        perm[j] = t;
+    }
+    for (int64_t i = 0; i < in->nt; i++)
+        tp[i] = i;
+    for (int64_t i = in->nt - 1; i > 0; i--) {
+        int64_t j = rng_int(0, i), t = tp[i];
+        tp[i] = tp[j];
+        tp[j] = t;
+    }
+    memset(out, 0, sizeof *out);
+    out->nv = in->nv;
+    out->nt = in->nt;
+    for (int64_t i = 0; i < in->nv; i++)
+        memcpy(out->xyz + 3 * perm[i], in->xyz + 3 * i, 3 * sizeof(double));
+    for (int64_t i = 0; i < in->nt; i++) {
+        int r = (int)rng_int(0, 2);
+        for (int k = 0; k < 3; k++)
+            out->tri[3 * i + k] = perm[in->tri[3 * tp[i] + (k + r) % 3]];
+    }
+}
+
+static void check_identical(const solid *S, const md_elements *el, const md_bvh *bvh,
+                            const md_leaves *ref, double tol, int full)
+{
+    static const int threads[2] = {2, 7};
+    for (int t = 0; t < 2; t++) {
+        md_leaves lv;
+        CHECK_EQ_INT(md_octree_build(el, bvh, tol, full, threads[t], &lv), MFG_OK);
+        CHECK(same_leaves(ref, &lv));
+        md_leaves_free(&lv);
+    }
+    /* Without the BVH: the sign from a winding number, the top candidates from all. */
+    if (bvh) {
+        md_leaves lv;
+        CHECK_EQ_INT(md_octree_build(el, NULL, tol, full, 2, &lv), MFG_OK);
+        CHECK(same_leaves(ref, &lv));
+        md_leaves_free(&lv);
+    }
+    tmesh sh;
+    shuffled(&S->m, &sh);
+    md_elements el2;
+    CHECK_EQ_INT(md_elements_build(sh.xyz, sh.nv, sh.tri, sh.nt, tol, &el2), MFG_OK);
+    md_bvh *bvh2 = NULL;
+    if (bvh)
+        CHECK_EQ_INT(md_bvh_build(&el2, &bvh2), MFG_OK);
+    md_leaves lv;
+    CHECK_EQ_INT(md_octree_build(&el2, bvh2, tol, full, 3, &lv), MFG_OK);
+    CHECK(same_leaves(ref, &lv));
+    md_leaves_free(&lv);
+    md_bvh_free(bvh2);
+    md_elements_free(&el2);
+    printf("  (c) %-9s %-5s: identical for 1/2/7 threads, %sshuffled triangles\n", S->name,
+           full ? "full" : "major", bvh ? "no BVH, " : "");
+}
+
+/* ---- driver -------------------------------------------------------------------------------- */
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* ---- cost: a thin-walled cup of revolution (curved wall, 64 segments) ------------------- */
+
+static int cost(void)
+{
+    enum { NSEG = 64, NW = 20 };
+    /* Profile (r, z), from the axis at the bottom round to the axis inside: outer wall
+     * r = 40 + 5 sin(pi z / 100), wall 3, bottom 3. */
+    double pr[2 * NW + 8][2];
+    int np = 0;
+    pr[np][0] = 0, pr[np++][1] = 0;
+    for (int i = 0; i <= NW; i++) {
+        double z = 100.0 * i / NW;
+        pr[np][0] = 40 + 5 * sin(M_PI * z / 100), pr[np++][1] = z;
+    }
+    for (int i = NW; i >= 0; i--) {
+        double z = 3 + 97.0 * i / NW;
+        pr[np][0] = 37 + 5 * sin(M_PI * z / 100), pr[np++][1] = z;
+    }
+    pr[np][0] = 0, pr[np++][1] = 3;
+    int64_t nv = 2 + (int64_t)(np - 2) * NSEG, ntmax = 2 * (int64_t)(np - 1) * NSEG;
+    double *xyz = malloc((size_t)nv * 3 * sizeof *xyz);
+    int64_t *tr = malloc((size_t)ntmax * 3 * sizeof *tr), nt = 0;
+    /* vertex (profile i, segment j): the axis points are single vertices 0 and nv-1. */
+#define PV(i, j) ((i) == 0 ? 0 : (i) == np - 1 ? nv - 1 : 1 + (int64_t)((i) - 1) * NSEG + (j) % NSEG)
+    xyz[0] = xyz[1] = xyz[2] = 0;
+    xyz[3 * (nv - 1)] = xyz[3 * (nv - 1) + 1] = 0;
+    xyz[3 * (nv - 1) + 2] = 3;
+    for (int i = 1; i < np - 1; i++)
+        for (int j = 0; j < NSEG; j++) {
+            double th = 2 * M_PI * j / NSEG;
+            double *v = xyz + 3 * PV(i, j);
+            v[0] = pr[i][0] * cos(th), v[1] = pr[i][0] * sin(th), v[2] = pr[i][1];
+        }
+    for (int i = 0; i + 1 < np; i++)
+        for (int j = 0; j < NSEG; j++) {
+            int64_t a = PV(i, j), b = PV(i + 1, j), c = PV(i + 1, j + 1), d = PV(i, j + 1);
+            if (b != c) /* not the top axis point */
+                tr[3 * nt] = a, tr[3 * nt + 1] = c, tr[3 * nt + 2] = b, nt++;
+            if (a != d) /* not the bottom axis point */
+                tr[3 * nt] = a, tr[3 * nt + 1] = d, tr[3 * nt + 2] = (b != c ? c : b), nt++;
+        }
+#undef PV
+    md_elements el;
+    double tol = 0.005 * sqrt(90.0 * 90 + 90.0 * 90 + 100.0 * 100);
+    mfg_status st = md_elements_build(xyz, nv, tr, nt, tol, &el);
+    if (st != MFG_OK) {
+        fprintf(stderr, "cup: %s\n", mfg_last_error());
+        CHECK_EQ_INT(st, MFG_OK);
+        return mfg_test_report("medial_voxels cost");
+    }
+    tol = 0.005 * el.diag;
+    printf("cup: %lld triangles, %lld faces, %lld edges, %lld vertices, L %.4g, tol %.4g\n",
+           (long long)nt, (long long)el.nfaces, (long long)el.nedges, (long long)el.nverts,
+           el.diag, tol);
+    md_bvh *bvh = NULL;
+    CHECK_EQ_INT(md_bvh_build(&el, &bvh), MFG_OK);
+    /* MFG_COST_QUICK: only major, 1 thread, with the BVH (for profiling). */
+    int quick = getenv("MFG_COST_QUICK") != NULL;
+    for (int full = 0; full < 2 - quick; full++)
+        for (int th = 1; th <= 2 - quick; th++)
+            for (int b = quick; b < 2; b++) {
+                md_leaves lv;
+                double t0 = now();
+                CHECK_EQ_INT(md_octree_build(&el, b ? bvh : NULL, tol, full, th, &lv), MFG_OK);
+                double t1 = now();
+                int64_t nC = 0, nP = 0;
+                for (int64_t i = 0; i < lv.nleaves; i++)
+                    nC += lv.leaf[i].nC, nP += lv.leaf[i].nP;
+                printf("  cup %s, %d thread(s), %s: h %.4g, %lld cells visited, %lld leaves, "
+                       "mean |C| %.2f, |P| %.2f, %.3f s\n",
+                       full ? "full" : "major", th, b ? "BVH" : "no BVH", lv.lat.h,
+                       (long long)lv.cells_visited, (long long)lv.nleaves,
+                       (double)nC / (lv.nleaves ? lv.nleaves : 1),
+                       (double)nP / (lv.nleaves ? lv.nleaves : 1), t1 - t0);
+                md_leaves_free(&lv);
+            }
+    md_bvh_free(bvh);
+    md_elements_free(&el);
+    free(xyz);
+    free(tr);
+    return mfg_test_report("medial_voxels cost");
+}
+
+int main(int argc, char **argv)
+{
+    const char *only = argc > 1 ? argv[1] : "";
+    if (!strcmp(only, "cost"))
+        return cost();
+    int all = !*only;
+    static solid S[4];
+    make_solids(S);
+    for (int s = 0; s < 4; s++) {
+        md_elements el;
+        double tol0 = 0;
+        {
+            /* The tolerance is 0.5 % of L: build once to learn L. */
+            CHECK_EQ_INT(md_elements_build(S[s].m.xyz, S[s].m.nv, S[s].m.tri, S[s].m.nt, 1.0, &el),
+                         MFG_OK);
+            tol0 = tol_of(&el, 0.005);
+            md_elements_free(&el);
+        }
+        CHECK_EQ_INT(md_elements_build(S[s].m.xyz, S[s].m.nv, S[s].m.tri, S[s].m.nt, tol0, &el),
+                     MFG_OK);
+        md_bvh *bvh = NULL;
+        CHECK_EQ_INT(md_bvh_build(&el, &bvh), MFG_OK);
+        for (int full = 0; full < 2; full++) {
+            md_leaves lv;
+            double t0 = now();
+            CHECK_EQ_INT(md_octree_build(&el, bvh, tol0, full, 1, &lv), MFG_OK);
+            double t1 = now();
+            int64_t npairs = 0, nC = 0;
+            for (int64_t i = 0; i < lv.nleaves; i++) {
+                npairs += lv.leaf[i].nP;
+                nC += lv.leaf[i].nC;
+            }
+            printf("%s %s, tol %.4g (0.5%% L), h %.4g: %lld cells visited, %lld leaves, "
+                   "mean |C| %.2f, mean |P| %.2f, %.3f s (1 thread)\n",
+                   S[s].name, full ? "full" : "major", tol0, lv.lat.h,
+                   (long long)lv.cells_visited, (long long)lv.nleaves,
+                   lv.nleaves ? (double)nC / lv.nleaves : 0.0,
+                   lv.nleaves ? (double)npairs / lv.nleaves : 0.0, t1 - t0);
+            if (all || !strcmp(only, "a"))
+                check_complete(&S[s], &el, &lv, full, 6000);
+            if (all || !strcmp(only, "b"))
+                check_leaves(&S[s], &el, &lv, full);
+            if (all || !strcmp(only, "c"))
+                check_identical(&S[s], &el, bvh, &lv, tol0, full);
+            md_leaves_free(&lv);
+        }
+        /* Coarse tolerances: leaves at depth 1 .. 4, above the inheritance depth 3 and the
+         * work-unit depth (clamped to the leaf depth). */
+        if (all || !strcmp(only, "a") || !strcmp(only, "b") || !strcmp(only, "c"))
+            for (int i = 0; i < 3; i++) {
+                static const double fr[3] = {0.6, 0.3, 0.05};
+                md_elements e2;
+                double tol = tol_of(&el, fr[i]);
+                CHECK_EQ_INT(md_elements_build(S[s].m.xyz, S[s].m.nv, S[s].m.tri, S[s].m.nt,
+                                               tol, &e2), MFG_OK);
+                md_bvh *b2 = NULL;
+                CHECK_EQ_INT(md_bvh_build(&e2, &b2), MFG_OK);
+                for (int full = 0; full < 2; full++) {
+                    md_leaves lv;
+                    CHECK_EQ_INT(md_octree_build(&e2, b2, tol, full, 1, &lv), MFG_OK);
+                    printf("%s %s, tol %.3g L: depth %d, %lld leaves\n", S[s].name,
+                           full ? "full" : "major", fr[i], lv.lat.depth, (long long)lv.nleaves);
+                    check_complete(&S[s], &e2, &lv, full, 1000);
+                    check_leaves(&S[s], &e2, &lv, full);
+                    check_identical(&S[s], &e2, b2, &lv, tol, full);
+                    md_leaves_free(&lv);
+                }
+                md_bvh_free(b2);
+                md_elements_free(&e2);
+            }
+        if ((all || !strcmp(only, "d")) && S[s].major_area > 0) {
+            /* (d) leaves ~ A / h^2: each halving of the tolerance halves h exactly. */
+            for (int i = 0; i < 3; i++) {
+                double frac = 0.01 / (1 << i), tol = tol_of(&el, frac);
+                md_elements e2;
+                CHECK_EQ_INT(md_elements_build(S[s].m.xyz, S[s].m.nv, S[s].m.tri, S[s].m.nt,
+                                               tol, &e2), MFG_OK);
+                md_leaves lv;
+                double t0 = now();
+                CHECK_EQ_INT(md_octree_build(&e2, NULL, tol, 0, 1, &lv), MFG_OK);
+                double t1 = now();
+                double dens = lv.nleaves * lv.lat.h * lv.lat.h / S[s].major_area;
+                printf("  (d) %-9s major tol %.3g%% L: h %.4g, %lld leaves, %lld cells, "
+                       "leaves h^2 / A = %.2f, %.3f s\n",
+                       S[s].name, 100 * frac, lv.lat.h, (long long)lv.nleaves,
+                       (long long)lv.cells_visited, dens, t1 - t0);
+                /* One layer of leaves along a sheet, two where it runs within h / 8 of
+                 * a lattice plane (the slack delta = h / 4 of the pair test). */
+                CHECK(dens > 0.8 && dens < 2.6);
+                md_leaves_free(&lv);
+                md_elements_free(&e2);
+            }
+        }
+        md_bvh_free(bvh);
+        md_elements_free(&el);
+    }
+    return mfg_test_report("medial_voxels");
+}
