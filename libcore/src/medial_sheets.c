@@ -5,10 +5,12 @@
  * Kuhn tets about the leaf's main diagonal, with every vertex a root of f_ab on its lattice
  * edge (md_root_on_segment, from the edge's smaller lattice point); then each polygon is
  * trimmed where tau < 0, tau = min(region margins of a and b, min over the other candidates
- * c of d_c - d_a^car): where tau changes sign along a polygon edge the boundary point is
- * found on f_ab = 0 inside the tet face, and the trimmed boundary becomes seam segments.
- * Every float depends only on lattice points and the elements, so the leaves that share a
- * lattice edge or a tet face get the same bits, and welding is by key alone. */
+ * c of d_c - d_a^car, and with a BVH the signed distance to the boundary): where tau
+ * changes sign along a polygon edge the boundary point is found on f_ab = 0 inside the tet
+ * face; where the two ends of a cut are trimmed by different terms, the sheet's corner is
+ * inserted (Newton on three equations); the cuts become seam segments.  Every float of a
+ * shared vertex depends only on lattice points and the elements, so the leaves that share
+ * a lattice edge or a tet face get the same bits, and welding is by key alone. */
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -22,17 +24,19 @@
 #define UNIT_LEAVES 16
 /* Triangles smaller than this times h^2 are dropped (design 4.1). */
 #define AREA_DROP 1e-6
-/* Bisection steps for a boundary point; they stop earlier at a 1-ulp bracket. */
+/* Steps for a boundary point; they stop earlier at a 1-ulp bracket or a zero. */
 #define BISECT_STEPS 80
-/* Room per (leaf, pair): the 19 Kuhn edges of a cube, plus at most one boundary point per
- * tet face (18 distinct: 12 on the cube's faces, 6 inside). */
+/* Room per (leaf, pair): the 19 Kuhn edges of a cube, at most one boundary point per tet
+ * face (18 distinct: 12 on the cube's faces, 6 inside), at most 2 corners per tet (12). */
 #define MAX_PV 64
 #define MAX_BP 48
 
 /* A vertex key: the pair, and either one lattice edge (a vertex of the marching tets;
- * e[1] all -1, c = -2) or the two lattice edges of the polygon edge that holds a boundary
- * point (ascending) and the element that trims it.  A lattice edge is its smaller lattice
- * point (i, j, k) and its Kuhn direction (1 .. 7: bit d set when it steps along axis d). */
+ * e[1] all -1, c = -2), or the two lattice edges of the polygon edge that holds a boundary
+ * point (in a fixed order) and the element that trims it, or for a sheet corner (found in
+ * one polygon only) the leaf's lattice point with direction 8 + tet, the cut's position
+ * in the polygon, c = -3.  A lattice edge is its smaller lattice point (i, j, k) and its
+ * Kuhn direction (1 .. 7: bit d set when it steps along axis d). */
 typedef struct vkey {
     int64_t a, b;
     int32_t e[2][4];
@@ -63,15 +67,17 @@ typedef struct pvert {
     int64_t rec;
     double tau;
     int64_t arg;
-    int argk; /* the term of tau that arg belongs to: TRIM_A, TRIM_B or TRIM_NU */
+    int argk; /* the term of tau that arg belongs to: TRIM_A, TRIM_B, TRIM_NU, TRIM_OUT */
     int lo, hi;
 } pvert;
 
-enum { TRIM_A = 0, TRIM_B = 1, TRIM_NU = 2 };
+enum { TRIM_A = 0, TRIM_B = 1, TRIM_NU = 2, TRIM_OUT = 3 };
 
 /* The state of one (leaf, pair). */
 typedef struct ctx {
     const md_elements *el;
+    const md_bvh *bvh; /* NULL: no inside test */
+    int deep;          /* the leaf lies deeper than 2h inside the solid: no inside test */
     const int64_t *C;
     int nC;
     int64_t a, b;
@@ -195,27 +201,46 @@ static void unit_free(unit_buf *u)
 
 /* ---- the trim ----------------------------------------------------------------------- */
 
-/* tau(x) = min(l_a, l_b, nu), nu = min over c in C \ {a, b} of d_c(x) - d_a^car(x), with
- * restricted d_c (design 4.1).  *arg gets the element of the smallest term (l_a, l_b: the
- * element of the boundary whose constraint is smallest, -1 for a face's own plane; nu:
- * c) and *argk which term it is; ties go to the smaller id.  *D gets min over C of
- * d_c(x). */
+/* The signed distance to the boundary (> 0 inside), from the BVH. */
+static double signed_dist(const ctx *c, const double *x)
+{
+    int inside;
+    double d = md_bvh_nearest(c->bvh, c->el, x, NULL, &inside);
+    return inside ? d : -d;
+}
+
+/* tau(x) = min(l_a, l_b, nu, D), nu = min over c in C \ {a, b} of d_c(x) - d_a^car(x), with
+ * restricted d_c, and D the signed distance to the boundary when there is a BVH (design
+ * 4.1: outside the solid, e.g. in a non-convex notch, the restricted distances of the
+ * faces facing away are +inf and nothing else would trim).  *arg gets the element of the
+ * smallest term (l_a, l_b: the element of the boundary whose constraint is smallest, -1
+ * for a face's own plane; nu: c; D: -1) and *argk which term it is; ties go to the smaller
+ * id.  *D gets min over C of d_c(x). */
 static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, double *D)
 {
     const md_elements *el = c->el;
     int64_t wa, wb;
     double la = md_region_margin(el, c->a, x, &wa);
     double lb = md_region_margin(el, c->b, x, &wb);
-    double da = md_dist_car(el, c->a, x, NULL);
+    double da = md_dist_car(el, c->a, x, NULL), db = md_dist_car(el, c->b, x, NULL);
     double dmin = INFINITY, nu = INFINITY;
+    if (la >= 0)
+        dmin = da;
+    if (lb >= 0 && db < dmin)
+        dmin = db;
     int64_t wn = -1;
     for (int i = 0; i < c->nC; i++) {
         int64_t e = c->C[i];
-        double d = md_dist(el, e, x);
+        if (e == c->a || e == c->b)
+            continue;
+        /* d_e >= d_e^car: the region test (the costly part) only where it can matter. */
+        double d = md_dist_car(el, e, x, NULL);
+        if (!(d < dmin) && !(d - da < nu))
+            continue;
+        if (md_region_margin(el, e, x, NULL) < 0)
+            continue; /* d_e = +inf */
         if (d < dmin)
             dmin = d;
-        if (e == c->a || e == c->b || d == INFINITY)
-            continue;
         if (d - da < nu) { /* C ascending: the first of equals is the smaller id */
             nu = d - da;
             wn = e;
@@ -233,6 +258,14 @@ static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, d
         t = nu;
         w = wn;
         k = TRIM_NU;
+    }
+    if (c->bvh && !c->deep && t >= 0) { /* only the sign matters where tau < 0 already */
+        double sd = signed_dist(c, x);
+        if (sd < 0) {
+            t = sd;
+            w = -1;
+            k = TRIM_OUT;
+        }
     }
     *arg = w;
     *argk = k;
@@ -298,6 +331,19 @@ static void edge_of(const ctx *c, const pvert *p, int32_t *e)
     e[3] = p->lo ^ p->hi;
 }
 
+/* The value at x of the trim term (kind k, element t): the region margin of a or b, or
+ * d_t^car - d_a^car. */
+static double trim_term(const ctx *c, int k, int64_t t, const double *x)
+{
+    if (k == TRIM_OUT)
+        return signed_dist(c, x);
+    if (k == TRIM_A)
+        return md_region_margin(c->el, c->a, x, NULL);
+    if (k == TRIM_B)
+        return md_region_margin(c->el, c->b, x, NULL);
+    return md_dist_car(c->el, t, x, NULL) - md_dist_car(c->el, c->a, x, NULL);
+}
+
 /* The boundary point on the polygon edge between marching-tets vertices iu and iv, whose
  * trims differ in sign.  The polygon edge lies in the tet face of its two lattice edges;
  * they share the corner A of the lone sign of f, the others are B < C (lattice order).
@@ -345,8 +391,19 @@ static int boundary_point(ctx *c, int iu, int iv)
         bestD = c->out->v[p0->rec].r;
     }
     const double *PA = c->cx[A], *PB = c->cx[B], *PC = c->cx[C];
+    double xn[3], gn = 0, gp = 0, tol = 1e-15 * c->el->diag;
+    memcpy(xn, p0->tau < 0 ? x0 : x1, sizeof xn);
+    int phase = 0, last = 0;
     for (int it = 0; it < BISECT_STEPS; it++) {
+        /* Phase 0 bisects the sign of tau (which may jump where a region ends) down to a
+         * bracket of 2^-10; phase 1 then solves the trimming term of the negative end,
+         * which is continuous, by Illinois regula falsi (every 4th step a bisection). */
         double tm = 0.5 * (tn + tp);
+        if (phase == 1 && it % 4 != 3) {
+            double r = tn + (tp - tn) * (gn / (gn - gp));
+            if ((r - tn) * (r - tp) < 0)
+                tm = r;
+        }
         if (tm == tn || tm == tp)
             break;
         double q[3], x[3];
@@ -358,18 +415,50 @@ static int boundary_point(ctx *c, int iu, int iv)
             for (int d = 0; d < 3; d++)
                 x[d] = x0[d] + tm * (x1[d] - x0[d]);
         }
-        int64_t arg;
-        int argk;
-        double D, tau = trim_tau(c, x, &arg, &argk, &D);
-        if (tau < 0) {
+        if (phase == 0) {
+            int64_t arg;
+            int argk;
+            double D, tau = trim_tau(c, x, &arg, &argk, &D);
+            if (tau < 0) {
+                tn = tm;
+                argn = arg;
+                argkn = argk;
+                memcpy(xn, x, sizeof xn);
+            } else {
+                tp = tm;
+                memcpy(best, x, sizeof best);
+            }
+            if (fabs(tp - tn) <= 0x1p-10) {
+                gn = trim_term(c, argkn, argn, xn);
+                gp = trim_term(c, argkn, argn, best);
+                phase = gn < 0 && gp >= 0; /* otherwise the bisection goes on */
+            }
+            continue;
+        }
+        double g = trim_term(c, argkn, argn, x);
+        if (fabs(g) <= tol) {
+            memcpy(best, x, sizeof best);
+            break;
+        }
+        if (g < 0) {
             tn = tm;
-            argn = arg;
-            argkn = argk;
+            gn = g;
+            if (last < 0)
+                gp *= 0.5;
+            last = -1;
         } else {
             tp = tm;
+            gp = g;
             memcpy(best, x, sizeof best);
-            bestD = D;
+            if (last > 0)
+                gn *= 0.5;
+            last = 1;
         }
+    }
+    {
+        int64_t arg;
+        int argk;
+        trim_tau(c, best, &arg, &argk, &bestD);
     }
     vkey k;
     k.a = c->a;
@@ -394,17 +483,6 @@ static int boundary_point(ctx *c, int iu, int iv)
     c->bpi[c->nbp] = c->npv;
     c->nbp++;
     return c->npv++;
-}
-
-/* The value at x of the trim term (kind k, element t): the region margin of a or b, or
- * d_t^car - d_a^car. */
-static double trim_term(const ctx *c, int k, int64_t t, const double *x)
-{
-    if (k == TRIM_A)
-        return md_region_margin(c->el, c->a, x, NULL);
-    if (k == TRIM_B)
-        return md_region_margin(c->el, c->b, x, NULL);
-    return md_dist_car(c->el, t, x, NULL) - md_dist_car(c->el, c->a, x, NULL);
 }
 
 static void corner_eqs(const ctx *c, const pvert *p, const pvert *q, const double *x, double *F)
@@ -693,10 +771,11 @@ static int do_tet(ctx *c, const int *v, int tet)
 static const int KUHN[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
                                {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
 
-static mfg_status do_leaf(const md_elements *el, const md_leaves *lv, const md_leaf *L, unit_buf *ub,
-                          ctx *c)
+static mfg_status do_leaf(const md_elements *el, const md_bvh *bvh, const md_leaves *lv,
+                          const md_leaf *L, unit_buf *ub, ctx *c)
 {
     c->el = el;
+    c->bvh = bvh;
     c->C = lv->C + L->C_off;
     c->nC = L->nC;
     c->out = ub;
@@ -706,6 +785,15 @@ static mfg_status do_leaf(const md_elements *el, const md_leaves *lv, const md_l
             c->cijk[k][d] = L->ijk[d] + ((k >> d) & 1);
             c->cx[k][d] = lv->lat.origin[d] + lv->lat.h * (double)c->cijk[k][d];
         }
+    /* Every point evaluated for this leaf (corners grown by h / 2 included) lies within
+     * 2h of its centre. */
+    c->deep = 0;
+    if (bvh && L->nP > 0) {
+        double ctr[3];
+        for (int d = 0; d < 3; d++)
+            ctr[d] = lv->lat.origin[d] + lv->lat.h * ((double)L->ijk[d] + 0.5);
+        c->deep = signed_dist(c, ctr) > 2 * lv->lat.h;
+    }
     for (int p = 0; p < L->nP; p++) {
         c->a = lv->P[L->P_off + 2 * p];
         c->b = lv->P[L->P_off + 2 * p + 1];
@@ -731,6 +819,7 @@ static mfg_status do_leaf(const md_elements *el, const md_leaves *lv, const md_l
 
 typedef struct job {
     const md_elements *el;
+    const md_bvh *bvh;
     const md_leaves *lv;
     int64_t nunits;
     unit_buf *units;
@@ -756,7 +845,7 @@ static void *worker(void *arg)
         if (end > j->lv->nleaves)
             end = j->lv->nleaves;
         for (int64_t i = u * UNIT_LEAVES; i < end && ub->st == MFG_OK; i++)
-            ub->st = do_leaf(j->el, j->lv, j->lv->leaf + i, ub, c);
+            ub->st = do_leaf(j->el, j->bvh, j->lv, j->lv->leaf + i, ub, c);
         if (ub->st != MFG_OK)
             atomic_store(&j->failed, 1);
     }
@@ -905,7 +994,6 @@ done:
 mfg_status md_sheets_extract(const md_elements *el, const md_bvh *bvh, const md_leaves *leaves,
                              double tolerance, int nthreads, md_soup *out)
 {
-    (void)bvh;       /* D comes from each leaf's candidates: they hold every nearest element */
     (void)tolerance; /* the leaf side h sets every threshold here */
     if (!out)
         return mfg_fail(MFG_ERR_NULL, "md_sheets_extract: out is NULL");
@@ -915,6 +1003,7 @@ mfg_status md_sheets_extract(const md_elements *el, const md_bvh *bvh, const md_
     int64_t nunits = (leaves->nleaves + UNIT_LEAVES - 1) / UNIT_LEAVES;
     job j;
     j.el = el;
+    j.bvh = bvh;
     j.lv = leaves;
     j.nunits = nunits;
     j.units = calloc((size_t)(nunits ? nunits : 1), sizeof *j.units);

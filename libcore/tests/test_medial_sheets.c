@@ -17,8 +17,8 @@
 #include "mfgeom.h"
 
 typedef struct tmesh {
-    double xyz[3 * 64];
-    int64_t tri[3 * 64];
+    double xyz[3 * 256];
+    int64_t tri[3 * 512];
     int64_t nv, nt;
 } tmesh;
 
@@ -89,6 +89,27 @@ static void l_bracket(tmesh *m)
     }
 }
 
+/* A prism: the convex polygon P (n corners, counter-clockwise) extruded over z in [0, H],
+ * caps fanned from corner 0. */
+static void prism(tmesh *m, const double (*P)[2], int n, double H)
+{
+    memset(m, 0, sizeof *m);
+    int64_t b[128], t[128];
+    for (int i = 0; i < n; i++) {
+        b[i] = vtx(m, P[i][0], P[i][1], 0);
+        t[i] = vtx(m, P[i][0], P[i][1], H);
+    }
+    for (int i = 1; i + 1 < n; i++) {
+        tri(m, t[0], t[i], t[i + 1]);
+        tri(m, b[0], b[i + 1], b[i]);
+    }
+    for (int i = 0; i < n; i++) {
+        int j = (i + 1) % n;
+        tri(m, b[i], b[j], t[j]);
+        tri(m, b[i], t[j], t[i]);
+    }
+}
+
 static int64_t face_with(const md_elements *el, double nx, double ny, double nz, double delta)
 {
     for (int64_t f = 0; f < el->nfaces; f++) {
@@ -131,12 +152,14 @@ static int can_be_nearest(const md_elements *el, int64_t e)
     return 1;
 }
 
-/* A uniform lattice of side h over the bounding box (origin as design 3), every leaf with
+/* A uniform lattice of side lat->h over the bounding box (origin as design 3, unless
+ * lat->depth > 0: then lat's own origin), every leaf with
  * C = all elements and P = all non-incident pairs of elements that can be nearest (major:
  * disjoint closures); nT from md_nearest_set_brute at the centre. */
-static void brute_leaves(const md_elements *el, double h, int full, md_leaves *lv)
+static void brute_leaves_on(const md_elements *el, const md_lattice *lat, int full, md_leaves *lv)
 {
     memset(lv, 0, sizeof *lv);
+    double h = lat->h;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int64_t i = 0; i < el->nv; i++)
         for (int d = 0; d < 3; d++) {
@@ -146,7 +169,7 @@ static void brute_leaves(const md_elements *el, double h, int full, md_leaves *l
     static const double off[3] = {0.0137, 0.0213, 0.0311};
     int n[3], nmax = 1;
     for (int d = 0; d < 3; d++) {
-        lv->lat.origin[d] = lo[d] - off[d] * h;
+        lv->lat.origin[d] = lat->depth > 0 ? lat->origin[d] : lo[d] - off[d] * h;
         n[d] = (int)ceil((hi[d] - lv->lat.origin[d]) / h);
         if (n[d] > nmax)
             nmax = n[d];
@@ -187,6 +210,14 @@ static void brute_leaves(const md_elements *el, double h, int full, md_leaves *l
             }
     free(T);
     lv->cells_visited = lv->nleaves;
+}
+
+static void brute_leaves(const md_elements *el, double h, int full, md_leaves *lv)
+{
+    md_lattice lat;
+    memset(&lat, 0, sizeof lat);
+    lat.h = h;
+    brute_leaves_on(el, &lat, full, lv);
 }
 
 static void brute_free(md_leaves *lv)
@@ -250,6 +281,7 @@ static void equidistance(const md_elements *el, const md_soup *s, double *dv, do
 typedef struct edge_rec {
     int64_t u, v;
     int src; /* 0 triangle side, 1 seam segment */
+    int fwd; /* a triangle side: 1 when the triangle runs from u to v */
 } edge_rec;
 
 static int cmp_edge(const void *pa, const void *pb)
@@ -264,9 +296,12 @@ static int cmp_edge(const void *pa, const void *pb)
 
 /* The welded mesh of pair (a, b): counts of edges in 1, 2 and more triangles, and of the
  * edges in one triangle that are not seam segments (*open) and seam segments of the pair
- * that are not triangle edges (*lost). */
-static void manifold(const md_soup *s, int64_t a, int64_t b, int64_t *n1, int64_t *n2, int64_t *nmore,
-                     int64_t *open, int64_t *lost)
+ * that are not triangle edges (*lost), counting only edges longer than minlen (the
+ * triangles under 1e-6 h^2 that the extraction drops leave tiny gaps).  Also checks that
+ * the two triangles at an edge run along it in opposite directions (one orientation over
+ * the sheet). */
+static void manifold(const md_soup *s, int64_t a, int64_t b, double minlen, int64_t *n1, int64_t *n2,
+                     int64_t *nmore, int64_t *open, int64_t *lost)
 {
     edge_rec *E = malloc((size_t)(3 * s->ntris + s->nsegs + 1) * sizeof *E);
     int64_t n = 0;
@@ -278,6 +313,7 @@ static void manifold(const md_soup *s, int64_t a, int64_t b, int64_t *n1, int64_
             E[n].u = u < v ? u : v;
             E[n].v = u < v ? v : u;
             E[n].src = 0;
+            E[n].fwd = u < v;
             n++;
         }
     }
@@ -292,26 +328,32 @@ static void manifold(const md_soup *s, int64_t a, int64_t b, int64_t *n1, int64_
         E[n].u = u < v ? u : v;
         E[n].v = u < v ? v : u;
         E[n].src = 1;
+        E[n].fwd = 0;
         n++;
     }
     qsort(E, (size_t)n, sizeof *E, cmp_edge);
     *n1 = *n2 = *nmore = *open = *lost = 0;
     for (int64_t i = 0; i < n;) {
-        int64_t j = i, nt = 0, ns = 0;
+        int64_t j = i, nt = 0, ns = 0, nf = 0;
         while (j < n && E[j].u == E[i].u && E[j].v == E[i].v) {
             nt += E[j].src == 0;
             ns += E[j].src == 1;
+            nf += E[j].src == 0 && E[j].fwd;
             j++;
         }
+        if (nt == 2)
+            CHECK_EQ_INT(nf, 1);
         if (nt == 1)
             (*n1)++;
         else if (nt == 2)
             (*n2)++;
         else if (nt > 2)
             (*nmore)++;
-        if (nt == 1 && ns == 0)
+        const double *p = s->xyz + 3 * E[i].u, *q = s->xyz + 3 * E[i].v;
+        int longer = hypot(hypot(p[0] - q[0], p[1] - q[1]), p[2] - q[2]) > minlen;
+        if (nt == 1 && ns == 0 && longer)
             (*open)++;
-        if (ns > 0 && nt == 0)
+        if (ns > 0 && nt == 0 && longer)
             (*lost)++;
         i = j;
     }
@@ -332,13 +374,14 @@ static int same_soup(const md_soup *x, const md_soup *y)
 }
 
 /* Extracts with 1 and 3 threads, checks that both are identical, returns the first. */
-static md_soup extract(const md_elements *el, const md_leaves *lv, double tol, const char *name)
+static md_soup extract(const md_elements *el, const md_bvh *bvh, const md_leaves *lv, double tol,
+                       const char *name)
 {
     md_soup s1, s3;
     double t0 = now();
-    CHECK_EQ_INT(md_sheets_extract(el, NULL, lv, tol, 1, &s1), MFG_OK);
+    CHECK_EQ_INT(md_sheets_extract(el, bvh, lv, tol, 1, &s1), MFG_OK);
     double t1 = now();
-    CHECK_EQ_INT(md_sheets_extract(el, NULL, lv, tol, 3, &s3), MFG_OK);
+    CHECK_EQ_INT(md_sheets_extract(el, bvh, lv, tol, 3, &s3), MFG_OK);
     double t2 = now();
     CHECK(same_soup(&s1, &s3));
     printf("%s: %lld leaves, %lld verts, %lld tris, %lld segs; %.3f s (1 thread), %.3f s (3)\n",
@@ -358,7 +401,7 @@ static void test_cuboid(double h)
     CHECK_EQ_INT(md_elements_build(m.xyz, m.nv, m.tri, m.nt, h, &el), MFG_OK);
     md_leaves lv;
     brute_leaves(&el, h, 0, &lv);
-    md_soup s = extract(&el, &lv, h, "cuboid");
+    md_soup s = extract(&el, NULL, &lv, h, "cuboid"); /* convex: no inside test needed */
     int64_t z0 = face_with(&el, 0, 0, -1, 0), z1 = face_with(&el, 0, 0, 1, 20);
     int64_t x0 = face_with(&el, -1, 0, 0, 0), x1 = face_with(&el, 1, 0, 0, 100);
     int64_t y0 = face_with(&el, 0, -1, 0, 0), y1 = face_with(&el, 0, 1, 0, 60);
@@ -416,7 +459,7 @@ static void test_cuboid(double h)
     for (int k = 0; k < 4; k++)
         CHECK(per_side[k] * h >= (k < 2 ? 40 : 80) - 2 * h); /* each side's seam is covered */
     int64_t n1, n2, nmore, open, lost;
-    manifold(&s, a, b, &n1, &n2, &nmore, &open, &lost);
+    manifold(&s, a, b, 0.01 * h, &n1, &n2, &nmore, &open, &lost);
     printf("cuboid mesh: %lld boundary edges, %lld interior, %lld over-used, %lld open, %lld lost\n",
            (long long)n1, (long long)n2, (long long)nmore, (long long)open, (long long)lost);
     CHECK_EQ_INT(nmore, 0);
@@ -438,7 +481,9 @@ static void test_l_bracket(double h)
     CHECK_EQ_INT(md_elements_build(m.xyz, m.nv, m.tri, m.nt, h, &el), MFG_OK);
     md_leaves lv;
     brute_leaves(&el, h, 0, &lv);
-    md_soup s = extract(&el, &lv, h, "L-bracket");
+    md_bvh *bvh = NULL;
+    CHECK_EQ_INT(md_bvh_build(&el, &bvh), MFG_OK);
+    md_soup s = extract(&el, bvh, &lv, h, "L-bracket");
     int64_t Fo = face_with(&el, -1, 0, 0, 0), Fi = face_with(&el, 1, 0, 0, 10);
     int64_t Go = face_with(&el, 0, -1, 0, 0), Gi = face_with(&el, 0, 1, 0, 10);
     double e0[3] = {10, 10, 0}, e1[3] = {10, 10, 40};
@@ -525,18 +570,19 @@ static void test_l_bracket(double h)
     free(T);
     CHECK_EQ_INT(notmedial, 0);
     int64_t n1, n2, nmore, open, lost;
-    manifold(&s, Fo < Fi ? Fo : Fi, Fo < Fi ? Fi : Fo, &n1, &n2, &nmore, &open, &lost);
+    manifold(&s, Fo < Fi ? Fo : Fi, Fo < Fi ? Fi : Fo, 0.01 * h, &n1, &n2, &nmore, &open, &lost);
     printf("L-bracket (Fo,Fi) mesh: %lld boundary, %lld interior, %lld over-used, %lld open, %lld lost\n",
            (long long)n1, (long long)n2, (long long)nmore, (long long)open, (long long)lost);
     CHECK_EQ_INT(nmore, 0);
     CHECK_EQ_INT(open, 0);
     CHECK_EQ_INT(lost, 0);
-    manifold(&s, Fo, E, &n1, &n2, &nmore, &open, &lost);
+    manifold(&s, Fo, E, 0.01 * h, &n1, &n2, &nmore, &open, &lost);
     printf("L-bracket (Fo,E) mesh: %lld boundary, %lld interior, %lld over-used, %lld open, %lld lost\n",
            (long long)n1, (long long)n2, (long long)nmore, (long long)open, (long long)lost);
     CHECK_EQ_INT(nmore, 0);
     md_soup_free(&s);
     brute_free(&lv);
+    md_bvh_free(bvh);
     md_elements_free(&el);
 }
 
@@ -550,7 +596,9 @@ static void test_cube_full(double h)
     CHECK_EQ_INT(md_elements_build(m.xyz, m.nv, m.tri, m.nt, h, &el), MFG_OK);
     md_leaves lv;
     brute_leaves(&el, h, 1, &lv);
-    md_soup s = extract(&el, &lv, h, "cube (full)");
+    md_bvh *bvh = NULL;
+    CHECK_EQ_INT(md_bvh_build(&el, &bvh), MFG_OK);
+    md_soup s = extract(&el, bvh, &lv, h, "cube (full)");
     double want = 40 * 20 * sqrt(2.0) / 2, total = 0, worst = 0;
     int sheets = 0;
     for (int64_t a = 0; a < el.nfaces; a++)
@@ -566,7 +614,7 @@ static void test_cube_full(double h)
             worst = fmax(worst, fabs(A - want));
             CHECK(A <= want + 1e-9 && A >= want - 2 * h * h);
             int64_t n1, n2, nmore, open, lost;
-            manifold(&s, a, b, &n1, &n2, &nmore, &open, &lost);
+            manifold(&s, a, b, 0.01 * h, &n1, &n2, &nmore, &open, &lost);
             CHECK_EQ_INT(nmore, 0);
             CHECK_EQ_INT(lost, 0);
         }
@@ -585,14 +633,220 @@ static void test_cube_full(double h)
     CHECK(ds <= 1e-9 * el.diag);
     md_soup_free(&s);
     brute_free(&lv);
+    md_bvh_free(bvh);
     md_elements_free(&el);
 }
 
-int main(void)
+/* ---- on the octree's leaves (medial_voxels.c) -------------------------------------------- */
+
+/* The soup from the octree's leaves (with the BVH) equals, bit for bit, the soup from
+ * brute-force leaves on the same lattice (every element a candidate, every pair in every
+ * leaf): the octree drops no leaf or pair that holds a kept triangle, its candidate sets
+ * decide every trim the same way, and the radii (min over C) come out the same. */
+/* Inside the L-bracket (closed, to 1e-9): the notch x, y > 10 is outside. */
+static int in_l_bracket(const double *x)
 {
-    test_cuboid(2.5);
-    test_cuboid(3.7);
-    test_l_bracket(2.0);
-    test_cube_full(4.0);
+    double e = 1e-9;
+    return x[0] >= -e && x[1] >= -e && x[2] >= -e && x[0] <= 50 + e && x[1] <= 50 + e &&
+           x[2] <= 40 + e && (x[0] <= 10 + e || x[1] <= 10 + e);
+}
+
+static void test_octree_vs_brute(const tmesh *m, double tol, int full, const char *name,
+                                 int (*inside)(const double *))
+{
+    md_elements el;
+    CHECK_EQ_INT(md_elements_build(m->xyz, m->nv, m->tri, m->nt, tol, &el), MFG_OK);
+    md_bvh *bvh = NULL;
+    CHECK_EQ_INT(md_bvh_build(&el, &bvh), MFG_OK);
+    md_leaves lv, bl;
+    double t0 = now();
+    CHECK_EQ_INT(md_octree_build(&el, bvh, tol, full, 2, &lv), MFG_OK);
+    printf("%s: octree %.3f s, %lld leaves, h = %g\n", name, now() - t0, (long long)lv.nleaves,
+           lv.lat.h);
+    md_soup so = extract(&el, bvh, &lv, tol, name);
+    brute_leaves_on(&el, &lv.lat, full, &bl);
+    md_soup sb;
+    CHECK_EQ_INT(md_sheets_extract(&el, bvh, &bl, tol, 2, &sb), MFG_OK);
+    int same = same_soup(&so, &sb);
+    printf("%s: octree soup %s the brute-force soup (%lld / %lld triangles)\n", name,
+           same ? "equals" : "DIFFERS FROM", (long long)so.ntris, (long long)sb.ntris);
+    CHECK(same);
+    /* Nothing outside the solid, even from brute-force leaves that reach into a notch. */
+    int outside = 0;
+    for (int64_t v = 0; inside && v < so.nverts; v++)
+        outside += !inside(so.xyz + 3 * v);
+    for (int64_t v = 0; inside && v < sb.nverts; v++)
+        outside += !inside(sb.xyz + 3 * v);
+    CHECK_EQ_INT(outside, 0);
+    md_soup_free(&so);
+    md_soup_free(&sb);
+    brute_free(&bl);
+    md_leaves_free(&lv);
+    md_bvh_free(bvh);
+    md_elements_free(&el);
+}
+
+/* The 48-gon disc (circumradius 50, thickness 4) on the octree: its one major sheet
+ * {top, bottom} is the 48-gon z = 2 of apothem 50 cos(pi/48) - 2, area 7216.3. */
+static void test_disc(double tol)
+{
+    double P[48][2];
+    for (int i = 0; i < 48; i++) {
+        P[i][0] = 50 * cos(2 * M_PI * i / 48);
+        P[i][1] = 50 * sin(2 * M_PI * i / 48);
+    }
+    tmesh m;
+    prism(&m, (const double(*)[2])P, 48, 4);
+    md_elements el;
+    CHECK_EQ_INT(md_elements_build(m.xyz, m.nv, m.tri, m.nt, tol, &el), MFG_OK);
+    md_bvh *bvh = NULL;
+    CHECK_EQ_INT(md_bvh_build(&el, &bvh), MFG_OK);
+    md_leaves lv;
+    double t0 = now();
+    CHECK_EQ_INT(md_octree_build(&el, bvh, tol, 0, 2, &lv), MFG_OK);
+    printf("disc48: octree %.3f s, %lld leaves, h = %g\n", now() - t0, (long long)lv.nleaves, lv.lat.h);
+    md_soup s = extract(&el, bvh, &lv, tol, "disc48");
+    int64_t top = face_with(&el, 0, 0, 1, 4), bot = face_with(&el, 0, 0, -1, 0);
+    int64_t a = top < bot ? top : bot, b = top < bot ? bot : top;
+    double ap = 50 * cos(M_PI / 48) - 2, want = 48 * ap * ap * tan(M_PI / 48);
+    double A = pair_area(&s, a, b), other = 0, bad = 0;
+    for (int64_t t = 0; t < s.ntris; t++)
+        if (s.tri_pair[2 * t] != a || s.tri_pair[2 * t + 1] != b)
+            other += tri_area(&s, t);
+    for (int64_t v = 0; v < s.nverts; v++)
+        bad = fmax(bad, fmax(fabs(s.xyz[3 * v + 2] - 2), fabs(s.radius[v] - 2)));
+    printf("disc48: sheet area %.6f (%.6f), other pairs %.3g, worst |z-2|,|r-2| %.3g\n", A, want,
+           other, bad);
+    CHECK(fabs(A - want) <= 1e-6 * want);
+    CHECK(other <= 1e-9);
+    CHECK(bad <= 1e-9);
+    int64_t n1, n2, nmore, open, lost;
+    manifold(&s, a, b, 0.01 * lv.lat.h, &n1, &n2, &nmore, &open, &lost);
+    CHECK_EQ_INT(nmore, 0);
+    CHECK_EQ_INT(open, 0);
+    CHECK_EQ_INT(lost, 0);
+    double dv, dr, ds;
+    equidistance(&el, &s, &dv, &dr, &ds);
+    CHECK(dv <= 1e-9 * el.diag && dr <= 1e-9 * el.diag && ds <= 1e-9 * el.diag);
+    md_soup_free(&s);
+    md_leaves_free(&lv);
+    md_bvh_free(bvh);
+    md_elements_free(&el);
+}
+
+/* Timings at the design's bench tolerance (0.5 % of L), octree + extraction: printed only. */
+static void time_l_bracket(double tol, int threads)
+{
+    tmesh m;
+    l_bracket(&m);
+    md_elements el;
+    CHECK_EQ_INT(md_elements_build(m.xyz, m.nv, m.tri, m.nt, tol, &el), MFG_OK);
+    md_bvh *bvh = NULL;
+    CHECK_EQ_INT(md_bvh_build(&el, &bvh), MFG_OK);
+    md_leaves lv;
+    double t0 = now();
+    CHECK_EQ_INT(md_octree_build(&el, bvh, tol, 0, threads, &lv), MFG_OK);
+    double t1 = now();
+    md_soup s;
+    CHECK_EQ_INT(md_sheets_extract(&el, bvh, &lv, tol, threads, &s), MFG_OK);
+    double t2 = now();
+    int64_t np = 0;
+    for (int64_t i = 0; i < lv.nleaves; i++)
+        np += lv.leaf[i].nP;
+    printf("L-bracket tol %g, %d threads: %lld leaves (%lld leaf pairs), octree %.3f s, sheets %.3f s: "
+           "%lld verts, %lld tris, %lld segs\n", tol, threads, (long long)lv.nleaves, (long long)np,
+           t1 - t0, t2 - t1, (long long)s.nverts, (long long)s.ntris, (long long)s.nsegs);
+    md_soup_free(&s);
+    md_leaves_free(&lv);
+    md_bvh_free(bvh);
+    md_elements_free(&el);
+}
+
+#ifdef MFG_SHEETS_ALLOC_FAIL
+#include "alloc_shim.h"
+
+/* md_sheets_extract with each allocation failing in turn (one thread: the failing
+ * allocator is single-threaded): MFG_ERR_NOMEM, the output zeroed, no block leaked; or,
+ * when libc absorbs the failure (qsort), the same soup. */
+static void test_alloc_fail(void)
+{
+    tmesh m;
+    box(&m, 100, 60, 20);
+    md_elements el;
+    CHECK_EQ_INT(md_elements_build(m.xyz, m.nv, m.tri, m.nt, 8, &el), MFG_OK);
+    md_leaves lv;
+    brute_leaves(&el, 8, 1, &lv);
+    md_soup ref;
+    CHECK_EQ_INT(md_sheets_extract(&el, NULL, &lv, 8, 1, &ref), MFG_OK);
+    CHECK(ref.ntris > 0 && ref.nsegs > 0);
+    int done = 0;
+    long n, absorbed = 0;
+    for (n = 1; n < 100000 && !done; n++) {
+        md_soup s;
+        memset(&s, 0x5a, sizeof s);
+        alloc_shim_arm(n);
+        mfg_status st = md_sheets_extract(&el, NULL, &lv, 8, 1, &s);
+        int same = st == MFG_OK && same_soup(&s, &ref);
+        if (st == MFG_OK)
+            md_soup_free(&s);
+        alloc_shim_stats a = alloc_shim_disarm();
+        CHECK_EQ_INT(a.net, 0);
+        if (a.failed == 0) {
+            done = 1;
+            CHECK_EQ_INT(st, MFG_OK);
+            continue;
+        }
+        if (st == MFG_OK) {
+            absorbed++;
+            CHECK(same);
+            continue;
+        }
+        CHECK_EQ_INT(st, MFG_ERR_NOMEM);
+        CHECK(s.nverts == 0 && s.ntris == 0 && s.nsegs == 0 && s.xyz == NULL && s.tris == NULL &&
+              s.seg_pair == NULL);
+    }
+    CHECK(done);
+    printf("allocations failed in turn: %ld (%ld absorbed by libc)\n", n - 2, absorbed);
+    md_soup_free(&ref);
+    brute_free(&lv);
+    md_elements_free(&el);
+}
+
+#endif
+
+/* "alloc" (the allocation-failure build only): md_sheets_extract under failing allocations;
+ * otherwise the analytic solids. */
+int main(int argc, char **argv)
+{
+#ifdef MFG_SHEETS_ALLOC_FAIL
+    if (argc > 1 && !strcmp(argv[1], "alloc")) {
+        test_alloc_fail();
+        return mfg_test_report("medial_sheets_alloc");
+    }
+#endif
+    if (argc > 1 && !strcmp(argv[1], "time")) { /* not a ctest test: timings only */
+        time_l_bracket(0.4, 1);
+        time_l_bracket(0.4, 2);
+        return mfg_test_report("medial_sheets_time");
+    }
+    int all = argc < 2, brute = all || !strcmp(argv[1], "brute");
+    int octree = all || !strcmp(argv[1], "octree");
+    if (brute) {
+        test_cuboid(2.5);
+        test_cuboid(3.7);
+        test_l_bracket(2.0);
+        test_cube_full(4.0);
+    }
+    if (octree) {
+        tmesh m;
+        box(&m, 100, 60, 20);
+        test_octree_vs_brute(&m, 2.5, 0, "cuboid/octree", NULL);
+        l_bracket(&m);
+        test_octree_vs_brute(&m, 2.0, 0, "L-bracket/octree", in_l_bracket);
+        test_octree_vs_brute(&m, 4.0, 1, "L-bracket full/octree", in_l_bracket);
+        box(&m, 40, 40, 40);
+        test_octree_vs_brute(&m, 4.0, 1, "cube full/octree", NULL);
+        test_disc(1.0);
+    }
     return mfg_test_report("medial_sheets");
 }
