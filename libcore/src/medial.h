@@ -269,6 +269,14 @@ int md_junction_polish(const md_elements *el, const md_bvh *bvh, const double x0
                        const int64_t *T, int nT, const double lo[3], double side,
                        double tolerance, md_junction *out);
 
+/* The elements touching the largest ball centred at x inside the solid (radius D(x)):
+ * carrier distance within 1e-9 L of D and x in their Voronoi region up to 1e-9 L.  D is
+ * taken from the elements (not the BVH's triangles), so it does not depend on the
+ * triangle order.  bvh may be NULL (brute force).  Writes at most cap ids, ascending;
+ * returns the full count (-1 on NOMEM); *D (may be NULL) gets D(x). */
+int md_touching_set(const md_elements *el, const md_bvh *bvh, const double x[3], int64_t *out,
+                    int cap, double *D);
+
 /* ---- medial.c: the public entry point, assembly (sheets as connected components of one
  * pair's triangles, seams chained and snapped to junctions, junctions merged, major/full
  * filtering) and mfg_medial_free. -------------------------------------------------------- */

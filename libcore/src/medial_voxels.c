@@ -69,6 +69,7 @@
 typedef struct level {
     int64_t n;   /* |C| */
     int64_t *C;  /* candidates, ascending */
+    double *dc;  /* closed distances from the centre */
     double *inb; /* faces: lower bound of the in-plane margin of the centre's projection */
     double u;    /* unsigned distance from the centre to the boundary */
     int sign;    /* +1 inside, -1 outside, 0 not known */
@@ -78,9 +79,8 @@ typedef struct job job;
 
 typedef struct worker {
     job *J;
-    level *lev;          /* lev[d], d = 0 .. depth */
-    int64_t *lev_C;      /* (depth + 1) x nelements */
-    double *lev_inb;     /* (depth + 1) x nelements */
+    level *lev;          /* lev[d], d = 0 .. depth: the cells on the current path */
+    int64_t *lev_cap;    /* room in lev[d]'s arrays (grown on demand: C shrinks with depth) */
     /* per-cell scratch, nelements each */
     int64_t *cand;
     double *dc, *inb, *car, *mg, *var;
@@ -223,21 +223,42 @@ static int cell(worker *w, int d, const int32_t ijk[3], const level *par, level 
         cand = w->cand;
     }
 
-    /* 1. Closed distances and u. */
-    double u = INFINITY;
+    if (nc > w->lev_cap[d]) {
+        int64_t cap = w->lev_cap[d];
+        if (!grow((void **)&me->C, &cap, nc, sizeof *me->C))
+            return CELL_NOMEM;
+        cap = w->lev_cap[d];
+        if (!grow((void **)&me->dc, &cap, nc, sizeof *me->dc))
+            return CELL_NOMEM;
+        cap = w->lev_cap[d];
+        if (!grow((void **)&me->inb, &cap, nc, sizeof *me->inb))
+            return CELL_NOMEM;
+        w->lev_cap[d] = cap;
+    }
+
+    /* 1. Closed distances and u.  A face's exact closed distance costs O(its sides)
+     * unless the inherited in-plane bound shows the projection inside (then |s_F|).  Below
+     * the top, lower bounds come first (|s_F|, and dc(c_p) - rho: 1-Lipschitz), and only
+     * the faces that may pass the filter of step 2 (u <= u(c_p) + rho) get the exact one. */
+    double u = INFINITY, R_up = INFINITY;
+    if (inherit)
+        R_up = par->u + rho + 2 * rho + delta + 2 * tau;
     for (int64_t q = 0; q < nc; q++) {
         int64_t e = cand[q];
         double dc, ib = 0;
         if (e < el->nfaces) {
             double sf = md_dist_car(el, e, c, NULL);
+            w->car[q] = sf;
             if (inherit && par->inb[q] - rho > tau) {
                 ib = par->inb[q] - rho; /* the projection stays inside the polygon */
                 dc = fabs(sf);
+            } else if (inherit && fmax(fabs(sf), par->dc[q] - rho - tau) > R_up) {
+                ib = -INFINITY; /* not in C (below): never used */
+                dc = INFINITY;
             } else {
                 ib = face_inplane(J, e, c);
                 dc = ib >= 0 ? fabs(sf) : hypot(sf, ib);
             }
-            w->car[q] = sf;
         } else {
             dc = md_dist_closed(el, e, c);
             w->car[q] = 0; /* computed below for the kept ones */
@@ -254,6 +275,7 @@ static int cell(worker *w, int d, const int32_t ijk[3], const level *par, level 
     for (int64_t q = 0; q < nc; q++)
         if (w->dc[q] <= R) {
             me->C[n] = cand[q];
+            me->dc[n] = w->dc[q];
             me->inb[n] = w->inb[q];
             w->dc[n] = w->dc[q];
             w->car[n] = w->car[q]; /* faces only; the rest is filled below */
@@ -284,11 +306,13 @@ static int cell(worker *w, int d, const int32_t ijk[3], const level *par, level 
             w->A[na++] = q;
     }
 
-    /* 4. The pairs whose bisector (or near-medial band) may cross the cell. */
+    /* 4. The pairs whose bisector (or near-medial band) may cross the cell.  Above the
+     * leaves only whether there is one matters (the children test their own): the search
+     * stops at the first, which keeps large cells at O(|C|) instead of O(|C|^2). */
     int64_t np = 0;
-    for (int64_t i = 0; i < na; i++) {
+    for (int64_t i = 0; i < na && !(d < L && np); i++) {
         int64_t qa = w->A[i], a = me->C[qa];
-        for (int64_t j = i + 1; j < na; j++) {
+        for (int64_t j = i + 1; j < na && !(d < L && np); j++) {
             int64_t qb = w->A[j], b = me->C[qb];
             if (fabs(w->car[qa] - w->car[qb]) > w->var[qa] + w->var[qb] + delta + tau)
                 continue;
@@ -371,13 +395,16 @@ static int save_parent(job *J, const int32_t ijk[3], const level *me)
     level *p = &J->par[J->npar];
     *p = *me;
     p->C = malloc((size_t)(me->n + 1) * sizeof *p->C);
+    p->dc = malloc((size_t)(me->n + 1) * sizeof *p->dc);
     p->inb = malloc((size_t)(me->n + 1) * sizeof *p->inb);
-    if (!p->C || !p->inb) {
+    if (!p->C || !p->dc || !p->inb) {
         free(p->C);
+        free(p->dc);
         free(p->inb);
         return 0;
     }
     memcpy(p->C, me->C, (size_t)me->n * sizeof *p->C);
+    memcpy(p->dc, me->dc, (size_t)me->n * sizeof *p->dc);
     memcpy(p->inb, me->inb, (size_t)me->n * sizeof *p->inb);
     memcpy(J->par_ijk[J->npar], ijk, sizeof J->par_ijk[0]);
     J->npar++;
@@ -430,9 +457,14 @@ static void *work(void *arg)
 
 static void worker_free(worker *w)
 {
+    if (w->lev)
+        for (int d = 0; d <= w->J->lat.depth; d++) {
+            free(w->lev[d].C);
+            free(w->lev[d].dc);
+            free(w->lev[d].inb);
+        }
     free(w->lev);
-    free(w->lev_C);
-    free(w->lev_inb);
+    free(w->lev_cap);
     free(w->cand);
     free(w->dc);
     free(w->inb);
@@ -452,8 +484,7 @@ static int worker_init(worker *w, job *J)
     w->J = J;
     size_t n = (size_t)J->el->nelements + 1, nl = (size_t)J->lat.depth + 1;
     w->lev = calloc(nl, sizeof *w->lev);
-    w->lev_C = malloc(nl * n * sizeof *w->lev_C);
-    w->lev_inb = malloc(nl * n * sizeof *w->lev_inb);
+    w->lev_cap = calloc(nl, sizeof *w->lev_cap);
     w->cand = malloc(n * sizeof *w->cand);
     w->dc = malloc(n * sizeof *w->dc);
     w->inb = malloc(n * sizeof *w->inb);
@@ -461,14 +492,10 @@ static int worker_init(worker *w, job *J)
     w->mg = malloc(n * sizeof *w->mg);
     w->var = malloc(n * sizeof *w->var);
     w->A = malloc(n * sizeof *w->A);
-    if (!w->lev || !w->lev_C || !w->lev_inb || !w->cand || !w->dc || !w->inb || !w->car ||
+    if (!w->lev || !w->lev_cap || !w->cand || !w->dc || !w->inb || !w->car ||
         !w->mg || !w->var || !w->A) {
         worker_free(w);
         return 0;
-    }
-    for (size_t d = 0; d < nl; d++) {
-        w->lev[d].C = w->lev_C + d * n;
-        w->lev[d].inb = w->lev_inb + d * n;
     }
     return 1;
 }
@@ -676,6 +703,7 @@ done:
         worker_free(&W[t]);
     for (int64_t i = 0; i < J.npar; i++) {
         free(J.par[i].C);
+        free(J.par[i].dc);
         free(J.par[i].inb);
     }
     free(J.par);
