@@ -164,9 +164,24 @@ static int leaf_T(const md_elements *el, const md_bvh *bvh, const md_leaves *lv,
     double h = lv->lat.h, rho = 0.5 * sqrt(3.0) * h;
     for (int k = 0; k < 3; k++)
         c[k] = lv->lat.origin[k] + h * (double)lf->ijk[k] + 0.5 * h;
+    /* Only the leaf's candidates can touch in it (C: every element nearest somewhere in
+     * the cell, ascending): fewer than 4, no junction. */
+    const int64_t *C = lv->C + lf->C_off;
+    if (lf->nC < 4)
+        return 0;
     double D = md_bvh_nearest(bvh, el, c, NULL, NULL);
-    int64_t n = md_bvh_within(bvh, el, c, D + 2 * rho, T, MD_JMAX);
-    return (int)(n < MD_JMAX ? n : MD_JMAX);
+    int64_t W[4 * MD_JMAX];
+    int64_t n = md_bvh_within(bvh, el, c, D + 2 * rho, W, 4 * MD_JMAX);
+    if (n > 4 * MD_JMAX)
+        n = 4 * MD_JMAX;
+    int nT = 0;
+    for (int64_t i = 0, k = 0; i < n && nT < MD_JMAX; i++) {
+        while (k < lf->nC && C[k] < W[i])
+            k++;
+        if (k < lf->nC && C[k] == W[i])
+            T[nT++] = W[i];
+    }
+    return nT;
 }
 
 static void *junction_worker(void *arg)
@@ -428,9 +443,16 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
     }
     /* Triangles kept: of an output pair, not below 1e-6 h^2 (design 4.1). */
     double amin = 1e-6 * h * h;
+    int64_t pa = -1, pb = -1;
+    int pair_out = 0;
     for (int64_t t = 0; t < nt; t++) {
         const int64_t *tv = sp->tris + 3 * t;
-        int keep = output_pair(el, sp->tri_pair[2 * t], sp->tri_pair[2 * t + 1], full) &&
+        if (sp->tri_pair[2 * t] != pa || sp->tri_pair[2 * t + 1] != pb) { /* runs of one pair */
+            pa = sp->tri_pair[2 * t];
+            pb = sp->tri_pair[2 * t + 1];
+            pair_out = output_pair(el, pa, pb, full);
+        }
+        int keep = pair_out &&
                    tri_area(sp->xyz + 3 * tv[0], sp->xyz + 3 * tv[1], sp->xyz + 3 * tv[2]) >= amin;
         s->parent[t] = keep ? t : -1;
     }
