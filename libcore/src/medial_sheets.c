@@ -943,11 +943,38 @@ typedef struct sref {
     int64_t g; /* global record index: unit order, then the unit's own order */
 } sref;
 
-static int cmp_sref(const void *pa, const void *pb)
+static int cmp_sref(const sref *x, const sref *y)
 {
-    const sref *x = pa, *y = pb;
     int c = cmp_key(&x->r->k, &y->r->k);
     return c ? c : (x->g > y->g) - (x->g < y->g);
+}
+
+/* Sorts s[0..n) by cmp_sref (a total order: g is unique), with tmp of n / 2 + 1 items: a merge
+ * sort with the comparison inlined, about twice as fast as qsort's indirect calls on the
+ * millions of records of a large part. */
+static void sort_srefs(sref *s, sref *tmp, int64_t n)
+{
+    if (n <= 16) {
+        for (int64_t i = 1; i < n; i++) {
+            sref v = s[i];
+            int64_t j = i;
+            for (; j > 0 && cmp_sref(&v, s + j - 1) < 0; j--)
+                s[j] = s[j - 1];
+            s[j] = v;
+        }
+        return;
+    }
+    int64_t m = n / 2;
+    sort_srefs(s, tmp, m);
+    sort_srefs(s + m, tmp, n - m);
+    if (cmp_sref(s + m - 1, s + m) <= 0)
+        return; /* already in order (records of one leaf often are) */
+    memcpy(tmp, s, (size_t)m * sizeof *s);
+    int64_t i = 0, j = m, k = 0;
+    while (i < m && j < n)
+        s[k++] = cmp_sref(s + j, tmp + i) < 0 ? s[j++] : tmp[i++];
+    while (i < m)
+        s[k++] = tmp[i++];
 }
 
 void md_soup_free(md_soup *s)
@@ -982,6 +1009,7 @@ static mfg_status merge(const unit_buf *units, int64_t nunits, double h, md_soup
     int64_t *newid = malloc((size_t)(N ? N : 1) * sizeof *newid);
     int64_t *uoff = malloc((size_t)(nunits + 1) * sizeof *uoff);
     const vrec **recs = malloc((size_t)(N ? N : 1) * sizeof *recs);
+    sref *tmp = malloc((size_t)(N / 2 + 1) * sizeof *tmp);
     md_soup s;
     memset(&s, 0, sizeof s);
     s.tris = malloc((size_t)(NT ? 3 * NT : 1) * sizeof *s.tris);
@@ -990,7 +1018,7 @@ static mfg_status merge(const unit_buf *units, int64_t nunits, double h, md_soup
     s.seg_elems = malloc((size_t)(NS ? 3 * NS : 1) * sizeof *s.seg_elems);
     s.seg_kind = malloc((size_t)(NS ? NS : 1) * sizeof *s.seg_kind);
     s.seg_pair = malloc((size_t)(NS ? 2 * NS : 1) * sizeof *s.seg_pair);
-    if (!sr || !gid || !rep || !newid || !uoff || !recs || !s.tris || !s.tri_pair || !s.seg_verts ||
+    if (!sr || !gid || !rep || !newid || !uoff || !recs || !tmp || !s.tris || !s.tri_pair || !s.seg_verts ||
         !s.seg_elems || !s.seg_kind || !s.seg_pair)
         goto done;
     uoff[0] = 0;
@@ -1002,7 +1030,7 @@ static mfg_status merge(const unit_buf *units, int64_t nunits, double h, md_soup
             recs[uoff[u] + i] = units[u].v + i;
         }
     }
-    qsort(sr, (size_t)N, sizeof *sr, cmp_sref);
+    sort_srefs(sr, tmp, N);
     int64_t nid = 0;
     for (int64_t i = 0; i < N; i++) {
         if (i == 0 || cmp_key(&sr[i].r->k, &sr[i - 1].r->k) != 0)
@@ -1071,6 +1099,7 @@ done:
     free(newid);
     free(uoff);
     free(recs);
+    free(tmp);
     return st;
 }
 
