@@ -108,8 +108,10 @@ typedef struct eqs {
     double rmax;
 } eqs;
 
-static void equations(const md_elements *el, const int64_t *S, int n, const int *comp,
-                      const double x[3], eqs *q)
+/* ... stopping (q incomplete) as soon as rmax exceeds stop: the subdivision's test needs
+ * no more. */
+static void equations_upto(const md_elements *el, const int64_t *S, int n, const int *comp,
+                           const double x[3], eqs *q, double stop)
 {
     memset(q, 0, sizeof *q);
     int rep0 = -1;
@@ -136,6 +138,8 @@ static void equations(const md_elements *el, const int64_t *S, int n, const int 
                 q->JtJ[3 * a + b] += row[a] * row[b];
         }
         q->rmax = fmax(q->rmax, fabs(r));
+        if (q->rmax > stop)
+            return;
     }
     for (int i = 0; i < n; i++)
         for (int j = 0; j < n; j++) {
@@ -159,7 +163,15 @@ static void equations(const md_elements *el, const int64_t *S, int n, const int 
                 }
             }
             q->rmax = fmax(q->rmax, sqrt(nr));
+            if (q->rmax > stop)
+                return;
         }
+}
+
+static void equations(const md_elements *el, const int64_t *S, int n, const int *comp,
+                      const double x[3], eqs *q)
+{
+    equations_upto(el, S, n, comp, x, q, INFINITY);
 }
 
 /* Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations: lam
@@ -390,7 +402,7 @@ static int may_hold(const md_elements *el, const int64_t *S, int n, const int *c
                     const double c[3], double rho)
 {
     eqs q;
-    equations(el, S, n, comp, c, &q);
+    equations_upto(el, S, n, comp, c, &q, 2 * rho);
     return q.rmax <= 2 * rho;
 }
 
