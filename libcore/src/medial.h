@@ -26,7 +26,7 @@ enum { MD_VERTEX = 0, MD_EDGE = 1, MD_FACE = 2 };
 typedef struct md_elements {
     int64_t nfaces, nedges, nverts, nelements;
     double diag; /* L: the bounding-box diagonal */
-    double eta;  /* near-coplanar merge threshold: min(1e-7 L, 1e-3 tolerance) */
+    double eta;  /* near-coplanar merge threshold: min(1e-3 tol, max(1e-7 L, 2^-20 max|x|)) */
 
     /* The mesh, with each triangle's corners rotated so that the lexicographically smallest
      * one comes first (orientation kept): tris[3t + k], t in input order. */

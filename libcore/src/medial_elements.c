@@ -246,19 +246,644 @@ static int on_seed_plane(const md_elements *el, const int64_t *seed_tri, const d
                         el->xyz + 3 * seed_tri[2], x) == 0;
 }
 
-#define NOMEM()                                                                           \
-    do {                                                                                  \
-        st = mfg_fail(MFG_ERR_NOMEM, "out of memory building the medial elements of %lld triangles", \
-                      (long long)nt);                                                     \
-        goto done;                                                                        \
-    } while (0)
+/* The state of md_elements_build between its phases: the result being built, the input,
+ * and the scratch tables (freed by elements_build_scratch_free whatever happens). */
+typedef struct elements_build {
+    md_elements e;
+    const double *xyz;
+    const int64_t *triangles;
+    int64_t nv, nt;
+    int64_t *nbr0, *nbr;      /* neighbour across each side: as checked, then rotated */
+    unsigned char *zero;      /* zero-area triangles */
+    int64_t *label, *queue;   /* face of each triangle; BFS queue */
+    seed *seeds;
+    double *plane;            /* 4 per face, before renumbering */
+    int64_t *seed_of;         /* seed triangle of each face */
+    bside *bs;                /* boundary sides */
+    int64_t *bs_off, *bs_list, *vert_elem;
+    int64_t *chain_start, *chain_end, *chain_first;
+    face_key *fk;
+    int64_t *fv;
+    vsort *vs;
+    edge_key *ek;
+    int64_t *face_map, *chain_map, *vert_map, *vchain;
+    pair64 *pr;
+    int64_t nfaces, nbs, nchains, nvel;
+} elements_build;
+
+static mfg_status nomem(const elements_build *mb)
+{
+    return mfg_fail(MFG_ERR_NOMEM, "out of memory building the medial elements of %lld triangles",
+                    (long long)mb->nt);
+}
+
+static void elements_build_scratch_free(elements_build *mb)
+{
+    void *scratch[] = {mb->nbr0, mb->nbr, mb->zero, mb->label, mb->queue, mb->seeds, mb->plane,
+                       mb->seed_of, mb->bs, mb->bs_off, mb->bs_list, mb->vert_elem,
+                       mb->chain_start, mb->chain_end, mb->chain_first, mb->fk, mb->fv, mb->vs,
+                       mb->ek, mb->face_map, mb->chain_map, mb->vert_map, mb->vchain, mb->pr};
+    for (size_t i = 0; i < sizeof scratch / sizeof *scratch; i++)
+        free(scratch[i]);
+}
+
+/* The unordered face pair that boundary side i separates. */
+static int64_t pair_lo(const elements_build *mb, int64_t i)
+{
+    int64_t f0 = mb->label[mb->bs[i].s0 / 3], f1 = mb->label[mb->bs[i].s1 / 3];
+    return f0 < f1 ? f0 : f1;
+}
+
+static int64_t pair_hi(const elements_build *mb, int64_t i)
+{
+    int64_t f0 = mb->label[mb->bs[i].s0 / 3], f1 = mb->label[mb->bs[i].s1 / 3];
+    return f0 < f1 ? f1 : f0;
+}
+
+/* Copies the mesh and rotates each triangle so that its smallest corner comes first; the
+ * neighbour table rotates with it. */
+static mfg_status canonical_triangles(elements_build *mb)
+{
+    md_elements *e = &mb->e;
+    e->nv = mb->nv;
+    e->nt = mb->nt;
+    e->xyz = malloc((size_t)(3 * mb->nv + 1) * sizeof *e->xyz);
+    e->tris = malloc((size_t)(3 * mb->nt + 1) * sizeof *e->tris);
+    mb->nbr = malloc((size_t)(3 * mb->nt + 1) * sizeof *mb->nbr);
+    mb->zero = calloc((size_t)mb->nt + 1, 1);
+    mb->label = malloc((size_t)(mb->nt + 1) * sizeof *mb->label);
+    mb->queue = malloc((size_t)(mb->nt + 1) * sizeof *mb->queue);
+    mb->seeds = malloc((size_t)(mb->nt + 1) * sizeof *mb->seeds);
+    mb->plane = malloc((size_t)(4 * mb->nt + 4) * sizeof *mb->plane);
+    mb->seed_of = malloc((size_t)(mb->nt + 1) * sizeof *mb->seed_of);
+    if (!e->xyz || !e->tris || !mb->nbr || !mb->zero || !mb->label || !mb->queue || !mb->seeds ||
+        !mb->plane || !mb->seed_of)
+        return nomem(mb);
+    memcpy(e->xyz, mb->xyz, (size_t)(3 * mb->nv) * sizeof *mb->xyz);
+
+    /* Canonical triangles: the smallest corner first, orientation kept; the neighbour
+     * table rotates with the sides. */
+    for (int64_t t = 0; t < mb->nt; t++) {
+        const int64_t *tv = mb->triangles + 3 * t;
+        int r = 0;
+        for (int k = 1; k < 3; k++)
+            if (cmp_vertex(mb->xyz, tv[k], tv[r]) < 0)
+                r = k;
+        for (int k = 0; k < 3; k++)
+            e->tris[3 * t + k] = tv[(k + r) % 3];
+    }
+    for (int64_t t = 0; t < mb->nt; t++) {
+        const int64_t *tv = mb->triangles + 3 * t;
+        int r = e->tris[3 * t] == tv[0] ? 0 : (e->tris[3 * t] == tv[1] ? 1 : 2);
+        for (int k = 0; k < 3; k++)
+            mb->nbr[3 * t + k] = mb->nbr0[3 * t + (k + r) % 3];
+    }
+    free(mb->nbr0);
+    mb->nbr0 = NULL;
+    return MFG_OK;
+}
+
+/* Grows the faces over the neighbour table (design 1.3). */
+static mfg_status grow_faces(elements_build *mb)
+{
+    md_elements *e = &mb->e;
+    mfg_status st;
+    /* Faces: BFS from the seeds in order of decreasing area; flatness against the seed's
+     * plane (exact orient3d, or within eta), same facing; zero-area triangles bridge. */
+    int64_t nseeds = 0;
+    for (int64_t t = 0; t < mb->nt; t++) {
+        const int64_t *tv = e->tris + 3 * t;
+        mb->label[t] = -1;
+        mb->zero[t] = (unsigned char)mfg_triangle_zero_area(e->xyz + 3 * tv[0], e->xyz + 3 * tv[1],
+                                                        e->xyz + 3 * tv[2]);
+        if (!mb->zero[t]) {
+            double n[3];
+            tri_normal(e->xyz, tv, n);
+            mb->seeds[nseeds].xyz = e->xyz;
+            mb->seeds[nseeds].tri = tv;
+            mb->seeds[nseeds].area2 = norm3(n);
+            mb->seeds[nseeds].t = t;
+            nseeds++;
+        }
+    }
+    qsort(mb->seeds, (size_t)nseeds, sizeof *mb->seeds, cmp_seed);
+    for (int64_t i = 0; i < nseeds; i++) {
+        int64_t s = mb->seeds[i].t;
+        if (mb->label[s] >= 0)
+            continue;
+        const int64_t *sv = e->tris + 3 * s;
+        double n[3];
+        tri_normal(e->xyz, sv, n);
+        double len = norm3(n);
+        double *pl = mb->plane + 4 * mb->nfaces;
+        for (int c = 0; c < 3; c++)
+            pl[c] = n[c] / len;
+        pl[3] = dot3(pl, e->xyz + 3 * sv[0]);
+        mb->seed_of[mb->nfaces] = s;
+        int64_t head = 0, tail = 0;
+        mb->label[s] = mb->nfaces;
+        mb->queue[tail++] = s;
+        while (head < tail) {
+            int64_t t = mb->queue[head++];
+            for (int k = 0; k < 3; k++) {
+                int64_t u = mb->nbr[3 * t + k];
+                if (mb->label[u] >= 0)
+                    continue;
+                const int64_t *uv = e->tris + 3 * u;
+                int flat = 1;
+                for (int j = 0; j < 3 && flat; j++)
+                    flat = on_seed_plane(e, sv, pl, uv[j]);
+                if (flat && !mb->zero[u]) {
+                    double nu[3];
+                    tri_normal(e->xyz, uv, nu);
+                    flat = mfg_dot3_sign(nu, n) > 0;
+                }
+                if (flat) {
+                    mb->label[u] = mb->nfaces;
+                    mb->queue[tail++] = u;
+                }
+            }
+        }
+        mb->nfaces++;
+    }
+    for (int64_t t = 0; t < mb->nt; t++)
+        if (mb->label[t] < 0) {
+            st = mfg_fail(MFG_ERR_DEGENERATE,
+                          "zero-area triangle %lld lies in the plane of none of its neighbours' faces",
+                          (long long)t);
+            return st;
+        }
+    return MFG_OK;
+}
+
+/* Renumbers the faces canonically; their planes and dominant axes. */
+static mfg_status sort_faces(elements_build *mb)
+{
+    md_elements *e = &mb->e;
+    /* Canonical face ids: sorted vertex coordinates of each face. */
+    mb->fk = calloc((size_t)mb->nfaces + 1, sizeof *mb->fk);
+    mb->fv = malloc((size_t)(3 * mb->nt + 1) * sizeof *mb->fv);
+    mb->vs = malloc((size_t)(3 * mb->nt + 1) * sizeof *mb->vs);
+    mb->face_map = malloc((size_t)(mb->nfaces + 1) * sizeof *mb->face_map);
+    if (!mb->fk || !mb->fv || !mb->vs || !mb->face_map)
+        return nomem(mb);
+    {
+        /* Corners grouped by face (counting sort), then each group sorted and deduplicated. */
+        int64_t *cnt = calloc((size_t)mb->nfaces + 2, sizeof *cnt);
+        if (!cnt)
+            return nomem(mb);
+        for (int64_t t = 0; t < mb->nt; t++)
+            cnt[mb->label[t] + 1] += 3;
+        for (int64_t f = 0; f < mb->nfaces; f++)
+            cnt[f + 1] += cnt[f];
+        int64_t *pos = mb->queue; /* reuse: nt + 1 >= nfaces slots */
+        for (int64_t f = 0; f < mb->nfaces; f++)
+            pos[f] = cnt[f];
+        for (int64_t t = 0; t < mb->nt; t++)
+            for (int k = 0; k < 3; k++) {
+                int64_t p = pos[mb->label[t]]++;
+                mb->vs[p].xyz = e->xyz;
+                mb->vs[p].v = e->tris[3 * t + k];
+            }
+        for (int64_t f = 0; f < mb->nfaces; f++) {
+            int64_t b = cnt[f], n = cnt[f + 1] - cnt[f], m = 0;
+            qsort(mb->vs + b, (size_t)n, sizeof *mb->vs, cmp_vsort);
+            for (int64_t i = 0; i < n; i++)
+                if (m == 0 || mb->fv[b + m - 1] != mb->vs[b + i].v)
+                    mb->fv[b + m++] = mb->vs[b + i].v;
+            mb->fk[f].xyz = e->xyz;
+            mb->fk[f].verts = mb->fv + b;
+            mb->fk[f].nverts = m;
+            memcpy(mb->fk[f].n, mb->plane + 4 * f, 3 * sizeof(double));
+            mb->fk[f].label = f;
+        }
+        free(cnt);
+    }
+    qsort(mb->fk, (size_t)mb->nfaces, sizeof *mb->fk, cmp_face_key);
+    e->nfaces = mb->nfaces;
+    e->face_plane = malloc((size_t)(4 * mb->nfaces) * sizeof *e->face_plane);
+    e->face_axis = malloc((size_t)mb->nfaces * sizeof *e->face_axis);
+    int64_t *face_seed = malloc((size_t)mb->nfaces * sizeof *face_seed);
+    if (!e->face_plane || !e->face_axis || !face_seed) {
+        free(face_seed);
+        return nomem(mb);
+    }
+    for (int64_t f = 0; f < mb->nfaces; f++) {
+        int64_t old = mb->fk[f].label;
+        mb->face_map[old] = f;
+        memcpy(e->face_plane + 4 * f, mb->plane + 4 * old, 4 * sizeof(double));
+        face_seed[f] = mb->seed_of[old];
+        const double *n = e->face_plane + 4 * f;
+        int ax = 0;
+        for (int c = 1; c < 3; c++)
+            if (fabs(n[c]) > fabs(n[ax]))
+                ax = c;
+        e->face_axis[f] = ax;
+    }
+    for (int64_t t = 0; t < mb->nt; t++)
+        mb->label[t] = mb->face_map[mb->label[t]];
+    memcpy(mb->seed_of, face_seed, (size_t)mb->nfaces * sizeof *mb->seed_of);
+    free(face_seed);
+    return MFG_OK;
+}
+
+/* The mesh edges between two faces, their incidence at mesh vertices, and which mesh
+ * vertices are vertex elements. */
+static mfg_status boundary_graph(elements_build *mb)
+{
+    md_elements *e = &mb->e;
+    /* The boundary graph: mesh edges between two faces, each once. */
+    mb->bs = malloc((size_t)(3 * mb->nt + 1) * sizeof *mb->bs);
+    if (!mb->bs)
+        return nomem(mb);
+    for (int64_t t = 0; t < mb->nt; t++)
+        for (int k = 0; k < 3; k++) {
+            int64_t u = mb->nbr[3 * t + k];
+            int64_t a = e->tris[3 * t + k], b = e->tris[3 * t + (k + 1) % 3];
+            if (mb->label[u] == mb->label[t] || a > b)
+                continue;
+            bside *q = &mb->bs[mb->nbs++];
+            q->v0 = a;
+            q->v1 = b;
+            q->s0 = 3 * t + k;
+            q->s1 = twin_side(e->tris, u, a, b);
+            q->chain = -1;
+        }
+    /* Incidence vertex -> boundary sides (CSR). */
+    mb->bs_off = calloc((size_t)mb->nv + 2, sizeof *mb->bs_off);
+    mb->bs_list = malloc((size_t)(2 * mb->nbs + 1) * sizeof *mb->bs_list);
+    mb->vert_elem = malloc((size_t)(mb->nv + 1) * sizeof *mb->vert_elem);
+    if (!mb->bs_off || !mb->bs_list || !mb->vert_elem)
+        return nomem(mb);
+    for (int64_t i = 0; i < mb->nbs; i++) {
+        mb->bs_off[mb->bs[i].v0 + 1]++;
+        mb->bs_off[mb->bs[i].v1 + 1]++;
+    }
+    for (int64_t v = 0; v < mb->nv; v++)
+        mb->bs_off[v + 1] += mb->bs_off[v];
+    {
+        int64_t *pos = malloc((size_t)(mb->nv + 1) * sizeof *pos);
+        if (!pos)
+            return nomem(mb);
+        memcpy(pos, mb->bs_off, (size_t)mb->nv * sizeof *pos);
+        for (int64_t i = 0; i < mb->nbs; i++) {
+            mb->bs_list[pos[mb->bs[i].v0]++] = i;
+            mb->bs_list[pos[mb->bs[i].v1]++] = i;
+        }
+        free(pos);
+    }
+    /* The unordered face pair a boundary side separates. */
+    for (int64_t v = 0; v < mb->nv; v++) {
+        int64_t d = mb->bs_off[v + 1] - mb->bs_off[v];
+        mb->vert_elem[v] = -1;
+        if (d == 0)
+            continue;
+        if (d == 2) {
+            int64_t i = mb->bs_list[mb->bs_off[v]], j = mb->bs_list[mb->bs_off[v] + 1];
+            if (pair_lo(mb, i) == pair_lo(mb, j) && pair_hi(mb, i) == pair_hi(mb, j))
+                continue; /* inside a chain */
+        }
+        mb->vert_elem[v] = mb->nvel++;
+    }
+    return MFG_OK;
+}
+
+/* Chains the boundary sides into edges between vertex elements (design 1.4). */
+static mfg_status chain_edges(elements_build *mb)
+{
+    mfg_status st;
+    /* Chains: walk from every vertex element along each unused boundary side. */
+    mb->chain_start = malloc((size_t)(mb->nbs + 1) * sizeof *mb->chain_start);
+    mb->chain_end = malloc((size_t)(mb->nbs + 1) * sizeof *mb->chain_end);
+    mb->chain_first = malloc((size_t)(mb->nbs + 1) * sizeof *mb->chain_first);
+    if (!mb->chain_start || !mb->chain_end || !mb->chain_first)
+        return nomem(mb);
+    for (int64_t v = 0; v < mb->nv; v++) {
+        if (mb->vert_elem[v] < 0)
+            continue;
+        for (int64_t q = mb->bs_off[v]; q < mb->bs_off[v + 1]; q++) {
+            int64_t i = mb->bs_list[q];
+            if (mb->bs[i].chain >= 0)
+                continue;
+            int64_t c = mb->nchains++, cur = v;
+            mb->chain_start[c] = v;
+            mb->chain_first[c] = i;
+            for (;;) {
+                mb->bs[i].chain = c;
+                int64_t w = mb->bs[i].v0 == cur ? mb->bs[i].v1 : mb->bs[i].v0;
+                if (mb->vert_elem[w] >= 0) {
+                    mb->chain_end[c] = w;
+                    break;
+                }
+                int64_t i0 = mb->bs_list[mb->bs_off[w]], i1 = mb->bs_list[mb->bs_off[w] + 1];
+                i = i0 == i ? i1 : i0;
+                cur = w;
+            }
+        }
+    }
+    for (int64_t i = 0; i < mb->nbs; i++)
+        if (mb->bs[i].chain < 0) {
+            st = mfg_fail(MFG_ERR_INTERNAL,
+                          "mesh edge %lld-%lld lies on a closed loop between two faces with no vertex",
+                          (long long)mb->bs[i].v0, (long long)mb->bs[i].v1);
+            return st;
+        }
+    return MFG_OK;
+}
+
+/* Renumbers the edges and vertices canonically (design 1.6). */
+static mfg_status sort_edges_and_vertices(elements_build *mb)
+{
+    md_elements *e = &mb->e;
+    /* Canonical edge ids: (smaller end, larger end, faces). */
+    mb->ek = malloc((size_t)(mb->nchains + 1) * sizeof *mb->ek);
+    mb->chain_map = malloc((size_t)(mb->nchains + 1) * sizeof *mb->chain_map);
+    if (!mb->ek || !mb->chain_map)
+        return nomem(mb);
+    for (int64_t c = 0; c < mb->nchains; c++) {
+        int64_t a = mb->chain_start[c], b = mb->chain_end[c];
+        if (cmp_vertex(e->xyz, b, a) < 0) {
+            int64_t tmp = a;
+            a = b;
+            b = tmp;
+        }
+        mb->chain_start[c] = a;
+        mb->chain_end[c] = b;
+        memcpy(mb->ek[c].a, e->xyz + 3 * a, sizeof mb->ek[c].a);
+        memcpy(mb->ek[c].b, e->xyz + 3 * b, sizeof mb->ek[c].b);
+        mb->ek[c].f0 = pair_lo(mb, mb->chain_first[c]);
+        mb->ek[c].f1 = pair_hi(mb, mb->chain_first[c]);
+        mb->ek[c].chain = c;
+    }
+    qsort(mb->ek, (size_t)mb->nchains, sizeof *mb->ek, cmp_edge_key);
+    for (int64_t i = 0; i < mb->nchains; i++)
+        mb->chain_map[mb->ek[i].chain] = i;
+
+    /* Canonical vertex ids: coordinates. */
+    mb->vert_map = malloc((size_t)(mb->nv + 1) * sizeof *mb->vert_map);
+    if (!mb->vert_map)
+        return nomem(mb);
+    {
+        int64_t m = 0;
+        for (int64_t v = 0; v < mb->nv; v++)
+            if (mb->vert_elem[v] >= 0) {
+                mb->vs[m].xyz = e->xyz;
+                mb->vs[m++].v = v;
+            }
+        qsort(mb->vs, (size_t)m, sizeof *mb->vs, cmp_vsort);
+        for (int64_t v = 0; v < mb->nv; v++)
+            mb->vert_map[v] = -1;
+        for (int64_t i = 0; i < m; i++)
+            mb->vert_map[mb->vs[i].v] = i;
+    }
+    return MFG_OK;
+}
+
+/* The edges' segments, in-plane normals and convexity, the vertices' positions. */
+static mfg_status edge_geometry(elements_build *mb)
+{
+    md_elements *e = &mb->e;
+    mfg_status st;
+    int64_t ne = mb->nchains, nvx = mb->nvel, nF = mb->nfaces;
+    e->nedges = ne;
+    e->nverts = nvx;
+    e->nelements = nF + ne + nvx;
+    e->edge_seg = malloc((size_t)(6 * ne + 1) * sizeof *e->edge_seg);
+    e->edge_dir = malloc((size_t)(3 * ne + 1) * sizeof *e->edge_dir);
+    e->edge_len = malloc((size_t)(ne + 1) * sizeof *e->edge_len);
+    e->edge_faces = malloc((size_t)(2 * ne + 1) * sizeof *e->edge_faces);
+    e->edge_w = malloc((size_t)(6 * ne + 1) * sizeof *e->edge_w);
+    e->edge_ends = malloc((size_t)(2 * ne + 1) * sizeof *e->edge_ends);
+    e->edge_convex = malloc((size_t)(ne + 1) * sizeof *e->edge_convex);
+    e->vert_xyz = malloc((size_t)(3 * nvx + 1) * sizeof *e->vert_xyz);
+    e->vert_mesh = malloc((size_t)(nvx + 1) * sizeof *e->vert_mesh);
+    e->vert_region_empty = calloc((size_t)nvx + 1, sizeof *e->vert_region_empty);
+    if (!e->edge_seg || !e->edge_dir || !e->edge_len || !e->edge_faces || !e->edge_w ||
+        !e->edge_ends || !e->edge_convex || !e->vert_xyz || !e->vert_mesh || !e->vert_region_empty)
+        return nomem(mb);
+    for (int64_t v = 0; v < mb->nv; v++)
+        if (mb->vert_map[v] >= 0) {
+            memcpy(e->vert_xyz + 3 * mb->vert_map[v], e->xyz + 3 * v, 3 * sizeof(double));
+            e->vert_mesh[mb->vert_map[v]] = v;
+        }
+    for (int64_t c = 0; c < mb->nchains; c++) {
+        int64_t i = mb->chain_map[c];
+        double *A = e->edge_seg + 6 * i, *B = A + 3, *u = e->edge_dir + 3 * i;
+        memcpy(A, e->xyz + 3 * mb->chain_start[c], 3 * sizeof(double));
+        memcpy(B, e->xyz + 3 * mb->chain_end[c], 3 * sizeof(double));
+        sub3(B, A, u);
+        double len = norm3(u);
+        for (int k = 0; k < 3; k++)
+            u[k] /= len;
+        e->edge_len[i] = len;
+        e->edge_ends[2 * i] = nF + ne + mb->vert_map[mb->chain_start[c]];
+        e->edge_ends[2 * i + 1] = nF + ne + mb->vert_map[mb->chain_end[c]];
+        e->edge_faces[2 * i] = pair_lo(mb, mb->chain_first[c]);
+        e->edge_faces[2 * i + 1] = pair_hi(mb, mb->chain_first[c]);
+        e->edge_convex[i] = -1;
+    }
+    /* Per boundary side: straightness, the in-plane normals w, convexity. */
+    for (int64_t q = 0; q < mb->nbs; q++) {
+        int64_t i = mb->chain_map[mb->bs[q].chain];
+        const double *A = e->edge_seg + 6 * i, *u = e->edge_dir + 3 * i;
+        for (int j = 0; j < 2; j++) {
+            double d[3], x = 0;
+            sub3(e->xyz + 3 * (j ? mb->bs[q].v1 : mb->bs[q].v0), A, d);
+            double t = dot3(d, u);
+            for (int k = 0; k < 3; k++)
+                x += (d[k] - t * u[k]) * (d[k] - t * u[k]);
+            if (sqrt(x) > e->eta) {
+                st = mfg_fail(MFG_ERR_INTERNAL,
+                              "mesh vertex %lld is %g off the line of the edge between faces %lld and %lld (threshold %g)",
+                              (long long)(j ? mb->bs[q].v1 : mb->bs[q].v0), sqrt(x),
+                              (long long)e->edge_faces[2 * i], (long long)e->edge_faces[2 * i + 1],
+                              e->eta);
+                return st;
+            }
+        }
+        if (q == mb->chain_first[mb->bs[q].chain]) {
+            /* w of each face: n_f x (the side's direction in f's triangle), the interior
+             * lying to the left of a counter-clockwise side. */
+            for (int j = 0; j < 2; j++) {
+                int64_t s = j ? mb->bs[q].s1 : mb->bs[q].s0;
+                int64_t f = mb->label[s / 3];
+                int64_t a = e->tris[s], b = e->tris[3 * (s / 3) + (s % 3 + 1) % 3];
+                double sd[3], w[3];
+                sub3(e->xyz + 3 * b, e->xyz + 3 * a, sd);
+                double sgn = dot3(sd, u) >= 0 ? 1.0 : -1.0;
+                double us[3] = {sgn * u[0], sgn * u[1], sgn * u[2]};
+                cross3(e->face_plane + 4 * f, us, w);
+                double wl = norm3(w);
+                int slot = f == e->edge_faces[2 * i] ? 0 : 1;
+                for (int k = 0; k < 3; k++)
+                    e->edge_w[6 * i + 3 * slot + k] = w[k] / wl;
+            }
+        }
+        if (e->edge_convex[i] < 0 && !mb->zero[mb->bs[q].s0 / 3] && !mb->zero[mb->bs[q].s1 / 3]) {
+            /* Convex iff the far vertex of Fj's triangle is strictly inside Fi's plane. */
+            int64_t ti = mb->bs[q].s0 / 3, tj = mb->bs[q].s1 / 3, sj = mb->bs[q].s1;
+            int64_t far = e->tris[3 * tj + (sj % 3 + 2) % 3];
+            const int64_t *sv = e->tris + 3 * mb->seed_of[mb->label[ti]];
+            int o = mfg_orient3d(e->xyz + 3 * sv[0], e->xyz + 3 * sv[1], e->xyz + 3 * sv[2],
+                                 e->xyz + 3 * far);
+            if (o != 0)
+                e->edge_convex[i] = o > 0;
+        }
+    }
+    for (int64_t i = 0; i < ne; i++)
+        if (e->edge_convex[i] < 0) {
+            /* No decisive triangle pair (near-coplanar merges or slivers): the normals. */
+            const double *ni = e->face_plane + 4 * e->edge_faces[2 * i];
+            const double *wj = e->edge_w + 6 * i + 3;
+            e->edge_convex[i] = dot3(ni, wj) < 0;
+        }
+    return MFG_OK;
+}
+
+/* The tables in input order: the face of each triangle, the element of each side and corner. */
+static mfg_status triangle_tables(elements_build *mb)
+{
+    md_elements *e = &mb->e;
+    const int64_t nF = e->nfaces, ne = e->nedges;
+    /* Tables in input order. */
+    e->face_of_triangle = malloc((size_t)(mb->nt + 1) * sizeof *e->face_of_triangle);
+    e->side_elem = malloc((size_t)(3 * mb->nt + 1) * sizeof *e->side_elem);
+    e->corner_elem = malloc((size_t)(3 * mb->nt + 1) * sizeof *e->corner_elem);
+    mb->vchain = malloc((size_t)(mb->nv + 1) * sizeof *mb->vchain);
+    if (!e->face_of_triangle || !e->side_elem || !e->corner_elem || !mb->vchain)
+        return nomem(mb);
+    for (int64_t v = 0; v < mb->nv; v++)
+        mb->vchain[v] = -1;
+    for (int64_t t = 0; t < mb->nt; t++) {
+        e->face_of_triangle[t] = mb->zero[t] ? -1 : mb->label[t];
+        for (int k = 0; k < 3; k++)
+            e->side_elem[3 * t + k] = mb->label[t];
+    }
+    for (int64_t q = 0; q < mb->nbs; q++) {
+        int64_t id = nF + mb->chain_map[mb->bs[q].chain];
+        e->side_elem[mb->bs[q].s0] = id;
+        e->side_elem[mb->bs[q].s1] = id;
+        mb->vchain[mb->bs[q].v0] = id;
+        mb->vchain[mb->bs[q].v1] = id;
+    }
+    /* A zero-area triangle's corners are collinear: when one of its sides lies on an edge
+     * element, all its sides (and their twins) and its non-vertex corners do, whichever
+     * face claimed it.  Repeated until nothing changes (slivers in a row). */
+    for (int changed = 1; changed;) {
+        changed = 0;
+        for (int64_t t = 0; t < mb->nt; t++) {
+            if (!mb->zero[t])
+                continue;
+            int64_t E = -1;
+            for (int k = 0; k < 3; k++)
+                if (e->side_elem[3 * t + k] >= nF)
+                    E = e->side_elem[3 * t + k];
+            if (E < 0)
+                continue;
+            for (int k = 0; k < 3; k++) {
+                int64_t sd = 3 * t + k, v = e->tris[sd], w = e->tris[3 * t + (k + 1) % 3];
+                if (e->side_elem[sd] < nF) {
+                    int64_t tw = twin_side(e->tris, mb->nbr[sd], v, w);
+                    e->side_elem[sd] = E;
+                    if (tw >= 0)
+                        e->side_elem[tw] = E;
+                    changed = 1;
+                }
+                if (mb->vert_map[v] < 0 && mb->vchain[v] != E) {
+                    mb->vchain[v] = E;
+                    changed = 1;
+                }
+            }
+        }
+    }
+    for (int64_t t = 0; t < mb->nt; t++)
+        for (int k = 0; k < 3; k++) {
+            int64_t v = e->tris[3 * t + k];
+            e->corner_elem[3 * t + k] =
+                mb->vert_map[v] >= 0 ? nF + ne + mb->vert_map[v]
+                                     : (mb->vchain[v] >= 0 ? mb->vchain[v] : mb->label[t]);
+        }
+    return MFG_OK;
+}
+
+/* The faces' triangles and sides, the closures, the edges at each vertex, and the
+ * vertices whose region is empty (design 1.7). */
+static mfg_status closure_tables(elements_build *mb)
+{
+    md_elements *e = &mb->e;
+    const int64_t nF = e->nfaces, ne = e->nedges, nvx = e->nverts;
+    /* Faces' triangles and boundary sides (CSR). */
+    mb->pr = malloc((size_t)(8 * ne + 3 * mb->nt + 1) * sizeof *mb->pr);
+    if (!mb->pr)
+        return nomem(mb);
+    {
+        int64_t np = 0;
+        for (int64_t t = 0; t < mb->nt; t++)
+            if (!mb->zero[t])
+                mb->pr[np++] = (pair64){mb->label[t], t, 0};
+        if (!pairs_to_csr(mb->pr, np, nF, &e->face_tri_offsets, &e->face_tris))
+            return nomem(mb);
+        np = 0;
+        for (int64_t q = 0; q < mb->nbs; q++) {
+            mb->pr[np++] = (pair64){mb->label[mb->bs[q].s0 / 3], mb->bs[q].s0, 0};
+            mb->pr[np++] = (pair64){mb->label[mb->bs[q].s1 / 3], mb->bs[q].s1, 0};
+        }
+        if (!pairs_to_csr(mb->pr, np, nF, &e->face_side_offsets, &e->face_sides))
+            return nomem(mb);
+        /* Closure: a face's edges and their ends; an edge's ends. */
+        np = 0;
+        for (int64_t i = 0; i < ne; i++) {
+            int64_t id = nF + i;
+            for (int j = 0; j < 2; j++) {
+                int64_t f = e->edge_faces[2 * i + j];
+                mb->pr[np++] = (pair64){f, id, 0};
+                mb->pr[np++] = (pair64){f, e->edge_ends[2 * i], 0};
+                mb->pr[np++] = (pair64){f, e->edge_ends[2 * i + 1], 0};
+                mb->pr[np++] = (pair64){id, e->edge_ends[2 * i + j], 0};
+            }
+        }
+        if (!pairs_to_csr(mb->pr, np, e->nelements, &e->bound_offsets, &e->bound))
+            return nomem(mb);
+        np = 0;
+        for (int64_t i = 0; i < ne; i++)
+            for (int j = 0; j < 2; j++)
+                mb->pr[np++] = (pair64){e->edge_ends[2 * i + j] - nF - ne, nF + i, 0};
+        if (!pairs_to_csr(mb->pr, np, nvx, &e->vert_edge_offsets, &e->vert_edges))
+            return nomem(mb);
+        /* Face corners at vertex elements: the angle sums per (vertex, face). */
+        np = 0;
+        for (int64_t t = 0; t < mb->nt; t++) {
+            if (mb->zero[t])
+                continue;
+            for (int k = 0; k < 3; k++) {
+                int64_t v = e->tris[3 * t + k];
+                if (mb->vert_map[v] < 0)
+                    continue;
+                double a[3], b[3], c[3];
+                sub3(e->xyz + 3 * e->tris[3 * t + (k + 1) % 3], e->xyz + 3 * v, a);
+                sub3(e->xyz + 3 * e->tris[3 * t + (k + 2) % 3], e->xyz + 3 * v, b);
+                cross3(a, b, c);
+                mb->pr[np++] = (pair64){mb->vert_map[v], mb->label[t], atan2(norm3(c), dot3(a, b))};
+            }
+        }
+        qsort(mb->pr, (size_t)np, sizeof *mb->pr, cmp_pair);
+        for (int64_t i = 0; i < np;) {
+            int64_t j = i;
+            double sum = 0;
+            while (j < np && mb->pr[j].a == mb->pr[i].a && mb->pr[j].b == mb->pr[i].b)
+                sum += mb->pr[j++].w;
+            if (sum >= PI_D - STRAIGHT_SLACK)
+                e->vert_region_empty[mb->pr[i].a] = 1;
+            i = j;
+        }
+    }
+    return MFG_OK;
+}
 
 mfg_status md_elements_build(const double *xyz, int64_t nv, const int64_t *triangles,
                              int64_t nt, double tolerance, md_elements *out)
 {
     mfg_status st = MFG_OK;
-    md_elements e;
-    memset(&e, 0, sizeof e);
     if (!out)
         return mfg_fail(MFG_ERR_NULL, "out (the elements) is NULL");
     memset(out, 0, sizeof *out);
@@ -287,574 +912,35 @@ mfg_status md_elements_build(const double *xyz, int64_t nv, const int64_t *trian
                         tolerance, L);
     }
 
-    int64_t *nbr = NULL, *label = NULL, *queue = NULL, *vert_elem = NULL, *bs_off = NULL,
-            *bs_list = NULL, *chain_start = NULL, *chain_end = NULL,
-            *face_map = NULL, *chain_map = NULL, *vert_map = NULL, *chain_first = NULL,
-            *vchain = NULL, *fv = NULL;
-    unsigned char *zero = NULL;
-    seed *seeds = NULL;
-    double *plane = NULL;
-    int64_t *seed_of = NULL;
-    bside *bs = NULL;
-    face_key *fk = NULL;
-    edge_key *ek = NULL;
-    vsort *vs = NULL;
-    pair64 *pr = NULL;
-    int64_t nfaces = 0, nbs = 0, nchains = 0, nvel = 0;
-
-    e.diag = L;
-    e.eta = fmin(1e-7 * L, 1e-3 * tolerance);
-    e.nv = nv;
-    e.nt = nt;
-    e.xyz = malloc((size_t)(3 * nv + 1) * sizeof *e.xyz);
-    e.tris = malloc((size_t)(3 * nt + 1) * sizeof *e.tris);
-    nbr = malloc((size_t)(3 * nt + 1) * sizeof *nbr);
-    zero = calloc((size_t)nt + 1, 1);
-    label = malloc((size_t)(nt + 1) * sizeof *label);
-    queue = malloc((size_t)(nt + 1) * sizeof *queue);
-    seeds = malloc((size_t)(nt + 1) * sizeof *seeds);
-    plane = malloc((size_t)(4 * nt + 4) * sizeof *plane);
-    seed_of = malloc((size_t)(nt + 1) * sizeof *seed_of);
-    if (!e.xyz || !e.tris || !nbr || !zero || !label || !queue || !seeds || !plane || !seed_of)
-        NOMEM();
-    memcpy(e.xyz, xyz, (size_t)(3 * nv) * sizeof *xyz);
-
-    /* Canonical triangles: the smallest corner first, orientation kept; the neighbour
-     * table rotates with the sides. */
-    for (int64_t t = 0; t < nt; t++) {
-        const int64_t *tv = triangles + 3 * t;
-        int r = 0;
-        for (int k = 1; k < 3; k++)
-            if (cmp_vertex(xyz, tv[k], tv[r]) < 0)
-                r = k;
-        for (int k = 0; k < 3; k++)
-            e.tris[3 * t + k] = tv[(k + r) % 3];
-    }
-    for (int64_t t = 0; t < nt; t++) {
-        const int64_t *tv = triangles + 3 * t;
-        int r = e.tris[3 * t] == tv[0] ? 0 : (e.tris[3 * t] == tv[1] ? 1 : 2);
-        for (int k = 0; k < 3; k++)
-            nbr[3 * t + k] = nbr0[3 * t + (k + r) % 3];
-    }
-    free(nbr0);
-    nbr0 = NULL;
-
-    /* Faces: BFS from the seeds in order of decreasing area; flatness against the seed's
-     * plane (exact orient3d, or within eta), same facing; zero-area triangles bridge. */
-    int64_t nseeds = 0;
-    for (int64_t t = 0; t < nt; t++) {
-        const int64_t *tv = e.tris + 3 * t;
-        label[t] = -1;
-        zero[t] = (unsigned char)mfg_triangle_zero_area(e.xyz + 3 * tv[0], e.xyz + 3 * tv[1],
-                                                        e.xyz + 3 * tv[2]);
-        if (!zero[t]) {
-            double n[3];
-            tri_normal(e.xyz, tv, n);
-            seeds[nseeds].xyz = e.xyz;
-            seeds[nseeds].tri = tv;
-            seeds[nseeds].area2 = norm3(n);
-            seeds[nseeds].t = t;
-            nseeds++;
-        }
-    }
-    qsort(seeds, (size_t)nseeds, sizeof *seeds, cmp_seed);
-    for (int64_t i = 0; i < nseeds; i++) {
-        int64_t s = seeds[i].t;
-        if (label[s] >= 0)
-            continue;
-        const int64_t *sv = e.tris + 3 * s;
-        double n[3];
-        tri_normal(e.xyz, sv, n);
-        double len = norm3(n);
-        double *pl = plane + 4 * nfaces;
-        for (int c = 0; c < 3; c++)
-            pl[c] = n[c] / len;
-        pl[3] = dot3(pl, e.xyz + 3 * sv[0]);
-        seed_of[nfaces] = s;
-        int64_t head = 0, tail = 0;
-        label[s] = nfaces;
-        queue[tail++] = s;
-        while (head < tail) {
-            int64_t t = queue[head++];
-            for (int k = 0; k < 3; k++) {
-                int64_t u = nbr[3 * t + k];
-                if (label[u] >= 0)
-                    continue;
-                const int64_t *uv = e.tris + 3 * u;
-                int flat = 1;
-                for (int j = 0; j < 3 && flat; j++)
-                    flat = on_seed_plane(&e, sv, pl, uv[j]);
-                if (flat && !zero[u]) {
-                    double nu[3];
-                    tri_normal(e.xyz, uv, nu);
-                    flat = mfg_dot3_sign(nu, n) > 0;
-                }
-                if (flat) {
-                    label[u] = nfaces;
-                    queue[tail++] = u;
-                }
-            }
-        }
-        nfaces++;
-    }
-    for (int64_t t = 0; t < nt; t++)
-        if (label[t] < 0) {
-            st = mfg_fail(MFG_ERR_DEGENERATE,
-                          "zero-area triangle %lld lies in the plane of none of its neighbours' faces",
-                          (long long)t);
-            goto done;
-        }
-
-    /* Canonical face ids: sorted vertex coordinates of each face. */
-    fk = calloc((size_t)nfaces + 1, sizeof *fk);
-    fv = malloc((size_t)(3 * nt + 1) * sizeof *fv);
-    vs = malloc((size_t)(3 * nt + 1) * sizeof *vs);
-    face_map = malloc((size_t)(nfaces + 1) * sizeof *face_map);
-    if (!fk || !fv || !vs || !face_map)
-        NOMEM();
-    {
-        /* Corners grouped by face (counting sort), then each group sorted and deduplicated. */
-        int64_t *cnt = calloc((size_t)nfaces + 2, sizeof *cnt);
-        if (!cnt)
-            NOMEM();
-        for (int64_t t = 0; t < nt; t++)
-            cnt[label[t] + 1] += 3;
-        for (int64_t f = 0; f < nfaces; f++)
-            cnt[f + 1] += cnt[f];
-        int64_t *pos = queue; /* reuse: nt + 1 >= nfaces slots */
-        for (int64_t f = 0; f < nfaces; f++)
-            pos[f] = cnt[f];
-        for (int64_t t = 0; t < nt; t++)
-            for (int k = 0; k < 3; k++) {
-                int64_t p = pos[label[t]]++;
-                vs[p].xyz = e.xyz;
-                vs[p].v = e.tris[3 * t + k];
-            }
-        for (int64_t f = 0; f < nfaces; f++) {
-            int64_t b = cnt[f], n = cnt[f + 1] - cnt[f], m = 0;
-            qsort(vs + b, (size_t)n, sizeof *vs, cmp_vsort);
-            for (int64_t i = 0; i < n; i++)
-                if (m == 0 || fv[b + m - 1] != vs[b + i].v)
-                    fv[b + m++] = vs[b + i].v;
-            fk[f].xyz = e.xyz;
-            fk[f].verts = fv + b;
-            fk[f].nverts = m;
-            memcpy(fk[f].n, plane + 4 * f, 3 * sizeof(double));
-            fk[f].label = f;
-        }
-        free(cnt);
-    }
-    qsort(fk, (size_t)nfaces, sizeof *fk, cmp_face_key);
-    e.nfaces = nfaces;
-    e.face_plane = malloc((size_t)(4 * nfaces) * sizeof *e.face_plane);
-    e.face_axis = malloc((size_t)nfaces * sizeof *e.face_axis);
-    int64_t *face_seed = malloc((size_t)nfaces * sizeof *face_seed);
-    if (!e.face_plane || !e.face_axis || !face_seed) {
-        free(face_seed);
-        NOMEM();
-    }
-    for (int64_t f = 0; f < nfaces; f++) {
-        int64_t old = fk[f].label;
-        face_map[old] = f;
-        memcpy(e.face_plane + 4 * f, plane + 4 * old, 4 * sizeof(double));
-        face_seed[f] = seed_of[old];
-        const double *n = e.face_plane + 4 * f;
-        int ax = 0;
-        for (int c = 1; c < 3; c++)
-            if (fabs(n[c]) > fabs(n[ax]))
-                ax = c;
-        e.face_axis[f] = ax;
-    }
-    for (int64_t t = 0; t < nt; t++)
-        label[t] = face_map[label[t]];
-    memcpy(seed_of, face_seed, (size_t)nfaces * sizeof *seed_of);
-    free(face_seed);
-
-    /* The boundary graph: mesh edges between two faces, each once. */
-    bs = malloc((size_t)(3 * nt + 1) * sizeof *bs);
-    if (!bs)
-        NOMEM();
-    for (int64_t t = 0; t < nt; t++)
-        for (int k = 0; k < 3; k++) {
-            int64_t u = nbr[3 * t + k];
-            int64_t a = e.tris[3 * t + k], b = e.tris[3 * t + (k + 1) % 3];
-            if (label[u] == label[t] || a > b)
-                continue;
-            bside *q = &bs[nbs++];
-            q->v0 = a;
-            q->v1 = b;
-            q->s0 = 3 * t + k;
-            q->s1 = twin_side(e.tris, u, a, b);
-            q->chain = -1;
-        }
-    /* Incidence vertex -> boundary sides (CSR). */
-    bs_off = calloc((size_t)nv + 2, sizeof *bs_off);
-    bs_list = malloc((size_t)(2 * nbs + 1) * sizeof *bs_list);
-    vert_elem = malloc((size_t)(nv + 1) * sizeof *vert_elem);
-    if (!bs_off || !bs_list || !vert_elem)
-        NOMEM();
-    for (int64_t i = 0; i < nbs; i++) {
-        bs_off[bs[i].v0 + 1]++;
-        bs_off[bs[i].v1 + 1]++;
-    }
-    for (int64_t v = 0; v < nv; v++)
-        bs_off[v + 1] += bs_off[v];
-    {
-        int64_t *pos = malloc((size_t)(nv + 1) * sizeof *pos);
-        if (!pos)
-            NOMEM();
-        memcpy(pos, bs_off, (size_t)nv * sizeof *pos);
-        for (int64_t i = 0; i < nbs; i++) {
-            bs_list[pos[bs[i].v0]++] = i;
-            bs_list[pos[bs[i].v1]++] = i;
-        }
-        free(pos);
-    }
-    /* The unordered face pair a boundary side separates. */
-#define PAIR_LO(i) (label[bs[i].s0 / 3] < label[bs[i].s1 / 3] ? label[bs[i].s0 / 3] : label[bs[i].s1 / 3])
-#define PAIR_HI(i) (label[bs[i].s0 / 3] < label[bs[i].s1 / 3] ? label[bs[i].s1 / 3] : label[bs[i].s0 / 3])
-    for (int64_t v = 0; v < nv; v++) {
-        int64_t d = bs_off[v + 1] - bs_off[v];
-        vert_elem[v] = -1;
-        if (d == 0)
-            continue;
-        if (d == 2) {
-            int64_t i = bs_list[bs_off[v]], j = bs_list[bs_off[v] + 1];
-            if (PAIR_LO(i) == PAIR_LO(j) && PAIR_HI(i) == PAIR_HI(j))
-                continue; /* inside a chain */
-        }
-        vert_elem[v] = nvel++;
-    }
-
-    /* Chains: walk from every vertex element along each unused boundary side. */
-    chain_start = malloc((size_t)(nbs + 1) * sizeof *chain_start);
-    chain_end = malloc((size_t)(nbs + 1) * sizeof *chain_end);
-    chain_first = malloc((size_t)(nbs + 1) * sizeof *chain_first);
-    if (!chain_start || !chain_end || !chain_first)
-        NOMEM();
-    for (int64_t v = 0; v < nv; v++) {
-        if (vert_elem[v] < 0)
-            continue;
-        for (int64_t q = bs_off[v]; q < bs_off[v + 1]; q++) {
-            int64_t i = bs_list[q];
-            if (bs[i].chain >= 0)
-                continue;
-            int64_t c = nchains++, cur = v;
-            chain_start[c] = v;
-            chain_first[c] = i;
-            for (;;) {
-                bs[i].chain = c;
-                int64_t w = bs[i].v0 == cur ? bs[i].v1 : bs[i].v0;
-                if (vert_elem[w] >= 0) {
-                    chain_end[c] = w;
-                    break;
-                }
-                int64_t i0 = bs_list[bs_off[w]], i1 = bs_list[bs_off[w] + 1];
-                i = i0 == i ? i1 : i0;
-                cur = w;
-            }
-        }
-    }
-    for (int64_t i = 0; i < nbs; i++)
-        if (bs[i].chain < 0) {
-            st = mfg_fail(MFG_ERR_INTERNAL,
-                          "mesh edge %lld-%lld lies on a closed loop between two faces with no vertex",
-                          (long long)bs[i].v0, (long long)bs[i].v1);
-            goto done;
-        }
-
-    /* Canonical edge ids: (smaller end, larger end, faces). */
-    ek = malloc((size_t)(nchains + 1) * sizeof *ek);
-    chain_map = malloc((size_t)(nchains + 1) * sizeof *chain_map);
-    if (!ek || !chain_map)
-        NOMEM();
-    for (int64_t c = 0; c < nchains; c++) {
-        int64_t a = chain_start[c], b = chain_end[c];
-        if (cmp_vertex(e.xyz, b, a) < 0) {
-            int64_t tmp = a;
-            a = b;
-            b = tmp;
-        }
-        chain_start[c] = a;
-        chain_end[c] = b;
-        memcpy(ek[c].a, e.xyz + 3 * a, sizeof ek[c].a);
-        memcpy(ek[c].b, e.xyz + 3 * b, sizeof ek[c].b);
-        ek[c].f0 = PAIR_LO(chain_first[c]);
-        ek[c].f1 = PAIR_HI(chain_first[c]);
-        ek[c].chain = c;
-    }
-    qsort(ek, (size_t)nchains, sizeof *ek, cmp_edge_key);
-    for (int64_t i = 0; i < nchains; i++)
-        chain_map[ek[i].chain] = i;
-
-    /* Canonical vertex ids: coordinates. */
-    vert_map = malloc((size_t)(nv + 1) * sizeof *vert_map);
-    if (!vert_map)
-        NOMEM();
-    {
-        int64_t m = 0;
-        for (int64_t v = 0; v < nv; v++)
-            if (vert_elem[v] >= 0) {
-                vs[m].xyz = e.xyz;
-                vs[m++].v = v;
-            }
-        qsort(vs, (size_t)m, sizeof *vs, cmp_vsort);
-        for (int64_t v = 0; v < nv; v++)
-            vert_map[v] = -1;
-        for (int64_t i = 0; i < m; i++)
-            vert_map[vs[i].v] = i;
-    }
-
-    int64_t ne = nchains, nvx = nvel, nF = nfaces;
-    e.nedges = ne;
-    e.nverts = nvx;
-    e.nelements = nF + ne + nvx;
-    e.edge_seg = malloc((size_t)(6 * ne + 1) * sizeof *e.edge_seg);
-    e.edge_dir = malloc((size_t)(3 * ne + 1) * sizeof *e.edge_dir);
-    e.edge_len = malloc((size_t)(ne + 1) * sizeof *e.edge_len);
-    e.edge_faces = malloc((size_t)(2 * ne + 1) * sizeof *e.edge_faces);
-    e.edge_w = malloc((size_t)(6 * ne + 1) * sizeof *e.edge_w);
-    e.edge_ends = malloc((size_t)(2 * ne + 1) * sizeof *e.edge_ends);
-    e.edge_convex = malloc((size_t)(ne + 1) * sizeof *e.edge_convex);
-    e.vert_xyz = malloc((size_t)(3 * nvx + 1) * sizeof *e.vert_xyz);
-    e.vert_mesh = malloc((size_t)(nvx + 1) * sizeof *e.vert_mesh);
-    e.vert_region_empty = calloc((size_t)nvx + 1, sizeof *e.vert_region_empty);
-    if (!e.edge_seg || !e.edge_dir || !e.edge_len || !e.edge_faces || !e.edge_w ||
-        !e.edge_ends || !e.edge_convex || !e.vert_xyz || !e.vert_mesh || !e.vert_region_empty)
-        NOMEM();
-    for (int64_t v = 0; v < nv; v++)
-        if (vert_map[v] >= 0) {
-            memcpy(e.vert_xyz + 3 * vert_map[v], e.xyz + 3 * v, 3 * sizeof(double));
-            e.vert_mesh[vert_map[v]] = v;
-        }
-    for (int64_t c = 0; c < nchains; c++) {
-        int64_t i = chain_map[c];
-        double *A = e.edge_seg + 6 * i, *B = A + 3, *u = e.edge_dir + 3 * i;
-        memcpy(A, e.xyz + 3 * chain_start[c], 3 * sizeof(double));
-        memcpy(B, e.xyz + 3 * chain_end[c], 3 * sizeof(double));
-        sub3(B, A, u);
-        double len = norm3(u);
-        for (int k = 0; k < 3; k++)
-            u[k] /= len;
-        e.edge_len[i] = len;
-        e.edge_ends[2 * i] = nF + ne + vert_map[chain_start[c]];
-        e.edge_ends[2 * i + 1] = nF + ne + vert_map[chain_end[c]];
-        e.edge_faces[2 * i] = PAIR_LO(chain_first[c]);
-        e.edge_faces[2 * i + 1] = PAIR_HI(chain_first[c]);
-        e.edge_convex[i] = -1;
-    }
-    /* Per boundary side: straightness, the in-plane normals w, convexity. */
-    for (int64_t q = 0; q < nbs; q++) {
-        int64_t i = chain_map[bs[q].chain];
-        const double *A = e.edge_seg + 6 * i, *u = e.edge_dir + 3 * i;
-        for (int j = 0; j < 2; j++) {
-            double d[3], x = 0;
-            sub3(e.xyz + 3 * (j ? bs[q].v1 : bs[q].v0), A, d);
-            double t = dot3(d, u);
-            for (int k = 0; k < 3; k++)
-                x += (d[k] - t * u[k]) * (d[k] - t * u[k]);
-            if (sqrt(x) > e.eta) {
-                st = mfg_fail(MFG_ERR_INTERNAL,
-                              "mesh vertex %lld is %g off the line of the edge between faces %lld and %lld (threshold %g)",
-                              (long long)(j ? bs[q].v1 : bs[q].v0), sqrt(x),
-                              (long long)e.edge_faces[2 * i], (long long)e.edge_faces[2 * i + 1],
-                              e.eta);
-                goto done;
-            }
-        }
-        if (q == chain_first[bs[q].chain]) {
-            /* w of each face: n_f x (the side's direction in f's triangle), the interior
-             * lying to the left of a counter-clockwise side. */
-            for (int j = 0; j < 2; j++) {
-                int64_t s = j ? bs[q].s1 : bs[q].s0;
-                int64_t f = label[s / 3];
-                int64_t a = e.tris[s], b = e.tris[3 * (s / 3) + (s % 3 + 1) % 3];
-                double sd[3], w[3];
-                sub3(e.xyz + 3 * b, e.xyz + 3 * a, sd);
-                double sgn = dot3(sd, u) >= 0 ? 1.0 : -1.0;
-                double us[3] = {sgn * u[0], sgn * u[1], sgn * u[2]};
-                cross3(e.face_plane + 4 * f, us, w);
-                double wl = norm3(w);
-                int slot = f == e.edge_faces[2 * i] ? 0 : 1;
-                for (int k = 0; k < 3; k++)
-                    e.edge_w[6 * i + 3 * slot + k] = w[k] / wl;
-            }
-        }
-        if (e.edge_convex[i] < 0 && !zero[bs[q].s0 / 3] && !zero[bs[q].s1 / 3]) {
-            /* Convex iff the far vertex of Fj's triangle is strictly inside Fi's plane. */
-            int64_t ti = bs[q].s0 / 3, tj = bs[q].s1 / 3, sj = bs[q].s1;
-            int64_t far = e.tris[3 * tj + (sj % 3 + 2) % 3];
-            const int64_t *sv = e.tris + 3 * seed_of[label[ti]];
-            int o = mfg_orient3d(e.xyz + 3 * sv[0], e.xyz + 3 * sv[1], e.xyz + 3 * sv[2],
-                                 e.xyz + 3 * far);
-            if (o != 0)
-                e.edge_convex[i] = o > 0;
-        }
-    }
-    for (int64_t i = 0; i < ne; i++)
-        if (e.edge_convex[i] < 0) {
-            /* No decisive triangle pair (near-coplanar merges or slivers): the normals. */
-            const double *ni = e.face_plane + 4 * e.edge_faces[2 * i];
-            const double *wj = e.edge_w + 6 * i + 3;
-            e.edge_convex[i] = dot3(ni, wj) < 0;
-        }
-
-    /* Tables in input order. */
-    e.face_of_triangle = malloc((size_t)(nt + 1) * sizeof *e.face_of_triangle);
-    e.side_elem = malloc((size_t)(3 * nt + 1) * sizeof *e.side_elem);
-    e.corner_elem = malloc((size_t)(3 * nt + 1) * sizeof *e.corner_elem);
-    vchain = malloc((size_t)(nv + 1) * sizeof *vchain);
-    if (!e.face_of_triangle || !e.side_elem || !e.corner_elem || !vchain)
-        NOMEM();
-    for (int64_t v = 0; v < nv; v++)
-        vchain[v] = -1;
-    for (int64_t t = 0; t < nt; t++) {
-        e.face_of_triangle[t] = zero[t] ? -1 : label[t];
-        for (int k = 0; k < 3; k++)
-            e.side_elem[3 * t + k] = label[t];
-    }
-    for (int64_t q = 0; q < nbs; q++) {
-        int64_t id = nF + chain_map[bs[q].chain];
-        e.side_elem[bs[q].s0] = id;
-        e.side_elem[bs[q].s1] = id;
-        vchain[bs[q].v0] = id;
-        vchain[bs[q].v1] = id;
-    }
-    /* A zero-area triangle's corners are collinear: when one of its sides lies on an edge
-     * element, all its sides (and their twins) and its non-vertex corners do, whichever
-     * face claimed it.  Repeated until nothing changes (slivers in a row). */
-    for (int changed = 1; changed;) {
-        changed = 0;
-        for (int64_t t = 0; t < nt; t++) {
-            if (!zero[t])
-                continue;
-            int64_t E = -1;
-            for (int k = 0; k < 3; k++)
-                if (e.side_elem[3 * t + k] >= nF)
-                    E = e.side_elem[3 * t + k];
-            if (E < 0)
-                continue;
-            for (int k = 0; k < 3; k++) {
-                int64_t sd = 3 * t + k, v = e.tris[sd], w = e.tris[3 * t + (k + 1) % 3];
-                if (e.side_elem[sd] < nF) {
-                    int64_t tw = twin_side(e.tris, nbr[sd], v, w);
-                    e.side_elem[sd] = E;
-                    if (tw >= 0)
-                        e.side_elem[tw] = E;
-                    changed = 1;
-                }
-                if (vert_map[v] < 0 && vchain[v] != E) {
-                    vchain[v] = E;
-                    changed = 1;
-                }
-            }
-        }
-    }
-    for (int64_t t = 0; t < nt; t++)
-        for (int k = 0; k < 3; k++) {
-            int64_t v = e.tris[3 * t + k];
-            e.corner_elem[3 * t + k] =
-                vert_map[v] >= 0 ? nF + ne + vert_map[v] : (vchain[v] >= 0 ? vchain[v] : label[t]);
-        }
-
-    /* Faces' triangles and boundary sides (CSR). */
-    pr = malloc((size_t)(8 * ne + 3 * nt + 1) * sizeof *pr);
-    if (!pr)
-        NOMEM();
-    {
-        int64_t np = 0;
-        for (int64_t t = 0; t < nt; t++)
-            if (!zero[t])
-                pr[np++] = (pair64){label[t], t, 0};
-        if (!pairs_to_csr(pr, np, nF, &e.face_tri_offsets, &e.face_tris))
-            NOMEM();
-        np = 0;
-        for (int64_t q = 0; q < nbs; q++) {
-            pr[np++] = (pair64){label[bs[q].s0 / 3], bs[q].s0, 0};
-            pr[np++] = (pair64){label[bs[q].s1 / 3], bs[q].s1, 0};
-        }
-        if (!pairs_to_csr(pr, np, nF, &e.face_side_offsets, &e.face_sides))
-            NOMEM();
-        /* Closure: a face's edges and their ends; an edge's ends. */
-        np = 0;
-        for (int64_t i = 0; i < ne; i++) {
-            int64_t id = nF + i;
-            for (int j = 0; j < 2; j++) {
-                int64_t f = e.edge_faces[2 * i + j];
-                pr[np++] = (pair64){f, id, 0};
-                pr[np++] = (pair64){f, e.edge_ends[2 * i], 0};
-                pr[np++] = (pair64){f, e.edge_ends[2 * i + 1], 0};
-                pr[np++] = (pair64){id, e.edge_ends[2 * i + j], 0};
-            }
-        }
-        if (!pairs_to_csr(pr, np, e.nelements, &e.bound_offsets, &e.bound))
-            NOMEM();
-        np = 0;
-        for (int64_t i = 0; i < ne; i++)
-            for (int j = 0; j < 2; j++)
-                pr[np++] = (pair64){e.edge_ends[2 * i + j] - nF - ne, nF + i, 0};
-        if (!pairs_to_csr(pr, np, nvx, &e.vert_edge_offsets, &e.vert_edges))
-            NOMEM();
-        /* Face corners at vertex elements: the angle sums per (vertex, face). */
-        np = 0;
-        for (int64_t t = 0; t < nt; t++) {
-            if (zero[t])
-                continue;
-            for (int k = 0; k < 3; k++) {
-                int64_t v = e.tris[3 * t + k];
-                if (vert_map[v] < 0)
-                    continue;
-                double a[3], b[3], c[3];
-                sub3(e.xyz + 3 * e.tris[3 * t + (k + 1) % 3], e.xyz + 3 * v, a);
-                sub3(e.xyz + 3 * e.tris[3 * t + (k + 2) % 3], e.xyz + 3 * v, b);
-                cross3(a, b, c);
-                pr[np++] = (pair64){vert_map[v], label[t], atan2(norm3(c), dot3(a, b))};
-            }
-        }
-        qsort(pr, (size_t)np, sizeof *pr, cmp_pair);
-        for (int64_t i = 0; i < np;) {
-            int64_t j = i;
-            double sum = 0;
-            while (j < np && pr[j].a == pr[i].a && pr[j].b == pr[i].b)
-                sum += pr[j++].w;
-            if (sum >= PI_D - STRAIGHT_SLACK)
-                e.vert_region_empty[pr[i].a] = 1;
-            i = j;
-        }
-    }
-#undef PAIR_LO
-#undef PAIR_HI
-
-done:
-    free(nbr0);
-    free(nbr);
-    free(zero);
-    free(label);
-    free(queue);
-    free(seeds);
-    free(plane);
-    free(seed_of);
-    free(bs);
-    free(bs_off);
-    free(bs_list);
-    free(vert_elem);
-    free(chain_start);
-    free(chain_end);
-    free(chain_first);
-    free(fk);
-    free(fv);
-    free(vs);
-    free(ek);
-    free(face_map);
-    free(chain_map);
-    free(vert_map);
-    free(vchain);
-    free(pr);
+    elements_build mb;
+    memset(&mb, 0, sizeof mb);
+    mb.xyz = xyz;
+    mb.triangles = triangles;
+    mb.nv = nv;
+    mb.nt = nt;
+    mb.nbr0 = nbr0;
+    mb.e.diag = L;
+    /* Near-coplanar merge threshold (design 1.3): tilted faces from float32 STL or OCC are
+     * never exactly coplanar.  Float32 rounding grows with the coordinates' magnitude,
+     * not with the part's size: a part 100 away from the origin has vertices up to
+     * 2^-24 * 140 off, and a small seed triangle tilts its plane by that over its own
+     * size, so eta also scales with max|coordinate| (2^-20 of it).  It stays below
+     * 1e-3 tolerance: a merged face moves the medial surface by far less than tolerance. */
+    double M = 0.0;
+    for (int k = 0; k < 6; k++)
+        M = fmax(M, fabs(rep.bbox[k]));
+    mb.e.eta = fmin(1e-3 * tolerance, fmax(1e-7 * L, 0x1p-20 * M));
+    static mfg_status (*const phase[])(elements_build *) = {
+        canonical_triangles, grow_faces, sort_faces, boundary_graph, chain_edges,
+        sort_edges_and_vertices, edge_geometry, triangle_tables, closure_tables};
+    for (size_t i = 0; i < sizeof phase / sizeof *phase && st == MFG_OK; i++)
+        st = phase[i](&mb);
+    elements_build_scratch_free(&mb);
     if (st != MFG_OK) {
-        md_elements_free(&e);
+        md_elements_free(&mb.e);
         return st;
     }
-    *out = e;
+    *out = mb.e;
     return MFG_OK;
 }
 

@@ -81,6 +81,11 @@ typedef struct ctx {
     const int64_t *C;
     int nC;
     int64_t a, b;
+    int ia, ib;        /* positions of a and b in C, or -1 */
+    double ctr[3];     /* the leaf's centre */
+    double sdc;        /* signed distance to the boundary there (with a BVH) */
+    double *gC;        /* per C position: a face's in-plane margin at ctr, NAN: not yet */
+    int capC;
     double cx[8][3];   /* corner c = dx | dy << 1 | dz << 2 */
     double h;
     int32_t cijk[8][3];
@@ -209,6 +214,51 @@ static double signed_dist(const ctx *c, const double *x)
     return inside ? d : -d;
 }
 
+/* |x - ctr| plus the slack: a bound for the change of a 1-Lipschitz function from ctr. */
+static double dist_ctr(const ctx *c, const double *x)
+{
+    double d[3] = {x[0] - c->ctr[0], x[1] - c->ctr[1], x[2] - c->ctr[2]};
+    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + 1e-9 * c->el->diag;
+}
+
+/* md_region_margin(e, x) (only its sign when sign_only), for e at position i of the
+ * leaf's C (-1: not there).  A face's margin is min(g, s): g the signed in-plane distance
+ * of x's foot to the face's boundary (O(sides), the costly part), s the distance to its
+ * plane.  g is 1-Lipschitz, so g(ctr) +- |x - ctr| bounds it over the leaf: where that
+ * decides min(g, s) (or its sign), s alone gives the same result, bit for bit.  g(ctr) is
+ * md_region_margin at ctr's foot moved 4 diagonals inside the plane, where s exceeds any
+ * |g| (computed once per leaf and face, when first needed). */
+static double leaf_margin(const ctx *c, int i, int64_t e, const double *x, int64_t *which,
+                          int sign_only)
+{
+    const md_elements *el = c->el;
+    if (i < 0 || md_kind(el, e) != MD_FACE)
+        return md_region_margin(el, e, x, which);
+    const double *pl = el->face_plane + 4 * e;
+    double g = c->gC[i];
+    if (isnan(g)) {
+        double y[3], K = 4 * el->diag, t = K - (pl[3] - (pl[0] * c->ctr[0] + pl[1] * c->ctr[1] +
+                                                           pl[2] * c->ctr[2]));
+        for (int k = 0; k < 3; k++)
+            y[k] = c->ctr[k] - t * pl[k];
+        int64_t w;
+        g = md_region_margin(el, e, y, &w);
+        c->gC[i] = g = w < 0 ? -INFINITY : g; /* s won (it cannot): no bound */
+    }
+    if (g == -INFINITY)
+        return md_region_margin(el, e, x, which);
+    double r = dist_ctr(c, x);
+    double s = pl[3] - (pl[0] * x[0] + pl[1] * x[1] + pl[2] * x[2]);
+    if (g - r > s || (sign_only && g - r > 0)) { /* min(g, s) = s, or its sign is s's */
+        if (which)
+            *which = -1;
+        return s;
+    }
+    if (sign_only && g + r < 0)
+        return -1.0; /* the foot is outside the face */
+    return md_region_margin(el, e, x, which);
+}
+
 /* tau(x) = min(l_a, l_b, nu, D), nu = min over c in C \ {a, b} of d_c(x) - d_a^car(x), with
  * restricted d_c, and D the signed distance to the boundary when there is a BVH (design
  * 4.1: outside the solid, e.g. in a non-convex notch, the restricted distances of the
@@ -220,8 +270,8 @@ static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, d
 {
     const md_elements *el = c->el;
     int64_t wa, wb;
-    double la = md_region_margin(el, c->a, x, &wa);
-    double lb = md_region_margin(el, c->b, x, &wb);
+    double la = leaf_margin(c, c->ia, c->a, x, &wa, 0);
+    double lb = leaf_margin(c, c->ib, c->b, x, &wb, 0);
     double da = md_dist_car(el, c->a, x, NULL), db = md_dist_car(el, c->b, x, NULL);
     double dmin = INFINITY, nu = INFINITY;
     if (la >= 0)
@@ -237,7 +287,7 @@ static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, d
         double d = md_dist_car(el, e, x, NULL);
         if (!(d < dmin) && !(d - da < nu))
             continue;
-        if (md_region_margin(el, e, x, NULL) < 0)
+        if (leaf_margin(c, i, e, x, NULL, 1) < 0)
             continue; /* d_e = +inf */
         if (d < dmin)
             dmin = d;
@@ -259,7 +309,9 @@ static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, d
         w = wn;
         k = TRIM_NU;
     }
-    if (c->bvh && !c->deep && t >= 0) { /* only the sign matters where tau < 0 already */
+    /* Only the sign matters where tau < 0 already; the signed distance is 1-Lipschitz, so
+     * x lies inside where the centre's exceeds |x - ctr|. */
+    if (c->bvh && !c->deep && t >= 0 && !(c->sdc > dist_ctr(c, x))) {
         double sd = signed_dist(c, x);
         if (sd < 0) {
             t = sd;
@@ -338,9 +390,9 @@ static double trim_term(const ctx *c, int k, int64_t t, const double *x)
     if (k == TRIM_OUT)
         return signed_dist(c, x);
     if (k == TRIM_A)
-        return md_region_margin(c->el, c->a, x, NULL);
+        return leaf_margin(c, c->ia, c->a, x, NULL, 0);
     if (k == TRIM_B)
-        return md_region_margin(c->el, c->b, x, NULL);
+        return leaf_margin(c, c->ib, c->b, x, NULL, 0);
     return md_dist_car(c->el, t, x, NULL) - md_dist_car(c->el, c->a, x, NULL);
 }
 
@@ -771,6 +823,20 @@ static int do_tet(ctx *c, const int *v, int tet)
 static const int KUHN[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
                                {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
 
+/* The position of element e in the leaf's C (ascending), or -1. */
+static int c_index(const ctx *c, int64_t e)
+{
+    int lo = 0, hi = c->nC;
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (c->C[mid] < e)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < c->nC && c->C[lo] == e ? lo : -1;
+}
+
 static mfg_status do_leaf(const md_elements *el, const md_bvh *bvh, const md_leaves *lv,
                           const md_leaf *L, unit_buf *ub, ctx *c)
 {
@@ -788,15 +854,26 @@ static mfg_status do_leaf(const md_elements *el, const md_bvh *bvh, const md_lea
     /* Every point evaluated for this leaf (corners grown by h / 2 included) lies within
      * 2h of its centre. */
     c->deep = 0;
+    for (int d = 0; d < 3; d++)
+        c->ctr[d] = lv->lat.origin[d] + lv->lat.h * ((double)L->ijk[d] + 0.5);
     if (bvh && L->nP > 0) {
-        double ctr[3];
-        for (int d = 0; d < 3; d++)
-            ctr[d] = lv->lat.origin[d] + lv->lat.h * ((double)L->ijk[d] + 0.5);
-        c->deep = signed_dist(c, ctr) > 2 * lv->lat.h;
+        c->sdc = signed_dist(c, c->ctr);
+        c->deep = c->sdc > 2 * lv->lat.h;
     }
+    if (L->nC > c->capC) {
+        double *g = realloc(c->gC, (size_t)L->nC * sizeof *g);
+        if (!g)
+            return MFG_ERR_NOMEM;
+        c->gC = g;
+        c->capC = L->nC;
+    }
+    for (int i = 0; i < L->nC; i++)
+        c->gC[i] = NAN;
     for (int p = 0; p < L->nP; p++) {
         c->a = lv->P[L->P_off + 2 * p];
         c->b = lv->P[L->P_off + 2 * p + 1];
+        c->ia = c_index(c, c->a);
+        c->ib = c_index(c, c->b);
         int npos = 0;
         for (int k = 0; k < 8; k++) {
             c->f[k] = md_dist_car(el, c->a, c->cx[k], NULL) - md_dist_car(el, c->b, c->cx[k], NULL);
@@ -831,6 +908,10 @@ static void *worker(void *arg)
 {
     job *j = arg;
     ctx *c = malloc(sizeof *c);
+    if (c) {
+        c->gC = NULL;
+        c->capC = 0;
+    }
     for (;;) {
         long long u = atomic_fetch_add(&j->next, 1);
         if (u >= j->nunits || atomic_load(&j->failed))
@@ -849,6 +930,8 @@ static void *worker(void *arg)
         if (ub->st != MFG_OK)
             atomic_store(&j->failed, 1);
     }
+    if (c)
+        free(c->gC);
     free(c);
     return NULL;
 }

@@ -590,12 +590,12 @@ static void test_distance_field(void)
  * coplanar, the near-coplanar threshold eta merges them (design 1.3 [choice]). */
 static void test_float32_tilted(void)
 {
-    /* Two cases that the design's eta = min(1e-7 L, 1e-3 tol) covers: one triangle pair
-     * per face far from the origin, and 3 x 3 grids near it.  (Known gap: 3 x 3 grids
-     * shifted by 100 (L = 69) split into 9 faces: float32 rounding there, up to 7.6e-6,
-     * and the tilt of a small seed triangle's plane exceed eta = 6.9e-6.) */
-    static const struct { int k; double off; } cases[2] = {{1, 100.25}, {3, 0.0}};
-    for (int c = 0; c < 2; c++) {
+    /* One triangle pair per face far from the origin, 3 x 3 grids near it, and 3 x 3 grids
+     * shifted by 100 (L = 69): float32 rounding there is up to 7.6e-6 and tilts a small
+     * seed triangle's plane by more than 1e-7 L = 6.9e-6 over the face, so eta also scales
+     * with max|coordinate| (this case split into 9 faces when eta was min(1e-7 L, 1e-3 tol)). */
+    static const struct { int k; double off; } cases[3] = {{1, 100.25}, {3, 0.0}, {3, 100.0}};
+    for (int c = 0; c < 3; c++) {
         static tmesh m;
         grid_cube(&m, 40, cases[c].k);
         double ca = cos(0.3), sa = sin(0.3), cb = cos(0.7), sb = sin(0.7);
