@@ -269,6 +269,30 @@ int md_junction_polish(const md_elements *el, const md_bvh *bvh, const double x0
                        const int64_t *T, int nT, const double lo[3], double side,
                        double tolerance, md_junction *out);
 
+/* ---- medial_simplify.c: a sheet made coarse within the tolerance -------------------------- */
+
+/* One sheet of pair (a, b) (a connected piece of the soup's triangles of that pair, or
+ * several: pieces are handled each on its own), made coarse in place.  On entry *nverts
+ * vertices (xyz 3 each, radius 1 each) and *ntris triangles (tris 3 each, indices into
+ * the vertices, consistently oriented); on return the same arrays hold the kept vertices,
+ * in their input order (a subset: no vertex is moved or added, radii stay D), and the new
+ * triangles (never more of either).  When vmap is not NULL it gets, per input vertex, its
+ * index among the kept ones or -1.
+ *   planar bisectors (md_form 1, 2, 7, 11): each region triangulated again on its boundary
+ *     loops only (mfg_merge_planar_groups), then boundary vertices removed as below;
+ *   every sheet: half-edge collapses v -> u (u an existing neighbour), shortest edges first,
+ *     accepted only when the new triangles stay within tolerance / 2 of the bisector
+ *     (|d_a^car - d_b^car| / |grad| at their centroid, edge midpoints and 3 inner points),
+ *     do not turn over (normal within 60 deg of the bisector's) and keep the mesh a
+ *     manifold; a boundary vertex only along the boundary, and only when the boundary
+ *     polyline it replaces (every input boundary vertex on it) stays within tolerance / 4
+ *     of the new boundary edge; boundary vertices on 2+ boundary loops (pinches) are kept.
+ * The result depends only on the input arrays (sorted orders, no threads).  MFG_OK, or
+ * MFG_ERR_NOMEM with the arrays untouched. */
+mfg_status md_sheet_simplify(const md_elements *el, int64_t a, int64_t b, double tolerance,
+                             int64_t *nverts, double *xyz, double *radius, int64_t *ntris,
+                             int64_t *tris, int64_t *vmap);
+
 /* ---- medial.c: the public entry point, assembly (sheets as connected components of one
  * pair's triangles, seams chained and snapped to junctions, junctions merged, major/full
  * filtering) and mfg_medial_free. -------------------------------------------------------- */
