@@ -559,8 +559,80 @@ static void test_disc(double tol)
     pipeline_free(&P);
 }
 
+#ifdef MFG_SIMPLIFY_ALLOC_FAIL
+#include "alloc_shim.h"
+
+/* md_sheet_simplify with each allocation failing in turn: MFG_ERR_NOMEM with the arrays
+ * untouched and no block leaked, or (libc absorbing the failure: qsort) the same result. */
+static void alloc_fail_on(const md_elements *el, const sheet *S, double tol, const char *name)
+{
+    sheet ref = sheet_copy(S);
+    CHECK_EQ_INT(md_sheet_simplify(el, ref.a, ref.b, tol, S->label, &ref.nv, ref.xyz, ref.radius, &ref.nt,
+                                   ref.tris, NULL),
+                 MFG_OK);
+    CHECK(ref.nt < S->nt);
+    int done = 0;
+    long n, absorbed = 0, bad = 0;
+    for (n = 1; n < 100000 && !done; n++) {
+        sheet C = sheet_copy(S);
+        alloc_shim_arm(n);
+        mfg_status st = md_sheet_simplify(el, C.a, C.b, tol, S->label, &C.nv, C.xyz, C.radius, &C.nt, C.tris, NULL);
+        alloc_shim_stats a = alloc_shim_disarm();
+        CHECK_EQ_INT(a.net, 0);
+        if (a.failed == 0) {
+            done = 1;
+            CHECK_EQ_INT(st, MFG_OK);
+        } else if (st == MFG_OK) {
+            absorbed++;
+            bad += C.nt != ref.nt || C.nv != ref.nv ||
+                   memcmp(C.tris, ref.tris, (size_t)(3 * ref.nt) * sizeof *C.tris) != 0;
+        } else {
+            CHECK_EQ_INT(st, MFG_ERR_NOMEM);
+            bad += C.nt != S->nt || C.nv != S->nv ||
+                   memcmp(C.tris, S->tris, (size_t)(3 * S->nt) * sizeof *C.tris) != 0 ||
+                   memcmp(C.xyz, S->xyz, (size_t)(3 * S->nv) * sizeof *C.xyz) != 0;
+        }
+        sheet_free(&C);
+    }
+    CHECK(done);
+    CHECK_EQ_INT(bad, 0);
+    printf("%s: allocations failed in turn: %ld (%ld absorbed by libc)\n", name, n - 2, absorbed);
+    sheet_free(&ref);
+}
+
+static void test_alloc_fail(void)
+{
+    static const double R[4][2] = {{0, 0}, {100, 0}, {100, 60}, {0, 60}};
+    tmesh m;
+    convex_prism(&m, R, 4, 20);
+    pipeline P;
+    pipeline_run(&P, &m, 8, "cuboid");
+    sheet S = sheet_of(&P.s, face_with(&P.el, 0, 0, -1, 0), face_with(&P.el, 0, 0, 1, 20));
+    alloc_fail_on(&P.el, &S, 8, "cuboid mid-sheet");
+    sheet_free(&S);
+    pipeline_free(&P);
+    static const double Pl[6][2] = {{0, 0}, {50, 0}, {50, 10}, {10, 10}, {10, 50}, {0, 50}};
+    static const int T[4][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
+    prism(&m, Pl, 6, 40, T, 4);
+    pipeline_run(&P, &m, 2, "L-bracket");
+    double e0[3] = {10, 10, 0}, e1[3] = {10, 10, 40};
+    S = sheet_of(&P.s, face_with(&P.el, -1, 0, 0, 0), edge_with(&P.el, e0, e1));
+    alloc_fail_on(&P.el, &S, 2, "L-bracket (Fo,E)");
+    sheet_free(&S);
+    pipeline_free(&P);
+}
+#endif
+
+/* "alloc" (the allocation-failure build only): md_sheet_simplify under failing
+ * allocations; otherwise the analytic solids. */
 int main(int argc, char **argv)
 {
+#ifdef MFG_SIMPLIFY_ALLOC_FAIL
+    if (argc > 1 && !strcmp(argv[1], "alloc")) {
+        test_alloc_fail();
+        return mfg_test_report("medial_simplify_alloc");
+    }
+#endif
     (void)argc;
     (void)argv;
     test_cuboid(2.5);
