@@ -239,36 +239,6 @@ mfg_status md_sheets_extract(const md_elements *el, const md_bvh *bvh, const md_
                              double tolerance, int nthreads, md_soup *out);
 void md_soup_free(md_soup *soup);
 
-/* ---- medial_junctions.c (work package C3): junctions and degenerate seams ----------------- */
-
-/* A point equidistant from a set of elements (design 4.3).  rank 3: an isolated point
- * (a junction); rank 2: a point of a curve of such points (a degenerate seam) whose
- * direction is dir. */
-#define MD_JMAX 32
-typedef struct md_junction {
-    double x[3];
-    double r;
-    double dir[3];       /* rank 2: unit tangent of the degenerate seam; else 0 */
-    int32_t rank;        /* 3 junction, 2 degenerate seam point */
-    int32_t kind;        /* mfg_medial_kind */
-    int32_t n;
-    int64_t elems[MD_JMAX]; /* the touching elements, ascending */
-} md_junction;
-
-/* The paper's search for the points in the box [lo, lo + side]^3 equidistant from all of
- * T (nT >= 4 element ids, ascending): subdivision down to side <= tolerance / 8, then
- * Gauss-Newton polish (md_junction_polish).  Writes at most cap results, returns their
- * count (or -1 with mfg_fail on NOMEM). */
-int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo[3], double side,
-                       const int64_t *T, int nT, double tolerance, md_junction *out, int cap);
-
-/* Gauss-Newton on d_t0 = d_ti (i >= 1) from x0, with the SVD of the Jacobian (an incident
- * pair uses its region boundary instead); returns 1 with *out filled (rank, kind, the
- * elements within 1e-9 L of D) when it converges inside the box grown by tolerance. */
-int md_junction_polish(const md_elements *el, const md_bvh *bvh, const double x0[3],
-                       const int64_t *T, int nT, const double lo[3], double side,
-                       double tolerance, md_junction *out);
-
 /* ---- medial_simplify.c: a sheet made coarse within the tolerance -------------------------- */
 
 /* Seam labels of the soup's vertices, for md_sheet_simplify: per soup vertex (label has
@@ -302,6 +272,36 @@ void md_soup_seam_labels(const md_soup *sp, int64_t *label);
 mfg_status md_sheet_simplify(const md_elements *el, int64_t a, int64_t b, double tolerance,
                              const int64_t *label, int64_t *nverts, double *xyz, double *radius,
                              int64_t *ntris, int64_t *tris, int64_t *vmap);
+
+/* ---- medial_junctions.c (work package C3): junctions and degenerate seams ----------------- */
+
+/* A point equidistant from a set of elements (design 4.3).  rank 3: an isolated point
+ * (a junction); rank 2: a point of a curve of such points (a degenerate seam) whose
+ * direction is dir. */
+#define MD_JMAX 32
+typedef struct md_junction {
+    double x[3];
+    double r;
+    double dir[3];       /* rank 2: unit tangent of the degenerate seam; else 0 */
+    int32_t rank;        /* 3 junction, 2 degenerate seam point */
+    int32_t kind;        /* mfg_medial_kind */
+    int32_t n;
+    int64_t elems[MD_JMAX]; /* the touching elements, ascending */
+} md_junction;
+
+/* The paper's search for the points in the box [lo, lo + side]^3 equidistant from all of
+ * T (nT >= 4 element ids, ascending): subdivision down to side <= tolerance / 8, then
+ * Gauss-Newton polish (md_junction_polish).  Writes at most cap results, returns their
+ * count (or -1 with mfg_fail on NOMEM). */
+int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo[3], double side,
+                       const int64_t *T, int nT, double tolerance, md_junction *out, int cap);
+
+/* Gauss-Newton on d_t0 = d_ti (i >= 1) from x0, with the SVD of the Jacobian (an incident
+ * pair uses its region boundary instead); returns 1 with *out filled (rank, kind, the
+ * elements within 1e-9 L of D) when it converges inside the box grown by tolerance. */
+int md_junction_polish(const md_elements *el, const md_bvh *bvh, const double x0[3],
+                       const int64_t *T, int nT, const double lo[3], double side,
+                       double tolerance, md_junction *out);
 
 /* ---- medial.c: the public entry point, assembly (sheets as connected components of one
  * pair's triangles, seams chained and snapped to junctions, junctions merged, major/full
