@@ -454,6 +454,16 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
         }
         int keep = pair_out &&
                    tri_area(sp->xyz + 3 * tv[0], sp->xyz + 3 * tv[1], sp->xyz + 3 * tv[2]) >= amin;
+        /* Design 4.1: every vertex equidistant from the pair at its radius within 1e-9 L.
+         * A vertex that is not (the extraction put one 0.41 off the bisector of {z1, E}
+         * at r = 0.006 by the full L-bracket's corner (10, 10, 40) at tol 1 % L) takes its
+         * triangles out rather than the whole result. */
+        for (int k = 0; k < 3 && keep; k++) {
+            const double *p = sp->xyz + 3 * tv[k];
+            double r = sp->radius[tv[k]];
+            keep = fabs(md_dist_car(el, pa, p, NULL) - r) <= 1e-9 * el->diag &&
+                   fabs(md_dist_car(el, pb, p, NULL) - r) <= 1e-9 * el->diag;
+        }
         s->parent[t] = keep ? t : -1;
     }
     /* Components of one pair's triangles: triangles sharing a vertex (the soup welds a
@@ -541,8 +551,15 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
     m->sheet_triangle_offsets[0] = 0;
     /* vertices of sheet r: scan the soup once, bucketed by sheet */
     int64_t *cnt = calloc((size_t)(nref + 1), sizeof(int64_t));
-    if (!cnt)
+    int64_t *label = malloc((size_t)(nv ? nv : 1) * sizeof(int64_t));
+    int64_t *vlabel = malloc((size_t)(totv ? totv : 1) * sizeof(int64_t));
+    if (!cnt || !label || !vlabel) {
+        free(cnt);
+        free(label);
+        free(vlabel);
         return MFG_ERR_NOMEM;
+    }
+    md_soup_seam_labels(sp, label);
     for (int64_t v = 0; v < nv; v++)
         if (s->vsheet[v] >= 0)
             cnt[s->vsheet[v] + 1]++;
@@ -558,8 +575,10 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
         s->vlocal[v] = at - m->sheet_vertex_offsets[r];
         memcpy(m->sheet_vertices + 3 * at, sp->xyz + 3 * v, 3 * sizeof(double));
         m->sheet_radii[at] = sp->radius[v];
+        vlabel[at] = label[v];
     }
     free(cnt);
+    free(label);
     vo = totv;
     for (int64_t r = 0; r < nref; r++) {
         const sheet_ref *R = &s->refs[r];
@@ -574,6 +593,43 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
         m->sheet_triangle_offsets[r + 1] = to;
     }
     (void)vo;
+    /* Each sheet made coarse within the tolerance (md_sheet_simplify: kept vertices stay
+     * where the extraction put them, on the bisector; corners and seams stay), then moved
+     * down over the room the sheets before it freed. */
+    int64_t wv = 0, wt = 0, v0 = 0, t0 = 0;
+    for (int64_t r = 0; r < nref; r++) {
+        int64_t v1 = m->sheet_vertex_offsets[r + 1], t1 = m->sheet_triangle_offsets[r + 1];
+        int64_t nvr = v1 - v0, ntr = t1 - t0;
+        mfg_status st = md_sheet_simplify(el, m->sheet_elements[2 * r], m->sheet_elements[2 * r + 1],
+                                          tol, vlabel + v0, &nvr, m->sheet_vertices + 3 * v0,
+                                          m->sheet_radii + v0, &ntr, m->sheet_triangles + 3 * t0, NULL);
+        if (st != MFG_OK) {
+            free(vlabel);
+            return st;
+        }
+        memmove(m->sheet_vertices + 3 * wv, m->sheet_vertices + 3 * v0, (size_t)(3 * nvr) * sizeof(double));
+        memmove(m->sheet_radii + wv, m->sheet_radii + v0, (size_t)nvr * sizeof(double));
+        memmove(m->sheet_triangles + 3 * wt, m->sheet_triangles + 3 * t0, (size_t)(3 * ntr) * sizeof(int64_t));
+        m->sheet_vertex_offsets[r] = wv;
+        m->sheet_triangle_offsets[r] = wt;
+        wv += nvr;
+        wt += ntr;
+        v0 = v1;
+        t0 = t1;
+    }
+    m->sheet_vertex_offsets[nref] = wv;
+    m->sheet_triangle_offsets[nref] = wt;
+    free(vlabel);
+    /* Give the freed room back (a failing shrink keeps the larger block). */
+    double *dv = realloc(m->sheet_vertices, (size_t)(3 * wv + 1) * sizeof(double));
+    if (dv)
+        m->sheet_vertices = dv;
+    double *dr = realloc(m->sheet_radii, (size_t)(wv + 1) * sizeof(double));
+    if (dr)
+        m->sheet_radii = dr;
+    int64_t *dt = realloc(m->sheet_triangles, (size_t)(3 * wt + 1) * sizeof(int64_t));
+    if (dt)
+        m->sheet_triangles = dt;
     return MFG_OK;
 }
 

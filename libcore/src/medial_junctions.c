@@ -417,21 +417,21 @@ static int box_cmp(const void *pa, const void *pb)
 
 /* Subdivision for one subset S; polished points appended to out (deduplicated).  Returns
  * the new count, or -1 on NOMEM. */
+/* The subdivision's box lists, allocated once per search. */
+typedef struct boxbuf {
+    box *cur, *nxt;
+    int *grp;
+} boxbuf;
+
 static int search_subset(const md_elements *el, const md_bvh *bvh, const double lo[3],
                          double side, const int64_t *S, int n, double tolerance,
-                         md_junction *out, int nout, int cap)
+                         md_junction *out, int nout, int cap, boxbuf *bb)
 {
     int comp[MD_JMAX];
     if (clusters(el, S, n, comp) < 3)
         return nout; /* two clusters meet on a sheet, not at a junction */
-    box *cur = malloc(MAX_BOXES * sizeof *cur), *nxt = malloc(MAX_BOXES * sizeof *nxt);
-    int *grp = malloc(MAX_BOXES * sizeof *grp);
-    if (!cur || !nxt || !grp) {
-        free(cur);
-        free(nxt);
-        free(grp);
-        return -1;
-    }
+    box *cur = bb->cur, *nxt = bb->nxt;
+    int *grp = bb->grp;
     int ncur = 0;
     double s = side;
     {
@@ -528,9 +528,6 @@ static int search_subset(const md_elements *el, const md_bvh *bvh, const double 
         if (!dup && nout < cap)
             out[nout++] = j;
     }
-    free(cur);
-    free(nxt);
-    free(grp);
     return nout;
 }
 
@@ -575,6 +572,14 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
      * centre): when the whole set has no equidistant point here, try the sets with one
      * element fewer, and so on down to 4 (the paper drops the farthest element; at a
      * reflex edge several are equally far, so every subset of the size is tried). */
+    boxbuf bb = {malloc(MAX_BOXES * sizeof(box)), malloc(MAX_BOXES * sizeof(box)),
+                 malloc(MAX_BOXES * sizeof(int))};
+    if (!bb.cur || !bb.nxt || !bb.grp) {
+        free(bb.cur);
+        free(bb.nxt);
+        free(bb.grp);
+        return mfg_fail(MFG_ERR_NOMEM, "md_junction_search: out of memory"), -1;
+    }
     int nout = 0, tried = 0;
     for (int k = nT; k >= 4 && nout == 0 && tried < MAX_SUBSETS; k--) {
         int idx[MD_JMAX];
@@ -584,11 +589,16 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
             int64_t S[MD_JMAX];
             for (int i = 0; i < k; i++)
                 S[i] = T[idx[i]];
-            nout = search_subset(el, bvh, lo, side, S, k, tolerance, out, nout, cap);
-            if (nout < 0)
-                return mfg_fail(MFG_ERR_NOMEM, "md_junction_search: out of memory"), -1;
+            nout = search_subset(el, bvh, lo, side, S, k, tolerance, out, nout, cap, &bb);
             tried++;
-        } while (tried < MAX_SUBSETS && next_combination(idx, k, nT));
+        } while (nout >= 0 && tried < MAX_SUBSETS && next_combination(idx, k, nT));
+        if (nout < 0)
+            break;
     }
+    free(bb.cur);
+    free(bb.nxt);
+    free(bb.grp);
+    if (nout < 0)
+        return mfg_fail(MFG_ERR_NOMEM, "md_junction_search: out of memory"), -1;
     return nout;
 }

@@ -31,12 +31,19 @@
  *     u(c); var_e is the variation of d_e^car over the cell: (s/2) |n|_1 for a face (its
  *     carrier distance is linear), rho for an edge's line or a vertex;
  *   - |d_a^car(c) - d_b^car(c)| <= var_a + var_b + delta and |dc_a(c) - dc_b(c)| <= 2 rho +
- *     delta: the bisector (or, with delta, the band of near-medial points) may cross.
+ *     delta: the bisector (or, with delta, the band of near-medial points) may cross;
+ *   - every half-space h(x) = g.x - k >= 0 that contains a's region (region_halfspaces) has
+ *     h(x) >= 0, so its maximum over the cube, h(c) + (s/2) |g|_1, is >= 0; and for one
+ *     half-space of a and one of b, the sum h_a + h_b is >= 0 at x, so its maximum over
+ *     the cube is >= 0 (the regions may meet in the cell).
  * Every test below is one of these inequalities (plus tau for rounding), so a pair that is
- * (near-)medial somewhere in a cell survives in that cell and all its ancestors.  The slack
- * delta = h / 4 keeps the pairs whose distances differ by at most h / 4 in the leaf: the
- * sheet extraction's tetrahedra then never miss a crossing through rounding, and the
- * test's completeness check (near-medial sample points) has a margin.
+ * (near-)medial somewhere in a cell survives in that cell and all its ancestors.  They
+ * replace design 3's step 4 ("both distances <= D + 2 rho at the centre or a corner"): at
+ * the centre that holds for every pair of C, and restricted distances at the corners can
+ * miss a region that passes between them.  The slack delta = h / 4 keeps the pairs whose
+ * distances differ by at most h / 4 in the leaf, which covers rounding and gives the
+ * completeness test (near-medial sample points) a margin; it costs a second layer of
+ * leaves where a sheet runs within h / 8 of a lattice plane.
  *
  * Inheritance (design 3, step 2): at depth >= 3 the candidates are the parent's C.  The
  * child's ball lies in the parent's: |c - c_p| = rho (the child's), u(c) <= u(c_p) + rho
@@ -45,6 +52,10 @@
  * A face's closed distance needs the signed in-plane distance of the centre's projection
  * to the face's boundary (O(sides)); a lower bound of it is inherited (the projection is
  * 1-Lipschitz), and while it stays positive the closed distance is |s_F|, O(1).
+ *
+ * Cost: a cell costs O(|parent's C|) distance evaluations, plus O(|A|^2) pair tests at the
+ * leaves (A: the admissible elements); above the leaves the pair search stops at the
+ * first pair.
  *
  * Parallelism (design 5): the cells at depth wd (the smallest with 8^wd >= 16 threads)
  * are the work units, in Morton order, taken from an atomic counter; each thread has its
@@ -84,6 +95,8 @@ typedef struct worker {
     /* per-cell scratch, nelements each */
     int64_t *cand;
     double *dc, *inb, *car, *mg, *var;
+    int64_t *hk; /* 2 per C index: the two region half-spaces most violated at the centre */
+    double *hv;  /* 2 per C index: their values there */
     int64_t *A; /* indices into C of the admissible elements */
     int64_t *pairs;
     int64_t cap_pairs;
@@ -108,6 +121,10 @@ struct job {
     double shift;     /* 4 L: moves a point off a face to read its in-plane margin */
     int8_t *may_pair; /* per element: may enter P */
     double *half_l1;  /* per face: |n|_1 / 2 */
+    /* Half-spaces g.x - k >= 0 (g a unit vector) that hold on each element's Voronoi
+     * region: hs[4 j ..] = (g, k) for j in hs_off[e] .. hs_off[e + 1]. */
+    int64_t *hs_off;
+    double *hs;
     /* work units: children of the saved cells at depth wd - 1 */
     int wd;
     level *par;
@@ -182,6 +199,50 @@ static int grow(void **buf, int64_t *cap, int64_t need, size_t item)
     *buf = p;
     *cap = nc;
     return 1;
+}
+
+/* The region's half-spaces at the centre c of a cell of side s: 0 when one of them misses
+ * the whole cell (its maximum over the cube, value + (s/2) |g|_1, is negative);
+ * otherwise the two most violated ones go to hk / hv (-1: none) for regions_apart. */
+static int region_meets_cell(const job *J, int64_t e, const double c[3], double s,
+                             int64_t hk[2], double hv[2])
+{
+    hk[0] = hk[1] = -1;
+    hv[0] = hv[1] = INFINITY;
+    for (int64_t j = J->hs_off[e]; j < J->hs_off[e + 1]; j++) {
+        const double *g = J->hs + 4 * j;
+        double v = g[0] * c[0] + g[1] * c[1] + g[2] * c[2] - g[3];
+        if (v + 0.5 * s * (fabs(g[0]) + fabs(g[1]) + fabs(g[2])) < -J->tau)
+            return 0;
+        if (v < hv[0]) {
+            hk[1] = hk[0];
+            hv[1] = hv[0];
+            hk[0] = j;
+            hv[0] = v;
+        } else if (v < hv[1]) {
+            hk[1] = j;
+            hv[1] = v;
+        }
+    }
+    return 1;
+}
+
+/* 1 when the regions of a and b cannot meet in the cell: a half-space of each whose sum
+ * (g_a + g_b).x - k_a - k_b, nonnegative on the intersection, is negative on the whole
+ * cube (a Farkas certificate with unit weights, tried on the two most violated
+ * half-spaces of each).  E.g. two faces of a finely tessellated wall one strip apart:
+ * their prisms are separated by the strip between them however large the cell. */
+static int regions_apart(const job *J, double s, const int64_t ka[2], const double va[2],
+                         const int64_t kb[2], const double vb[2])
+{
+    for (int i = 0; i < 2 && ka[i] >= 0; i++)
+        for (int j = 0; j < 2 && kb[j] >= 0; j++) {
+            const double *ga = J->hs + 4 * ka[i], *gb = J->hs + 4 * kb[j];
+            double l1 = fabs(ga[0] + gb[0]) + fabs(ga[1] + gb[1]) + fabs(ga[2] + gb[2]);
+            if (va[i] + vb[j] + 0.5 * s * l1 < -J->tau)
+                return 1;
+        }
+    return 0;
 }
 
 enum { CELL_PRUNED, CELL_SPLIT, CELL_LEAF, CELL_NOMEM };
@@ -302,7 +363,8 @@ static int cell(worker *w, int d, const int32_t ijk[3], const level *par, level 
         w->mg[q] = mg;
         w->var[q] = var;
         if (J->may_pair[e] && mg >= -rho - tau && car >= u - rho - var - tau &&
-            car <= u + rho + delta + var + tau)
+            car <= u + rho + delta + var + tau && region_meets_cell(J, e, c, s, w->hk + 2 * q,
+                                                                    w->hv + 2 * q))
             w->A[na++] = q;
     }
 
@@ -317,6 +379,9 @@ static int cell(worker *w, int d, const int32_t ijk[3], const level *par, level 
             if (fabs(w->car[qa] - w->car[qb]) > w->var[qa] + w->var[qb] + delta + tau)
                 continue;
             if (fabs(w->dc[qa] - w->dc[qb]) > 2 * rho + delta + tau)
+                continue;
+            if (regions_apart(J, s, w->hk + 2 * qa, w->hv + 2 * qa, w->hk + 2 * qb,
+                              w->hv + 2 * qb))
                 continue;
             if (md_incident(el, a, b) || (!J->full && md_adjacent(el, a, b)))
                 continue;
@@ -471,6 +536,8 @@ static void worker_free(worker *w)
     free(w->car);
     free(w->mg);
     free(w->var);
+    free(w->hk);
+    free(w->hv);
     free(w->A);
     free(w->pairs);
     free(w->leaf);
@@ -491,9 +558,11 @@ static int worker_init(worker *w, job *J)
     w->car = malloc(n * sizeof *w->car);
     w->mg = malloc(n * sizeof *w->mg);
     w->var = malloc(n * sizeof *w->var);
+    w->hk = malloc(2 * n * sizeof *w->hk);
+    w->hv = malloc(2 * n * sizeof *w->hv);
     w->A = malloc(n * sizeof *w->A);
     if (!w->lev || !w->lev_cap || !w->cand || !w->dc || !w->inb || !w->car ||
-        !w->mg || !w->var || !w->A) {
+        !w->mg || !w->var || !w->hk || !w->hv || !w->A) {
         worker_free(w);
         return 0;
     }
@@ -568,6 +637,92 @@ static int merge(const job *J, const worker *W, int nw, md_leaves *out)
     out->nleaves = nl;
     for (int t = 0; t < nw; t++)
         out->cells_visited += W[t].visited;
+    return 1;
+}
+
+/* Appends (or counts, hs NULL) the half-spaces of element e's Voronoi region (design 1.7):
+ * a face's s_F >= 0 and the side lines of its polygon that have the whole polygon on their
+ * inner side (all of them for a convex face; faces of > 256 sides keep s_F only); an
+ * edge's slab 0 <= t <= len and normal wedge; a vertex's cone.  Each relaxed by the largest
+ * violation within tau (near-coplanar faces). */
+static int64_t region_halfspaces(const job *J, int64_t e, double *hs)
+{
+    const md_elements *el = J->el;
+    int64_t n = 0;
+#define PUT(gx, gy, gz, kk)                                                                   \
+    do {                                                                                    \
+        if (hs) {                                                                           \
+            hs[4 * n] = (gx), hs[4 * n + 1] = (gy), hs[4 * n + 2] = (gz), hs[4 * n + 3] = (kk); \
+        }                                                                                   \
+        n++;                                                                                \
+    } while (0)
+    int kind = md_kind(el, e);
+    if (kind == MD_FACE) {
+        const double *pl = el->face_plane + 4 * e;
+        PUT(-pl[0], -pl[1], -pl[2], -pl[3]);
+        int64_t q0 = el->face_side_offsets[e], q1 = el->face_side_offsets[e + 1];
+        if (q1 - q0 > 256)
+            return n;
+        for (int64_t q = q0; q < q1; q++) {
+            int64_t sd = el->face_sides[q], t = sd / 3, k = sd % 3;
+            const double *a = el->xyz + 3 * el->tris[3 * t + k];
+            const double *b = el->xyz + 3 * el->tris[3 * t + (k + 1) % 3];
+            /* The inward in-plane normal: n x (b - a), the polygon on the left. */
+            double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, wv[3];
+            wv[0] = pl[1] * ab[2] - pl[2] * ab[1];
+            wv[1] = pl[2] * ab[0] - pl[0] * ab[2];
+            wv[2] = pl[0] * ab[1] - pl[1] * ab[0];
+            double len = sqrt(wv[0] * wv[0] + wv[1] * wv[1] + wv[2] * wv[2]);
+            if (!(len > 0))
+                continue;
+            for (int i = 0; i < 3; i++)
+                wv[i] /= len;
+            double kk = wv[0] * a[0] + wv[1] * a[1] + wv[2] * a[2], worst = 0;
+            for (int64_t r = q0; r < q1; r++) {
+                int64_t sr = el->face_sides[r];
+                const double *v = el->xyz + 3 * el->tris[3 * (sr / 3) + sr % 3];
+                worst = fmin(worst, wv[0] * v[0] + wv[1] * v[1] + wv[2] * v[2] - kk);
+            }
+            if (worst >= -J->tau)
+                PUT(wv[0], wv[1], wv[2], kk + worst - J->tau);
+        }
+    } else if (kind == MD_EDGE) {
+        int64_t i = e - el->nfaces;
+        const double *A = el->edge_seg + 6 * i, *u = el->edge_dir + 3 * i;
+        const double *wi = el->edge_w + 6 * i, *wj = wi + 3;
+        double uA = u[0] * A[0] + u[1] * A[1] + u[2] * A[2];
+        PUT(u[0], u[1], u[2], uA);
+        PUT(-u[0], -u[1], -u[2], -uA - el->edge_len[i]);
+        PUT(-wi[0], -wi[1], -wi[2], -(wi[0] * A[0] + wi[1] * A[1] + wi[2] * A[2]));
+        PUT(-wj[0], -wj[1], -wj[2], -(wj[0] * A[0] + wj[1] * A[1] + wj[2] * A[2]));
+    } else {
+        int64_t j = e - el->nfaces - el->nedges;
+        const double *V = el->vert_xyz + 3 * j;
+        for (int64_t q = el->vert_edge_offsets[j]; q < el->vert_edge_offsets[j + 1]; q++) {
+            int64_t ed = el->vert_edges[q], i = ed - el->nfaces;
+            double sg = el->edge_ends[2 * i] == e ? -1.0 : 1.0; /* -(direction away from V) */
+            const double *u = el->edge_dir + 3 * i;
+            PUT(sg * u[0], sg * u[1], sg * u[2], sg * (u[0] * V[0] + u[1] * V[1] + u[2] * V[2]));
+        }
+    }
+#undef PUT
+    return n;
+}
+
+static int build_halfspaces(job *J)
+{
+    const md_elements *el = J->el;
+    J->hs_off = malloc(((size_t)el->nelements + 1) * sizeof *J->hs_off);
+    if (!J->hs_off)
+        return 0;
+    J->hs_off[0] = 0;
+    for (int64_t e = 0; e < el->nelements; e++)
+        J->hs_off[e + 1] = J->hs_off[e] + region_halfspaces(J, e, NULL);
+    J->hs = malloc(((size_t)J->hs_off[el->nelements] + 1) * 4 * sizeof *J->hs);
+    if (!J->hs)
+        return 0;
+    for (int64_t e = 0; e < el->nelements; e++)
+        region_halfspaces(J, e, J->hs + 4 * J->hs_off[e]);
     return 1;
 }
 
@@ -672,6 +827,8 @@ mfg_status md_octree_build(const md_elements *el, const md_bvh *bvh, double tole
         J.may_pair[e] = (int8_t)ok;
     }
 
+    if (!build_halfspaces(&J))
+        goto done;
     for (nw = 0; nw < nthreads; nw++)
         if (!worker_init(&W[nw], &J))
             goto done;
@@ -712,6 +869,8 @@ done:
     free(tid);
     free(J.may_pair);
     free(J.half_l1);
+    free(J.hs_off);
+    free(J.hs);
     if (st != MFG_OK)
         return mfg_fail(MFG_ERR_NOMEM, "medial octree: out of memory");
     return MFG_OK;
