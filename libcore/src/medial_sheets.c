@@ -73,6 +73,13 @@ typedef struct pvert {
 
 enum { TRIM_A = 0, TRIM_B = 1, TRIM_NU = 2, TRIM_OUT = 3 };
 
+/* Values at the leaf's centre of the element at one position of C, for Lipschitz bounds
+ * over the leaf: g a face's in-plane margin (-inf: none), m the region margin, d the
+ * carrier distance. */
+typedef struct cbound {
+    double g, m, d;
+} cbound;
+
 /* The state of one (leaf, pair). */
 typedef struct ctx {
     const md_elements *el;
@@ -84,7 +91,7 @@ typedef struct ctx {
     int ia, ib;        /* positions of a and b in C, or -1 */
     double ctr[3];     /* the leaf's centre */
     double sdc;        /* signed distance to the boundary there (with a BVH) */
-    double *gC;        /* per C position: a face's in-plane margin at ctr, NAN: not yet */
+    struct cbound *cb; /* per C position: bounds from ctr (NAN: not yet computed) */
     int capC;
     double cx[8][3];   /* corner c = dx | dy << 1 | dz << 2 */
     double h;
@@ -235,7 +242,7 @@ static double leaf_margin(const ctx *c, int i, int64_t e, const double *x, int64
     if (i < 0 || md_kind(el, e) != MD_FACE)
         return md_region_margin(el, e, x, which);
     const double *pl = el->face_plane + 4 * e;
-    double g = c->gC[i];
+    double g = c->cb[i].g;
     if (isnan(g)) {
         double y[3], K = 4 * el->diag, t = K - (pl[3] - (pl[0] * c->ctr[0] + pl[1] * c->ctr[1] +
                                                            pl[2] * c->ctr[2]));
@@ -243,7 +250,7 @@ static double leaf_margin(const ctx *c, int i, int64_t e, const double *x, int64
             y[k] = c->ctr[k] - t * pl[k];
         int64_t w;
         g = md_region_margin(el, e, y, &w);
-        c->gC[i] = g = w < 0 ? -INFINITY : g; /* s won (it cannot): no bound */
+        c->cb[i].g = g = w < 0 ? -INFINITY : g; /* s won (it cannot): no bound */
     }
     if (g == -INFINITY)
         return md_region_margin(el, e, x, which);
@@ -266,9 +273,21 @@ static double leaf_margin(const ctx *c, int i, int64_t e, const double *x, int64
  * smallest term (l_a, l_b: the element of the boundary whose constraint is smallest, -1
  * for a face's own plane; nu: c; D: -1) and *argk which term it is; ties go to the smaller
  * id.  *D gets min over C of d_c(x). */
+/* The bounds of C's element i, computed on first use in the leaf. */
+static const cbound *leaf_bound(const ctx *c, int i)
+{
+    cbound *b = c->cb + i;
+    if (isnan(b->m)) {
+        b->m = md_region_margin(c->el, c->C[i], c->ctr, NULL);
+        b->d = md_dist_car(c->el, c->C[i], c->ctr, NULL);
+    }
+    return b;
+}
+
 static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, double *D)
 {
     const md_elements *el = c->el;
+    double r = dist_ctr(c, x);
     int64_t wa, wb;
     double la = leaf_margin(c, c->ia, c->a, x, &wa, 0);
     double lb = leaf_margin(c, c->ib, c->b, x, &wb, 0);
@@ -283,11 +302,17 @@ static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, d
         int64_t e = c->C[i];
         if (e == c->a || e == c->b)
             continue;
+        /* The region margin and the carrier distance are 1-Lipschitz: their values at the
+         * centre, +- r, skip the elements that the tests below would skip anyway. */
+        const cbound *bd = leaf_bound(c, i);
+        double dl = bd->d - r;
+        if ((dl >= dmin && dl - da >= nu) || bd->m + r < 0)
+            continue;
         /* d_e >= d_e^car: the region test (the costly part) only where it can matter. */
         double d = md_dist_car(el, e, x, NULL);
         if (!(d < dmin) && !(d - da < nu))
             continue;
-        if (leaf_margin(c, i, e, x, NULL, 1) < 0)
+        if (!(bd->m - r > 0) && leaf_margin(c, i, e, x, NULL, 1) < 0)
             continue; /* d_e = +inf */
         if (d < dmin)
             dmin = d;
@@ -311,7 +336,7 @@ static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, d
     }
     /* Only the sign matters where tau < 0 already; the signed distance is 1-Lipschitz, so
      * x lies inside where the centre's exceeds |x - ctr|. */
-    if (c->bvh && !c->deep && t >= 0 && !(c->sdc > dist_ctr(c, x))) {
+    if (c->bvh && !c->deep && t >= 0 && !(c->sdc > r)) {
         double sd = signed_dist(c, x);
         if (sd < 0) {
             t = sd;
@@ -861,14 +886,14 @@ static mfg_status do_leaf(const md_elements *el, const md_bvh *bvh, const md_lea
         c->deep = c->sdc > 2 * lv->lat.h;
     }
     if (L->nC > c->capC) {
-        double *g = realloc(c->gC, (size_t)L->nC * sizeof *g);
+        cbound *g = realloc(c->cb, (size_t)L->nC * sizeof *g);
         if (!g)
             return MFG_ERR_NOMEM;
-        c->gC = g;
+        c->cb = g;
         c->capC = L->nC;
     }
     for (int i = 0; i < L->nC; i++)
-        c->gC[i] = NAN;
+        c->cb[i].g = c->cb[i].m = c->cb[i].d = NAN;
     for (int p = 0; p < L->nP; p++) {
         c->a = lv->P[L->P_off + 2 * p];
         c->b = lv->P[L->P_off + 2 * p + 1];
@@ -909,7 +934,7 @@ static void *worker(void *arg)
     job *j = arg;
     ctx *c = malloc(sizeof *c);
     if (c) {
-        c->gC = NULL;
+        c->cb = NULL;
         c->capC = 0;
     }
     for (;;) {
@@ -931,7 +956,7 @@ static void *worker(void *arg)
             atomic_store(&j->failed, 1);
     }
     if (c)
-        free(c->gC);
+        free(c->cb);
     free(c);
     return NULL;
 }
