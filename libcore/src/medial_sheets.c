@@ -98,6 +98,8 @@ typedef struct ctx {
     int32_t cijk[8][3];
     double f[8];
     int slot[64];      /* lattice edge lo * 8 + hi -> pv index, or -1 */
+    double ex[64][3];  /* lattice edge lo * 8 + hi -> its root, when bit lo * 8 + hi of */
+    uint64_t have_ex;  /* have_ex is set */
     pvert pv[MAX_PV];
     int npv;
     int bpu[MAX_BP], bpv[MAX_BP], bpi[MAX_BP]; /* boundary points by polygon edge */
@@ -362,17 +364,47 @@ static double radius(const ctx *c, const double *x, double D)
 
 /* The marching-tets vertex on the lattice edge from local corner lo to hi (hi's bits a
  * superset of lo's: lo is the smaller lattice point): pv index, or -1 on NOMEM. */
+static const double *edge_root(ctx *c, int lo, int hi)
+{
+    int e = 8 * lo + hi;
+    double *x = c->ex[e];
+    if (c->have_ex >> e & 1)
+        return x;
+    if (!md_root_on_segment(c->el, c->a, c->b, c->cx[lo], c->cx[hi], x, NULL)) {
+        /* p + 1 * (q - p) may round away from q and miss a sign seen at q: the corner
+         * nearer to f = 0 is the root then. */
+        memcpy(x, fabs(c->f[lo]) <= fabs(c->f[hi]) ? c->cx[lo] : c->cx[hi], 3 * sizeof *x);
+    }
+    c->have_ex |= (uint64_t)1 << e;
+    return x;
+}
+
+/* Can the pair's sheet show in the leaf?  Only where some marching-tets vertex (a root on
+ * a Kuhn edge, lo's bits a subset of hi's, with a sign change) lies in both a's and b's
+ * regions: tau <= min(l_a, l_b), and where every vertex has tau < 0 the clip keeps
+ * nothing (no boundary point, no corner).  Most of the pairs of a tessellated curved
+ * wall are such, and the trim over C would cost them far more. */
+static int pair_shows(ctx *c)
+{
+    for (int lo = 0; lo < 8; lo++)
+        for (int hi = lo + 1; hi < 8; hi++) {
+            if ((lo & hi) != lo || (c->f[lo] >= 0) == (c->f[hi] >= 0))
+                continue;
+            const double *x = edge_root(c, lo, hi);
+            if (leaf_margin(c, c->ia, c->a, x, NULL, 0) >= 0 &&
+                leaf_margin(c, c->ib, c->b, x, NULL, 0) >= 0)
+                return 1;
+        }
+    return 0;
+}
+
 static int edge_vertex(ctx *c, int lo, int hi)
 {
     int s = c->slot[8 * lo + hi];
     if (s >= 0)
         return s;
     double x[3];
-    if (!md_root_on_segment(c->el, c->a, c->b, c->cx[lo], c->cx[hi], x, NULL)) {
-        /* p + 1 * (q - p) may round away from q and miss a sign seen at q: the corner
-         * nearer to f = 0 is the root then. */
-        memcpy(x, fabs(c->f[lo]) <= fabs(c->f[hi]) ? c->cx[lo] : c->cx[hi], sizeof x);
-    }
+    memcpy(x, edge_root(c, lo, hi), sizeof x);
     vkey k;
     memset(&k, 0xff, sizeof k);
     k.a = c->a;
@@ -905,6 +937,9 @@ static mfg_status do_leaf(const md_elements *el, const md_bvh *bvh, const md_lea
             npos += c->f[k] >= 0;
         }
         if (npos == 0 || npos == 8)
+            continue;
+        c->have_ex = 0;
+        if (!pair_shows(c))
             continue;
         for (int i = 0; i < 64; i++)
             c->slot[i] = -1;
