@@ -108,14 +108,19 @@ typedef struct eqs {
     double rmax;
 } eqs;
 
-/* ... stopping (q incomplete) as soon as rmax exceeds stop: the subdivision's test needs
- * no more. */
-static void equations_upto(const md_elements *el, const int64_t *S, int n, const int *comp,
-                           const double x[3], eqs *q, double stop)
+/* Which rows the equations of S have (they depend on S alone, not on x): the clusters'
+ * representatives and the incident pairs (i, j), kind of S[i] > kind of S[j], in the
+ * order the rows are added.  The subdivision evaluates one S at many boxes. */
+typedef struct eqsys {
+    int nrep, npair;
+    int rep[MD_JMAX];
+    int pi[MD_JMAX * MD_JMAX], pj[MD_JMAX * MD_JMAX];
+} eqsys;
+
+static void eq_system(const md_elements *el, const int64_t *S, int n, const int *comp,
+                      eqsys *sy)
 {
-    memset(q, 0, sizeof *q);
-    int rep0 = -1;
-    double d0 = 0, g0[3] = {0, 0, 0};
+    sy->nrep = sy->npair = 0;
     for (int i = 0; i < n; i++) {
         if (comp[i] != i)
             continue;
@@ -124,6 +129,27 @@ static void equations_upto(const md_elements *el, const int64_t *S, int n, const
         for (int j = i + 1; j < n; j++)
             if (comp[j] == i && md_kind(el, S[j]) > md_kind(el, S[best]))
                 best = j;
+        sy->rep[sy->nrep++] = best;
+    }
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) {
+            if (i == j || md_kind(el, S[i]) <= md_kind(el, S[j]) || !md_incident(el, S[i], S[j]))
+                continue;
+            sy->pi[sy->npair] = i;
+            sy->pj[sy->npair++] = j;
+        }
+}
+
+/* ... stopping (q incomplete) as soon as rmax exceeds stop: the subdivision's test needs
+ * no more. */
+static void equations_upto(const md_elements *el, const int64_t *S, const eqsys *sy,
+                           const double x[3], eqs *q, double stop)
+{
+    memset(q, 0, sizeof *q);
+    int rep0 = -1;
+    double d0 = 0, g0[3] = {0, 0, 0};
+    for (int ri = 0; ri < sy->nrep; ri++) {
+        int best = sy->rep[ri];
         double g[3], d = md_dist_car(el, S[best], x, g);
         if (rep0 < 0) {
             rep0 = best;
@@ -141,10 +167,9 @@ static void equations_upto(const md_elements *el, const int64_t *S, int n, const
         if (q->rmax > stop)
             return;
     }
-    for (int i = 0; i < n; i++)
-        for (int j = 0; j < n; j++) {
-            if (i == j || md_kind(el, S[i]) <= md_kind(el, S[j]) || !md_incident(el, S[i], S[j]))
-                continue;
+    for (int pq = 0; pq < sy->npair; pq++) {
+        int i = sy->pi[pq], j = sy->pj[pq];
+        {
             double fa[3], fb[3], Pa[9], Pb[9], r[3], nr = 0;
             carrier_foot(el, S[i], x, fa, Pa);
             carrier_foot(el, S[j], x, fb, Pb);
@@ -166,12 +191,15 @@ static void equations_upto(const md_elements *el, const int64_t *S, int n, const
             if (q->rmax > stop)
                 return;
         }
+    }
 }
 
 static void equations(const md_elements *el, const int64_t *S, int n, const int *comp,
                       const double x[3], eqs *q)
 {
-    equations_upto(el, S, n, comp, x, q, INFINITY);
+    eqsys sy;
+    eq_system(el, S, n, comp, &sy);
+    equations_upto(el, S, &sy, x, q, INFINITY);
 }
 
 /* Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations: lam
@@ -398,11 +426,11 @@ typedef struct box {
  * Each residual is 2-Lipschitz (a difference of two 1-Lipschitz distances, or of two
  * projections), so |r(c)| > 2 rho rules the box out: the paper's sign test, without
  * corner samples. */
-static int may_hold(const md_elements *el, const int64_t *S, int n, const int *comp,
-                    const double c[3], double rho)
+static int may_hold(const md_elements *el, const int64_t *S, const eqsys *sy, const double c[3],
+                    double rho)
 {
     eqs q;
-    equations_upto(el, S, n, comp, c, &q, 2 * rho);
+    equations_upto(el, S, sy, c, &q, 2 * rho);
     return q.rmax <= 2 * rho;
 }
 
@@ -430,13 +458,15 @@ static int search_subset(const md_elements *el, const md_bvh *bvh, const double 
     int comp[MD_JMAX];
     if (clusters(el, S, n, comp) < 3)
         return nout; /* two clusters meet on a sheet, not at a junction */
+    eqsys sy;
+    eq_system(el, S, n, comp, &sy);
     box *cur = bb->cur, *nxt = bb->nxt;
     int *grp = bb->grp;
     int ncur = 0;
     double s = side;
     {
         double c[3] = {lo[0] + 0.5 * s, lo[1] + 0.5 * s, lo[2] + 0.5 * s};
-        if (may_hold(el, S, n, comp, c, 0.5 * sqrt(3.0) * s))
+        if (may_hold(el, S, &sy, c, 0.5 * sqrt(3.0) * s))
             cur[ncur++] = (box){{0, 0, 0}};
     }
     while (ncur > 0 && s > tolerance / 8) {
@@ -449,7 +479,7 @@ static int search_subset(const md_elements *el, const md_bvh *bvh, const double 
                 double c[3];
                 for (int k = 0; k < 3; k++)
                     c[k] = lo[k] + cs * ((double)ch.ijk[k] + 0.5);
-                if (!may_hold(el, S, n, comp, c, rho))
+                if (!may_hold(el, S, &sy, c, rho))
                     continue;
                 if (nn == MAX_BOXES) {
                     overflow = 1;
@@ -503,7 +533,7 @@ static int search_subset(const md_elements *el, const md_bvh *bvh, const double 
             eqs q;
             for (int k = 0; k < 3; k++)
                 c[k] = lo[k] + s * ((double)cur[b].ijk[k] + 0.5);
-            equations(el, S, n, comp, c, &q);
+            equations_upto(el, S, &sy, c, &q, INFINITY);
             if (q.rmax < best) {
                 best = q.rmax;
                 memcpy(x0, c, sizeof c);
