@@ -140,8 +140,8 @@ static void eq_system(const md_elements *el, const int64_t *S, int n, const int 
         }
 }
 
-/* ... stopping (q incomplete) as soon as rmax exceeds stop: the subdivision's test needs
- * no more. */
+/* ... with a finite stop only rmax, and only until it exceeds stop (J^T J, J^T r left
+ * 0): the subdivision's test needs no more. */
 static void equations_upto(const md_elements *el, const int64_t *S, const eqsys *sy,
                            const double x[3], eqs *q, double stop)
 {
@@ -158,7 +158,7 @@ static void equations_upto(const md_elements *el, const int64_t *S, const eqsys 
             continue;
         }
         double r = d0 - d, row[3] = {g0[0] - g[0], g0[1] - g[1], g0[2] - g[2]};
-        for (int a = 0; a < 3; a++) {
+        for (int a = 0; a < 3 && stop == INFINITY; a++) {
             q->Jtr[a] += row[a] * r;
             for (int b = 0; b < 3; b++)
                 q->JtJ[3 * a + b] += row[a] * row[b];
@@ -177,7 +177,7 @@ static void equations_upto(const md_elements *el, const int64_t *S, const eqsys 
                 r[k] = fa[k] - fb[k];
                 nr += r[k] * r[k];
             }
-            for (int k = 0; k < 3; k++) { /* row k: d(fa_k - fb_k)/dx */
+            for (int k = 0; k < 3 && stop == INFINITY; k++) { /* row k: d(fa_k - fb_k)/dx */
                 double row[3];
                 for (int c = 0; c < 3; c++)
                     row[c] = Pa[3 * k + c] - Pb[3 * k + c];
