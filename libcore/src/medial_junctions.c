@@ -147,7 +147,10 @@ static void add_row(eqs *q, const double row[3], double r)
     }
 }
 
-static void equations(const md_elements *el, const eqsys *sy, const double x[3], eqs *q)
+/* ... stopping (q incomplete) as soon as rmax exceeds stop: the subdivision's test needs
+ * no more (wt-N2's fbd49f7, carried over to the prepared equations). */
+static void equations_upto(const md_elements *el, const eqsys *sy, const double x[3], eqs *q,
+                           double stop)
 {
     memset(q, 0, sizeof *q);
     double g0[3], d0 = sy->nrep ? md_dist_car(el, sy->S[sy->rep[0]], x, g0) : 0;
@@ -156,6 +159,8 @@ static void equations(const md_elements *el, const eqsys *sy, const double x[3],
         double r = d0 - d, row[3] = {g0[0] - g[0], g0[1] - g[1], g0[2] - g[2]};
         add_row(q, row, r);
         q->rmax = fmax(q->rmax, fabs(r));
+        if (q->rmax > stop)
+            return;
     }
     for (int p = 0; p < sy->npair; p++) {
         double fa[3], fb[3], Pa[9], Pb[9], r[3], nr = 0;
@@ -170,7 +175,14 @@ static void equations(const md_elements *el, const eqsys *sy, const double x[3],
             add_row(q, row, r[k]);
         }
         q->rmax = fmax(q->rmax, sqrt(nr));
+        if (q->rmax > stop)
+            return;
     }
+}
+
+static void equations(const md_elements *el, const eqsys *sy, const double x[3], eqs *q)
+{
+    equations_upto(el, sy, x, q, INFINITY);
 }
 
 /* Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations: lam
@@ -403,7 +415,7 @@ typedef struct box {
 static int may_hold(const md_elements *el, const eqsys *sy, const double c[3], double rho)
 {
     eqs q;
-    equations(el, sy, c, &q);
+    equations_upto(el, sy, c, &q, 2 * rho);
     return q.rmax <= 2 * rho;
 }
 
