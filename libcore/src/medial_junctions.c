@@ -96,35 +96,24 @@ static int clusters(const md_elements *el, const int64_t *S, int n, int *comp)
     return nc;
 }
 
-/* The equations of S at x, accumulated as J^T J and J^T r (the rows themselves are not
- * needed).  rep[c]: the representative of cluster c, the element of highest dimension
- * (smallest id among equals): any member has the same distance where the cluster's
- * feet coincide.  Returns the largest |residual| (for a foot row: the feet's distance),
- * and *lip the Lipschitz bound of the worst row over the largest residual's scale: 2 for a
- * distance difference (two 1-Lipschitz distances), 2 for a foot difference (two
- * projections). */
-typedef struct eqs {
-    double JtJ[9], Jtr[3];
-    double rmax;
-} eqs;
-
-/* Which rows the equations of S have (they depend on S alone, not on x): the clusters'
- * representatives and the incident pairs (i, j), kind of S[i] > kind of S[j], in the
- * order the rows are added.  The subdivision evaluates one S at many boxes. */
+/* The equations of a set S, prepared once (the incidence tests are not repeated at every
+ * point): rep[c], the representative of contact cluster c, is the element of highest
+ * dimension (smallest id among equals): any member has the same distance where the
+ * cluster's feet coincide; pi/pj the incident pairs (S[pi] of higher dimension). */
 typedef struct eqsys {
+    const int64_t *S;
     int nrep, npair;
     int rep[MD_JMAX];
-    int pi[MD_JMAX * MD_JMAX], pj[MD_JMAX * MD_JMAX];
+    int pi[MD_JMAX * MD_JMAX / 2], pj[MD_JMAX * MD_JMAX / 2];
 } eqsys;
 
-static void eq_system(const md_elements *el, const int64_t *S, int n, const int *comp,
-                      eqsys *sy)
+static void prepare(const md_elements *el, const int64_t *S, int n, const int *comp, eqsys *sy)
 {
+    sy->S = S;
     sy->nrep = sy->npair = 0;
     for (int i = 0; i < n; i++) {
         if (comp[i] != i)
             continue;
-        /* the cluster's representative: highest kind, then smallest id (S ascending) */
         int best = i;
         for (int j = i + 1; j < n; j++)
             if (comp[j] == i && md_kind(el, S[j]) > md_kind(el, S[best]))
@@ -132,74 +121,68 @@ static void eq_system(const md_elements *el, const int64_t *S, int n, const int 
         sy->rep[sy->nrep++] = best;
     }
     for (int i = 0; i < n; i++)
-        for (int j = 0; j < n; j++) {
-            if (i == j || md_kind(el, S[i]) <= md_kind(el, S[j]) || !md_incident(el, S[i], S[j]))
-                continue;
-            sy->pi[sy->npair] = i;
-            sy->pj[sy->npair++] = j;
-        }
+        for (int j = 0; j < n; j++)
+            if (i != j && md_kind(el, S[i]) > md_kind(el, S[j]) && md_incident(el, S[i], S[j]) &&
+                sy->npair < MD_JMAX * MD_JMAX / 2) {
+                sy->pi[sy->npair] = i;
+                sy->pj[sy->npair++] = j;
+            }
 }
 
-/* ... with a finite stop only rmax, and only until it exceeds stop (J^T J, J^T r left
- * 0): the subdivision's test needs no more. */
-static void equations_upto(const md_elements *el, const int64_t *S, const eqsys *sy,
-                           const double x[3], eqs *q, double stop)
+/* The equations at x, accumulated as J^T J and J^T r (the rows themselves are not
+ * needed), and the largest |residual| (for a foot row: the feet's distance).  Every
+ * residual is 2-Lipschitz: a difference of two 1-Lipschitz distances, or of two
+ * projections. */
+typedef struct eqs {
+    double JtJ[9], Jtr[3];
+    double rmax;
+} eqs;
+
+static void add_row(eqs *q, const double row[3], double r)
+{
+    for (int a = 0; a < 3; a++) {
+        q->Jtr[a] += row[a] * r;
+        for (int b = 0; b < 3; b++)
+            q->JtJ[3 * a + b] += row[a] * row[b];
+    }
+}
+
+/* ... stopping (q incomplete) as soon as rmax exceeds stop: the subdivision's test needs
+ * no more (wt-N2's fbd49f7, carried over to the prepared equations). */
+static void equations_upto(const md_elements *el, const eqsys *sy, const double x[3], eqs *q,
+                           double stop)
 {
     memset(q, 0, sizeof *q);
-    int rep0 = -1;
-    double d0 = 0, g0[3] = {0, 0, 0};
-    for (int ri = 0; ri < sy->nrep; ri++) {
-        int best = sy->rep[ri];
-        double g[3], d = md_dist_car(el, S[best], x, g);
-        if (rep0 < 0) {
-            rep0 = best;
-            d0 = d;
-            memcpy(g0, g, sizeof g);
-            continue;
-        }
+    double g0[3], d0 = sy->nrep ? md_dist_car(el, sy->S[sy->rep[0]], x, g0) : 0;
+    for (int c = 1; c < sy->nrep; c++) {
+        double g[3], d = md_dist_car(el, sy->S[sy->rep[c]], x, g);
         double r = d0 - d, row[3] = {g0[0] - g[0], g0[1] - g[1], g0[2] - g[2]};
-        for (int a = 0; a < 3 && stop == INFINITY; a++) {
-            q->Jtr[a] += row[a] * r;
-            for (int b = 0; b < 3; b++)
-                q->JtJ[3 * a + b] += row[a] * row[b];
-        }
+        add_row(q, row, r);
         q->rmax = fmax(q->rmax, fabs(r));
         if (q->rmax > stop)
             return;
     }
-    for (int pq = 0; pq < sy->npair; pq++) {
-        int i = sy->pi[pq], j = sy->pj[pq];
-        {
-            double fa[3], fb[3], Pa[9], Pb[9], r[3], nr = 0;
-            carrier_foot(el, S[i], x, fa, Pa);
-            carrier_foot(el, S[j], x, fb, Pb);
-            for (int k = 0; k < 3; k++) {
-                r[k] = fa[k] - fb[k];
-                nr += r[k] * r[k];
-            }
-            for (int k = 0; k < 3 && stop == INFINITY; k++) { /* row k: d(fa_k - fb_k)/dx */
-                double row[3];
-                for (int c = 0; c < 3; c++)
-                    row[c] = Pa[3 * k + c] - Pb[3 * k + c];
-                for (int a = 0; a < 3; a++) {
-                    q->Jtr[a] += row[a] * r[k];
-                    for (int b = 0; b < 3; b++)
-                        q->JtJ[3 * a + b] += row[a] * row[b];
-                }
-            }
-            q->rmax = fmax(q->rmax, sqrt(nr));
-            if (q->rmax > stop)
-                return;
+    for (int p = 0; p < sy->npair; p++) {
+        double fa[3], fb[3], Pa[9], Pb[9], r[3], nr = 0;
+        carrier_foot(el, sy->S[sy->pi[p]], x, fa, Pa);
+        carrier_foot(el, sy->S[sy->pj[p]], x, fb, Pb);
+        for (int k = 0; k < 3; k++) {
+            r[k] = fa[k] - fb[k];
+            nr += r[k] * r[k];
         }
+        for (int k = 0; k < 3; k++) { /* row k: d(fa_k - fb_k)/dx */
+            double row[3] = {Pa[3 * k] - Pb[3 * k], Pa[3 * k + 1] - Pb[3 * k + 1], Pa[3 * k + 2] - Pb[3 * k + 2]};
+            add_row(q, row, r[k]);
+        }
+        q->rmax = fmax(q->rmax, sqrt(nr));
+        if (q->rmax > stop)
+            return;
     }
 }
 
-static void equations(const md_elements *el, const int64_t *S, int n, const int *comp,
-                      const double x[3], eqs *q)
+static void equations(const md_elements *el, const eqsys *sy, const double x[3], eqs *q)
 {
-    eqsys sy;
-    eq_system(el, S, n, comp, &sy);
-    equations_upto(el, S, &sy, x, q, INFINITY);
+    equations_upto(el, sy, x, q, INFINITY);
 }
 
 /* Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations: lam
@@ -325,14 +308,14 @@ int md_touching_set(const md_elements *el, const md_bvh *bvh, const double x[3],
 /* Gauss-Newton on the equations of S from x0; the step is J^+ r over the singular
  * directions above RANK_REL, so on a curve of solutions (rank 2) it moves to the point
  * of the curve nearest x0 instead of along it. */
-static int gauss_newton(const md_elements *el, const int64_t *S, int n, const int *comp,
-                        const double x0[3], double x[3], double *rmax)
+static int gauss_newton(const md_elements *el, const eqsys *sy, const double x0[3], double x[3],
+                        double *rmax)
 {
     memcpy(x, x0, 3 * sizeof(double));
     eqs q;
     double scale = el->diag;
     for (int it = 0; it < POLISH_ITERS; it++) {
-        equations(el, S, n, comp, x, &q);
+        equations(el, sy, x, &q);
         double lam[3], V[9];
         eig3(q.JtJ, lam, V);
         int rk = rank_of(lam);
@@ -349,7 +332,7 @@ static int gauss_newton(const md_elements *el, const int64_t *S, int n, const in
         if (!(sqrt(ns) > 1e-15 * scale))
             break;
     }
-    equations(el, S, n, comp, x, &q);
+    equations(el, sy, x, &q);
     *rmax = q.rmax;
     return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]);
 }
@@ -364,8 +347,10 @@ int md_junction_polish(const md_elements *el, const md_bvh *bvh, const double x0
         return 0;
     int comp[MD_JMAX];
     clusters(el, T, nT, comp);
+    eqsys sy;
+    prepare(el, T, nT, comp, &sy);
     double x[3], rmax, tol = TOUCH_REL * el->diag;
-    if (!gauss_newton(el, T, nT, comp, x0, x, &rmax) || !(rmax <= tol))
+    if (!gauss_newton(el, &sy, x0, x, &rmax) || !(rmax <= tol))
         return 0;
     for (int k = 0; k < 3; k++)
         if (!(x[k] >= lo[k] - tolerance && x[k] <= lo[k] + side + tolerance))
@@ -389,7 +374,8 @@ int md_junction_polish(const md_elements *el, const md_bvh *bvh, const double x0
     int nc = clusters(el, j.elems, n, jc);
     /* Rank from the whole touching set: the prism's axis meets its end face at a point. */
     eqs q;
-    equations(el, j.elems, n, jc, x, &q);
+    prepare(el, j.elems, n, jc, &sy);
+    equations(el, &sy, x, &q);
     double lam[3], V[9];
     eig3(q.JtJ, lam, V);
     int rk = rank_of(lam);
@@ -426,11 +412,10 @@ typedef struct box {
  * Each residual is 2-Lipschitz (a difference of two 1-Lipschitz distances, or of two
  * projections), so |r(c)| > 2 rho rules the box out: the paper's sign test, without
  * corner samples. */
-static int may_hold(const md_elements *el, const int64_t *S, const eqsys *sy, const double c[3],
-                    double rho)
+static int may_hold(const md_elements *el, const eqsys *sy, const double c[3], double rho)
 {
     eqs q;
-    equations_upto(el, S, sy, c, &q, 2 * rho);
+    equations_upto(el, sy, c, &q, 2 * rho);
     return q.rmax <= 2 * rho;
 }
 
@@ -449,6 +434,7 @@ static int box_cmp(const void *pa, const void *pb)
 typedef struct boxbuf {
     box *cur, *nxt;
     int *grp;
+    eqsys sy;
 } boxbuf;
 
 static int search_subset(const md_elements *el, const md_bvh *bvh, const double lo[3],
@@ -458,15 +444,15 @@ static int search_subset(const md_elements *el, const md_bvh *bvh, const double 
     int comp[MD_JMAX];
     if (clusters(el, S, n, comp) < 3)
         return nout; /* two clusters meet on a sheet, not at a junction */
-    eqsys sy;
-    eq_system(el, S, n, comp, &sy);
+    eqsys *sy = &bb->sy;
+    prepare(el, S, n, comp, sy);
     box *cur = bb->cur, *nxt = bb->nxt;
     int *grp = bb->grp;
     int ncur = 0;
     double s = side;
     {
         double c[3] = {lo[0] + 0.5 * s, lo[1] + 0.5 * s, lo[2] + 0.5 * s};
-        if (may_hold(el, S, &sy, c, 0.5 * sqrt(3.0) * s))
+        if (may_hold(el, sy, c, 0.5 * sqrt(3.0) * s))
             cur[ncur++] = (box){{0, 0, 0}};
     }
     while (ncur > 0 && s > tolerance / 8) {
@@ -479,7 +465,7 @@ static int search_subset(const md_elements *el, const md_bvh *bvh, const double 
                 double c[3];
                 for (int k = 0; k < 3; k++)
                     c[k] = lo[k] + cs * ((double)ch.ijk[k] + 0.5);
-                if (!may_hold(el, S, &sy, c, rho))
+                if (!may_hold(el, sy, c, rho))
                     continue;
                 if (nn == MAX_BOXES) {
                     overflow = 1;
@@ -533,7 +519,7 @@ static int search_subset(const md_elements *el, const md_bvh *bvh, const double 
             eqs q;
             for (int k = 0; k < 3; k++)
                 c[k] = lo[k] + s * ((double)cur[b].ijk[k] + 0.5);
-            equations_upto(el, S, &sy, c, &q, INFINITY);
+            equations(el, sy, c, &q);
             if (q.rmax < best) {
                 best = q.rmax;
                 memcpy(x0, c, sizeof c);
@@ -559,20 +545,6 @@ static int search_subset(const md_elements *el, const md_bvh *bvh, const double 
             out[nout++] = j;
     }
     return nout;
-}
-
-/* The next k-subset of 0 .. n-1 in lexicographic order (idx ascending); 0 when done. */
-static int next_combination(int *idx, int k, int n)
-{
-    int i = k - 1;
-    while (i >= 0 && idx[i] == n - k + i)
-        i--;
-    if (i < 0)
-        return 0;
-    idx[i]++;
-    for (int j = i + 1; j < k; j++)
-        idx[j] = idx[j - 1] + 1;
-    return 1;
 }
 
 int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo[3], double side,
@@ -601,27 +573,71 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
     /* T may hold elements that touch nowhere in the box (it is the set near the leaf's
      * centre): when the whole set has no equidistant point here, try the sets with one
      * element fewer, and so on down to 4 (the paper drops the farthest element; at a
-     * reflex edge several are equally far, so every subset of the size is tried). */
-    boxbuf bb = {malloc(MAX_BOXES * sizeof(box)), malloc(MAX_BOXES * sizeof(box)),
-                 malloc(MAX_BOXES * sizeof(int))};
+     * reflex edge several are equally far, so every subset of the size is tried).  Only
+     * sets whose every pair may meet in the box: two elements touching one ball have
+     * equal distances (not incident) or one foot (incident), and either difference is
+     * 2-Lipschitz, so a pair whose difference at the centre exceeds 2 rho never does. */
+    boxbuf bb;
+    bb.cur = malloc(MAX_BOXES * sizeof(box));
+    bb.nxt = malloc(MAX_BOXES * sizeof(box));
+    bb.grp = malloc(MAX_BOXES * sizeof(int));
     if (!bb.cur || !bb.nxt || !bb.grp) {
         free(bb.cur);
         free(bb.nxt);
         free(bb.grp);
         return mfg_fail(MFG_ERR_NOMEM, "md_junction_search: out of memory"), -1;
     }
+    unsigned char compat[MD_JMAX][MD_JMAX];
+    {
+        double c[3] = {lo[0] + 0.5 * side, lo[1] + 0.5 * side, lo[2] + 0.5 * side};
+        double rho = 0.5 * sqrt(3.0) * side + 2 * TOUCH_REL * el->diag;
+        double d[MD_JMAX], ft[MD_JMAX][3], P[9];
+        for (int i = 0; i < nT; i++) {
+            d[i] = md_dist_car(el, T[i], c, NULL);
+            carrier_foot(el, T[i], c, ft[i], P);
+        }
+        for (int i = 0; i < nT; i++)
+            for (int j = 0; j < nT; j++) {
+                double diff = fabs(d[i] - d[j]);
+                if (md_incident(el, T[i], T[j])) {
+                    double f0 = ft[i][0] - ft[j][0], f1 = ft[i][1] - ft[j][1], f2 = ft[i][2] - ft[j][2];
+                    diff = sqrt(f0 * f0 + f1 * f1 + f2 * f2);
+                }
+                compat[i][j] = diff <= 2 * rho;
+            }
+    }
     int nout = 0, tried = 0;
     for (int k = nT; k >= 4 && nout == 0 && tried < MAX_SUBSETS; k--) {
-        int idx[MD_JMAX];
-        for (int i = 0; i < k; i++)
-            idx[i] = i;
-        do {
+        /* the k-subsets of mutually compatible elements, in lexicographic order: a
+         * depth-first walk over idx[0 .. depth) */
+        int idx[MD_JMAX], depth = 0;
+        idx[0] = 0;
+        while (depth >= 0 && nout >= 0 && tried < MAX_SUBSETS) {
+            int i = idx[depth];
+            if (i > nT - (k - depth)) { /* no room left: back up */
+                if (--depth >= 0)
+                    idx[depth]++;
+                continue;
+            }
+            int ok = 1;
+            for (int q = 0; q < depth && ok; q++)
+                ok = compat[idx[q]][i];
+            if (!ok) {
+                idx[depth]++;
+                continue;
+            }
+            if (depth + 1 < k) {
+                idx[depth + 1] = i + 1;
+                depth++;
+                continue;
+            }
             int64_t S[MD_JMAX];
-            for (int i = 0; i < k; i++)
-                S[i] = T[idx[i]];
+            for (int q = 0; q < k; q++)
+                S[q] = T[idx[q]];
             nout = search_subset(el, bvh, lo, side, S, k, tolerance, out, nout, cap, &bb);
             tried++;
-        } while (nout >= 0 && tried < MAX_SUBSETS && next_combination(idx, k, nT));
+            idx[depth]++;
+        }
         if (nout < 0)
             break;
     }
