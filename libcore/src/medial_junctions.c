@@ -147,8 +147,9 @@ static void add_row(eqs *q, const double row[3], double r)
     }
 }
 
-/* ... stopping (q incomplete) as soon as rmax exceeds stop: the subdivision's test needs
- * no more (wt-N2's fbd49f7, carried over to the prepared equations). */
+/* ... with a finite stop only rmax, and only until it exceeds stop (J^T J, J^T r left
+ * 0): the subdivision's test needs no more (wt-N2's fbd49f7, carried over to the
+ * prepared equations). */
 static void equations_upto(const md_elements *el, const eqsys *sy, const double x[3], eqs *q,
                            double stop)
 {
@@ -157,7 +158,8 @@ static void equations_upto(const md_elements *el, const eqsys *sy, const double 
     for (int c = 1; c < sy->nrep; c++) {
         double g[3], d = md_dist_car(el, sy->S[sy->rep[c]], x, g);
         double r = d0 - d, row[3] = {g0[0] - g[0], g0[1] - g[1], g0[2] - g[2]};
-        add_row(q, row, r);
+        if (stop == INFINITY)
+            add_row(q, row, r);
         q->rmax = fmax(q->rmax, fabs(r));
         if (q->rmax > stop)
             return;
@@ -170,7 +172,7 @@ static void equations_upto(const md_elements *el, const eqsys *sy, const double 
             r[k] = fa[k] - fb[k];
             nr += r[k] * r[k];
         }
-        for (int k = 0; k < 3; k++) { /* row k: d(fa_k - fb_k)/dx */
+        for (int k = 0; k < 3 && stop == INFINITY; k++) { /* row k: d(fa_k - fb_k)/dx */
             double row[3] = {Pa[3 * k] - Pb[3 * k], Pa[3 * k + 1] - Pb[3 * k + 1], Pa[3 * k + 2] - Pb[3 * k + 2]};
             add_row(q, row, r[k]);
         }
