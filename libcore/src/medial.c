@@ -1013,15 +1013,58 @@ static int chain_segments(const md_soup *sp, const seg_ref *seg, int64_t n, doub
  * keep equidistant (a T-section's web sheet {x = 25, x = 35} into {both reflex edges} at
  * y = 10) the extraction names one of two equally near trimming elements per segment;
  * the touching set names all four, so the seam is chained as one. */
-static int segment_set(const md_elements *el, const md_bvh *bvh, const md_soup *sp, int64_t i,
-                       int64_t *set)
+/* The touching sets of the soup's vertices, each computed once (a seam vertex ends two
+ * segments): off[v] < 0 not yet, else the offset of v's set (cnt[v] ids) in pool. */
+typedef struct tcache {
+    int64_t *off;
+    int32_t *cnt;
+    int64_t *pool;
+    int64_t n, cap;
+} tcache;
+
+/* md_touching_set of soup vertex v (at most MD_JMAX ids), through the cache: the count,
+ * -1 on NOMEM. */
+static int touching_of(const md_elements *el, const md_bvh *bvh, const md_soup *sp, tcache *tc,
+                       int64_t v, const int64_t **set)
 {
-    int64_t s0[MD_JMAX], s1[MD_JMAX];
+    if (tc->off[v] < 0) {
+        int64_t t[MD_JMAX];
+        int n = md_touching_set(el, bvh, sp->xyz + 3 * v, t, MD_JMAX, NULL);
+        if (n < 0)
+            return -1;
+        if (n > MD_JMAX)
+            n = MD_JMAX; /* only MD_JMAX were written */
+        if (tc->n + n > tc->cap) {
+            int64_t cap = tc->cap ? 2 * tc->cap : 1024;
+            while (cap < tc->n + n)
+                cap *= 2;
+            int64_t *p = realloc(tc->pool, (size_t)cap * sizeof *p);
+            if (!p)
+                return -1;
+            tc->pool = p;
+            tc->cap = cap;
+        }
+        memcpy(tc->pool + tc->n, t, (size_t)n * sizeof *t);
+        tc->off[v] = tc->n;
+        tc->cnt[v] = n;
+        tc->n += n;
+    }
+    *set = tc->pool + tc->off[v];
+    return tc->cnt[v];
+}
+
+static int segment_set(const md_elements *el, const md_bvh *bvh, const md_soup *sp, tcache *tc,
+                       int64_t i, int64_t *set)
+{
+    const int64_t *s0, *s1;
     const int64_t *own = sp->seg_elems + 3 * i;
-    int n0 = md_touching_set(el, bvh, sp->xyz + 3 * sp->seg_verts[2 * i], s0, MD_JMAX, NULL);
-    int n1 = md_touching_set(el, bvh, sp->xyz + 3 * sp->seg_verts[2 * i + 1], s1, MD_JMAX, NULL);
-    if (n0 < 0 || n1 < 0)
+    int n0 = touching_of(el, bvh, sp, tc, sp->seg_verts[2 * i], &s0);
+    if (n0 < 0)
         return -1;
+    int n1 = touching_of(el, bvh, sp, tc, sp->seg_verts[2 * i + 1], &s1);
+    if (n1 < 0)
+        return -1;
+    s0 = tc->pool + tc->off[sp->seg_verts[2 * i]]; /* the pool may have moved */
     int n = 0;
     /* (s0 and s1) or own: merge of sorted lists */
     for (int a = 0, b = 0, c = 0; a < n0 || c < 3;) {
@@ -1054,8 +1097,16 @@ static int soup_seams(const md_elements *el, const md_bvh *bvh, const md_soup *s
                       int64_t nj, double reach, double tol)
 {
     seg_ref *seg = malloc((size_t)(sp->nsegs ? sp->nsegs : 1) * sizeof *seg);
-    if (!seg)
+    tcache tc = {malloc((size_t)(sp->nverts ? sp->nverts : 1) * sizeof *tc.off),
+                 malloc((size_t)(sp->nverts ? sp->nverts : 1) * sizeof *tc.cnt), NULL, 0, 0};
+    if (!seg || !tc.off || !tc.cnt) {
+        free(seg);
+        free(tc.off);
+        free(tc.cnt);
         return 0;
+    }
+    for (int64_t v = 0; v < sp->nverts; v++)
+        tc.off[v] = -1;
     int64_t n = 0;
     for (int64_t i = 0; i < sp->nsegs; i++) {
         int64_t v0 = sp->seg_verts[2 * i], v1 = sp->seg_verts[2 * i + 1];
@@ -1063,9 +1114,12 @@ static int soup_seams(const md_elements *el, const md_bvh *bvh, const md_soup *s
             continue; /* not on an output sheet */
         seg_ref r;
         memset(&r, 0, sizeof r);
-        int ne = segment_set(el, bvh, sp, i, r.e);
+        int ne = segment_set(el, bvh, sp, &tc, i, r.e);
         if (ne < 0) {
             free(seg);
+            free(tc.off);
+            free(tc.cnt);
+            free(tc.pool);
             return 0;
         }
         r.ne = ne;
@@ -1076,6 +1130,9 @@ static int soup_seams(const md_elements *el, const md_bvh *bvh, const md_soup *s
         r.kind = sp->seg_kind[i];
         seg[n++] = r;
     }
+    free(tc.off);
+    free(tc.cnt);
+    free(tc.pool);
     if (n > 1)
         qsort(seg, (size_t)(n), sizeof *seg, cmp_seg);
     /* unique */
