@@ -521,7 +521,7 @@ static int search_subset(const md_elements *el, const md_bvh *bvh, const double 
             eqs q;
             for (int k = 0; k < 3; k++)
                 c[k] = lo[k] + s * ((double)cur[b].ijk[k] + 0.5);
-            equations(el, sy, c, &q);
+            equations_upto(el, sy, c, &q, best); /* stops once it cannot win */
             if (q.rmax < best) {
                 best = q.rmax;
                 memcpy(x0, c, sizeof c);
