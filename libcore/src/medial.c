@@ -6,11 +6,15 @@
  *
  * Assembly (design 4.1 - 4.3):
  *   sheets     the connected components of one pair's triangles, vertices compacted;
- *              slivers (the square prism's side pairs, trimmed to its axis) dropped;
- *   seams      the soup's seam segments of the smallest output pair of each element set,
- *              chained into polylines, ends snapped to the junctions within 2h whose set
- *              holds the seam's, thinned to tolerance / 4; plus the degenerate seams
- *              chained from the rank-2 points of the junction search;
+ *              triangles with a vertex off the pair's bisector (> 1e-9 L) and slivers
+ *              (the square prism's side pairs, trimmed to its axis) dropped; each sheet
+ *              made coarse within the tolerance (md_sheet_simplify);
+ *   seams      the soup's seam segments, each with the elements touching at both of its
+ *              ends; per element set the pair whose segments chain into the fewest
+ *              polylines (ties: the smallest), pieces joined across 3h, ends snapped to
+ *              the junctions within 2h whose set holds the seam's, thinned to
+ *              tolerance / 4; plus the degenerate seams chained from the rank-2 points of
+ *              the junction search (soup seams lying on them dropped);
  *   junctions  the rank-3 points, equal sets within tolerance merged (the smallest point
  *              kept), nested sets dropped for the larger (the paper's subordinate
  *              junctions);

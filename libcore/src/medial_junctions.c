@@ -444,10 +444,15 @@ static int search_subset(const md_elements *el, const md_bvh *bvh, const double 
                          md_junction *out, int nout, int cap, boxbuf *bb)
 {
     int comp[MD_JMAX];
-    if (clusters(el, S, n, comp) < 3)
-        return nout; /* two clusters meet on a sheet, not at a junction */
+    int nc = clusters(el, S, n, comp);
     eqsys *sy = &bb->sy;
     prepare(el, S, n, comp, sy);
+    /* One cluster is one foot; two clusters without an incident pair meet on a sheet.
+     * Two clusters with incident pairs can still fix a point: the tray's inner corner
+     * (1.5, 3, 3), where the outer wall faces the inner wall, its two reflex edges and
+     * their reflex vertex (four smooth seams end there). */
+    if (nc < 2 || (nc == 2 && sy->npair == 0))
+        return nout;
     box *cur = bb->cur, *nxt = bb->nxt;
     int *grp = bb->grp;
     int ncur = 0;

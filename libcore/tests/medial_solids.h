@@ -89,6 +89,48 @@ static inline void ms_tsection(tmesh *m)
     }
 }
 
+/* The union of the occupied cells [xs[i], xs[i+1]] x [ys[j], ys[j+1]] x [zs[k], zs[k+1]]
+ * of a 2 x 2 x 2 grid (occ[i][j][k]), each boundary cell side as two triangles on the
+ * grid nodes (conforming: every vertex is a node). */
+static inline void ms_grid2(tmesh *m, const double *xs, const double *ys, const double *zs,
+                            const int occ[2][2][2])
+{
+    memset(m, 0, sizeof *m);
+    const double *g[3] = {xs, ys, zs};
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 2; j++)
+            for (int k = 0; k < 2; k++) {
+                if (!occ[i][j][k])
+                    continue;
+                int c[3] = {i, j, k};
+                for (int ax = 0; ax < 3; ax++)
+                    for (int side = 0; side < 2; side++) {
+                        int nb[3] = {i, j, k};
+                        nb[ax] += side ? 1 : -1;
+                        if (nb[ax] >= 0 && nb[ax] < 2 && occ[nb[0]][nb[1]][nb[2]])
+                            continue;
+                        int a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
+                        int64_t q[4];
+                        const int uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+                        for (int n = 0; n < 4; n++) {
+                            double p[3];
+                            p[ax] = g[ax][c[ax] + side];
+                            p[a1] = g[a1][c[a1] + uv[n][0]];
+                            p[a2] = g[a2][c[a2] + uv[n][1]];
+                            q[n] = ms_vtx(m, p[0], p[1], p[2]);
+                        }
+                        /* (a1, a2, ax) is right-handed: counter-clockwise seen from +ax */
+                        if (side) {
+                            ms_tri(m, q[0], q[1], q[2]);
+                            ms_tri(m, q[0], q[2], q[3]);
+                        } else {
+                            ms_tri(m, q[0], q[2], q[1]);
+                            ms_tri(m, q[0], q[3], q[2]);
+                        }
+                    }
+            }
+}
+
 /* Regular n-gon disc: circumradius R, thickness H, corner 0 at (R, 0). */
 static inline void ms_disc(tmesh *m, int n, double R, double H)
 {

@@ -521,6 +521,40 @@ static void test_tsection(void)
     mfg_medial_free(m);
 }
 
+/* The inner corner of a tray: [0, 10]^3 without [3, 10]^3 (walls and floor 3).  At
+ * (1.5, 3, 3), r = 1.5, the outer wall x = 0 faces the inner wall x = 3, its two reflex
+ * edges and their reflex vertex (3, 3, 3): two contact clusters, yet an isolated point
+ * where four smooth seams end (and likewise at (3, 1.5, 3), (3, 3, 1.5)). */
+static void test_inner_corner(void)
+{
+    tmesh t;
+    const double g[3] = {0, 3, 10};
+    const int occ[2][2][2] = {{{1, 1}, {1, 1}}, {{1, 1}, {1, 0}}};
+    ms_grid2(&t, g, g, g, occ);
+    double L = diag_of(&t), tol = 0.01 * L, eps = 1e-9 * L;
+    mfg_medial *m = run(&t, tol, 0, 0);
+    if (!m)
+        return;
+    CHECK_EQ_INT(m->nfaces, 9);
+    for (int ax = 0; ax < 3; ax++) {
+        double p[3] = {3, 3, 3};
+        p[ax] = 1.5;
+        int64_t j = junction_at(m, p, eps);
+        CHECK(j >= 0);
+        if (j < 0)
+            continue;
+        CHECK(fabs(m->junction_radii[j] - 1.5) <= eps);
+        CHECK_EQ_INT(m->junction_element_offsets[j + 1] - m->junction_element_offsets[j], 5);
+        CHECK_EQ_INT(m->junction_kinds[j], MFG_MEDIAL_SMOOTH);
+        /* the seams with the outer wall ending there end at this junction */
+        int ends = 0;
+        for (int64_t c = 0; c < m->nseams; c++)
+            ends += (m->seam_ends[2 * c] == j) + (m->seam_ends[2 * c + 1] == j);
+        CHECK(ends >= 4);
+    }
+    mfg_medial_free(m);
+}
+
 /* At 1 % of L the leaves near the rim hold the convex edges and vertices as well (11
  * elements within D + 2 rho): the junction search must still find all 48. */
 static void test_disc_at(double frac)
@@ -655,6 +689,8 @@ int main(int argc, char **argv)
     }
     if (!only || !strcmp(only, "tsection"))
         test_tsection();
+    if (!only || !strcmp(only, "corner"))
+        test_inner_corner();
     if (!only || !strcmp(only, "invariance"))
         test_invariance();
     if (!only || !strcmp(only, "errors"))
