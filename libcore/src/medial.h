@@ -239,6 +239,40 @@ mfg_status md_sheets_extract(const md_elements *el, const md_bvh *bvh, const md_
                              double tolerance, int nthreads, md_soup *out);
 void md_soup_free(md_soup *soup);
 
+/* ---- medial_simplify.c: a sheet made coarse within the tolerance -------------------------- */
+
+/* Seam labels of the soup's vertices, for md_sheet_simplify: per soup vertex (label has
+ * room for sp->nverts) -1 when no seam segment ends there (inside its sheet), the element
+ * other than the segment's pair (seg_elems minus seg_pair) when every seam segment ending
+ * there has the same one, -2 when they differ (a corner of the sheet: where its seam
+ * meets another, at a junction).  Needs no memory. */
+void md_soup_seam_labels(const md_soup *sp, int64_t *label);
+
+/* One sheet of pair (a, b) (a connected piece of the soup's triangles of that pair, or
+ * several: each piece is handled on its own), made coarse in place.  On entry *nverts
+ * vertices (xyz 3 each, radius 1 each) and *ntris triangles (tris 3 each, indices into
+ * the vertices, consistently oriented, as md_sheets_extract makes them); label (may be
+ * NULL) per vertex its seam label (md_soup_seam_labels).  On return the same arrays hold
+ * the kept vertices (those of the kept triangles), in their input order, unmoved, radii
+ * unchanged, and the new triangles (never more of either); vmap (may be NULL) gets per
+ * input vertex its new index or -1.
+ *   planar bisectors (md_form 1, 2, 7, 11): each region triangulated again on its boundary
+ *     loops only (mfg_merge_planar_groups), then boundary vertices removed as below;
+ *   every sheet: half-edge collapses v -> u (u an existing neighbour), shortest edges first,
+ *     accepted only when the new triangles stay within tolerance / 2 of the bisector
+ *     (|d_a^car - d_b^car| / |grad| at their centroid, edge midpoints and 3 inner points),
+ *     face the bisector's normal within 60 deg (no fold) and keep the mesh a manifold.  A
+ *     boundary vertex goes only along the boundary, only when it and every boundary
+ *     vertex removed between the new boundary edge's ends carry one seam label (-1, no
+ *     seam segment there, goes with any; -2 never goes; label NULL: no labels) and stay
+ *     within tolerance / 4 of it: the sheet's corners and boundary pinches stay, its
+ *     edges follow the seams.
+ * The result depends only on the input arrays (sorted orders, no threads).  MFG_OK, or
+ * MFG_ERR_NOMEM with the arrays untouched. */
+mfg_status md_sheet_simplify(const md_elements *el, int64_t a, int64_t b, double tolerance,
+                             const int64_t *label, int64_t *nverts, double *xyz, double *radius,
+                             int64_t *ntris, int64_t *tris, int64_t *vmap);
+
 /* ---- medial_junctions.c (work package C3): junctions and degenerate seams ----------------- */
 
 /* A point equidistant from a set of elements (design 4.3).  rank 3: an isolated point
@@ -268,6 +302,14 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
 int md_junction_polish(const md_elements *el, const md_bvh *bvh, const double x0[3],
                        const int64_t *T, int nT, const double lo[3], double side,
                        double tolerance, md_junction *out);
+
+/* The elements touching the largest ball centred at x inside the solid (radius D(x)):
+ * carrier distance within 1e-9 L of D and x in their Voronoi region up to 1e-9 L.  D is
+ * taken from the elements (not the BVH's triangles), so it does not depend on the
+ * triangle order.  bvh may be NULL (brute force).  Writes at most cap ids, ascending;
+ * returns the full count (-1 on NOMEM); *D (may be NULL) gets D(x). */
+int md_touching_set(const md_elements *el, const md_bvh *bvh, const double x[3], int64_t *out,
+                    int cap, double *D);
 
 /* ---- medial.c: the public entry point, assembly (sheets as connected components of one
  * pair's triangles, seams chained and snapped to junctions, junctions merged, major/full

@@ -73,6 +73,13 @@ typedef struct pvert {
 
 enum { TRIM_A = 0, TRIM_B = 1, TRIM_NU = 2, TRIM_OUT = 3 };
 
+/* Values at the leaf's centre of the element at one position of C, for Lipschitz bounds
+ * over the leaf: g a face's in-plane margin (-inf: none), m the region margin, d the
+ * carrier distance. */
+typedef struct cbound {
+    double g, m, d;
+} cbound;
+
 /* The state of one (leaf, pair). */
 typedef struct ctx {
     const md_elements *el;
@@ -81,11 +88,18 @@ typedef struct ctx {
     const int64_t *C;
     int nC;
     int64_t a, b;
+    int ia, ib;        /* positions of a and b in C, or -1 */
+    double ctr[3];     /* the leaf's centre */
+    double sdc;        /* signed distance to the boundary there (with a BVH) */
+    struct cbound *cb; /* per C position: bounds from ctr (NAN: not yet computed) */
+    int capC;
     double cx[8][3];   /* corner c = dx | dy << 1 | dz << 2 */
     double h;
     int32_t cijk[8][3];
     double f[8];
     int slot[64];      /* lattice edge lo * 8 + hi -> pv index, or -1 */
+    double ex[64][3];  /* lattice edge lo * 8 + hi -> its root, when bit lo * 8 + hi of */
+    uint64_t have_ex;  /* have_ex is set */
     pvert pv[MAX_PV];
     int npv;
     int bpu[MAX_BP], bpv[MAX_BP], bpi[MAX_BP]; /* boundary points by polygon edge */
@@ -209,6 +223,51 @@ static double signed_dist(const ctx *c, const double *x)
     return inside ? d : -d;
 }
 
+/* |x - ctr| plus the slack: a bound for the change of a 1-Lipschitz function from ctr. */
+static double dist_ctr(const ctx *c, const double *x)
+{
+    double d[3] = {x[0] - c->ctr[0], x[1] - c->ctr[1], x[2] - c->ctr[2]};
+    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + 1e-9 * c->el->diag;
+}
+
+/* md_region_margin(e, x) (only its sign when sign_only), for e at position i of the
+ * leaf's C (-1: not there).  A face's margin is min(g, s): g the signed in-plane distance
+ * of x's foot to the face's boundary (O(sides), the costly part), s the distance to its
+ * plane.  g is 1-Lipschitz, so g(ctr) +- |x - ctr| bounds it over the leaf: where that
+ * decides min(g, s) (or its sign), s alone gives the same result, bit for bit.  g(ctr) is
+ * md_region_margin at ctr's foot moved 4 diagonals inside the plane, where s exceeds any
+ * |g| (computed once per leaf and face, when first needed). */
+static double leaf_margin(const ctx *c, int i, int64_t e, const double *x, int64_t *which,
+                          int sign_only)
+{
+    const md_elements *el = c->el;
+    if (i < 0 || md_kind(el, e) != MD_FACE)
+        return md_region_margin(el, e, x, which);
+    const double *pl = el->face_plane + 4 * e;
+    double g = c->cb[i].g;
+    if (isnan(g)) {
+        double y[3], K = 4 * el->diag, t = K - (pl[3] - (pl[0] * c->ctr[0] + pl[1] * c->ctr[1] +
+                                                           pl[2] * c->ctr[2]));
+        for (int k = 0; k < 3; k++)
+            y[k] = c->ctr[k] - t * pl[k];
+        int64_t w;
+        g = md_region_margin(el, e, y, &w);
+        c->cb[i].g = g = w < 0 ? -INFINITY : g; /* s won (it cannot): no bound */
+    }
+    if (g == -INFINITY)
+        return md_region_margin(el, e, x, which);
+    double r = dist_ctr(c, x);
+    double s = pl[3] - (pl[0] * x[0] + pl[1] * x[1] + pl[2] * x[2]);
+    if (g - r > s || (sign_only && g - r > 0)) { /* min(g, s) = s, or its sign is s's */
+        if (which)
+            *which = -1;
+        return s;
+    }
+    if (sign_only && g + r < 0)
+        return -1.0; /* the foot is outside the face */
+    return md_region_margin(el, e, x, which);
+}
+
 /* tau(x) = min(l_a, l_b, nu, D), nu = min over c in C \ {a, b} of d_c(x) - d_a^car(x), with
  * restricted d_c, and D the signed distance to the boundary when there is a BVH (design
  * 4.1: outside the solid, e.g. in a non-convex notch, the restricted distances of the
@@ -216,12 +275,24 @@ static double signed_dist(const ctx *c, const double *x)
  * smallest term (l_a, l_b: the element of the boundary whose constraint is smallest, -1
  * for a face's own plane; nu: c; D: -1) and *argk which term it is; ties go to the smaller
  * id.  *D gets min over C of d_c(x). */
+/* The bounds of C's element i, computed on first use in the leaf. */
+static const cbound *leaf_bound(const ctx *c, int i)
+{
+    cbound *b = c->cb + i;
+    if (isnan(b->m)) {
+        b->m = md_region_margin(c->el, c->C[i], c->ctr, NULL);
+        b->d = md_dist_car(c->el, c->C[i], c->ctr, NULL);
+    }
+    return b;
+}
+
 static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, double *D)
 {
     const md_elements *el = c->el;
+    double r = dist_ctr(c, x);
     int64_t wa, wb;
-    double la = md_region_margin(el, c->a, x, &wa);
-    double lb = md_region_margin(el, c->b, x, &wb);
+    double la = leaf_margin(c, c->ia, c->a, x, &wa, 0);
+    double lb = leaf_margin(c, c->ib, c->b, x, &wb, 0);
     double da = md_dist_car(el, c->a, x, NULL), db = md_dist_car(el, c->b, x, NULL);
     double dmin = INFINITY, nu = INFINITY;
     if (la >= 0)
@@ -233,11 +304,17 @@ static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, d
         int64_t e = c->C[i];
         if (e == c->a || e == c->b)
             continue;
+        /* The region margin and the carrier distance are 1-Lipschitz: their values at the
+         * centre, +- r, skip the elements that the tests below would skip anyway. */
+        const cbound *bd = leaf_bound(c, i);
+        double dl = bd->d - r;
+        if ((dl >= dmin && dl - da >= nu) || bd->m + r < 0)
+            continue;
         /* d_e >= d_e^car: the region test (the costly part) only where it can matter. */
         double d = md_dist_car(el, e, x, NULL);
         if (!(d < dmin) && !(d - da < nu))
             continue;
-        if (md_region_margin(el, e, x, NULL) < 0)
+        if (!(bd->m - r > 0) && leaf_margin(c, i, e, x, NULL, 1) < 0)
             continue; /* d_e = +inf */
         if (d < dmin)
             dmin = d;
@@ -259,7 +336,9 @@ static double trim_tau(const ctx *c, const double *x, int64_t *arg, int *argk, d
         w = wn;
         k = TRIM_NU;
     }
-    if (c->bvh && !c->deep && t >= 0) { /* only the sign matters where tau < 0 already */
+    /* Only the sign matters where tau < 0 already; the signed distance is 1-Lipschitz, so
+     * x lies inside where the centre's exceeds |x - ctr|. */
+    if (c->bvh && !c->deep && t >= 0 && !(c->sdc > r)) {
         double sd = signed_dist(c, x);
         if (sd < 0) {
             t = sd;
@@ -285,17 +364,47 @@ static double radius(const ctx *c, const double *x, double D)
 
 /* The marching-tets vertex on the lattice edge from local corner lo to hi (hi's bits a
  * superset of lo's: lo is the smaller lattice point): pv index, or -1 on NOMEM. */
+static const double *edge_root(ctx *c, int lo, int hi)
+{
+    int e = 8 * lo + hi;
+    double *x = c->ex[e];
+    if (c->have_ex >> e & 1)
+        return x;
+    if (!md_root_on_segment(c->el, c->a, c->b, c->cx[lo], c->cx[hi], x, NULL)) {
+        /* p + 1 * (q - p) may round away from q and miss a sign seen at q: the corner
+         * nearer to f = 0 is the root then. */
+        memcpy(x, fabs(c->f[lo]) <= fabs(c->f[hi]) ? c->cx[lo] : c->cx[hi], 3 * sizeof *x);
+    }
+    c->have_ex |= (uint64_t)1 << e;
+    return x;
+}
+
+/* Can the pair's sheet show in the leaf?  Only where some marching-tets vertex (a root on
+ * a Kuhn edge, lo's bits a subset of hi's, with a sign change) lies in both a's and b's
+ * regions: tau <= min(l_a, l_b), and where every vertex has tau < 0 the clip keeps
+ * nothing (no boundary point, no corner).  Most of the pairs of a tessellated curved
+ * wall are such, and the trim over C would cost them far more. */
+static int pair_shows(ctx *c)
+{
+    for (int lo = 0; lo < 8; lo++)
+        for (int hi = lo + 1; hi < 8; hi++) {
+            if ((lo & hi) != lo || (c->f[lo] >= 0) == (c->f[hi] >= 0))
+                continue;
+            const double *x = edge_root(c, lo, hi);
+            if (leaf_margin(c, c->ia, c->a, x, NULL, 0) >= 0 &&
+                leaf_margin(c, c->ib, c->b, x, NULL, 0) >= 0)
+                return 1;
+        }
+    return 0;
+}
+
 static int edge_vertex(ctx *c, int lo, int hi)
 {
     int s = c->slot[8 * lo + hi];
     if (s >= 0)
         return s;
     double x[3];
-    if (!md_root_on_segment(c->el, c->a, c->b, c->cx[lo], c->cx[hi], x, NULL)) {
-        /* p + 1 * (q - p) may round away from q and miss a sign seen at q: the corner
-         * nearer to f = 0 is the root then. */
-        memcpy(x, fabs(c->f[lo]) <= fabs(c->f[hi]) ? c->cx[lo] : c->cx[hi], sizeof x);
-    }
+    memcpy(x, edge_root(c, lo, hi), sizeof x);
     vkey k;
     memset(&k, 0xff, sizeof k);
     k.a = c->a;
@@ -338,9 +447,9 @@ static double trim_term(const ctx *c, int k, int64_t t, const double *x)
     if (k == TRIM_OUT)
         return signed_dist(c, x);
     if (k == TRIM_A)
-        return md_region_margin(c->el, c->a, x, NULL);
+        return leaf_margin(c, c->ia, c->a, x, NULL, 0);
     if (k == TRIM_B)
-        return md_region_margin(c->el, c->b, x, NULL);
+        return leaf_margin(c, c->ib, c->b, x, NULL, 0);
     return md_dist_car(c->el, t, x, NULL) - md_dist_car(c->el, c->a, x, NULL);
 }
 
@@ -771,6 +880,20 @@ static int do_tet(ctx *c, const int *v, int tet)
 static const int KUHN[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
                                {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
 
+/* The position of element e in the leaf's C (ascending), or -1. */
+static int c_index(const ctx *c, int64_t e)
+{
+    int lo = 0, hi = c->nC;
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (c->C[mid] < e)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < c->nC && c->C[lo] == e ? lo : -1;
+}
+
 static mfg_status do_leaf(const md_elements *el, const md_bvh *bvh, const md_leaves *lv,
                           const md_leaf *L, unit_buf *ub, ctx *c)
 {
@@ -788,21 +911,35 @@ static mfg_status do_leaf(const md_elements *el, const md_bvh *bvh, const md_lea
     /* Every point evaluated for this leaf (corners grown by h / 2 included) lies within
      * 2h of its centre. */
     c->deep = 0;
+    for (int d = 0; d < 3; d++)
+        c->ctr[d] = lv->lat.origin[d] + lv->lat.h * ((double)L->ijk[d] + 0.5);
     if (bvh && L->nP > 0) {
-        double ctr[3];
-        for (int d = 0; d < 3; d++)
-            ctr[d] = lv->lat.origin[d] + lv->lat.h * ((double)L->ijk[d] + 0.5);
-        c->deep = signed_dist(c, ctr) > 2 * lv->lat.h;
+        c->sdc = signed_dist(c, c->ctr);
+        c->deep = c->sdc > 2 * lv->lat.h;
     }
+    if (L->nC > c->capC) {
+        cbound *g = realloc(c->cb, (size_t)L->nC * sizeof *g);
+        if (!g)
+            return MFG_ERR_NOMEM;
+        c->cb = g;
+        c->capC = L->nC;
+    }
+    for (int i = 0; i < L->nC; i++)
+        c->cb[i].g = c->cb[i].m = c->cb[i].d = NAN;
     for (int p = 0; p < L->nP; p++) {
         c->a = lv->P[L->P_off + 2 * p];
         c->b = lv->P[L->P_off + 2 * p + 1];
+        c->ia = c_index(c, c->a);
+        c->ib = c_index(c, c->b);
         int npos = 0;
         for (int k = 0; k < 8; k++) {
             c->f[k] = md_dist_car(el, c->a, c->cx[k], NULL) - md_dist_car(el, c->b, c->cx[k], NULL);
             npos += c->f[k] >= 0;
         }
         if (npos == 0 || npos == 8)
+            continue;
+        c->have_ex = 0;
+        if (!pair_shows(c))
             continue;
         for (int i = 0; i < 64; i++)
             c->slot[i] = -1;
@@ -831,6 +968,10 @@ static void *worker(void *arg)
 {
     job *j = arg;
     ctx *c = malloc(sizeof *c);
+    if (c) {
+        c->cb = NULL;
+        c->capC = 0;
+    }
     for (;;) {
         long long u = atomic_fetch_add(&j->next, 1);
         if (u >= j->nunits || atomic_load(&j->failed))
@@ -849,6 +990,8 @@ static void *worker(void *arg)
         if (ub->st != MFG_OK)
             atomic_store(&j->failed, 1);
     }
+    if (c)
+        free(c->cb);
     free(c);
     return NULL;
 }
@@ -860,11 +1003,38 @@ typedef struct sref {
     int64_t g; /* global record index: unit order, then the unit's own order */
 } sref;
 
-static int cmp_sref(const void *pa, const void *pb)
+static int cmp_sref(const sref *x, const sref *y)
 {
-    const sref *x = pa, *y = pb;
     int c = cmp_key(&x->r->k, &y->r->k);
     return c ? c : (x->g > y->g) - (x->g < y->g);
+}
+
+/* Sorts s[0..n) by cmp_sref (a total order: g is unique), with tmp of n / 2 + 1 items: a merge
+ * sort with the comparison inlined, about twice as fast as qsort's indirect calls on the
+ * millions of records of a large part. */
+static void sort_srefs(sref *s, sref *tmp, int64_t n)
+{
+    if (n <= 16) {
+        for (int64_t i = 1; i < n; i++) {
+            sref v = s[i];
+            int64_t j = i;
+            for (; j > 0 && cmp_sref(&v, s + j - 1) < 0; j--)
+                s[j] = s[j - 1];
+            s[j] = v;
+        }
+        return;
+    }
+    int64_t m = n / 2;
+    sort_srefs(s, tmp, m);
+    sort_srefs(s + m, tmp, n - m);
+    if (cmp_sref(s + m - 1, s + m) <= 0)
+        return; /* already in order (records of one leaf often are) */
+    memcpy(tmp, s, (size_t)m * sizeof *s);
+    int64_t i = 0, j = m, k = 0;
+    while (i < m && j < n)
+        s[k++] = cmp_sref(s + j, tmp + i) < 0 ? s[j++] : tmp[i++];
+    while (i < m)
+        s[k++] = tmp[i++];
 }
 
 void md_soup_free(md_soup *s)
@@ -899,6 +1069,7 @@ static mfg_status merge(const unit_buf *units, int64_t nunits, double h, md_soup
     int64_t *newid = malloc((size_t)(N ? N : 1) * sizeof *newid);
     int64_t *uoff = malloc((size_t)(nunits + 1) * sizeof *uoff);
     const vrec **recs = malloc((size_t)(N ? N : 1) * sizeof *recs);
+    sref *tmp = malloc((size_t)(N / 2 + 1) * sizeof *tmp);
     md_soup s;
     memset(&s, 0, sizeof s);
     s.tris = malloc((size_t)(NT ? 3 * NT : 1) * sizeof *s.tris);
@@ -907,7 +1078,7 @@ static mfg_status merge(const unit_buf *units, int64_t nunits, double h, md_soup
     s.seg_elems = malloc((size_t)(NS ? 3 * NS : 1) * sizeof *s.seg_elems);
     s.seg_kind = malloc((size_t)(NS ? NS : 1) * sizeof *s.seg_kind);
     s.seg_pair = malloc((size_t)(NS ? 2 * NS : 1) * sizeof *s.seg_pair);
-    if (!sr || !gid || !rep || !newid || !uoff || !recs || !s.tris || !s.tri_pair || !s.seg_verts ||
+    if (!sr || !gid || !rep || !newid || !uoff || !recs || !tmp || !s.tris || !s.tri_pair || !s.seg_verts ||
         !s.seg_elems || !s.seg_kind || !s.seg_pair)
         goto done;
     uoff[0] = 0;
@@ -919,7 +1090,7 @@ static mfg_status merge(const unit_buf *units, int64_t nunits, double h, md_soup
             recs[uoff[u] + i] = units[u].v + i;
         }
     }
-    qsort(sr, (size_t)N, sizeof *sr, cmp_sref);
+    sort_srefs(sr, tmp, N);
     int64_t nid = 0;
     for (int64_t i = 0; i < N; i++) {
         if (i == 0 || cmp_key(&sr[i].r->k, &sr[i - 1].r->k) != 0)
@@ -988,6 +1159,7 @@ done:
     free(newid);
     free(uoff);
     free(recs);
+    free(tmp);
     return st;
 }
 
