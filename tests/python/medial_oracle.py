@@ -391,28 +391,59 @@ def result_pieces(res):
             np.concatenate(pts) if pts else np.zeros((0, 3)))
 
 
+class _CellIndex:
+    """Pieces (triangles or segments, (k, c, 3)) bucketed by the cell of their centroid:
+    with cells of side >= (largest centroid-to-corner distance + cutoff), every piece
+    within cutoff of a point has its centroid in the point's cell or one of its 26
+    neighbours."""
+
+    def __init__(self, pieces, cutoff):
+        self.pieces = pieces
+        cen = pieces.mean(1)
+        ext = np.linalg.norm(pieces - cen[:, None], axis=2).max() if len(pieces) else 0.0
+        self.side = float(ext + cutoff) * (1 + 1e-9) + 1e-300
+        self.origin = cen.min(0) if len(pieces) else np.zeros(3)
+        cell = np.floor((cen - self.origin) / self.side).astype(np.int64) + 1
+        self.order = np.argsort(self._key(cell), kind="stable")
+        self.keys = self._key(cell)[self.order]
+
+    @staticmethod
+    def _key(cell):
+        return (cell[..., 0] * 2_097_152 + cell[..., 1]) * 2_097_152 + cell[..., 2]
+
+    def near(self, p):
+        c = np.floor((p - self.origin) / self.side).astype(np.int64) + 1
+        off = np.stack(np.meshgrid([-1, 0, 1], [-1, 0, 1], [-1, 0, 1], indexing="ij"), -1)
+        keys = self._key(c + off.reshape(-1, 3))
+        lo = np.searchsorted(self.keys, keys, "left")
+        hi = np.searchsorted(self.keys, keys, "right")
+        if not (hi > lo).any():
+            return self.order[:0]
+        return self.order[np.concatenate([np.arange(a, b) for a, b in zip(lo, hi)])]
+
+
 def distance_to_pieces(P, tris, segs, pts, cutoff):
     """Distance of points P to the union of the pieces, exact where it is below
-    `cutoff` (larger values are only known to be >= cutoff and are returned as such or
-    larger): only the pieces whose bounding box comes within cutoff are tested."""
+    `cutoff` (larger values are only known to be >= cutoff and may come back as inf):
+    only the pieces near each point (a cell index) are tested."""
     P = np.asarray(P, float).reshape(-1, 3)
     out = np.full(len(P), np.inf)
+    ti = _CellIndex(tris, cutoff) if len(tris) else None
+    si = _CellIndex(segs, cutoff) if len(segs) else None
     for i, p in enumerate(P):
         best = np.inf
         if len(pts):
             best = float(np.min(np.linalg.norm(pts - p, axis=1)))
-        if len(tris):
-            lo, hi = tris.min(1) - cutoff, tris.max(1) + cutoff
-            m = np.all((p >= lo) & (p <= hi), axis=1)
-            if m.any():
-                d, _ = closest_on_triangles(p[None], tris[m, 0], tris[m, 1], tris[m, 2])
+        if ti is not None:
+            k = ti.near(p)
+            if len(k):
+                d, _ = closest_on_triangles(p[None], tris[k, 0], tris[k, 1], tris[k, 2])
                 best = min(best, float(d.min()))
-        if len(segs):
-            lo, hi = segs.min(1) - cutoff, segs.max(1) + cutoff
-            m = np.all((p >= lo) & (p <= hi), axis=1)
-            if m.any():
-                best = min(best, float(point_segment_distance(p[None], segs[m, 0],
-                                                              segs[m, 1]).min()))
+        if si is not None:
+            k = si.near(p)
+            if len(k):
+                best = min(best, float(point_segment_distance(p[None], segs[k, 0],
+                                                              segs[k, 1]).min()))
         out[i] = best
     return out
 

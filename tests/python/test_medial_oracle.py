@@ -213,3 +213,22 @@ def test_oracle_refuses_open_and_flipped():
     t2[0] = t2[0, ::-1]
     with pytest.raises(ValueError):
         Polyhedron(v, t2)
+
+
+def test_distance_to_pieces_against_brute_force():
+    rng = np.random.default_rng(9)
+    c = rng.uniform(0, 20, (3000, 3))
+    tris = c[:, None] + rng.normal(scale=0.3, size=(3000, 3, 3))
+    segs = rng.uniform(0, 20, (50, 1, 3)) + rng.normal(scale=0.5, size=(50, 2, 3))
+    pts = rng.uniform(0, 20, (5, 3))
+    P = rng.uniform(-1, 21, (300, 3))
+    cutoff = 0.4
+    got = distance_to_pieces(P, tris, segs, pts, cutoff)
+    dt, _ = closest_on_triangles(P, tris[:, 0], tris[:, 1], tris[:, 2])
+    from medial_oracle import point_segment_distance
+    brute = np.minimum.reduce([dt.min(1), point_segment_distance(P, segs[:, 0], segs[:, 1]).min(1),
+                               np.linalg.norm(P[:, None] - pts[None], axis=2).min(1)])
+    near = brute <= cutoff
+    assert near.sum() > 50
+    assert np.array_equal(got[near], brute[near])
+    assert np.all(got[~near] >= brute[~near])
