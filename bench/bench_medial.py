@@ -12,7 +12,11 @@ Run with the system interpreter:
     MFGEOM_LIBRARY=build/libmfgeom.so /usr/bin/python3 bench/bench_medial.py [--quick]
         [--timeout S] [--threads N]
 Prints a Markdown table (bench/run.sh collects it into bench/results.md).  A case whose
-call fails shows the library's error message instead of its time.
+call fails shows the library's error message instead of its time.  After the timed
+calls, each main case's result is checked by the independent oracle
+(tests/python/medial_oracle.py; --no-check skips it): the largest |radius - distance to
+the boundary| and the share of points touching too few elements on a sample, and the
+share of the oracle's major medial probe points within the tolerance of the result.
 
 The peers are not run here: their times are the figures their authors published --
 Lee & Lee (seed 004), Table 3: 22 boundary elements 5-13 min, 51 elements 5 h 20 min
@@ -103,7 +107,7 @@ def _raw_call(core, v, t, tol, full, threads):
 
 def _child(spec, out):
     from mfgeom import core
-    name, frac, full, threads = spec
+    name, frac, full, threads, check = spec
     v, t = CASES[name][1]()
     L = float(np.linalg.norm(v.max(0) - v.min(0)))
     tol = frac * L
@@ -139,8 +143,55 @@ def _child(spec, out):
                     "junctions": int(len(np.asarray(res.junctions.points).reshape(-1, 3))),
                     "cells": int(getattr(res, "cells_visited", -1)),
                     "leaves": int(getattr(res, "leaves", -1))})
+        if check:
+            t0 = time.perf_counter()
+            row.update(_check_against_oracle(v, t, res, tol, full))
+            row["check_s"] = time.perf_counter() - t0
     with open(out, "w") as f:
         json.dump(row, f)
+
+
+def _check_against_oracle(v, t, res, tol, full, nsample=3000, nprobes=300):
+    """Quality of the result by the independent oracle of tests/python/medial_oracle.py
+    (not timed): on a seeded sample of sheet vertices and every seam point and junction,
+    the largest |radius - distance to the boundary| and the share touching fewer
+    elements than 2 / 3 / 4 (within 1e-6 L); of the oracle's medial probe points on the
+    major part (full mode: all), the share within the tolerance of the result."""
+    from medial_oracle import Polyhedron, distance_to_pieces, result_pieces
+    P = Polyhedron(v, t)
+    rng = np.random.default_rng(5)
+    sv = [np.asarray(s.vertices, float).reshape(-1, 3) for s in res.sheets]
+    sr = [np.asarray(s.radii, float) for s in res.sheets]
+    X = np.concatenate(sv) if sv else np.zeros((0, 3))
+    r = np.concatenate(sr) if sr else np.zeros(0)
+    pick = rng.permutation(len(X))[:nsample]
+    X, r = X[pick], r[pick]
+    need = [np.full(len(X), 2)]
+    for c in res.seams:
+        X = np.concatenate([X, np.asarray(c.points, float).reshape(-1, 3)])
+        r = np.concatenate([r, np.asarray(c.radii, float)])
+        need.append(np.full(len(c.points), 3))
+    J = np.asarray(res.junctions.points, float).reshape(-1, 3)
+    X = np.concatenate([X, J])
+    r = np.concatenate([r, np.asarray(res.junctions.radii, float)])
+    need = np.concatenate(need + [np.full(len(J), 4)])
+    out = {"checked_points": int(len(X))}
+    if len(X):
+        D = P.distance(X)
+        T = P.touching(X, 1e-6 * P.diag, D=D)
+        out["max_radius_error"] = float(np.abs(D - r).max())
+        out["under_touching"] = float((T.sum(1) < need).mean())
+    Xp, tstar, q, face = P.probes(nprobes, margin=2 * tol, seed=11, iters=54)
+    if full:
+        want = np.ones(len(Xp), bool)
+    else:
+        Tp = P.touching(Xp, 1e-6 * P.diag, D=tstar)
+        want = np.array([P.is_major(row) for row in Tp])
+    out["probes"] = int(want.sum())
+    if want.any():
+        d = distance_to_pieces(Xp[want], *result_pieces(res), tol)
+        out["probes_within_tol"] = float((d <= tol).mean())
+    return out
 
 
 # ------------------------------------------------------------------ the driver
@@ -150,9 +201,10 @@ def _cap_memory():
     resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
 
 
-def run_case(name, frac, full, threads, env, tmp, timeout):
+def run_case(name, frac, full, threads, check, env, tmp, timeout):
     out = os.path.join(tmp, f"{name}-{frac}-{int(full)}.json")
-    cenv = dict(env, MFGEOM_BENCH_MEDIAL_CHILD=json.dumps([[name, frac, full, threads], out]))
+    cenv = dict(env, MFGEOM_BENCH_MEDIAL_CHILD=json.dumps([[name, frac, full, threads, check],
+                                                           out]))
     try:
         r = subprocess.run([sys.executable, os.path.abspath(__file__)], env=cenv,
                            capture_output=True, text=True, check=False, timeout=timeout,
@@ -180,6 +232,10 @@ def _fmt_s(x):
     return f"{x:.3f}" if x < 10 else f"{x:.1f}"
 
 
+def _fmt_q(x, spec):
+    return "-" if x is None else format(x, spec)
+
+
 def main():
     import argparse
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -189,6 +245,8 @@ def main():
     ap.add_argument("--threads", type=int, default=None,
                     help="threads for the library (default: its own, all online CPUs)")
     ap.add_argument("--cases", default=None, help="comma-separated subset of the main cases")
+    ap.add_argument("--no-check", action="store_true",
+                    help="skip the oracle's quality check of the main cases (not timed)")
     args = ap.parse_args()
     env = dict(os.environ)
     env.setdefault("MFGEOM_LIBRARY", os.path.join(ROOT, "build", "libmfgeom.so"))
@@ -205,7 +263,8 @@ def main():
             if key in rows:
                 continue
             t0 = time.perf_counter()
-            rows[key] = run_case(*key[:3], args.threads, env, tmp, args.timeout)
+            check = not args.no_check and key[1] == TOL_FRAC and key[0] in main_cases
+            rows[key] = run_case(*key[:3], args.threads, check, env, tmp, args.timeout)
             print(f"bench_medial: {key}: {rows[key].get('s')} s "
                   f"({time.perf_counter() - t0:.1f} s wall) {rows[key].get('error', '')}",
                   file=sys.stderr, flush=True)
@@ -226,8 +285,9 @@ def _print(rows, elems, main_cases, args):
           "vertices of the merged polyhedron. Load average at the end: "
           f"{load} on {os.cpu_count()} CPUs.\n")
     print("| case | triangles | elements (F / E / V = total) | mode | tolerance | time s | "
-          "peak MB | sheets | sheet triangles | sheet area | seams | junctions | result |")
-    print("|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+          "peak MB | sheets | sheet triangles | sheet area | seams | junctions | "
+          "max abs(r - D) | under-touching | probes within tol | result |")
+    print("|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
 
     def line(name, frac, full):
         r = rows.get((name, frac, full))
@@ -239,15 +299,18 @@ def _print(rows, elems, main_cases, args):
         mode = "full" if full else "major"
         if r.get("s") is None or r.get("error"):
             print(f"| {name} | {tri} | {f} / {e} / {v} = {f + e + v} | {mode} | {tol} | - | - | "
-                  f"| | | | | failed: {r.get('error')} |")
+                  f"| | | | | | | | failed: {r.get('error')} |")
             return
         if "sheets" not in r:
             print(f"| {name} | {tri} | {f} / {e} / {v} = {f + e + v} | {mode} | {tol} | "
-                  f"{_fmt_s(r['s'])} | {r['peak_mb']:.1f} | | | | | | ok (no binding to read it) |")
+                  f"{_fmt_s(r['s'])} | {r['peak_mb']:.1f} | | | | | | | | | "
+                  "ok (no binding to read it) |")
             return
         print(f"| {name} | {tri} | {f} / {e} / {v} = {f + e + v} | {mode} | {tol} | "
               f"{_fmt_s(r['s'])} | {r['peak_mb']:.1f} | {r['sheets']} | {r['sheet_triangles']} "
               f"| {r['sheet_area']:.1f} | {r['seams']} | {r['junctions']} | "
+              f"{_fmt_q(r.get('max_radius_error'), '.1e')} | {_fmt_q(r.get('under_touching'), '.1%')} | "
+              f"{_fmt_q(r.get('probes_within_tol'), '.1%')} of {r.get('probes', '-')} | "
               f"{CASES[name][0]}; {r['runs']} run(s) |")
 
     for n in main_cases:
@@ -261,10 +324,10 @@ def _print(rows, elems, main_cases, args):
     for peer, what, published, lo, hi, ours in PEERS:
         r = rows.get((ours, TOL_FRAC, False), {})
         s = r.get("s") if not r.get("error") else None
-        f, e, v = elems.get(ours, (0, 0, 0))
+        size = ("not run" if ours not in elems else
+                f"{elems[ours][0]} faces, {sum(elems[ours])} elements")
         ratio = "-" if not s else (f"{lo / s:.3g}x" if lo == hi else f"{lo / s:.3g}x - {hi / s:.3g}x")
-        print(f"| {peer} | {what} | {published} | {ours} ({f} faces, {f + e + v} "
-              f"elements) | {_fmt_s(s)} | {ratio} |")
+        print(f"| {peer} | {what} | {published} | {ours} ({size}) | {_fmt_s(s)} | {ratio} |")
 
     if not args.quick:
         print("\n### Growth with the tolerance\n")
