@@ -237,6 +237,54 @@ def test_seam_elements_complete(name, full):
                               f"{np.nonzero(T[bad[0]])[0].tolist()}")
 
 
+@pytest.mark.parametrize("name,full", SOUND_CASES)
+def test_seams_join_junctions(name, full):
+    """Seams are polylines joining junctions: each end is the junction its `ends` names
+    (same point), or, without one, lies at the boundary (radius <= tolerance: the full
+    mode's seams out to convex corners) -- no dangling pieces."""
+    v, t, P = mesh(name)
+    res = result(name, full)
+    tol = _tol(name)
+    J = np.asarray(res.junctions.points, float).reshape(-1, 3)
+    for i, c in enumerate(res.seams):
+        X = np.asarray(c.points, float).reshape(-1, 3)
+        ends = np.asarray(c.ends).ravel()
+        for k, (p, rad) in enumerate(((X[0], c.radii[0]), (X[-1], c.radii[-1]))):
+            if ends[k] >= 0:
+                assert np.linalg.norm(J[ends[k]] - p) <= 1e-9 * P.diag, \
+                    f"seam {i} end {k} at {p}, its junction {ends[k]} at {J[ends[k]]}"
+            else:
+                assert rad <= tol, (f"seam {i} (elements {_elements(c.elements)}) end {k} at {p} "
+                                    f"(r {rad:.4g}) is neither a junction nor at the boundary")
+
+
+@pytest.mark.parametrize("name,full", SOUND_CASES)
+def test_sheets_bounded_by_seams(name, full):
+    """Every boundary edge of a sheet's mesh lies on a seam (its midpoint within the
+    tolerance of a seam polyline or junction) or at the boundary of the solid (radius
+    <= tolerance)."""
+    v, t, P = mesh(name)
+    res = result(name, full)
+    tol = _tol(name)
+    _, segs, pts = result_pieces(res)
+    for i, s in enumerate(res.sheets):
+        tri = np.asarray(s.triangles, np.int64)
+        e = np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1)
+        u, cnt = np.unique(e, axis=0, return_counts=True)
+        b = u[cnt == 1]
+        if not len(b):
+            continue
+        V = np.asarray(s.vertices, float)
+        R = np.asarray(s.radii, float)
+        mid = (V[b[:, 0]] + V[b[:, 1]]) / 2
+        inner = np.maximum(R[b[:, 0]], R[b[:, 1]]) > tol
+        d = distance_to_pieces(mid[inner], np.zeros((0, 3, 3)), segs, pts, tol)
+        bad = np.nonzero(d > tol)[0]
+        assert not len(bad), (f"sheet {i} (elements {_elements(s.elements)}): {len(bad)} of "
+                              f"{inner.sum()} inner boundary edges off every seam, e.g. at "
+                              f"{mid[inner][bad[0]]} ({d[bad[0]]:.3g} away)")
+
+
 # ------------------------------------------------------------------ completeness
 PROBES = 600
 
