@@ -545,6 +545,26 @@ def test_l_bracket():
     check_junctions(name, res, P, junctions, count=10)
 
 
+def test_l_bracket_full():
+    """Full mode: the 4 major sheets plus one sheet per convex edge (17) and the cones
+    (z0, E), (z1, E): 23; seams: the 13 major, the 10 trisectors from the convex corners
+    to their junctions and the SMOOTH seams (zk, Fi, E), (zk, Gi, E) from the reflex
+    edge's ends: 27; the same 10 junctions."""
+    name = "l_bracket"
+    v, t, P = mesh(name)
+    res = result(name, True)
+    assert len(res.sheets) == 23 and len(res.seams) == 27, res
+    check_junctions(name, res, P, [], count=10)
+    E = named(res, P, ("E", (10, 10, 0), (10, 10, 40)))
+    for zk, z in ((_F(Z0, 0), 0), (_F(Z1, 40), 40)):
+        key = frozenset((named(res, P, zk), E))
+        cones = [s for s in res.sheets if frozenset(_elements(s.elements)) == key]
+        assert len(cones) == 1
+        X = np.asarray(cones[0].vertices)
+        # ball touching the cap and the edge: |z - zk| = distance to the line (10, 10, z)
+        assert np.abs(np.abs(X[:, 2] - z) - np.hypot(X[:, 0] - 10, X[:, 1] - 10)).max() <= _tol(name)
+
+
 def test_t_section():
     """Flange [0, 60] x [50, 60], web [25, 35] x [0, 50], z in [0, 40]: 6 major sheets,
     19 seams.  The web's
@@ -633,6 +653,25 @@ def test_disc48():
         assert np.abs(np.asarray(c.radii) - 2).max() <= 1e-6 * P.diag
     for e in _junction_elements(res):
         assert {lt, lb} < set(e) and len(e) == 4
+
+
+def test_disc48_full():
+    """Full mode: the mid-sheet, 96 trapezoids from the rim's top and bottom edges (slant
+    height 2 sqrt 2) and 48 triangles from the vertical edges to the junctions: 145
+    sheets; 48 + 96 seams; the same 48 junctions; area 9148.99."""
+    name = "disc48"
+    v, t, P = mesh(name)
+    res = result(name, True)
+    n = 48
+    apo = 50 * math.cos(math.pi / n) - 2
+    rj = apo / math.cos(math.pi / n)
+    side, inner = 2 * 50 * math.sin(math.pi / n), 2 * rj * math.sin(math.pi / n)
+    area = (n * apo ** 2 * math.tan(math.pi / n) + 2 * n * (side + inner) / 2 * 2 * math.sqrt(2)
+            + n * 4 * (50 - rj) / 2)
+    assert len(res.sheets) == 145 and len(res.seams) == 144
+    assert len(np.asarray(res.junctions.points).reshape(-1, 3)) == 48
+    got = sum(sheet_area(s) for s in res.sheets)
+    assert abs(got - area) <= 0.01 * area, (got, area)
 
 
 # ------------------------------------------------------------------ invariance
