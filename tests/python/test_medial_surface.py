@@ -7,7 +7,11 @@ analytic solids (medial_solids.py):
   is the oracle's distance to the boundary within the tolerance, and >= 2 / 3 / 4 oracle
   elements touch its ball (within 1e-6 of the bbox diagonal L); the elements the result
   names are among them (mapped by face_of_triangle and by geometry); in the major mode
-  every sheet's two elements are not adjacent;
+  every sheet's two elements are not adjacent; a sample of the sheet vertices, every seam
+  point and junction;
+- structure: a seam lists exactly the elements that touch its balls (away from junctions
+  and the boundary); seams end at their junctions or at the boundary; every inner
+  boundary edge of a sheet lies on a seam (no holes, no loose borders);
 - completeness: every medial point the oracle's probe finds (bisection along inward
   normals from area-weighted boundary points) on the major part (full mode: anywhere)
   lies within the tolerance of the result's sheets, seams and junctions;
