@@ -425,26 +425,25 @@ class _CellIndex:
 def distance_to_pieces(P, tris, segs, pts, cutoff):
     """Distance of points P to the union of the pieces, exact where it is below
     `cutoff` (larger values are only known to be >= cutoff and may come back as inf):
-    only the pieces near each point (a cell index) are tested."""
+    points and segments by brute force in chunks, triangles through a cell index (only
+    those near each point are tested)."""
     P = np.asarray(P, float).reshape(-1, 3)
     out = np.full(len(P), np.inf)
-    ti = _CellIndex(tris, cutoff) if len(tris) else None
-    si = _CellIndex(segs, cutoff) if len(segs) else None
-    for i, p in enumerate(P):
-        best = np.inf
+    step = max(1, 2_000_000 // max(1, len(segs) + len(pts)))
+    for s in range(0, len(P), step):
+        p = P[s:s + step]
         if len(pts):
-            best = float(np.min(np.linalg.norm(pts - p, axis=1)))
-        if ti is not None:
+            out[s:s + step] = np.linalg.norm(p[:, None] - pts[None], axis=2).min(1)
+        if len(segs):
+            out[s:s + step] = np.minimum(out[s:s + step], point_segment_distance(
+                p, segs[:, 0], segs[:, 1]).min(1))
+    if len(tris):
+        ti = _CellIndex(tris, cutoff)
+        for i, p in enumerate(P):
             k = ti.near(p)
             if len(k):
                 d, _ = closest_on_triangles(p[None], tris[k, 0], tris[k, 1], tris[k, 2])
-                best = min(best, float(d.min()))
-        if si is not None:
-            k = si.near(p)
-            if len(k):
-                best = min(best, float(point_segment_distance(p[None], segs[k, 0],
-                                                              segs[k, 1]).min()))
-        out[i] = best
+                out[i] = min(out[i], float(d.min()))
     return out
 
 

@@ -204,3 +204,9 @@ def rigid_motion(vertices, seed=3):
 def signed_volume(vertices, triangles):
     v = np.asarray(vertices, float)[np.asarray(triangles)]
     return float(np.einsum("ij,ij->i", v[:, 0], np.cross(v[:, 1], v[:, 2])).sum() / 6)
+
+
+def small_tray():
+    """A 60 x 40 x 20 tray, walls and floor 3, one rib each way up to z = 15: 23 faces,
+    the rib/wall/floor corners of ribbed_tray at a test-sized cost."""
+    return ribbed_tray(size=(60.0, 40.0, 20.0), rib_top=15.0, nx_ribs=1, ny_ribs=1)
