@@ -55,6 +55,8 @@ CASES = {
     "disc48": ("48-gon disc R 50, thickness 4", lambda: solids.ngon_disc(48)),
     "tray": ("ribbed tray 200 x 150 x 40, walls 3, 8 x 5 ribs", solids.ribbed_tray),
     "cup": ("cup R 20, h 30, wall 3 (examples/parts/cup.py), 625 segments", lambda: solids.cup(625)),
+    "cup32": ("cup, 32 segments", lambda: solids.cup(32)),
+    "cup125": ("cup, 125 segments", lambda: solids.cup(125)),
     "disc12": ("12-gon disc R 50, thickness 4", lambda: solids.ngon_disc(12)),
     "disc192": ("192-gon disc R 50, thickness 4", lambda: solids.ngon_disc(192)),
 }
@@ -63,6 +65,7 @@ FULL = ["l_bracket", "disc48", "tray"]            # also in full mode
 TOL_GROWTH = [("l_bracket", f) for f in (0.01, 0.005, 0.0025)] + \
              [("tray", f) for f in (0.01, 0.005, 0.0025)]
 FACET_GROWTH = ["disc12", "disc48", "disc192"]
+CUP_GROWTH = ["cup32", "cup125", "cup"]
 
 # (peer, what, published time, seconds low, seconds high, our case to compare with)
 PEERS = [
@@ -259,12 +262,14 @@ def main():
             todo += [(n, TOL_FRAC, True) for n in FULL if n in main_cases]
             todo += [(n, f, False) for n, f in TOL_GROWTH if n in main_cases]
             todo += [(n, TOL_FRAC, False) for n in FACET_GROWTH]
+            todo += [(n, TOL_FRAC, False) for n in CUP_GROWTH]
         for key in todo:
             if key in rows:
                 continue
             t0 = time.perf_counter()
             check = not args.no_check and key[1] == TOL_FRAC and key[0] in main_cases
             rows[key] = run_case(*key[:3], args.threads, check, env, tmp, args.timeout)
+            rows[key].setdefault("triangles_in", int(len(CASES[key[0]][1]()[1])))
             print(f"bench_medial: {key}: {rows[key].get('s')} s "
                   f"({time.perf_counter() - t0:.1f} s wall) {rows[key].get('error', '')}",
                   file=sys.stderr, flush=True)
@@ -367,6 +372,28 @@ def _print(rows, elems, main_cases, args):
             print(f"| {n[4:]} | {f} | {_fmt_s(r['s'])} | {r['peak_mb']:.1f} | "
                   f"{r.get('seams', '')} | {r.get('junctions', '')} | {ex} |")
             prev = (f, r["s"])
+
+        print("\n### Growth with the cup's segments (tolerance 0.5 % L)\n")
+        print("| segments | triangles | faces | time s | peak MB | sheets | seams | junctions | "
+              "exponent vs triangles |")
+        print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        prev = None
+        for n in CUP_GROWTH:
+            r = rows.get((n, TOL_FRAC, False))
+            if r is None:
+                continue
+            seg = n[3:] or "625"
+            f = elems[n][0]
+            tri = r.get("triangles_in", "")
+            if r.get("error") or r.get("s") is None:
+                print(f"| {seg} | {tri} | {f} | failed: {r.get('error')} | | | | | |")
+                prev = None
+                continue
+            ex = (f"{math.log(r['s'] / prev[1]) / math.log(tri / prev[0]):.2f}"
+                  if prev else "")
+            print(f"| {seg} | {tri} | {f} | {_fmt_s(r['s'])} | {r['peak_mb']:.1f} | "
+                  f"{r.get('sheets', '')} | {r.get('seams', '')} | {r.get('junctions', '')} | {ex} |")
+            prev = (tri, r["s"])
 
     print("\n### Targets (issue 9 section 6)\n")
     met = 0
