@@ -104,7 +104,7 @@ def grid_solid(xs, ys, zs, occupied):
     along an edge or at a corner only)."""
     xs, ys, zs = (np.asarray(q, float) for q in (xs, ys, zs))
     occ = np.pad(np.asarray(occupied, bool), 1)                  # empty frame around
-    nx, ny, nz = len(xs), len(ys), len(zs)
+    ny, nz = len(ys), len(zs)
 
     def node(i, j, k):
         return (i * ny + j) * nz + k
