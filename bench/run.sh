@@ -48,6 +48,9 @@ tmp="$results.tmp"
     echo
     MFGEOM_LIBRARY="$build/libmfgeom.so" "$python" "$here/bench_sweep.py" $quick ||
         echo "(bench_sweep: a measurement failed or is missing: see stderr)"
+    echo
+    MFGEOM_LIBRARY="$build/libmfgeom.so" "$python" "$here/bench_medial.py" $quick ||
+        echo "(bench_medial: a measurement failed: see stderr)"
 } | tee "$tmp"
 mv "$tmp" "$results"
 echo
