@@ -24,6 +24,8 @@
 #define UNIT_LEAVES 16
 /* Triangles smaller than this times h^2 are dropped (design 4.1). */
 #define AREA_DROP 1e-6
+/* ... unless all their sides are at most this times h: then they are collapsed. */
+#define COLLAPSE_LEN 1e-2
 /* Steps for a boundary point; they stop earlier at a 1-ulp bracket or a zero. */
 #define BISECT_STEPS 80
 /* Room per (leaf, pair): the 19 Kuhn edges of a cube, at most one boundary point per tet
@@ -693,6 +695,12 @@ static double tri_area2(const double *p, const double *q, const double *r)
     return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
+static double dist3(const double *p, const double *q)
+{
+    double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
 /* Can element e be nearest inside the solid?  Not a convex edge, nor a vertex whose edges
  * are all convex (design 3.3: their regions lie outside).  A sheet trimmed by one of those
  * meets the solid's boundary there (r -> 0): no seam. */
@@ -1052,8 +1060,8 @@ void md_soup_free(md_soup *s)
     memset(s, 0, sizeof *s);
 }
 
-/* Welds the units' records by key (ids in key order), drops degenerate triangles and
- * unreferenced vertices, and writes the soup in unit order. */
+/* Welds the units' records by key (ids in key order), collapses the tiny triangles, drops
+ * degenerate triangles and unreferenced vertices, and writes the soup in unit order. */
 static mfg_status merge(const unit_buf *units, int64_t nunits, double h, md_soup *out)
 {
     int64_t N = 0, NT = 0, NS = 0;
@@ -1097,9 +1105,41 @@ static mfg_status merge(const unit_buf *units, int64_t nunits, double h, md_soup
             rep[nid++] = sr[i].g;
         gid[sr[i].g] = nid - 1;
     }
+    double amin = AREA_DROP * h * h, lmax = COLLAPSE_LEN * h;
+    /* Where the sheet passes within rounding of a lattice point, the roots on the Kuhn
+     * edges there crowd about it and the tets give triangles below amin with all sides
+     * short: dropping one leaves a pinhole (the T-section's {z1, E} by (33.94, 54.02,
+     * 35.84) at tol 1 % L).  Such a triangle of three roots is collapsed instead: its
+     * vertices become one (the smallest id, a vertex on the bisector), so that its
+     * neighbours' sides weld and they close the hole; the order of the unions does not
+     * matter.  Boundary points and corners (the seams' vertices) never move: a tiny
+     * triangle at a seam is dropped as before (moving a vertex of the T-section's seam of
+     * four elements gave a spurious seam of three). */
+    for (int64_t i = 0; i < nid; i++)
+        newid[i] = i; /* union-find parents here; reset below */
+    for (int64_t u = 0; u < nunits; u++) {
+        const unit_buf *ub = units + u;
+        for (int64_t t = 0; t < ub->nt; t++) {
+            int64_t g[3];
+            for (int k = 0; k < 3; k++)
+                g[k] = gid[uoff[u] + ub->t[3 * t + k]];
+            const double *x0 = recs[rep[g[0]]]->x, *x1 = recs[rep[g[1]]]->x;
+            const double *x2 = recs[rep[g[2]]]->x;
+            int roots = recs[rep[g[0]]]->k.c == -2 && recs[rep[g[1]]]->k.c == -2 &&
+                        recs[rep[g[2]]]->k.c == -2;
+            if (roots && 0.5 * tri_area2(x0, x1, x2) < amin && dist3(x0, x1) <= lmax &&
+                dist3(x1, x2) <= lmax && dist3(x2, x0) <= lmax) {
+                mfg_uf_union(newid, g[0], g[1]);
+                mfg_uf_union(newid, g[0], g[2]);
+            }
+        }
+    }
+    for (int64_t i = 0; i < nid; i++)
+        rep[i] = rep[mfg_uf_find(newid, i)];
+    for (int64_t i = 0; i < N; i++)
+        gid[i] = mfg_uf_find(newid, gid[i]);
     for (int64_t i = 0; i < nid; i++)
         newid[i] = -1;
-    double amin = AREA_DROP * h * h;
     for (int64_t u = 0; u < nunits; u++) {
         const unit_buf *ub = units + u;
         for (int64_t t = 0; t < ub->nt; t++) {
