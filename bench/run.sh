@@ -51,6 +51,9 @@ tmp="$results.tmp"
     echo
     MFGEOM_LIBRARY="$build/libmfgeom.so" "$python" "$here/bench_medial.py" $quick ||
         echo "(bench_medial: a measurement failed: see stderr)"
+    echo
+    MFGEOM_LIBRARY="$build/libmfgeom.so" "$python" "$here/bench_medial_axis.py" $quick ||
+        echo "(bench_medial_axis: a measurement failed or Path.Voronoi is missing: see stderr)"
 } | tee "$tmp"
 mv "$tmp" "$results"
 echo
