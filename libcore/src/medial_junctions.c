@@ -679,7 +679,7 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
         return mfg_fail(MFG_ERR_NOMEM, "md_junction_search: out of memory"), -1;
     }
     memset(bb.lc->have, 0, sizeof bb.lc->have);
-    unsigned char compat[MD_JMAX][MD_JMAX];
+    unsigned char compat[MD_JMAX][MD_JMAX], hopeless[MD_JMAX][MD_JMAX];
     {
         double c[3] = {lo[0] + 0.5 * side, lo[1] + 0.5 * side, lo[2] + 0.5 * side};
         double rho = 0.5 * sqrt(3.0) * side + 2 * TOUCH_REL * el->diag;
@@ -698,6 +698,25 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
                     diff = sqrt(f0 * f0 + f1 * f1 + f2 * f2);
                 }
                 compat[i][j] = diff <= 2 * rho;
+            }
+        /* A point polished from a subset is kept only within tolerance of the leaf and
+         * where every element of the subset touches (md_junction_polish): two faces'
+         * distances then differ by <= 2 tol.  That difference is affine, n_j.x - n_i.x +
+         * const, so over the leaf grown by tolerance it stays within |n_j - n_i|_1 h of
+         * its value at the centre: a pair of faces beyond that finds nothing in any
+         * subset (near-parallel facets of a faceted wall, which the 2-Lipschitz test
+         * above keeps).  The subsets with such a pair are still counted as tried (the
+         * same subsets are searched), their subdivision is skipped.  The margin 4 tol
+         * exceeds the rounding of the computed distances by far. */
+        double tol = TOUCH_REL * el->diag, h = 0.5 * side + tolerance;
+        for (int i = 0; i < nT; i++)
+            for (int j = 0; j < nT; j++) {
+                hopeless[i][j] = 0;
+                if (md_kind(el, T[i]) != MD_FACE || md_kind(el, T[j]) != MD_FACE)
+                    continue;
+                const double *pi = el->face_plane + 4 * T[i], *pj = el->face_plane + 4 * T[j];
+                double g1 = fabs(pj[0] - pi[0]) + fabs(pj[1] - pi[1]) + fabs(pj[2] - pi[2]);
+                hopeless[i][j] = fabs(d[i] - d[j]) > g1 * h * (1 + 1e-9) + 4 * tol;
             }
     }
     int nout = 0, tried = 0;
@@ -726,9 +745,14 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
                 continue;
             }
             int64_t S[MD_JMAX];
-            for (int q = 0; q < k; q++)
+            int skip = 0;
+            for (int q = 0; q < k; q++) {
                 S[q] = T[idx[q]];
-            nout = search_subset(el, bvh, lo, side, S, idx, k, tolerance, out, nout, cap, &bb);
+                for (int r = 0; r < q && !skip; r++)
+                    skip = hopeless[idx[r]][idx[q]];
+            }
+            if (!skip)
+                nout = search_subset(el, bvh, lo, side, S, idx, k, tolerance, out, nout, cap, &bb);
             tried++;
             idx[depth]++;
         }
