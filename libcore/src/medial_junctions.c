@@ -700,23 +700,29 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
                 compat[i][j] = diff <= 2 * rho;
             }
         /* A point polished from a subset is kept only within tolerance of the leaf and
-         * where every element of the subset touches (md_junction_polish): two faces'
-         * distances then differ by <= 2 tol.  That difference is affine, n_j.x - n_i.x +
-         * const, so over the leaf grown by tolerance it stays within |n_j - n_i|_1 h of
-         * its value at the centre: a pair of faces beyond that finds nothing in any
-         * subset (near-parallel facets of a faceted wall, which the 2-Lipschitz test
-         * above keeps).  The subsets with such a pair are still counted as tried (the
-         * same subsets are searched), their subdivision is skipped.  The margin 4 tol
-         * exceeds the rounding of the computed distances by far. */
-        double tol = TOUCH_REL * el->diag, h = 0.5 * side + tolerance;
+         * where every element of the subset touches (md_junction_polish): two
+         * elements' distances then differ by <= 2 tol.  Over the leaf grown by
+         * tolerance (half-side h, inside the ball of radius R = sqrt(3) h about the
+         * centre c), a face's distance is affine and a line's or point's is its
+         * linearisation at c plus between 0 and R^2 / (2 d(c)) (when d(c) > R), so
+         * d_i - d_j lies within [a - G - Q_j, a + G + Q_i], a its value at c, G =
+         * |grad_i(c) - grad_j(c)|_1 h: a pair whose interval keeps away from 0 finds
+         * nothing in any subset (near-parallel facets of a faceted wall, which the
+         * 2-Lipschitz test above keeps).  The subsets with such a pair are still counted
+         * as tried (the same subsets are searched), their subdivision is skipped.  The
+         * margin 4 tol exceeds the rounding of the computed distances by far. */
+        double tol = TOUCH_REL * el->diag, h = 0.5 * side + tolerance, R = sqrt(3.0) * h;
+        double gr[MD_JMAX][3], Q[MD_JMAX];
+        for (int i = 0; i < nT; i++) {
+            md_dist_car(el, T[i], c, gr[i]);
+            Q[i] = md_kind(el, T[i]) == MD_FACE ? 0.0 : d[i] > R ? R * R / (2 * (d[i] - R)) : INFINITY;
+        }
         for (int i = 0; i < nT; i++)
             for (int j = 0; j < nT; j++) {
-                hopeless[i][j] = 0;
-                if (md_kind(el, T[i]) != MD_FACE || md_kind(el, T[j]) != MD_FACE)
-                    continue;
-                const double *pi = el->face_plane + 4 * T[i], *pj = el->face_plane + 4 * T[j];
-                double g1 = fabs(pj[0] - pi[0]) + fabs(pj[1] - pi[1]) + fabs(pj[2] - pi[2]);
-                hopeless[i][j] = fabs(d[i] - d[j]) > g1 * h * (1 + 1e-9) + 4 * tol;
+                double G = (fabs(gr[i][0] - gr[j][0]) + fabs(gr[i][1] - gr[j][1]) +
+                            fabs(gr[i][2] - gr[j][2])) * h * (1 + 1e-9);
+                double a = d[i] - d[j];
+                hopeless[i][j] = a - G - Q[j] > 4 * tol || a + G + Q[i] < -4 * tol;
             }
     }
     int nout = 0, tried = 0;
