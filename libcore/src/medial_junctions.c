@@ -100,9 +100,14 @@ static int clusters(const md_elements *el, const int64_t *S, int n, int *comp)
  * point): rep[c], the representative of contact cluster c, is the element of highest
  * dimension (smallest id among equals): any member has the same distance where the
  * cluster's feet coincide; pi/pj the incident pairs (S[pi] of higher dimension). */
+typedef struct leafcache leafcache;
 typedef struct eqsys {
     const int64_t *S;
     int nrep, npair;
+    /* in the search: S[i] is element ti[i] of the leaf's set, whose values at the
+     * subdivision's first centres lc keeps (NULL: no cache) */
+    const int *ti;
+    leafcache *lc;
     int rep[MD_JMAX];
     int pi[MD_JMAX * MD_JMAX / 2], pj[MD_JMAX * MD_JMAX / 2];
 } eqsys;
@@ -111,6 +116,8 @@ static void prepare(const md_elements *el, const int64_t *S, int n, const int *c
 {
     sy->S = S;
     sy->nrep = sy->npair = 0;
+    sy->ti = NULL;
+    sy->lc = NULL;
     for (int i = 0; i < n; i++) {
         if (comp[i] != i)
             continue;
@@ -147,13 +154,82 @@ static void add_row(eqs *q, const double row[3], double r)
     }
 }
 
+/* The box centres of the subdivision's levels 0 .. CACHE_LEVEL (1 + 8 + 64): every subset
+ * of a leaf's set tests the same centres, and on a faceted wall hundreds of subsets are
+ * tried, so each element's carrier distance and foot there are computed once per leaf
+ * (the same calls on the same point: the same bits). */
+#define CACHE_LEVEL 2
+#define CACHE_SLOTS 73
+struct leafcache {
+    double d[CACHE_SLOTS][MD_JMAX], f[CACHE_SLOTS][MD_JMAX][3];
+    unsigned char have[CACHE_SLOTS][MD_JMAX]; /* bit 1: d, bit 2: f */
+};
+
+/* The slot of the box ijk of level lev, or -1 beyond CACHE_LEVEL. */
+static int cache_slot(int lev, const int32_t ijk[3])
+{
+    if (lev > CACHE_LEVEL)
+        return -1;
+    int first = lev == 0 ? 0 : lev == 1 ? 1 : 9, w = 1 << lev;
+    return first + (ijk[0] * w + ijk[1]) * w + ijk[2];
+}
+
+/* The carrier distance of S[i] at x (x the centre of slot when slot >= 0). */
+static double dist_at(const md_elements *el, const eqsys *sy, int i, const double x[3], int slot)
+{
+    if (slot < 0 || !sy->lc)
+        return md_dist_car(el, sy->S[i], x, NULL);
+    int t = sy->ti[i];
+    if (!(sy->lc->have[slot][t] & 1)) {
+        sy->lc->d[slot][t] = md_dist_car(el, sy->S[i], x, NULL);
+        sy->lc->have[slot][t] |= 1;
+    }
+    return sy->lc->d[slot][t];
+}
+
+/* The foot of x on S[i]'s carrier (x the centre of slot when slot >= 0). */
+static void foot_at(const md_elements *el, const eqsys *sy, int i, const double x[3], int slot,
+                    double foot[3])
+{
+    double P[9];
+    if (slot < 0 || !sy->lc) {
+        carrier_foot(el, sy->S[i], x, foot, P);
+        return;
+    }
+    int t = sy->ti[i];
+    if (!(sy->lc->have[slot][t] & 2)) {
+        carrier_foot(el, sy->S[i], x, sy->lc->f[slot][t], P);
+        sy->lc->have[slot][t] |= 2;
+    }
+    memcpy(foot, sy->lc->f[slot][t], 3 * sizeof(double));
+}
+
 /* ... with a finite stop only rmax, and only until it exceeds stop (J^T J, J^T r left
  * 0): the subdivision's test needs no more (wt-N2's fbd49f7, carried over to the
- * prepared equations). */
+ * prepared equations).  Then x may be the centre of a cached slot (else slot -1). */
 static void equations_upto(const md_elements *el, const eqsys *sy, const double x[3], eqs *q,
-                           double stop)
+                           double stop, int slot)
 {
     memset(q, 0, sizeof *q);
+    if (stop != INFINITY) {
+        double d0 = sy->nrep ? dist_at(el, sy, sy->rep[0], x, slot) : 0;
+        for (int c = 1; c < sy->nrep; c++) {
+            q->rmax = fmax(q->rmax, fabs(d0 - dist_at(el, sy, sy->rep[c], x, slot)));
+            if (q->rmax > stop)
+                return;
+        }
+        for (int p = 0; p < sy->npair; p++) {
+            double fa[3], fb[3], nr = 0;
+            foot_at(el, sy, sy->pi[p], x, slot, fa);
+            foot_at(el, sy, sy->pj[p], x, slot, fb);
+            for (int k = 0; k < 3; k++)
+                nr += (fa[k] - fb[k]) * (fa[k] - fb[k]);
+            q->rmax = fmax(q->rmax, sqrt(nr));
+            if (q->rmax > stop)
+                return;
+        }
+        return;
+    }
     double g0[3], d0 = sy->nrep ? md_dist_car(el, sy->S[sy->rep[0]], x, g0) : 0;
     for (int c = 1; c < sy->nrep; c++) {
         double g[3], d = md_dist_car(el, sy->S[sy->rep[c]], x, g);
@@ -184,7 +260,7 @@ static void equations_upto(const md_elements *el, const eqsys *sy, const double 
 
 static void equations(const md_elements *el, const eqsys *sy, const double x[3], eqs *q)
 {
-    equations_upto(el, sy, x, q, INFINITY);
+    equations_upto(el, sy, x, q, INFINITY, -1);
 }
 
 /* Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations: lam
@@ -414,10 +490,11 @@ typedef struct box {
  * Each residual is 2-Lipschitz (a difference of two 1-Lipschitz distances, or of two
  * projections), so |r(c)| > 2 rho rules the box out: the paper's sign test, without
  * corner samples. */
-static int may_hold(const md_elements *el, const eqsys *sy, const double c[3], double rho)
+static int may_hold(const md_elements *el, const eqsys *sy, const double c[3], double rho,
+                    int slot)
 {
     eqs q;
-    equations_upto(el, sy, c, &q, 2 * rho);
+    equations_upto(el, sy, c, &q, 2 * rho, slot);
     return q.rmax <= 2 * rho;
 }
 
@@ -437,16 +514,19 @@ typedef struct boxbuf {
     box *cur, *nxt;
     int *grp;
     eqsys sy;
+    leafcache *lc;
 } boxbuf;
 
 static int search_subset(const md_elements *el, const md_bvh *bvh, const double lo[3],
-                         double side, const int64_t *S, int n, double tolerance,
+                         double side, const int64_t *S, const int *ti, int n, double tolerance,
                          md_junction *out, int nout, int cap, boxbuf *bb)
 {
     int comp[MD_JMAX];
     int nc = clusters(el, S, n, comp);
     eqsys *sy = &bb->sy;
     prepare(el, S, n, comp, sy);
+    sy->ti = ti;
+    sy->lc = bb->lc;
     /* One cluster is one foot; two clusters without an incident pair meet on a sheet.
      * Two clusters with incident pairs can still fix a point: the tray's inner corner
      * (1.5, 3, 3), where the outer wall faces the inner wall, its two reflex edges and
@@ -455,11 +535,11 @@ static int search_subset(const md_elements *el, const md_bvh *bvh, const double 
         return nout;
     box *cur = bb->cur, *nxt = bb->nxt;
     int *grp = bb->grp;
-    int ncur = 0;
+    int ncur = 0, lev = 0;
     double s = side;
     {
         double c[3] = {lo[0] + 0.5 * s, lo[1] + 0.5 * s, lo[2] + 0.5 * s};
-        if (may_hold(el, sy, c, 0.5 * sqrt(3.0) * s))
+        if (may_hold(el, sy, c, 0.5 * sqrt(3.0) * s, 0))
             cur[ncur++] = (box){{0, 0, 0}};
     }
     while (ncur > 0 && s > tolerance / 8) {
@@ -472,7 +552,7 @@ static int search_subset(const md_elements *el, const md_bvh *bvh, const double 
                 double c[3];
                 for (int k = 0; k < 3; k++)
                     c[k] = lo[k] + cs * ((double)ch.ijk[k] + 0.5);
-                if (!may_hold(el, sy, c, rho))
+                if (!may_hold(el, sy, c, rho, cache_slot(lev + 1, ch.ijk)))
                     continue;
                 if (nn == MAX_BOXES) {
                     overflow = 1;
@@ -487,6 +567,7 @@ static int search_subset(const md_elements *el, const md_bvh *bvh, const double 
         nxt = t;
         ncur = nn;
         s = cs;
+        lev++;
     }
     /* Disjoint groups of surviving boxes (sharing no point) are separate searches. */
     qsort(cur, (size_t)ncur, sizeof *cur, box_cmp);
@@ -526,7 +607,8 @@ static int search_subset(const md_elements *el, const md_bvh *bvh, const double 
             eqs q;
             for (int k = 0; k < 3; k++)
                 c[k] = lo[k] + s * ((double)cur[b].ijk[k] + 0.5);
-            equations_upto(el, sy, c, &q, best); /* stops once it cannot win */
+            /* stops once it cannot win */
+            equations_upto(el, sy, c, &q, best, cache_slot(lev, cur[b].ijk));
             if (q.rmax < best) {
                 best = q.rmax;
                 memcpy(x0, c, sizeof c);
@@ -588,20 +670,25 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
     bb.cur = malloc(MAX_BOXES * sizeof(box));
     bb.nxt = malloc(MAX_BOXES * sizeof(box));
     bb.grp = malloc(MAX_BOXES * sizeof(int));
-    if (!bb.cur || !bb.nxt || !bb.grp) {
+    bb.lc = malloc(sizeof *bb.lc);
+    if (!bb.cur || !bb.nxt || !bb.grp || !bb.lc) {
         free(bb.cur);
         free(bb.nxt);
         free(bb.grp);
+        free(bb.lc);
         return mfg_fail(MFG_ERR_NOMEM, "md_junction_search: out of memory"), -1;
     }
-    unsigned char compat[MD_JMAX][MD_JMAX];
+    memset(bb.lc->have, 0, sizeof bb.lc->have);
+    unsigned char compat[MD_JMAX][MD_JMAX], hopeless[MD_JMAX][MD_JMAX];
     {
         double c[3] = {lo[0] + 0.5 * side, lo[1] + 0.5 * side, lo[2] + 0.5 * side};
         double rho = 0.5 * sqrt(3.0) * side + 2 * TOUCH_REL * el->diag;
         double d[MD_JMAX], ft[MD_JMAX][3], P[9];
-        for (int i = 0; i < nT; i++) {
-            d[i] = md_dist_car(el, T[i], c, NULL);
+        for (int i = 0; i < nT; i++) { /* c is the centre of slot 0 */
+            d[i] = bb.lc->d[0][i] = md_dist_car(el, T[i], c, NULL);
             carrier_foot(el, T[i], c, ft[i], P);
+            memcpy(bb.lc->f[0][i], ft[i], sizeof ft[i]);
+            bb.lc->have[0][i] = 3;
         }
         for (int i = 0; i < nT; i++)
             for (int j = 0; j < nT; j++) {
@@ -611,6 +698,31 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
                     diff = sqrt(f0 * f0 + f1 * f1 + f2 * f2);
                 }
                 compat[i][j] = diff <= 2 * rho;
+            }
+        /* A point polished from a subset is kept only within tolerance of the leaf and
+         * where every element of the subset touches (md_junction_polish): two
+         * elements' distances then differ by <= 2 tol.  Over the leaf grown by
+         * tolerance (half-side h, inside the ball of radius R = sqrt(3) h about the
+         * centre c), a face's distance is affine and a line's or point's is its
+         * linearisation at c plus between 0 and R^2 / (2 d(c)) (when d(c) > R), so
+         * d_i - d_j lies within [a - G - Q_j, a + G + Q_i], a its value at c, G =
+         * |grad_i(c) - grad_j(c)|_1 h: a pair whose interval keeps away from 0 finds
+         * nothing in any subset (near-parallel facets of a faceted wall, which the
+         * 2-Lipschitz test above keeps).  The subsets with such a pair are still counted
+         * as tried (the same subsets are searched), their subdivision is skipped.  The
+         * margin 4 tol exceeds the rounding of the computed distances by far. */
+        double tol = TOUCH_REL * el->diag, h = 0.5 * side + tolerance, R = sqrt(3.0) * h;
+        double gr[MD_JMAX][3], Q[MD_JMAX];
+        for (int i = 0; i < nT; i++) {
+            md_dist_car(el, T[i], c, gr[i]);
+            Q[i] = md_kind(el, T[i]) == MD_FACE ? 0.0 : d[i] > R ? R * R / (2 * (d[i] - R)) : INFINITY;
+        }
+        for (int i = 0; i < nT; i++)
+            for (int j = 0; j < nT; j++) {
+                double G = (fabs(gr[i][0] - gr[j][0]) + fabs(gr[i][1] - gr[j][1]) +
+                            fabs(gr[i][2] - gr[j][2])) * h * (1 + 1e-9);
+                double a = d[i] - d[j];
+                hopeless[i][j] = a - G - Q[j] > 4 * tol || a + G + Q[i] < -4 * tol;
             }
     }
     int nout = 0, tried = 0;
@@ -639,9 +751,14 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
                 continue;
             }
             int64_t S[MD_JMAX];
-            for (int q = 0; q < k; q++)
+            int skip = 0;
+            for (int q = 0; q < k; q++) {
                 S[q] = T[idx[q]];
-            nout = search_subset(el, bvh, lo, side, S, k, tolerance, out, nout, cap, &bb);
+                for (int r = 0; r < q && !skip; r++)
+                    skip = hopeless[idx[r]][idx[q]];
+            }
+            if (!skip)
+                nout = search_subset(el, bvh, lo, side, S, idx, k, tolerance, out, nout, cap, &bb);
             tried++;
             idx[depth]++;
         }
@@ -651,6 +768,7 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
     free(bb.cur);
     free(bb.nxt);
     free(bb.grp);
+    free(bb.lc);
     if (nout < 0)
         return mfg_fail(MFG_ERR_NOMEM, "md_junction_search: out of memory"), -1;
     return nout;
