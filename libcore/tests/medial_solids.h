@@ -13,8 +13,8 @@
 #endif
 
 typedef struct tmesh {
-    double xyz[3 * 512];
-    int64_t tri[3 * 1024];
+    double xyz[3 * 1024];
+    int64_t tri[3 * 2048];
     int64_t nv, nt;
 } tmesh;
 

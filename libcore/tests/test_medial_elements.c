@@ -8,35 +8,10 @@
 #include <string.h>
 
 #include "medial.h"
+#include "medial_solids.h"
 #include "mfg_test.h"
 #include "mfgeom.h"
 #include "predicates.h"
-
-typedef struct tmesh {
-    double xyz[3 * 512];
-    int64_t tri[3 * 1024];
-    int64_t nv, nt;
-} tmesh;
-
-/* The vertex with these coordinates, added when new (meshes here are small). */
-static int64_t vtx(tmesh *m, double x, double y, double z)
-{
-    for (int64_t i = 0; i < m->nv; i++)
-        if (m->xyz[3 * i] == x && m->xyz[3 * i + 1] == y && m->xyz[3 * i + 2] == z)
-            return i;
-    m->xyz[3 * m->nv] = x;
-    m->xyz[3 * m->nv + 1] = y;
-    m->xyz[3 * m->nv + 2] = z;
-    return m->nv++;
-}
-
-static void tri(tmesh *m, int64_t a, int64_t b, int64_t c)
-{
-    m->tri[3 * m->nt] = a;
-    m->tri[3 * m->nt + 1] = b;
-    m->tri[3 * m->nt + 2] = c;
-    m->nt++;
-}
 
 /* Cube [0, s]^3, each face a k x k grid of quads split into 2 triangles (the diagonal
  * alternating), counter-clockwise seen from outside. */
@@ -55,7 +30,7 @@ static void grid_cube(tmesh *m, double s, int k)
                         p[ax] = side * s;
                         p[(ax + 1) % 3] = uv[c][0] * h;
                         p[(ax + 2) % 3] = uv[c][1] * h;
-                        q[c] = vtx(m, p[0], p[1], p[2]);
+                        q[c] = ms_vtx(m, p[0], p[1], p[2]);
                     }
                     if (!side) { /* outward -ax: reverse */
                         int64_t t = q[1];
@@ -63,11 +38,11 @@ static void grid_cube(tmesh *m, double s, int k)
                         q[3] = t;
                     }
                     if ((u + v) % 2) {
-                        tri(m, q[0], q[1], q[2]);
-                        tri(m, q[0], q[2], q[3]);
+                        ms_tri(m, q[0], q[1], q[2]);
+                        ms_tri(m, q[0], q[2], q[3]);
                     } else {
-                        tri(m, q[1], q[2], q[3]);
-                        tri(m, q[1], q[3], q[0]);
+                        ms_tri(m, q[1], q[2], q[3]);
+                        ms_tri(m, q[1], q[3], q[0]);
                     }
                 }
 }
@@ -80,17 +55,17 @@ static void l_bracket(tmesh *m)
     static const int T[4][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
     int64_t b[6], t[6];
     for (int i = 0; i < 6; i++) {
-        b[i] = vtx(m, P[i][0], P[i][1], 0);
-        t[i] = vtx(m, P[i][0], P[i][1], 40);
+        b[i] = ms_vtx(m, P[i][0], P[i][1], 0);
+        t[i] = ms_vtx(m, P[i][0], P[i][1], 40);
     }
     for (int i = 0; i < 4; i++) {
-        tri(m, t[T[i][0]], t[T[i][1]], t[T[i][2]]);
-        tri(m, b[T[i][0]], b[T[i][2]], b[T[i][1]]);
+        ms_tri(m, t[T[i][0]], t[T[i][1]], t[T[i][2]]);
+        ms_tri(m, b[T[i][0]], b[T[i][2]], b[T[i][1]]);
     }
     for (int i = 0; i < 6; i++) {
         int j = (i + 1) % 6;
-        tri(m, b[i], b[j], t[j]);
-        tri(m, b[i], t[j], t[i]);
+        ms_tri(m, b[i], b[j], t[j]);
+        ms_tri(m, b[i], t[j], t[i]);
     }
 }
 
@@ -640,15 +615,15 @@ static void test_zero_area_bridge(void)
         const int64_t *tv = m.tri + 3 * t;
         if (m.xyz[3 * tv[0] + 2] == 40 && m.xyz[3 * tv[1] + 2] == 40 && m.xyz[3 * tv[2] + 2] == 40)
             continue;
-        tri(&r, tv[0], tv[1], tv[2]);
+        ms_tri(&r, tv[0], tv[1], tv[2]);
     }
-    int64_t A = vtx(&r, 0, 0, 40), B = vtx(&r, 40, 0, 40), C = vtx(&r, 40, 40, 40),
-            D = vtx(&r, 0, 40, 40), M = vtx(&r, 20, 20, 40);
-    tri(&r, A, B, C);
+    int64_t A = ms_vtx(&r, 0, 0, 40), B = ms_vtx(&r, 40, 0, 40), C = ms_vtx(&r, 40, 40, 40),
+            D = ms_vtx(&r, 0, 40, 40), M = ms_vtx(&r, 20, 20, 40);
+    ms_tri(&r, A, B, C);
     int64_t zt = r.nt;
-    tri(&r, A, C, M); /* zero area */
-    tri(&r, M, C, D);
-    tri(&r, A, M, D);
+    ms_tri(&r, A, C, M); /* zero area */
+    ms_tri(&r, M, C, D);
+    ms_tri(&r, A, M, D);
     md_elements el;
     mfg_status st = md_elements_build(r.xyz, r.nv, r.tri, r.nt, 0.5, &el);
     CHECK_EQ_INT(st, MFG_OK);
@@ -675,14 +650,14 @@ static void test_zero_area_bridge(void)
 static void pyramid(tmesh *m)
 {
     memset(m, 0, sizeof *m);
-    int64_t a = vtx(m, 0, 0, 0), b = vtx(m, 40, 0, 0), c = vtx(m, 40, 40, 0), d = vtx(m, 0, 40, 0);
-    int64_t t = vtx(m, 20, 20, 30);
-    tri(m, a, c, b);
-    tri(m, a, d, c);
-    tri(m, a, b, t);
-    tri(m, b, c, t);
-    tri(m, c, d, t);
-    tri(m, d, a, t);
+    int64_t a = ms_vtx(m, 0, 0, 0), b = ms_vtx(m, 40, 0, 0), c = ms_vtx(m, 40, 40, 0), d = ms_vtx(m, 0, 40, 0);
+    int64_t t = ms_vtx(m, 20, 20, 30);
+    ms_tri(m, a, c, b);
+    ms_tri(m, a, d, c);
+    ms_tri(m, a, b, t);
+    ms_tri(m, b, c, t);
+    ms_tri(m, c, d, t);
+    ms_tri(m, d, a, t);
 }
 
 static void test_forms(void)
@@ -824,15 +799,15 @@ static void test_zero_area_on_edge(void)
         const int64_t *tv = m.tri + 3 * t;
         if (m.xyz[3 * tv[0] + 1] == 0 && m.xyz[3 * tv[1] + 1] == 0 && m.xyz[3 * tv[2] + 1] == 0)
             continue; /* the front face y = 0, rebuilt below */
-        tri(&r, tv[0], tv[1], tv[2]);
+        ms_tri(&r, tv[0], tv[1], tv[2]);
     }
-    int64_t P0 = vtx(&r, 0, 0, 0), P1 = vtx(&r, 40, 0, 0), A = vtx(&r, 0, 0, 40),
-            B = vtx(&r, 40, 0, 40), M = vtx(&r, 20, 0, 40);
-    tri(&r, P0, P1, B);
-    tri(&r, P0, B, M);
-    tri(&r, P0, M, A);
+    int64_t P0 = ms_vtx(&r, 0, 0, 0), P1 = ms_vtx(&r, 40, 0, 0), A = ms_vtx(&r, 0, 0, 40),
+            B = ms_vtx(&r, 40, 0, 40), M = ms_vtx(&r, 20, 0, 40);
+    ms_tri(&r, P0, P1, B);
+    ms_tri(&r, P0, B, M);
+    ms_tri(&r, P0, M, A);
     int64_t zt = r.nt;
-    tri(&r, A, M, B); /* zero area */
+    ms_tri(&r, A, M, B); /* zero area */
     md_elements el;
     mfg_status st = md_elements_build(r.xyz, r.nv, r.tri, r.nt, 0.5, &el);
     CHECK_EQ_INT(st, MFG_OK);

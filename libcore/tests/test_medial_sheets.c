@@ -13,33 +13,9 @@
 #include <time.h>
 
 #include "medial.h"
+#include "medial_solids.h"
 #include "mfg_test.h"
 #include "mfgeom.h"
-
-typedef struct tmesh {
-    double xyz[3 * 256];
-    int64_t tri[3 * 512];
-    int64_t nv, nt;
-} tmesh;
-
-static int64_t vtx(tmesh *m, double x, double y, double z)
-{
-    for (int64_t i = 0; i < m->nv; i++)
-        if (m->xyz[3 * i] == x && m->xyz[3 * i + 1] == y && m->xyz[3 * i + 2] == z)
-            return i;
-    m->xyz[3 * m->nv] = x;
-    m->xyz[3 * m->nv + 1] = y;
-    m->xyz[3 * m->nv + 2] = z;
-    return m->nv++;
-}
-
-static void tri(tmesh *m, int64_t a, int64_t b, int64_t c)
-{
-    m->tri[3 * m->nt] = a;
-    m->tri[3 * m->nt + 1] = b;
-    m->tri[3 * m->nt + 2] = c;
-    m->nt++;
-}
 
 /* The box [0,X] x [0,Y] x [0,Z], counter-clockwise seen from outside. */
 static void box(tmesh *m, double X, double Y, double Z)
@@ -55,15 +31,15 @@ static void box(tmesh *m, double X, double Y, double Z)
                 p[ax] = side * s[ax];
                 p[(ax + 1) % 3] = uv[c][0] * s[(ax + 1) % 3];
                 p[(ax + 2) % 3] = uv[c][1] * s[(ax + 2) % 3];
-                q[c] = vtx(m, p[0], p[1], p[2]);
+                q[c] = ms_vtx(m, p[0], p[1], p[2]);
             }
             if (!side) {
                 int64_t t = q[1];
                 q[1] = q[3];
                 q[3] = t;
             }
-            tri(m, q[0], q[1], q[2]);
-            tri(m, q[0], q[2], q[3]);
+            ms_tri(m, q[0], q[1], q[2]);
+            ms_tri(m, q[0], q[2], q[3]);
         }
 }
 
@@ -75,17 +51,17 @@ static void l_bracket(tmesh *m)
     static const int T[4][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
     int64_t b[6], t[6];
     for (int i = 0; i < 6; i++) {
-        b[i] = vtx(m, P[i][0], P[i][1], 0);
-        t[i] = vtx(m, P[i][0], P[i][1], 40);
+        b[i] = ms_vtx(m, P[i][0], P[i][1], 0);
+        t[i] = ms_vtx(m, P[i][0], P[i][1], 40);
     }
     for (int i = 0; i < 4; i++) {
-        tri(m, t[T[i][0]], t[T[i][1]], t[T[i][2]]);
-        tri(m, b[T[i][0]], b[T[i][2]], b[T[i][1]]);
+        ms_tri(m, t[T[i][0]], t[T[i][1]], t[T[i][2]]);
+        ms_tri(m, b[T[i][0]], b[T[i][2]], b[T[i][1]]);
     }
     for (int i = 0; i < 6; i++) {
         int j = (i + 1) % 6;
-        tri(m, b[i], b[j], t[j]);
-        tri(m, b[i], t[j], t[i]);
+        ms_tri(m, b[i], b[j], t[j]);
+        ms_tri(m, b[i], t[j], t[i]);
     }
 }
 
@@ -98,17 +74,17 @@ static void t_section(tmesh *m)
     static const int T[6][3] = {{0, 1, 2}, {0, 2, 7}, {5, 6, 7}, {5, 7, 2}, {5, 2, 3}, {5, 3, 4}};
     int64_t b[8], t[8];
     for (int i = 0; i < 8; i++) {
-        b[i] = vtx(m, P[i][0], P[i][1], 0);
-        t[i] = vtx(m, P[i][0], P[i][1], 40);
+        b[i] = ms_vtx(m, P[i][0], P[i][1], 0);
+        t[i] = ms_vtx(m, P[i][0], P[i][1], 40);
     }
     for (int i = 0; i < 6; i++) {
-        tri(m, t[T[i][0]], t[T[i][1]], t[T[i][2]]);
-        tri(m, b[T[i][0]], b[T[i][2]], b[T[i][1]]);
+        ms_tri(m, t[T[i][0]], t[T[i][1]], t[T[i][2]]);
+        ms_tri(m, b[T[i][0]], b[T[i][2]], b[T[i][1]]);
     }
     for (int i = 0; i < 8; i++) {
         int j = (i + 1) % 8;
-        tri(m, b[i], b[j], t[j]);
-        tri(m, b[i], t[j], t[i]);
+        ms_tri(m, b[i], b[j], t[j]);
+        ms_tri(m, b[i], t[j], t[i]);
     }
 }
 
@@ -119,17 +95,17 @@ static void prism(tmesh *m, const double (*P)[2], int n, double H)
     memset(m, 0, sizeof *m);
     int64_t b[128], t[128];
     for (int i = 0; i < n; i++) {
-        b[i] = vtx(m, P[i][0], P[i][1], 0);
-        t[i] = vtx(m, P[i][0], P[i][1], H);
+        b[i] = ms_vtx(m, P[i][0], P[i][1], 0);
+        t[i] = ms_vtx(m, P[i][0], P[i][1], H);
     }
     for (int i = 1; i + 1 < n; i++) {
-        tri(m, t[0], t[i], t[i + 1]);
-        tri(m, b[0], b[i + 1], b[i]);
+        ms_tri(m, t[0], t[i], t[i + 1]);
+        ms_tri(m, b[0], b[i + 1], b[i]);
     }
     for (int i = 0; i < n; i++) {
         int j = (i + 1) % n;
-        tri(m, b[i], b[j], t[j]);
-        tri(m, b[i], t[j], t[i]);
+        ms_tri(m, b[i], b[j], t[j]);
+        ms_tri(m, b[i], t[j], t[i]);
     }
 }
 

@@ -13,33 +13,9 @@
 #include <time.h>
 
 #include "medial.h"
+#include "medial_solids.h"
 #include "mfg_test.h"
 #include "mfgeom.h"
-
-typedef struct tmesh {
-    double xyz[3 * 256];
-    int64_t tri[3 * 512];
-    int64_t nv, nt;
-} tmesh;
-
-static int64_t vtx(tmesh *m, double x, double y, double z)
-{
-    for (int64_t i = 0; i < m->nv; i++)
-        if (m->xyz[3 * i] == x && m->xyz[3 * i + 1] == y && m->xyz[3 * i + 2] == z)
-            return i;
-    m->xyz[3 * m->nv] = x;
-    m->xyz[3 * m->nv + 1] = y;
-    m->xyz[3 * m->nv + 2] = z;
-    return m->nv++;
-}
-
-static void tri(tmesh *m, int64_t a, int64_t b, int64_t c)
-{
-    m->tri[3 * m->nt] = a;
-    m->tri[3 * m->nt + 1] = b;
-    m->tri[3 * m->nt + 2] = c;
-    m->nt++;
-}
 
 /* A prism: the simple polygon P (n corners, counter-clockwise) extruded over z in [0, H];
  * caps triangulated by the given triangles T (nT of them, corner indices). */
@@ -48,17 +24,17 @@ static void prism(tmesh *m, const double (*P)[2], int n, double H, const int (*T
     memset(m, 0, sizeof *m);
     int64_t b[128], t[128];
     for (int i = 0; i < n; i++) {
-        b[i] = vtx(m, P[i][0], P[i][1], 0);
-        t[i] = vtx(m, P[i][0], P[i][1], H);
+        b[i] = ms_vtx(m, P[i][0], P[i][1], 0);
+        t[i] = ms_vtx(m, P[i][0], P[i][1], H);
     }
     for (int i = 0; i < nT; i++) {
-        tri(m, t[T[i][0]], t[T[i][1]], t[T[i][2]]);
-        tri(m, b[T[i][0]], b[T[i][2]], b[T[i][1]]);
+        ms_tri(m, t[T[i][0]], t[T[i][1]], t[T[i][2]]);
+        ms_tri(m, b[T[i][0]], b[T[i][2]], b[T[i][1]]);
     }
     for (int i = 0; i < n; i++) {
         int j = (i + 1) % n;
-        tri(m, b[i], b[j], t[j]);
-        tri(m, b[i], t[j], t[i]);
+        ms_tri(m, b[i], b[j], t[j]);
+        ms_tri(m, b[i], t[j], t[i]);
     }
 }
 
