@@ -750,6 +750,31 @@ def test_rigid_motion(name):
     assert np.abs(np.asarray(ref.junctions.radii) - np.asarray(res.junctions.radii)[k]).max() <= tol
 
 
+@pytest.mark.parametrize("scale", [1e-12, 1e-6, 1e6, 1e12])
+def test_scaled_input(scale):
+    """The L-bracket scaled (tolerance with it) gives the same structure, radii and
+    sheet area in units of the scale: nothing in the pipeline may depend on absolute
+    magnitudes (thresholds are relative to L or tol)."""
+    v, t, P = mesh("l_bracket")
+    tol = _tol("l_bracket")
+    ref = result("l_bracket")
+    res = core.medial_surface(v * scale, t, tol * scale, major_only=True)
+    assert len(res.sheets) == len(ref.sheets) and len(res.seams) == len(ref.seams)
+    assert len(res.junctions.points) == len(ref.junctions.points)
+    assert sorted(len(x) for x in res.junctions.elements) == \
+        sorted(len(x) for x in ref.junctions.elements)
+    J1 = np.asarray(ref.junctions.points).reshape(-1, 3)
+    J2 = np.asarray(res.junctions.points).reshape(-1, 3) / scale
+    d = np.linalg.norm(J1[:, None] - J2[None], axis=2)
+    assert d.min(1).max() <= tol
+    r1 = np.sort(np.asarray(ref.junctions.radii))
+    r2 = np.sort(np.asarray(res.junctions.radii)) / scale
+    assert np.abs(r1 - r2).max() <= 1e-9 * tol
+    a1 = sum(sheet_area(x) for x in ref.sheets)
+    a2 = sum(sheet_area(x) for x in res.sheets) / scale ** 2
+    assert abs(a1 - a2) <= 1e-3 * a1
+
+
 # ------------------------------------------------------------------ bad input
 def _bad_inputs():
     v, t = solids.cuboid()
