@@ -40,12 +40,6 @@
 
 /* ---- small helpers ----------------------------------------------------------------------- */
 
-static double dist3(const double *a, const double *b)
-{
-    double d0 = a[0] - b[0], d1 = a[1] - b[1], d2 = a[2] - b[2];
-    return sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-}
-
 static int cmp_xyz(const double *a, const double *b)
 {
     for (int k = 0; k < 3; k++)
@@ -335,7 +329,7 @@ static int64_t merge_junctions(const md_elements *el, md_junction *J, int64_t n,
         int dup = 0;
         /* equal sets are contiguous; earlier kept ones have smaller points */
         for (int64_t k = m - 1; k >= 0 && same_set(&J[k], &J[i]) && !dup; k--)
-            dup = dist3(J[k].x, J[i].x) <= tol;
+            dup = md_dist3(J[k].x, J[i].x) <= tol;
         if (!dup)
             J[m++] = J[i];
     }
@@ -343,7 +337,7 @@ static int64_t merge_junctions(const md_elements *el, md_junction *J, int64_t n,
     for (int64_t i = 0; i < m; i++) {
         int nested = 0;
         for (int64_t k = 0; k < m && !nested; k++)
-            nested = k != i && J[k].n > J[i].n && dist3(J[k].x, J[i].x) <= tol &&
+            nested = k != i && J[k].n > J[i].n && md_dist3(J[k].x, J[i].x) <= tol &&
                      subset_of(J[i].elems, J[i].n, J[k].elems, J[k].n);
         if (!nested && set_has_output_pair(el, J[i].elems, J[i].n, full))
             J[w++] = J[i];
@@ -360,7 +354,7 @@ static int64_t snap_junction(const md_junction *J, int64_t nj, const double *p, 
     int64_t best = -1;
     double bd = INFINITY;
     for (int64_t j = 0; j < nj; j++) {
-        double d = dist3(J[j].x, p);
+        double d = md_dist3(J[j].x, p);
         if (d <= reach && d < bd && subset_of(s, n, J[j].elems, J[j].n)) {
             bd = d;
             best = j;
@@ -517,7 +511,7 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
         r.ntri = j - i;
         /* Width ~ area / extent: slivers narrower than 1e-3 tolerance are not sheets
          * (the square prism's side pairs, trimmed down to its axis). */
-        double ext = dist3(lo, hi);
+        double ext = md_dist3(lo, hi);
         if (ext > 0 && area / ext >= 1e-3 * tol)
             s->refs[nref++] = r;
         i = j;
@@ -772,7 +766,7 @@ static int emit_seam(seam_out *o, polyline *pl, const int64_t *set, int64_t ns, 
          * seam's polyline where its segments break near the junction, not a seam. */
         int stub = 1;
         for (int64_t i = 0; i < n && stub; i++)
-            stub = dist3(J[e0].x, pl->pts.v + 3 * i) <= reach;
+            stub = md_dist3(J[e0].x, pl->pts.v + 3 * i) <= reach;
         if (stub)
             return 1;
     }
@@ -780,14 +774,14 @@ static int emit_seam(seam_out *o, polyline *pl, const int64_t *set, int64_t ns, 
      * already there) - the paper's eq. 3. */
     polyline q = {{0}, {0}};
     int ok = 1;
-    if (e0 >= 0 && dist3(J[e0].x, pl->pts.v) > 0) {
+    if (e0 >= 0 && md_dist3(J[e0].x, pl->pts.v) > 0) {
         ok &= dbuf_push(&q.pts, J[e0].x[0]) && dbuf_push(&q.pts, J[e0].x[1]) &&
               dbuf_push(&q.pts, J[e0].x[2]) && dbuf_push(&q.rad, J[e0].r);
     }
     for (int64_t i = 0; i < n && ok; i++)
         ok &= dbuf_push(&q.pts, pl->pts.v[3 * i]) && dbuf_push(&q.pts, pl->pts.v[3 * i + 1]) &&
               dbuf_push(&q.pts, pl->pts.v[3 * i + 2]) && dbuf_push(&q.rad, pl->rad.v[i]);
-    if (ok && e1 >= 0 && dist3(J[e1].x, pl->pts.v + 3 * (n - 1)) > 0)
+    if (ok && e1 >= 0 && md_dist3(J[e1].x, pl->pts.v + 3 * (n - 1)) > 0)
         ok &= dbuf_push(&q.pts, J[e1].x[0]) && dbuf_push(&q.pts, J[e1].x[1]) &&
               dbuf_push(&q.pts, J[e1].x[2]) && dbuf_push(&q.rad, J[e1].r);
     if (ok && q.rad.n >= 2) {
@@ -856,7 +850,7 @@ static int pieces_join(pieces *pc, double gap)
                     const polyline *a = &pc->p[i], *b = &pc->p[j];
                     const double *pa = a->pts.v + ((e & 1) ? 3 * (a->rad.n - 1) : 0);
                     const double *pb = b->pts.v + ((e & 2) ? 3 * (b->rad.n - 1) : 0);
-                    double d = dist3(pa, pb);
+                    double d = md_dist3(pa, pb);
                     if (d <= gap && d < best) {
                         best = d;
                         bi = i;
@@ -871,7 +865,7 @@ static int pieces_join(pieces *pc, double gap)
             polyline_reverse(a); /* a now ends at the joined end */
         if (be & 2)
             polyline_reverse(b); /* b now starts there */
-        int skip = dist3(a->pts.v + 3 * (a->rad.n - 1), b->pts.v) == 0;
+        int skip = md_dist3(a->pts.v + 3 * (a->rad.n - 1), b->pts.v) == 0;
         for (int64_t i = skip; i < b->rad.n; i++)
             if (!dbuf_push(&a->pts, b->pts.v[3 * i]) || !dbuf_push(&a->pts, b->pts.v[3 * i + 1]) ||
                 !dbuf_push(&a->pts, b->pts.v[3 * i + 2]) || !dbuf_push(&a->rad, b->rad.v[i]))
@@ -886,7 +880,7 @@ static int pieces_join(pieces *pc, double gap)
 /* Distance from p to the polyline P (n points). */
 static double polyline_dist(const double *P, int64_t n, const double *p)
 {
-    double best = n ? dist3(P, p) : INFINITY;
+    double best = n ? md_dist3(P, p) : INFINITY;
     for (int64_t i = 0; i + 1 < n; i++) {
         const double *A = P + 3 * i, *B = A + 3;
         double ab[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]}, ap[3] = {p[0] - A[0], p[1] - A[1], p[2] - A[2]};
@@ -894,7 +888,7 @@ static double polyline_dist(const double *P, int64_t n, const double *p)
         double t = l2 > 0 ? (ap[0] * ab[0] + ap[1] * ab[1] + ap[2] * ab[2]) / l2 : 0;
         t = t < 0 ? 0 : (t > 1 ? 1 : t);
         double q[3] = {A[0] + t * ab[0], A[1] + t * ab[1], A[2] + t * ab[2]};
-        best = fmin(best, dist3(q, p));
+        best = fmin(best, md_dist3(q, p));
     }
     return best;
 }
@@ -1218,12 +1212,12 @@ static int degenerate_seams(const md_elements *el, md_junction *P, int64_t np, s
             double gap = 2 * sqrt(3.0) * h;
             for (int64_t a = 0; a < n && ok;) {
                 int64_t b = a + 1;
-                while (b < n && dist3(d[b - 1].j->x, d[b].j->x) <= gap)
+                while (b < n && md_dist3(d[b - 1].j->x, d[b].j->x) <= gap)
                     b++;
                 pl.pts.n = pl.rad.n = 0;
                 for (int64_t k = a; k < b && ok; k++) {
                     /* points closer than h / 4 to the last kept one add nothing */
-                    if (pl.rad.n && dist3(pl.pts.v + pl.pts.n - 3, d[k].j->x) < 0.25 * h)
+                    if (pl.rad.n && md_dist3(pl.pts.v + pl.pts.n - 3, d[k].j->x) < 0.25 * h)
                         continue;
                     ok &= dbuf_push(&pl.pts, d[k].j->x[0]) && dbuf_push(&pl.pts, d[k].j->x[1]) &&
                           dbuf_push(&pl.pts, d[k].j->x[2]) && dbuf_push(&pl.rad, d[k].j->r);

@@ -38,23 +38,11 @@ struct md_bvh {
     double *pseudo; /* 3 per element: the pseudonormal (not normalised) */
 };
 
-static void sub3(const double *a, const double *b, double *o)
-{
-    o[0] = a[0] - b[0];
-    o[1] = a[1] - b[1];
-    o[2] = a[2] - b[2];
-}
-
-static double dot3(const double *a, const double *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 static double dist2(const double *a, const double *b)
 {
     double d[3];
-    sub3(a, b, d);
-    return dot3(d, d);
+    md_sub3(a, b, d);
+    return md_dot3(d, d);
 }
 
 /* ---- closest points ---------------------------------------------------------------- */
@@ -68,9 +56,9 @@ enum { FEAT_SIDE = 3, FEAT_INTERIOR = 6 };
 static int closest_on_seg(const double *p, const double *a, const double *b, double *q)
 {
     double ab[3], ap[3];
-    sub3(b, a, ab);
-    sub3(p, a, ap);
-    double t = dot3(ap, ab), l2 = dot3(ab, ab);
+    md_sub3(b, a, ab);
+    md_sub3(p, a, ap);
+    double t = md_dot3(ap, ab), l2 = md_dot3(ab, ab);
     if (t <= 0 || !(l2 > 0)) {
         memcpy(q, a, 3 * sizeof *q);
         return 0;
@@ -92,16 +80,16 @@ static int closest_on_tri(const double *p, const double *a, const double *b, con
                           double *q)
 {
     double ab[3], ac[3], ap[3], bp[3], cp[3];
-    sub3(b, a, ab);
-    sub3(c, a, ac);
-    sub3(p, a, ap);
-    double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+    md_sub3(b, a, ab);
+    md_sub3(c, a, ac);
+    md_sub3(p, a, ap);
+    double d1 = md_dot3(ab, ap), d2 = md_dot3(ac, ap);
     if (d1 <= 0 && d2 <= 0) {
         memcpy(q, a, 3 * sizeof *q);
         return 0;
     }
-    sub3(p, b, bp);
-    double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
+    md_sub3(p, b, bp);
+    double d3 = md_dot3(ab, bp), d4 = md_dot3(ac, bp);
     if (d3 >= 0 && d4 <= d3) {
         memcpy(q, b, 3 * sizeof *q);
         return 1;
@@ -113,8 +101,8 @@ static int closest_on_tri(const double *p, const double *a, const double *b, con
             q[k] = a[k] + v * ab[k];
         return FEAT_SIDE + 0;
     }
-    sub3(p, c, cp);
-    double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+    md_sub3(p, c, cp);
+    double d5 = md_dot3(ab, cp), d6 = md_dot3(ac, cp);
     if (d6 >= 0 && d5 <= d6) {
         memcpy(q, c, 3 * sizeof *q);
         return 2;
@@ -330,12 +318,12 @@ mfg_status md_bvh_build(const md_elements *el, md_bvh **out)
                 continue;
             const double *p = el->xyz + 3 * el->tris[3 * t + k];
             double a[3], b[3], c[3];
-            sub3(el->xyz + 3 * el->tris[3 * t + (k + 1) % 3], p, a);
-            sub3(el->xyz + 3 * el->tris[3 * t + (k + 2) % 3], p, b);
+            md_sub3(el->xyz + 3 * el->tris[3 * t + (k + 1) % 3], p, a);
+            md_sub3(el->xyz + 3 * el->tris[3 * t + (k + 2) % 3], p, b);
             c[0] = a[1] * b[2] - a[2] * b[1];
             c[1] = a[2] * b[0] - a[0] * b[2];
             c[2] = a[0] * b[1] - a[1] * b[0];
-            double ang = atan2(sqrt(dot3(c, c)), dot3(a, b));
+            double ang = atan2(sqrt(md_dot3(c, c)), md_dot3(a, b));
             for (int j = 0; j < 3; j++)
                 h->pseudo[3 * v + j] += ang * el->face_plane[4 * f + j];
         }
@@ -404,8 +392,8 @@ double md_bvh_nearest(const md_bvh *h, const md_elements *el, const double x[3],
         /* On the boundary (x == foot) counts as inside: callers prune only what is
          * surely outside. */
         double d[3];
-        sub3(x, foot, d);
-        *inside = best_e >= 0 && !(dot3(d, h->pseudo + 3 * best_e) > 0);
+        md_sub3(x, foot, d);
+        *inside = best_e >= 0 && !(md_dot3(d, h->pseudo + 3 * best_e) > 0);
     }
     return sqrt(best2);
 }

@@ -695,12 +695,6 @@ static double tri_area2(const double *p, const double *q, const double *r)
     return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
-static double dist3(const double *p, const double *q)
-{
-    double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
-    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-}
-
 /* Can element e be nearest inside the solid?  Not a convex edge, nor a vertex whose edges
  * are all convex (design 3.3: their regions lie outside).  A sheet trimmed by one of those
  * meets the solid's boundary there (r -> 0): no seam. */
@@ -1127,8 +1121,8 @@ static mfg_status merge(const unit_buf *units, int64_t nunits, double h, md_soup
             const double *x2 = recs[rep[g[2]]]->x;
             int roots = recs[rep[g[0]]]->k.c == -2 && recs[rep[g[1]]]->k.c == -2 &&
                         recs[rep[g[2]]]->k.c == -2;
-            if (roots && 0.5 * tri_area2(x0, x1, x2) < amin && dist3(x0, x1) <= lmax &&
-                dist3(x1, x2) <= lmax && dist3(x2, x0) <= lmax) {
+            if (roots && 0.5 * tri_area2(x0, x1, x2) < amin && md_dist3(x0, x1) <= lmax &&
+                md_dist3(x1, x2) <= lmax && md_dist3(x2, x0) <= lmax) {
                 mfg_uf_union(newid, g[0], g[1]);
                 mfg_uf_union(newid, g[0], g[2]);
             }
