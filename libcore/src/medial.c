@@ -347,13 +347,28 @@ static int64_t merge_junctions(const md_elements *el, md_junction *J, int64_t n,
     return w;
 }
 
-/* The junction within 2h of p whose set holds s (ascending, n), the nearest; -1 if none. */
+/* The first junction with x >= x0 (J sorted by point, x first). */
+static int64_t junction_lower_x(const md_junction *J, int64_t nj, double x0)
+{
+    int64_t lo = 0, hi = nj;
+    while (lo < hi) {
+        int64_t mid = lo + (hi - lo) / 2;
+        if (J[mid].x[0] < x0)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* The junction within reach of p whose set holds s (ascending, n), the nearest; -1 if
+ * none.  J sorted by point (merge_junctions): only the slab |x - p_x| <= reach is read. */
 static int64_t snap_junction(const md_junction *J, int64_t nj, const double *p, const int64_t *s,
                              int64_t n, double reach)
 {
     int64_t best = -1;
     double bd = INFINITY;
-    for (int64_t j = 0; j < nj; j++) {
+    for (int64_t j = junction_lower_x(J, nj, p[0] - reach); j < nj && J[j].x[0] <= p[0] + reach; j++) {
         double d = md_dist3(J[j].x, p);
         if (d <= reach && d < bd && subset_of(s, n, J[j].elems, J[j].n)) {
             bd = d;
@@ -1088,11 +1103,55 @@ static int segment_set(const md_elements *el, const md_bvh *bvh, const md_soup *
     return n;
 }
 
+/* Seams chained but not yet emitted: their ends are snapped only once every junction is
+ * known (recover_junctions below adds the ones the leaf search missed). */
+typedef struct pend_seam {
+    polyline pl;
+    int64_t e[SEAM_EMAX];
+    int32_t ne, kind;
+} pend_seam;
+
+typedef struct pend_list {
+    pend_seam *v;
+    int64_t n, cap;
+} pend_list;
+
+static void pend_free(pend_list *pl)
+{
+    for (int64_t i = 0; i < pl->n; i++) {
+        free(pl->v[i].pl.pts.v);
+        free(pl->v[i].pl.rad.v);
+    }
+    free(pl->v);
+    memset(pl, 0, sizeof *pl);
+}
+
+/* Moves the polyline into the list (it is left empty). */
+static int pend_take(pend_list *pl, polyline *line, const int64_t *set, int32_t ne, int32_t kind)
+{
+    if (pl->n == pl->cap) {
+        int64_t c = pl->cap ? 2 * pl->cap : 64;
+        pend_seam *v = realloc(pl->v, (size_t)c * sizeof *v);
+        if (!v)
+            return 0;
+        pl->v = v;
+        pl->cap = c;
+    }
+    pend_seam *q = &pl->v[pl->n++];
+    memset(q, 0, sizeof *q);
+    q->pl = *line;
+    memset(line, 0, sizeof *line);
+    memcpy(q->e, set, (size_t)ne * sizeof *set);
+    q->ne = ne;
+    q->kind = kind;
+    return 1;
+}
+
 /* The seams of the soup (design 4.2): per element set, the segments of its smallest pair
  * that bounds an output sheet. */
 static int soup_seams(const md_elements *el, const md_bvh *bvh, const md_soup *sp,
-                      const asm_state *s, seam_out *o, int64_t ndeg, const md_junction *J,
-                      int64_t nj, double reach, double tol)
+                      const asm_state *s, const seam_out *o, int64_t ndeg, double reach,
+                      double tol, pend_list *out)
 {
     seg_ref *seg = malloc((size_t)(sp->nsegs ? sp->nsegs : 1) * sizeof *seg);
     tcache tc = {malloc((size_t)(sp->nverts ? sp->nverts : 1) * sizeof *tc.off),
@@ -1164,7 +1223,7 @@ static int soup_seams(const md_elements *el, const md_bvh *bvh, const md_soup *s
         }
         for (int64_t p = 0; p < best.n && ok; p++)
             if (!covered_by_degenerate(o, ndeg, &best.p[p], seg[i].e, seg[i].ne, tol))
-                ok = emit_seam(o, &best.p[p], seg[i].e, seg[i].ne, seg[i].kind, J, nj, reach, tol);
+                ok = pend_take(out, &best.p[p], seg[i].e, seg[i].ne, seg[i].kind);
         pieces_free(&best);
         i = k;
     }
@@ -1233,6 +1292,354 @@ static int degenerate_seams(const md_elements *el, md_junction *P, int64_t np, s
     free(pl.pts.v);
     free(pl.rad.v);
     free(d);
+    return ok;
+}
+
+/* ---- junctions where seams meet (recovery after the leaf search) -------------------------- */
+
+/* A seam end that no junction explains. */
+typedef struct free_end {
+    double x[3];
+    int64_t seam;
+    int32_t resolved;
+} free_end;
+
+static int cmp_free_end(const void *pa, const void *pb)
+{
+    const free_end *a = pa, *b = pb;
+    int c = cmp_xyz(a->x, b->x);
+    return c ? c : (a->seam > b->seam) - (a->seam < b->seam);
+}
+
+/* Sorted union of two sorted sets; its size, or -1 when it exceeds cap. */
+static int set_union(const int64_t *a, int na, const int64_t *b, int nb, int64_t *u, int cap)
+{
+    int n = 0;
+    for (int i = 0, j = 0; i < na || j < nb;) {
+        int64_t v = j == nb || (i < na && a[i] <= b[j]) ? a[i] : b[j];
+        i += i < na && a[i] == v;
+        j += j < nb && b[j] == v;
+        if (n == cap)
+            return -1;
+        u[n++] = v;
+    }
+    return n;
+}
+
+/* Junctions found by the assembly, before they are merged with the leaves' ones. */
+typedef struct jlist {
+    md_junction *v;
+    int64_t n, cap;
+} jlist;
+
+static int jlist_push(jlist *l, const md_junction *j)
+{
+    if (l->n == l->cap) {
+        int64_t c = l->cap ? 2 * l->cap : 64;
+        md_junction *v = realloc(l->v, (size_t)c * sizeof *v);
+        if (!v)
+            return 0;
+        l->v = v;
+        l->cap = c;
+    }
+    l->v[l->n++] = *j;
+    return 1;
+}
+
+/* Is there a junction within reach of p whose set holds s: in J (sorted by point) or in
+ * the list (short: the junctions found so far by the assembly)? */
+static int near_junction(const md_junction *J, int64_t nj, const jlist *add, const double *p,
+                         const int64_t *s, int64_t ns, double reach)
+{
+    if (snap_junction(J, nj, p, s, ns, reach) >= 0)
+        return 1;
+    for (int64_t i = 0; i < add->n; i++)
+        if (md_dist3(add->v[i].x, p) <= reach && subset_of(s, ns, add->v[i].elems, add->v[i].n))
+            return 1;
+    return 0;
+}
+
+static int polyline_push(polyline *pl, const double *x, double r)
+{
+    return dbuf_push(&pl->pts, x[0]) && dbuf_push(&pl->pts, x[1]) && dbuf_push(&pl->pts, x[2]) &&
+           dbuf_push(&pl->rad, r);
+}
+
+/* Pass 1 of recover_junctions: the unions of the sets of two free seam ends within
+ * reach of each other (and the set of a seam of >= 4 elements). */
+static int junctions_from_unions(const md_elements *el, const md_bvh *bvh, const pend_list *pl,
+                                 const md_junction *J, int64_t nj, double reach, double tol,
+                                 jlist *add)
+{
+    free_end *fe = malloc((size_t)(2 * pl->n + 1) * sizeof *fe);
+    int64_t nfe = 0;
+    if (!fe)
+        return 0;
+    for (int64_t i = 0; i < pl->n; i++) {
+        const pend_seam *ps = &pl->v[i];
+        int64_t np = ps->pl.rad.n;
+        if (np < 1)
+            continue;
+        for (int end = 0; end < 2; end++) {
+            const double *p = ps->pl.pts.v + (end ? 3 * (np - 1) : 0);
+            if (snap_junction(J, nj, p, ps->e, ps->ne, reach) >= 0)
+                continue;
+            memcpy(fe[nfe].x, p, sizeof fe[nfe].x);
+            fe[nfe].seam = i;
+            fe[nfe++].resolved = 0;
+        }
+    }
+    if (nfe > 1)
+        qsort(fe, (size_t)nfe, sizeof *fe, cmp_free_end);
+    int ok = 1;
+    for (int64_t i = 0; i < nfe && ok; i++)
+        for (int64_t k = i; k < nfe && fe[k].x[0] <= fe[i].x[0] + reach && ok; k++) {
+            if (fe[i].resolved && fe[k].resolved)
+                continue;
+            const pend_seam *a = &pl->v[fe[i].seam], *b = &pl->v[fe[k].seam];
+            int64_t T[MD_JMAX];
+            int nT;
+            if (k == i) /* a seam of >= 4 elements ends at a junction of its own set */
+                nT = a->ne >= 4 ? set_union(a->e, a->ne, a->e, a->ne, T, MD_JMAX) : 0;
+            else if (md_dist3(fe[i].x, fe[k].x) > reach)
+                continue;
+            else
+                nT = set_union(a->e, a->ne, b->e, b->ne, T, MD_JMAX);
+            if (nT < 4)
+                continue;
+            double x0[3], lo[3];
+            for (int c = 0; c < 3; c++) {
+                x0[c] = 0.5 * (fe[i].x[c] + fe[k].x[c]);
+                lo[c] = x0[c] - reach;
+            }
+            md_junction j;
+            int r = md_junction_polish(el, bvh, x0, T, nT, lo, 2 * reach, tol, &j);
+            if (r < 0 || (r == 1 && j.rank == 3 && !jlist_push(add, &j))) {
+                ok = 0;
+                break;
+            }
+            if (r == 0 || j.rank != 3)
+                continue;
+            /* the free ends this junction explains */
+            for (int64_t q = i; q < nfe && fe[q].x[0] <= j.x[0] + reach; q++) {
+                const pend_seam *c = &pl->v[fe[q].seam];
+                if (!fe[q].resolved && md_dist3(fe[q].x, j.x) <= reach &&
+                    subset_of(c->e, c->ne, j.elems, j.n))
+                    fe[q].resolved = 1;
+            }
+        }
+    free(fe);
+    return ok;
+}
+
+/* Pending seams ordered by element set (ties: index): the seams of one set are a run. */
+typedef struct set_ord {
+    const pend_list *pl;
+    int64_t i;
+} set_ord;
+
+static int cmp_set_ord(const void *pa, const void *pb)
+{
+    const set_ord *a = pa, *b = pb;
+    const pend_seam *x = &a->pl->v[a->i], *y = &b->pl->v[b->i];
+    int c = cmp_set(x->e, x->ne, y->e, y->ne);
+    return c ? c : (a->i > b->i) - (a->i < b->i);
+}
+
+/* Steps along a seam of at most this many (a gap of 2^8 half leaves stays open). */
+#define TRACE_STEPS 256
+
+/* Pass 2 of recover_junctions: seam i traced on from its last point (design 4.3,
+ * tracing).  A seam narrower than a leaf (the 5 000-triangle cup's seams between two
+ * wall facets and a floor corner vertex, in a wedge 2 pi / 625 wide) is sampled by the
+ * leaves in pieces, and a piece's free end lies in the middle of its seam.  From there
+ * the seam is followed on the curve itself: a step of h / 2 along the tangent, then
+ * md_seam_point back onto the curve (exact up to rounding, like every sampled point).
+ * The walk ends
+ *   - near a junction whose set holds the seam's (emit_seam snaps to it);
+ *   - near the free end of another piece of the same set (the pieces are joined, and the
+ *     walk goes on from the joined piece's far end);
+ *   - where the seam's elements stop touching (another element is nearer, or one leaves
+ *     its Voronoi region): the junction of the seam's set plus that element lies within the
+ *     last step, md_junction_polish places it, it is added and becomes the end;
+ *   - after TRACE_STEPS steps, or when the curve cannot be followed (left free).
+ * Returns 0 on NOMEM. */
+static int trace_seam(const md_elements *el, const md_bvh *bvh, pend_list *pl, int64_t i,
+                      const set_ord *ord, int64_t g0, int64_t g1, const md_junction *J,
+                      int64_t nj, jlist *add, double h, double reach, double tol)
+{
+    pend_seam *ps = &pl->v[i];
+    polyline *L = &ps->pl;
+    const int64_t *S = ps->e;
+    int ns = ps->ne;
+    double step = 0.5 * h;
+    for (int it = 0; it < TRACE_STEPS; it++) {
+        int64_t n = L->rad.n;
+        if (n < 2)
+            return 1;
+        double *x = L->pts.v + 3 * (n - 1), t[3];
+        md_sub3(x, x - 3, t);
+        double lt = md_norm3(t);
+        if (!(lt > 0))
+            return 1;
+        for (int k = 0; k < 3; k++)
+            t[k] /= lt;
+        double y0[3], y[3], dir[3];
+        for (int k = 0; k < 3; k++)
+            y0[k] = x[k] + step * t[k];
+        int on = md_seam_point(el, S, ns, y0, y, dir);
+        double adv[3];
+        md_sub3(y, x, adv);
+        if (!on || !(md_dot3(adv, t) > 0.1 * step)) {
+            if (step < h / 64)
+                return 1;
+            step *= 0.5;
+            continue;
+        }
+        int64_t W[MD_JMAX];
+        double D;
+        int nw = md_touching_set(el, bvh, y, W, MD_JMAX, &D);
+        if (nw < 0)
+            return 0;
+        if (nw <= MD_JMAX && subset_of(S, ns, W, nw)) {
+            /* still on the seam */
+            if (!polyline_push(L, y, D))
+                return 0;
+            x = L->pts.v + 3 * n; /* the buffer may have moved */
+            step = 0.5 * h;
+            if (near_junction(J, nj, add, y, S, ns, reach))
+                return 1;
+            /* another piece of this seam within reach */
+            for (int64_t g = g0; g < g1; g++) {
+                int64_t q = ord[g].i;
+                pend_seam *o = &pl->v[q];
+                int64_t m = o->pl.rad.n;
+                if (q == i || m < 1)
+                    continue;
+                const double *p0 = o->pl.pts.v, *p1 = o->pl.pts.v + 3 * (m - 1);
+                double d0 = md_dist3(p0, y), d1 = md_dist3(p1, y);
+                int e = d0 <= d1 ? 0 : 1;
+                if (fmin(d0, d1) <= reach && !near_junction(J, nj, add, e ? p1 : p0, S, ns, reach)) {
+                    /* join: o's near end first */
+                    if (e)
+                        polyline_reverse(&o->pl);
+                    for (int64_t k = 0; k < m; k++)
+                        if (!polyline_push(L, o->pl.pts.v + 3 * k, o->pl.rad.v[k]))
+                            return 0;
+                    free(o->pl.pts.v);
+                    free(o->pl.rad.v);
+                    memset(&o->pl, 0, sizeof o->pl);
+                    if (near_junction(J, nj, add, L->pts.v + 3 * (L->rad.n - 1), S, ns, reach))
+                        return 1;
+                    break; /* go on from the far end */
+                }
+                if (polyline_dist(o->pl.pts.v, m, y) <= reach)
+                    return 1; /* runs into another piece's middle: stop */
+            }
+            continue;
+        }
+        /* The seam's set stops touching between x and y: the junction of S and one more
+         * element (nearer at y, or a sub-element whose region y entered) lies there. */
+        int64_t cand[MD_JMAX + 8];
+        int nc = 0;
+        for (int k = 0; k < nw && k < MD_JMAX; k++)
+            if (!subset_of(&W[k], 1, S, ns))
+                cand[nc++] = W[k];
+        for (int k = 0; k < ns && nc < MD_JMAX + 8; k++) {
+            int64_t which = -1;
+            if (md_region_margin(el, S[k], y, &which) < 0 && which >= 0)
+                cand[nc++] = which;
+        }
+        double mid[3], lo[3];
+        for (int k = 0; k < 3; k++) {
+            mid[k] = 0.5 * (x[k] + y[k]);
+            lo[k] = mid[k] - step;
+        }
+        for (int c = 0; c < nc; c++) {
+            int64_t T[MD_JMAX];
+            int nT = set_union(S, ns, &cand[c], 1, T, MD_JMAX);
+            if (nT < 4)
+                continue;
+            md_junction j;
+            int r = md_junction_polish(el, bvh, mid, T, nT, lo, 2 * step, tol, &j);
+            if (r < 0)
+                return 0;
+            if (r == 1 && j.rank == 3 && subset_of(S, ns, j.elems, j.n)) {
+                if (!jlist_push(add, &j) || !polyline_push(L, j.x, j.r))
+                    return 0;
+                return 1;
+            }
+        }
+        if (step < h / 64)
+            return 1;
+        step *= 0.5;
+    }
+    return 1;
+}
+
+/* The junctions the leaf search missed, found where seams end (design 4.3, recovery).
+ * The leaf search tries subsets of the elements near a leaf; on a wall tessellated finer
+ * than the tolerance (the 5 000-triangle cup: facets 0.2 wide at tolerance 0.32) dozens
+ * of near-parallel facets are near every leaf, its MAX_SUBSETS run out before the right
+ * four are tried, and the seams meeting there end free.  But each seam names its
+ * elements, and seams that meet at a junction name the junction's set between them: two
+ * seams {a, b, c} and {a, b, d} ending within reach of each other span {a, b, c, d}.
+ * Gauss-Newton from the midpoint of their ends (md_junction_polish) places the point and
+ * accepts it only where every element of the union touches and >= 4 do, at rank 3.  A
+ * junction found resolves every free end within reach whose set it holds, so each
+ * meeting point is polished about once.  Then the ends still free are traced along their
+ * seams (trace_seam).  *J (nj, merged and sorted by point) is replaced by a new array with
+ * the found junctions merged in (merge_junctions); the pending seams may be extended and
+ * joined.  1, or 0 on NOMEM (*J untouched). */
+static int recover_junctions(const md_elements *el, const md_bvh *bvh, pend_list *pl,
+                             md_junction **J, int64_t *nj, double h, double reach, double tol,
+                             int full)
+{
+    jlist add = {0};
+    set_ord *ord = malloc((size_t)(pl->n + 1) * sizeof *ord);
+    int ok = ord && junctions_from_unions(el, bvh, pl, *J, *nj, reach, tol, &add);
+    if (ok) {
+        for (int64_t i = 0; i < pl->n; i++)
+            ord[i] = (set_ord){pl, i};
+        if (pl->n > 1)
+            qsort(ord, (size_t)pl->n, sizeof *ord, cmp_set_ord);
+    }
+    for (int64_t g = 0; g < pl->n && ok;) {
+        int64_t g1 = g + 1;
+        while (g1 < pl->n && !cmp_set(pl->v[ord[g1].i].e, pl->v[ord[g1].i].ne, pl->v[ord[g].i].e,
+                                      pl->v[ord[g].i].ne))
+            g1++;
+        for (int64_t k = g; k < g1 && ok; k++) {
+            pend_seam *ps = &pl->v[ord[k].i];
+            if (ps->kind == MFG_MEDIAL_DEGENERATE || ps->ne < 3)
+                continue;
+            for (int end = 0; end < 2 && ok; end++) {
+                int64_t n = ps->pl.rad.n;
+                if (n < 2)
+                    break;
+                /* the end to trace becomes the last point: the first, then the other */
+                polyline_reverse(&ps->pl);
+                const double *p = ps->pl.pts.v + 3 * (n - 1);
+                if (!near_junction(*J, *nj, &add, p, ps->e, ps->ne, reach))
+                    ok = trace_seam(el, bvh, pl, ord[k].i, ord, g, g1, *J, *nj, &add, h, reach, tol);
+            }
+        }
+        g = g1;
+    }
+    free(ord);
+    if (ok && add.n > 0) {
+        md_junction *all = malloc((size_t)(*nj + add.n) * sizeof *all);
+        if (!all) {
+            ok = 0;
+        } else {
+            if (*nj)
+                memcpy(all, *J, (size_t)*nj * sizeof *all);
+            memcpy(all + *nj, add.v, (size_t)add.n * sizeof *all);
+            *nj = merge_junctions(el, all, *nj + add.n, tol, full);
+            *J = all;
+        }
+    }
+    free(add.v);
     return ok;
 }
 
@@ -1393,8 +1800,11 @@ mfg_status mfg_medial_surface(const double *xyz, int64_t nvertices, const int64_
     md_bvh *bvh = NULL;
     md_leaves lv;
     md_soup sp;
-    md_junction *J = NULL;
-    int64_t nJ = 0;
+    md_junction *J = NULL, *Jall = NULL; /* Jall: J's rank-3 part, or a new array */
+    int64_t nJ = 0, nall = 0;
+    int own_jall = 0;
+    pend_list pend;
+    memset(&pend, 0, sizeof pend);
     memset(&lv, 0, sizeof lv);
     memset(&sp, 0, sizeof sp);
     asm_state as;
@@ -1431,20 +1841,47 @@ mfg_status mfg_medial_surface(const double *xyz, int64_t nvertices, const int64_
         }
     md_junction *J3 = J + n2;
     int64_t n3 = merge_junctions(&el, J3, nJ - n2, tolerance, full);
+    Jall = J3;
+    nall = n3;
     if ((st = elements_to_public(&el, m)) != MFG_OK || (st = build_sheets(&el, &sp, h, tolerance, full, m, &as)) != MFG_OK)
         goto fail;
-    /* degenerate seams first: the soup's seams along them are dropped */
+    /* Degenerate seams first: the soup's seams along them are dropped.  The soup's seams
+     * are chained, the junctions the leaves missed are found where they end
+     * (recover_junctions), and only then is every seam emitted with its ends snapped; the
+     * degenerate seams are emitted again for that (the first pass only says which soup
+     * seams they cover). */
     if (!degenerate_seams(&el, J, n2, &so, J3, n3, h, tolerance, full) ||
-        !soup_seams(&el, bvh, &sp, &as, &so, so.n, J3, n3, 2 * h, tolerance)) {
+        !soup_seams(&el, bvh, &sp, &as, &so, so.n, 2 * h, tolerance, &pend)) {
         st = MFG_ERR_NOMEM;
         goto fail;
     }
-    if ((st = seams_to_public(&so, m)) != MFG_OK || (st = junctions_to_public(J3, n3, m)) != MFG_OK)
+    int rec = recover_junctions(&el, bvh, &pend, &Jall, &nall, h, 2 * h, tolerance, full);
+    own_jall = Jall != J3;
+    if (!rec) {
+        st = MFG_ERR_NOMEM;
+        goto fail;
+    }
+    seam_out_free(&so);
+    memset(&so, 0, sizeof so);
+    if (!degenerate_seams(&el, J, n2, &so, Jall, nall, h, tolerance, full)) {
+        st = MFG_ERR_NOMEM;
+        goto fail;
+    }
+    for (int64_t i = 0; i < pend.n; i++)
+        if (!emit_seam(&so, &pend.v[i].pl, pend.v[i].e, pend.v[i].ne, pend.v[i].kind, Jall, nall,
+                       2 * h, tolerance)) {
+            st = MFG_ERR_NOMEM;
+            goto fail;
+        }
+    if ((st = seams_to_public(&so, m)) != MFG_OK || (st = junctions_to_public(Jall, nall, m)) != MFG_OK)
         goto fail;
     m->cells_visited = lv.cells_visited;
     m->leaves = lv.nleaves;
     m->leaf_size = h;
     seam_out_free(&so);
+    pend_free(&pend);
+    if (own_jall)
+        free(Jall);
     asm_free(&as);
     free(J);
     md_soup_free(&sp);
@@ -1456,6 +1893,9 @@ mfg_status mfg_medial_surface(const double *xyz, int64_t nvertices, const int64_
     return MFG_OK;
 fail:
     seam_out_free(&so);
+    pend_free(&pend);
+    if (own_jall)
+        free(Jall);
     asm_free(&as);
     free(J);
     md_soup_free(&sp);

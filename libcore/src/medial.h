@@ -338,6 +338,13 @@ int md_junction_polish(const md_elements *el, const md_bvh *bvh, const double x0
                        const int64_t *T, int nT, const double lo[3], double side,
                        double tolerance, md_junction *out);
 
+/* The point of the seam of S (nS >= 3 elements, ascending, equidistant along a curve)
+ * nearest x0, and the seam's unit tangent there (either sign).  Returns 1 when
+ * Gauss-Newton converges (residuals within 1e-9 L) at a point where the equations have
+ * rank 2, else 0. */
+int md_seam_point(const md_elements *el, const int64_t *S, int nS, const double x0[3],
+                  double x[3], double dir[3]);
+
 /* The elements touching the largest ball centred at x inside the solid (radius D(x)):
  * carrier distance within 1e-9 L of D and x in their Voronoi region up to 1e-9 L.  D is
  * taken from the elements (not the BVH's triangles), so it does not depend on the

@@ -475,6 +475,34 @@ int md_junction_polish(const md_elements *el, const md_bvh *bvh, const double x0
     return 1;
 }
 
+/* A point of the seam of S (a curve where the elements of S stay equidistant, >= 3 of
+ * them in >= 2 contact clusters): Gauss-Newton from x0 moves to the point of the curve
+ * nearest x0 (gauss_newton steps only across the curve at rank 2), and the tangent there
+ * is the Jacobian's null direction.  Seam tracing in the assembly steps along it. */
+int md_seam_point(const md_elements *el, const int64_t *S, int nS, const double x0[3],
+                  double x[3], double dir[3])
+{
+    if (nS < 3 || nS > MD_JMAX)
+        return 0;
+    int comp[MD_JMAX];
+    if (clusters(el, S, nS, comp) < 2)
+        return 0;
+    eqsys sy;
+    prepare(el, S, nS, comp, &sy);
+    double rmax;
+    if (!gauss_newton(el, &sy, x0, x, &rmax) || !(rmax <= TOUCH_REL * el->diag))
+        return 0;
+    eqs q;
+    equations(el, &sy, x, &q);
+    double lam[3], V[9];
+    eig3(q.JtJ, lam, V);
+    if (rank_of(lam) != 2)
+        return 0;
+    for (int k = 0; k < 3; k++)
+        dir[k] = V[3 * k + 2];
+    return 1;
+}
+
 /* ---- the search ------------------------------------------------------------------------ */
 
 typedef struct box {
