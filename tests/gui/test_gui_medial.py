@@ -11,7 +11,11 @@ undo step, echoed in the Python console; "Medial surface" on the tray: the panel
 0.5 % of the bounding-box diagonal; while the library's extraction is not built, OK shows
 its "not built yet" in the panel and creates nothing (the document unchanged); once it
 extracts, OK creates the coloured medial surface (display mode "Thickness", per-vertex
-colours on the ramp, the legend's labels span the thickness range), and "Mid-surface for
+colours on the ramp, the legend's labels span the thickness range); the axis' and the
+surface's legends, both shown, stack one below the other (found in the screenshot's
+pixels: two bars, the second at least the first's height lower; saved as
+medial-legends.png), hiding the axis gives the surface's legend the whole band, a third
+legend takes the third slot and deleting its feature frees it; "Mid-surface for
 FEM" with a CSV path creates the shell, writes the CSV and reports the thickness; the
 screenshot shows the coloured mid-surface with its legend in the half-transparent tray
 (before that: the medial axis on the tray).  Prints ``freecad-gui-medial: N passed, M
@@ -247,6 +251,112 @@ def _():
     assert max(abs(a - b) for a, b in zip(colours[radii.index(max(radii))],
                                           palette.THICKNESS_RAMP[-1])) < 1e-9
     state["medial"] = obj
+
+
+def legend_bars(path):
+    """The legends' bars in the screenshot ``path``, found in its pixels: (top, bottom)
+    rows of every run of at least 40 dark rows down the bars' black left outline (x =
+    LEGEND_X[0] of the overlay's unit square, +-2 pixels), top first.  The titles start
+    at that x too, but a line of text makes a run of at most ~15 rows."""
+    _, QtGui = qt()
+    from mfgeom.gui.medial_view import LEGEND_X
+    image = QtGui.QImage(path)
+    col = int(round((LEGEND_X[0] + 1.0) / 2.0 * image.width()))
+
+    def dark(y):
+        return any(sum(QtGui.QColor(image.pixel(x, y)).getRgb()[:3]) < 200
+                   for x in range(col - 2, col + 3))
+
+    runs, start = [], None
+    for y in range(image.height() + 1):
+        if y < image.height() and dark(y):
+            start = y if start is None else start
+        elif start is not None:
+            if y - start >= 40:
+                runs.append((start, y - 1))
+            start = None
+    return runs
+
+
+def legend_screenshot(name):
+    """Saves the MedialGui view (isometric, fit; the tray half-transparent) as ``name`` in
+    OUT; returns the path."""
+    os.makedirs(OUT, exist_ok=True)
+    path = os.path.join(OUT, name)
+    state["tray"].ViewObject.Transparency = 80
+    Gui.Selection.clearSelection()
+    view = Gui.getDocument(state["doc"].Name).ActiveView
+    view.viewIsometric()
+    view.fitAll()
+    Gui.updateGui()
+    view.saveImage(path, 1000, 700, "White")
+    sys.stdout.write(f"screenshot: {path}\n")
+    return path
+
+
+def assert_stacked(path, count):
+    """``count`` legend bars in the screenshot, one below the other: each bar starts at
+    least its own height (plus a gap for the next title) below the one above, so neither
+    the bars nor their labels overlap."""
+    bars = legend_bars(path)
+    assert len(bars) == count, (count, bars)
+    for (top0, bottom0), (top1, bottom1) in zip(bars, bars[1:]):
+        height = bottom0 - top0 + 1
+        assert height > 60 and bottom1 - top1 + 1 > 60, bars   # bars, not text
+        assert top1 - top0 >= height + 20, bars
+    return bars
+
+
+if EXTRACTS:
+    @check("Legends stack: the medial axis' width legend and the medial surface's thickness "
+           "legend both shown take two slots one below the other; hiding one moves the "
+           "other up, a deleted feature frees its slot")
+    def _():
+        from mfgeom.gui.medial_view import LEGEND_Y, arrange_legends
+        doc, tray = state["doc"], state["tray"]
+        axis, medial = state["axis"], state["medial"]
+        legend = {name: state[name].ViewObject.Proxy.legend for name in ("axis", "medial")}
+        assert axis.ViewObject.Visibility and medial.ViewObject.Visibility
+        # shown in this order: the axis on top, the medial surface below it
+        assert (legend["axis"].slot, legend["medial"].slot) == (0, 1), \
+            (legend["axis"].slot, legend["medial"].slot)
+        assert legend["axis"].count == legend["medial"].count == 2
+        lower, upper = legend["medial"].span, legend["axis"].span
+        assert upper[0] - lower[1] >= 0.15, (upper, lower)   # room for the lower title
+        full = LEGEND_Y[1] - LEGEND_Y[0]
+        bars = assert_stacked(legend_screenshot("medial-legends.png"), 2)
+        # the lone legend fills the band; two share it
+        axis.ViewObject.Visibility = False
+        assert (legend["medial"].slot, legend["medial"].count) == (0, 1)
+        assert legend["medial"].span == LEGEND_Y
+        (top, bottom), = assert_stacked(legend_screenshot("medial-legend-alone.png"), 1)
+        assert bottom - top > 1.9 * (bars[0][1] - bars[0][0]), ((top, bottom), bars)
+        assert abs((bottom - top) - full / 2 * 700) < 4, (top, bottom)
+        # shown again: the next free slot, below the medial surface's
+        axis.ViewObject.Visibility = True
+        assert (legend["medial"].slot, legend["axis"].slot) == (0, 1)
+        # a third legend (another axis, on a wall) takes the third slot; deleting it in
+        # the GUI frees it
+        wall = next(f"Face{i + 1}" for i, f in enumerate(tray.Shape.Faces)
+                    if abs(f.BoundBox.XMin) < 1e-9 and abs(f.BoundBox.XMax) < 1e-9)
+        import mfgeom
+        doc.openTransaction("third axis")
+        extra = mfgeom.make_medial_axis(doc, (tray, wall), 0.05)
+        doc.commitTransaction()
+        third = extra.ViewObject.Proxy.legend
+        assert [lg.slot for lg in (legend["medial"], legend["axis"], third)] == [0, 1, 2]
+        assert_stacked(legend_screenshot("medial-legends-3.png"), 3)
+        extra_name = extra.Name
+        select([(extra, "")])
+        dialogs.take()
+        Gui.runCommand("Std_Delete")
+        Gui.updateGui()
+        assert doc.getObject(extra_name) is None, [o.Name for o in doc.Objects]
+        assert not dialogs.take()
+        assert [(lg.slot, lg.count) for lg in (legend["medial"], legend["axis"])] \
+            == [(0, 2), (1, 2)]
+        assert len(arrange_legends(doc)) == 2
+        assert_stacked(legend_screenshot("medial-legends-after-delete.png"), 2)
 
 
 if EXTRACTS:
