@@ -18,7 +18,11 @@ medial-legends.png), hiding the axis gives the surface's legend the whole band, 
 legend takes the third slot and deleting its feature frees it; "Mid-surface for
 FEM" with a CSV path creates the shell, writes the CSV and reports the thickness; the
 screenshot shows the coloured mid-surface with its legend in the half-transparent tray
-(before that: the medial axis on the tray).  Prints ``freecad-gui-medial: N passed, M
+(before that: the medial axis on the tray).  "Mid-surface for FEM" from a solid (a 40 x
+30 x 2 plate selected, not a medial surface): the panel offers the solid's tolerance,
+OK makes the medial surface and the mid-surface in one undo step, a planar shell at z = 1
+over [1, 39] x [1, 29], thickness 2 at every point, per face, min / max / mean, and
+every object of the document valid.  Prints ``freecad-gui-medial: N passed, M
 failed``; leaves with os._exit(rc).
 """
 
@@ -418,6 +422,74 @@ def _():
     assert len(doc.Objects) < count
     doc.redo()
     assert len(doc.Objects) == count and all(o.isValid() for o in doc.Objects)
+
+
+if EXTRACTS:
+    @check("Mid-surface for FEM from a solid: a 40 x 30 x 2 plate selected, the panel, OK: "
+           "the shell at mid-thickness (z = 1), thickness 2, the document valid, one undo "
+           "step")
+    def _():
+        import numpy as np
+        A, B, C = 40.0, 30.0, 2.0
+        doc = App.newDocument("MidFromSolid")
+        Gui.ActiveDocument = Gui.getDocument(doc.Name)
+        plate = doc.addObject("Part::Box", "Plate")
+        plate.Length, plate.Width, plate.Height = A, B, C
+        doc.recompute()
+        select([(plate, "")])
+        undo = doc.UndoCount
+        Gui.runCommand(MID)
+        panel = task_panel()
+        assert panel is not None, "no task panel"
+        assert panel["what"].text() == "Solid: Plate", panel["what"].text()
+        assert panel["tolerance"].isEnabled() and panel["deflection"].isEnabled()
+        tol = 0.005 * plate.Shape.BoundBox.DiagonalLength   # the offered default
+        assert abs(panel["tolerance"].value() - tol) < 1e-6, (panel["tolerance"].value(), tol)
+        tol = panel["tolerance"].value()
+        press(panel["ok"])
+        assert task_panel() is None, "OK left the panel open: " + panel["message"].text()
+        mids, medials = of_type(doc, "Mfgeom::MidSurface"), of_type(doc, "Mfgeom::MedialSurface")
+        assert len(mids) == 1 and len(medials) == 1, (mids, medials)
+        obj, medial = mids[0], medials[0]
+        assert obj.Source == medial and medial.Source == plate and medial.MajorOnly
+        assert abs(medial.Tolerance.Value - tol) < 1e-9, medial.Tolerance.Value
+        for o in doc.Objects:   # the document valid: no error objects, nothing left to do
+            assert o.isValid() and "Touched" not in o.State, (o.Name, o.State,
+                                                              o.getStatusString())
+        assert doc.UndoCount == undo + 1, (undo, doc.UndoCount)
+        assert "mfgeom.make_mid_surface(App.getDocument('MidFromSolid'), " \
+               "App.getDocument('MidFromSolid').getObject('Plate'), None, " in console_text()
+        # the shell: the plate's mid-plane z = C / 2 where the top and bottom faces are
+        # the nearest, the rectangle [C/2, A - C/2] x [C/2, B - C/2] (the major part)
+        shape = obj.Shape
+        assert shape.ShapeType in ("Shell", "Face") and shape.isValid(), shape.ShapeType
+        assert shape.Faces and not shape.Solids
+        for face in shape.Faces:
+            assert face.Surface.TypeId == "Part::GeomPlane", face.Surface.TypeId
+            for v in face.Vertexes:
+                assert abs(v.Point.z - C / 2) < 1e-6, v.Point
+        box = shape.BoundBox
+        for got, want in ((box.XMin, C / 2), (box.XMax, A - C / 2), (box.YMin, C / 2),
+                          (box.YMax, B - C / 2)):
+            assert abs(got - want) <= tol, (box, tol)
+        assert abs(shape.Area - (A - C) * (B - C)) <= 2 * tol * (A + B), shape.Area
+        # the thickness data: 2 everywhere
+        thick = np.array(obj.Thickness)
+        assert len(thick) == len(obj.ThicknessPoints) > 0
+        assert np.abs(thick - C).max() <= 2 * tol, (thick.min(), thick.max())
+        assert len(obj.FaceThickness) == len(shape.Faces)
+        for value in list(obj.FaceThickness) + [obj.MinThickness, obj.MaxThickness,
+                                                obj.MeanThickness]:
+            assert abs(value - C) <= 2 * tol, value
+        # the medial surface it was made from is hidden: one legend, the mid-surface's
+        assert not medial.ViewObject.Visibility and obj.ViewObject.Visibility
+        assert obj.ViewObject.DisplayMode == "Thickness"
+        assert obj.ViewObject.Proxy.sheets.triangle_count > 0
+        # one undo step takes both away, redo brings both back
+        doc.undo()
+        assert [o.Name for o in doc.Objects] == ["Plate"], [o.Name for o in doc.Objects]
+        doc.redo()
+        assert len(doc.Objects) == 3 and all(o.isValid() for o in doc.Objects)
 
 
 finish("freecad-gui-medial")
