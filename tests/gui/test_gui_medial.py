@@ -485,6 +485,17 @@ if EXTRACTS:
         assert not medial.ViewObject.Visibility and obj.ViewObject.Visibility
         assert obj.ViewObject.DisplayMode == "Thickness"
         assert obj.ViewObject.Proxy.sheets.triangle_count > 0
+        # one thickness (the radii differ by rounding only): one histogram bin, one colour
+        # (the ramp's middle) and one label on the legend and in the panel's words
+        assert len(obj.Histogram) == 2 and "100.0 %" in obj.Histogram[1], obj.Histogram
+        from mfgeom import palette
+        from mfgeom.gui.medial_panel import legend_text
+        colours = obj.ViewObject.Proxy.sheets.colours
+        assert np.abs(colours - palette.ramp_color(0.5)).max() < 1e-12, colours
+        assert obj.ViewObject.Proxy.legend.labels == ["2 mm"], \
+            obj.ViewObject.Proxy.legend.labels
+        assert legend_text(obj.MinThickness, obj.MaxThickness) == \
+            "Colour scale: one thickness, 2 mm"
         # one undo step takes both away, redo brings both back
         doc.undo()
         assert [o.Name for o in doc.Objects] == ["Plate"], [o.Name for o in doc.Objects]

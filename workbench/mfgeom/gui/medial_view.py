@@ -51,8 +51,9 @@ def legend_span(slot, count):
 
 
 def legend_labels(lo, hi, steps=LEGEND_STEPS):
-    """[(t in [0, 1], text)] for the legend's ticks between thickness ``lo`` and ``hi``."""
-    if not hi > lo:
+    """[(t in [0, 1], text)] for the legend's ticks between thickness ``lo`` and ``hi``
+    (one tick when they are one value up to rounding)."""
+    if palette.one_value(lo, hi):
         return [(0.5, f"{lo:.3g} mm")]
     return [(k / steps, f"{lo + (hi - lo) * k / steps:.3g} mm") for k in range(steps + 1)]
 
