@@ -22,7 +22,9 @@ screenshot shows the coloured mid-surface with its legend in the half-transparen
 30 x 2 plate selected, not a medial surface): the panel offers the solid's tolerance,
 OK makes the medial surface and the mid-surface in one undo step, a planar shell at z = 1
 over [1, 39] x [1, 29], thickness 2 at every point, per face, min / max / mean, and
-every object of the document valid.  Prints ``freecad-gui-medial: N passed, M
+every object of the document valid; one thickness is one histogram bin, one colour and
+one legend label; its edit panel shows its medial surface's tolerance and deflection
+(screenshot mid-surface-plate.png).  Prints ``freecad-gui-medial: N passed, M
 failed``; leaves with os._exit(rc).
 """
 
@@ -496,6 +498,23 @@ if EXTRACTS:
             obj.ViewObject.Proxy.legend.labels
         assert legend_text(obj.MinThickness, obj.MaxThickness) == \
             "Colour scale: one thickness, 2 mm"
+        # edited (double click): the tolerance and deflection shown are its medial
+        # surface's, read-only here
+        Gui.ActiveDocument.setEdit(obj.Name, 0)
+        panel = task_panel()
+        assert panel is not None, "no edit panel"
+        assert not panel["tolerance"].isEnabled() and not panel["deflection"].isEnabled()
+        shown = (panel["tolerance"].value(), panel["deflection"].value())
+        want = (medial.Tolerance.Value, medial.Deflection.Value)
+        assert max(abs(a - b) for a, b in zip(shown, want)) < 1e-6, (shown, want)
+        press(panel["cancel"])
+        assert task_panel() is None
+        plate.ViewObject.Transparency = 80
+        view = Gui.getDocument(doc.Name).ActiveView
+        view.viewIsometric()
+        view.fitAll()
+        Gui.updateGui()
+        view.saveImage(os.path.join(OUT, "mid-surface-plate.png"), 1000, 700, "White")
         # one undo step takes both away, redo brings both back
         doc.undo()
         assert [o.Name for o in doc.Objects] == ["Plate"], [o.Name for o in doc.Objects]
