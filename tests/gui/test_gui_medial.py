@@ -15,7 +15,8 @@ colours on the ramp, the legend's labels span the thickness range); the axis' an
 surface's legends, both shown, stack one below the other (found in the screenshot's
 pixels: two bars, the second at least the first's height lower; saved as
 medial-legends.png), hiding the axis gives the surface's legend the whole band, a third
-legend takes the third slot and deleting its feature frees it; "Mid-surface for
+legend takes the third slot, deleting its feature frees it, undoing the deletion takes
+it again and undoing the creation frees it; "Mid-surface for
 FEM" with a CSV path creates the shell, writes the CSV and reports the thickness; the
 screenshot shows the coloured mid-surface with its legend in the half-transparent tray
 (before that: the medial axis on the tray).  "Mid-surface for FEM" from a solid (a 40 x
@@ -361,6 +362,16 @@ if EXTRACTS:
         assert not dialogs.take()
         assert [(lg.slot, lg.count) for lg in (legend["medial"], legend["axis"])] \
             == [(0, 2), (1, 2)]
+        # undo the deletion: it is back in the third slot; undo its creation (no view
+        # provider hook runs): its slot is freed all the same
+        doc.undo()
+        extra = doc.getObject(extra_name)
+        assert extra is not None and extra.ViewObject.Visibility
+        assert (extra.ViewObject.Proxy.legend.slot, legend["medial"].count) == (2, 3)
+        doc.undo()
+        assert doc.getObject(extra_name) is None
+        assert [(lg.slot, lg.count) for lg in (legend["medial"], legend["axis"])] \
+            == [(0, 2), (1, 2)]
         assert len(arrange_legends(doc)) == 2
         assert_stacked(legend_screenshot("medial-legends-after-delete.png"), 2)
 
@@ -520,6 +531,8 @@ if EXTRACTS:
         assert [o.Name for o in doc.Objects] == ["Plate"], [o.Name for o in doc.Objects]
         doc.redo()
         assert len(doc.Objects) == 3 and all(o.isValid() for o in doc.Objects)
+        App.closeDocument(doc.Name)   # with its legend: quietly (no traceback in the log)
+        Gui.updateGui()
 
 
 finish("freecad-gui-medial")

@@ -19,8 +19,8 @@ and left out of the bounding box (so View > Fit all ignores it).
 Several legends shown at once in a document's views (a medial axis' width and a medial
 surface's thickness) are stacked down the left edge, not drawn over each other: each
 takes the next free slot when its feature is shown, in the order they were shown; a
-feature hidden, switched to another display mode or deleted frees its slot and the
-legends below move up.  The band of the lone legend is shared: two legends are half as
+feature hidden, switched to another display mode, deleted or undone frees its slot and
+the legends below move up.  The band of the lone legend is shared: two legends are half as
 tall, so a legend never moves off the view (``arrange_legends``).
 """
 
@@ -201,6 +201,28 @@ def arrange_legends(doc, leaving=None):
     return shown
 
 
+class _UndoWatcher:
+    """Undo and redo remove or bring back objects without calling their view providers'
+    hooks (FreeCAD keeps a deleted object's view provider aside for redo): re-stack the
+    legends of the document after them.  One per session (FreeCAD's observers are)."""
+
+    def slotUndoDocument(self, doc):
+        arrange_legends(doc)
+
+    def slotRedoDocument(self, doc):
+        arrange_legends(doc)
+
+
+_WATCHERS = []
+
+
+def _watch_undo():
+    if not _WATCHERS:
+        import FreeCAD
+        _WATCHERS.append(_UndoWatcher())
+        FreeCAD.addDocumentObserver(_WATCHERS[0])
+
+
 class LegendViewProvider(PanelViewProvider):
     """Base of the view providers whose display mode ``MODE`` draws ``self.legend`` (made
     in ``attach``): keeps its slot in the stack of legends up to date when the object is
@@ -214,6 +236,7 @@ class LegendViewProvider(PanelViewProvider):
     def _arrange(self, vobj):
         if getattr(self, "legend", None) is not None and vobj.Object is not None \
                 and vobj.Object.Document is not None:
+            _watch_undo()
             arrange_legends(vobj.Object.Document)
 
     def onChanged(self, vobj, prop):
