@@ -531,7 +531,20 @@ if EXTRACTS:
         assert [o.Name for o in doc.Objects] == ["Plate"], [o.Name for o in doc.Objects]
         doc.redo()
         assert len(doc.Objects) == 3 and all(o.isValid() for o in doc.Objects)
-        App.closeDocument(doc.Name)   # with its legend: quietly (no traceback in the log)
+        # its medial surface shown too, saved and opened again: two legends, stacked
+        medial.ViewObject.Visibility = True
+        path = os.path.join(tempfile.mkdtemp(), "plate.FCStd")
+        doc.saveAs(path)
+        App.closeDocument(doc.Name)   # with its legends: quietly (no traceback in the log)
+        Gui.updateGui()
+        doc = App.openDocument(path)
+        Gui.updateGui()
+        legends = [o.ViewObject.Proxy.legend for o in doc.Objects
+                   if o.Name.startswith(("MidSurface", "MedialSurface"))]
+        assert len(legends) == 2, legends
+        assert sorted((lg.slot, lg.count) for lg in legends) == [(0, 2), (1, 2)], \
+            [(lg.slot, lg.count) for lg in legends]
+        App.closeDocument(doc.Name)
         Gui.updateGui()
 
 
