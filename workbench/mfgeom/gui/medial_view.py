@@ -20,8 +20,8 @@ Several legends shown at once in a document's views (a medial axis' width and a 
 surface's thickness) are stacked down the left edge, not drawn over each other: each
 takes the next free slot when its feature is shown, in the order they were shown; a
 feature hidden, switched to another display mode, deleted or undone frees its slot and
-the legends below move up.  The band of the lone legend is shared: two legends are half as
-tall, so a legend never moves off the view (``arrange_legends``).
+the legends below move up.  They share the lone legend's band (with a gap for each
+title), so none leaves the view however many are shown (``arrange_legends``).
 """
 
 import math
