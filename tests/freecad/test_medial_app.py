@@ -257,6 +257,18 @@ class ThicknessFunctions(unittest.TestCase):
         self.assertIn("mean 3.333 mm", lines[0])
         self.assertIn("66.7 %", lines[2])
 
+    def test_report_one_thickness_up_to_rounding(self):
+        """A plate's radii differ in the last bit only: one bin with all the area, not
+        ten bins '2 .. 2' with 100 % in an arbitrary one."""
+        sheets = self.sheets()
+        sheets.radii[:] = 1.0
+        sheets.radii[[1, 5]] = np.nextafter(1.0, 2.0)
+        rep = mid.ThicknessReport(sheets, bins=10)
+        self.assertEqual(len(rep.shares), 1)
+        self.assertAlmostEqual(rep.shares[0], 1.0)
+        self.assertEqual(len(rep.lines()), 2)
+        self.assertGreater(rep.maximum, rep.minimum)   # the data keep the true values
+
     def test_csv(self):
         path = os.path.join(tempfile.mkdtemp(), "t.csv")
         self.assertEqual(mid.write_csv(path, self.sheets()), 8)
@@ -308,6 +320,12 @@ class ThicknessFunctions(unittest.TestCase):
         self.assertGreaterEqual(step, 8.0)
         np.testing.assert_allclose(palette.ramp_colors([0, 1, 2], 0, 2)[[0, 2]],
                                    [palette.THICKNESS_RAMP[0], palette.THICKNESS_RAMP[-1]])
+        # values apart by rounding only are one value: the ramp's middle, not its ends
+        lo, hi = 2.0, np.nextafter(2.0, 3.0)
+        np.testing.assert_allclose(palette.ramp_colors([lo, hi], lo, hi),
+                                   [palette.ramp_color(0.5)] * 2)
+        self.assertTrue(palette.one_value(lo, hi) and palette.one_value(0.0, 0.0))
+        self.assertFalse(palette.one_value(2.0, 2.0 + 1e-6))
 
 
 class MedialSurfaceFeature(unittest.TestCase):

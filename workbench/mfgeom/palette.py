@@ -152,6 +152,16 @@ THICKNESS_RAMP = (
 # Seams (curves where three or more boundary elements are equidistant) and junctions.
 SEAM = _rgb(0, 0, 0)
 JUNCTION = _rgb(0, 0, 0)     # drawn as larger points on the seams
+# Values this close, relative to their size, are one value on a colour scale or in a
+# histogram: the library's radii carry rounding (a 2 mm plate's thickness came out as
+# 2.0 and 1.999999999998668), which a scale from minimum to maximum blew up to the ramp's
+# two ends and a histogram to ten bins "2 .. 2".
+SAME_VALUE = 1e-9
+
+
+def one_value(lo, hi):
+    """True when ``lo`` .. ``hi`` is one value up to rounding (SAME_VALUE, relative)."""
+    return hi - lo <= SAME_VALUE * max(abs(lo), abs(hi))
 
 
 def ramp_color(t, ramp=THICKNESS_RAMP):
@@ -167,10 +177,10 @@ def ramp_color(t, ramp=THICKNESS_RAMP):
 
 def ramp_colors(values, lo, hi, ramp=THICKNESS_RAMP):
     """(n, 3) float colours of ``values`` on the ramp between ``lo`` and ``hi`` (all the
-    middle colour when hi <= lo).  Needs numpy."""
+    middle colour when ``lo`` .. ``hi`` is one value, see one_value).  Needs numpy."""
     import numpy as np
     v = np.asarray(values, dtype=np.float64)
-    t = (v - lo) / (hi - lo) if hi > lo else np.full(v.shape, 0.5)
+    t = (v - lo) / (hi - lo) if not one_value(lo, hi) else np.full(v.shape, 0.5)
     t = np.nan_to_num(np.clip(t, 0.0, 1.0), nan=0.0)
     stops = np.asarray(ramp, dtype=np.float64)
     x = t * (len(stops) - 1)

@@ -27,6 +27,7 @@ from mfgeom.app.feature_base import FeatureProxy, add_properties
 from mfgeom.app.medial_surface_feature import (MedialInputError, is_medial_surface,
                                                sheet_mesh_of)
 from mfgeom.errors import MfgeomError
+from mfgeom.palette import one_value
 
 # 1: first release.  Bump when properties change and migrate in _migrate().
 VERSION = 1
@@ -70,8 +71,8 @@ class ThicknessReport:
         self.mean = (float((tri_thick * area).sum() / self.area) if self.area > 0
                      else (float(thick.mean()) if len(thick) else 0.0))
         lo, hi = self.minimum, self.maximum
-        if hi <= lo:
-            hi, bins = lo + max(1e-9, 1e-9 * abs(lo)), 1   # one thickness: one bin
+        if one_value(lo, hi):   # one thickness up to rounding: one bin
+            hi, bins = max(hi, lo + max(1e-9, 1e-9 * abs(lo))), 1
         self.edges = np.linspace(lo, hi, int(bins) + 1)
         counts, _ = np.histogram(np.clip(tri_thick, lo, hi), bins=self.edges, weights=area)
         self.shares = counts / self.area if self.area > 0 else counts

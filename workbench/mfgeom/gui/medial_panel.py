@@ -412,6 +412,10 @@ class MidSurfacePanel(MedialPanel):
     def _load(self, obj):
         self.csv.setText(obj.CsvFile)
         self.bins.setValue(obj.Bins)
+        if obj.Source is not None and msf.is_medial_surface(obj.Source):
+            # shown read-only: its medial surface's, not the spin boxes' defaults
+            self.tolerance.setValue(obj.Source.Tolerance.Value)
+            self.deflection.setValue(obj.Source.Deflection.Value)
         self.what.setText(f"Medial surface: {obj.Source.Label if obj.Source else '(gone)'}")
 
     def _check(self):

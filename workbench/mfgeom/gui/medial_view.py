@@ -15,6 +15,13 @@ The legend is drawn in the 3-D view itself (so screenshots carry it): an overlay
 own orthographic camera at the view's left edge, a bar of the ramp and the thickness at
 its ends and quarters in mm, in an SoAnnotation (drawn last, over the model), unpickable
 and left out of the bounding box (so View > Fit all ignores it).
+
+Several legends shown at once in a document's views (a medial axis' width and a medial
+surface's thickness) are stacked down the left edge, not drawn over each other: each
+takes the next free slot when its feature is shown, in the order they were shown; a
+feature hidden, switched to another display mode, deleted or undone frees its slot and
+the legends below move up.  They share the lone legend's band (with a gap for each
+title), so none leaves the view however many are shown (``arrange_legends``).
 """
 
 import math
@@ -29,19 +36,32 @@ WIDTH_MODE = "Width"
 LEGEND_STEPS = 4            # labelled intervals of the bar (ends and quarters)
 # The bar in the overlay camera's unit square (x, y in [-1, 1] across the whole view).
 LEGEND_X = (-0.96, -0.91)
-LEGEND_Y = (-0.6, 0.6)
+LEGEND_Y = (-0.6, 0.6)      # the lone legend's bar; stacked bars share this band
+LEGEND_GAP = 0.2            # between stacked bars: room for the lower one's title
+LEGEND_SHORT = 0.4          # a shorter bar is labelled at its ends and middle only
+
+
+def legend_span(slot, count):
+    """(y0, y1) of the bar in ``slot`` (0: the top) of ``count`` stacked legends."""
+    y0, y1 = LEGEND_Y
+    count = max(int(count), 1)
+    height = (y1 - y0 - (count - 1) * LEGEND_GAP) / count
+    top = y1 - slot * (height + LEGEND_GAP)
+    return top - height, top
 
 
 def legend_labels(lo, hi, steps=LEGEND_STEPS):
-    """[(t in [0, 1], text)] for the legend's ticks between thickness ``lo`` and ``hi``."""
-    if not hi > lo:
+    """[(t in [0, 1], text)] for the legend's ticks between thickness ``lo`` and ``hi``
+    (one tick when they are one value up to rounding)."""
+    if palette.one_value(lo, hi):
         return [(0.5, f"{lo:.3g} mm")]
     return [(k / steps, f"{lo + (hi - lo) * k / steps:.3g} mm") for k in range(steps + 1)]
 
 
 class Legend:
     """The colour-scale overlay: ``node`` goes into a view provider's root; ``update(lo,
-    hi, title)`` redraws it."""
+    hi, title)`` redraws it; ``place(slot, count)`` moves it to its slot of the stack
+    (``arrange_legends``).  ``order`` is its place in the stack while shown, else None."""
 
     def __init__(self):
         from pivy import coin
@@ -70,14 +90,32 @@ class Legend:
         for n in (pick, camera, light, style, self._bar, self._text, reset):
             self.node.addChild(n)
         self.labels = []
+        self.slot, self.count, self.order = 0, 1, None
+        self._scale = (0.0, 0.0, "Thickness")
+
+    @property
+    def span(self):
+        """(y0, y1) of the bar in the overlay's unit square."""
+        return legend_span(self.slot, self.count)
+
+    def place(self, slot, count):
+        if (slot, count) != (self.slot, self.count):
+            self.slot, self.count = slot, count
+            self._redraw()
 
     def update(self, lo, hi, title="Thickness"):
+        self._scale = (lo, hi, title)
+        self._redraw()
+
+    def _redraw(self):
         from pivy import coin
+        lo, hi, title = self._scale
         self._bar.removeAllChildren()
         self._text.removeAllChildren()
         n = 32
         x0, x1 = LEGEND_X
-        y0, y1 = LEGEND_Y
+        y0, y1 = self.span
+        steps = LEGEND_STEPS if y1 - y0 >= LEGEND_SHORT else 2
         ys = [y0 + (y1 - y0) * k / n for k in range(n + 1)]
         coords = coin.SoCoordinate3()
         pts = [(x, y, 0.0) for y in ys for x in (x0, x1)]
@@ -109,9 +147,10 @@ class Legend:
         frame.addChild(line)
         for node in (coords, colours, binding, faces, frame):
             self._bar.addChild(node)
-        self.labels = [text for _t, text in legend_labels(lo, hi)]
+        ticks = legend_labels(lo, hi, steps)
+        self.labels = [text for _t, text in ticks]
         rows = [((y0 + y1) / 2 if len(self.labels) == 1 else y0 + (y1 - y0) * t, text)
-                for t, text in legend_labels(lo, hi)]
+                for t, text in ticks]
         rows.append((y1 + 0.08, f"{title} (2 x radius)"))
         for y, text in rows:
             sep = coin.SoSeparator()
@@ -127,6 +166,87 @@ class Legend:
             for node in (colour, move, font, label):
                 sep.addChild(node)
             self._text.addChild(sep)
+
+
+def _legend_of(obj):
+    """The Legend of ``obj``'s view provider (a LegendViewProvider), or None."""
+    proxy = getattr(getattr(obj, "ViewObject", None), "Proxy", None)
+    legend = getattr(proxy, "legend", None)
+    return legend if isinstance(legend, Legend) else None
+
+
+def arrange_legends(doc, leaving=None):
+    """Stacks the legends shown in ``doc``'s 3-D views (module doc): a legend keeps its
+    place while shown, one shown anew takes the next free slot, a hidden one (and that of
+    ``leaving``, an object being deleted) frees its slot and the ones below move up.
+    Returns the shown legends, top first."""
+    shown = []
+    for obj in doc.Objects:
+        legend = _legend_of(obj)
+        if legend is None:
+            continue
+        vobj = obj.ViewObject
+        if (leaving is not None and obj.Name == leaving.Name) \
+                or not vobj.Proxy.legend_shown(vobj):
+            legend.order = None
+        else:
+            shown.append(legend)
+    free = max((lg.order for lg in shown if lg.order is not None), default=-1) + 1
+    for legend in shown:   # shown anew (several at once: in the tree's order)
+        if legend.order is None:
+            legend.order, free = free, free + 1
+    shown.sort(key=lambda lg: lg.order)
+    for slot, legend in enumerate(shown):
+        legend.place(slot, len(shown))
+    return shown
+
+
+class _UndoWatcher:
+    """Undo and redo remove or bring back objects without calling their view providers'
+    hooks (FreeCAD keeps a deleted object's view provider aside for redo): re-stack the
+    legends of the document after them.  One per session (FreeCAD's observers are)."""
+
+    def slotUndoDocument(self, doc):
+        arrange_legends(doc)
+
+    def slotRedoDocument(self, doc):
+        arrange_legends(doc)
+
+
+_WATCHERS = []
+
+
+def _watch_undo():
+    if not _WATCHERS:
+        import FreeCAD
+        _WATCHERS.append(_UndoWatcher())
+        FreeCAD.addDocumentObserver(_WATCHERS[0])
+
+
+class LegendViewProvider(PanelViewProvider):
+    """Base of the view providers whose display mode ``MODE`` draws ``self.legend`` (made
+    in ``attach``): keeps its slot in the stack of legends up to date when the object is
+    shown, hidden, switched to another display mode or deleted."""
+
+    MODE = THICKNESS_MODE
+
+    def legend_shown(self, vobj):
+        return bool(vobj.Visibility) and vobj.DisplayMode == self.MODE
+
+    def _arrange(self, vobj):
+        if getattr(self, "legend", None) is not None and vobj.Object is not None \
+                and vobj.Object.Document is not None:
+            _watch_undo()
+            arrange_legends(vobj.Object.Document)
+
+    def onChanged(self, vobj, prop):
+        if prop in ("Visibility", "DisplayMode"):
+            self._arrange(vobj)
+
+    def onDelete(self, vobj, subelements):
+        if getattr(self, "legend", None) is not None:
+            arrange_legends(vobj.Object.Document, leaving=vobj.Object)
+        return True
 
 
 class ColouredSheets:
@@ -175,12 +295,13 @@ class ColouredSheets:
         return lo, hi
 
 
-class ViewProviderMedialAxis(PanelViewProvider):
+class ViewProviderMedialAxis(LegendViewProvider):
     """The medial axis of a face: display mode "Width" (default) draws its wires coloured
     per point by the local width of the face (2 x clearance radius) on the thickness ramp,
     the junctions as black points and the legend; Part's modes show the plain shape."""
 
     icon = "mfgeom_medial_axis.svg"
+    MODE = WIDTH_MODE
 
     def __init__(self, vobj):
         vobj.Proxy = self
@@ -217,6 +338,7 @@ class ViewProviderMedialAxis(PanelViewProvider):
             root.addChild(node)
         vobj.addDisplayMode(root, WIDTH_MODE)
         self._draw(vobj.Object)
+        self._arrange(vobj)
 
     def getDisplayModes(self, vobj):
         return [WIDTH_MODE]
@@ -266,7 +388,7 @@ class ViewProviderMedialAxis(PanelViewProvider):
         self.legend.update(lo, hi, "Width")
 
 
-class ViewProviderMedialSurface(PanelViewProvider):
+class ViewProviderMedialSurface(LegendViewProvider):
     """Sheets coloured by thickness, seams, junctions and the legend (module doc)."""
 
     icon = "mfgeom_medial_surface.svg"
@@ -303,6 +425,7 @@ class ViewProviderMedialSurface(PanelViewProvider):
         root.addChild(self.legend.node)
         vobj.addDisplayMode(root, THICKNESS_MODE)
         self._draw(vobj.Object)
+        self._arrange(vobj)
 
     def getDisplayModes(self, vobj):
         return [THICKNESS_MODE]
@@ -316,9 +439,6 @@ class ViewProviderMedialSurface(PanelViewProvider):
     def updateData(self, obj, prop):
         if prop == "MaxRadius":   # the last result _execute writes
             self._draw(obj)
-
-    def onDelete(self, vobj, subelements):
-        return True
 
     def make_panel(self, obj):
         from mfgeom.gui.medial_panel import MedialSurfacePanel
@@ -353,7 +473,7 @@ class ViewProviderMedialSurface(PanelViewProvider):
         self.legend.update(lo, hi)
 
 
-class ViewProviderMidSurface(PanelViewProvider):
+class ViewProviderMidSurface(LegendViewProvider):
     """The FEM mid-surface: display mode "Thickness" (default) draws its sheets coloured
     per point by thickness with the legend; Part's modes show the shell itself."""
 
@@ -373,6 +493,7 @@ class ViewProviderMidSurface(PanelViewProvider):
         root.addChild(self.legend.node)
         vobj.addDisplayMode(root, THICKNESS_MODE)
         self._draw(vobj.Object)
+        self._arrange(vobj)
 
     def getDisplayModes(self, vobj):
         return [THICKNESS_MODE]
