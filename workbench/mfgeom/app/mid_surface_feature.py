@@ -28,7 +28,7 @@ from mfgeom.app.medial_surface_feature import (MedialInputError, is_medial_surfa
                                                sheet_mesh_of)
 from mfgeom.errors import MfgeomError
 
-# 1: first release.  Bump when properties change and migrate in _migrate().
+# 1: first release.  Bump when properties change and migrate in _upgrade().
 VERSION = 1
 TYPE = "Mfgeom::MidSurface"
 DEFAULT_BINS = 10
@@ -286,13 +286,10 @@ class MidSurface(FeatureProxy):
 
     TYPE = TYPE
     VERSION = VERSION
+    VIEW_PROVIDER = "mfgeom.gui.medial_view.ViewProviderMidSurface"
 
-    def __init__(self, obj):
-        obj.Proxy = self
-        self.Type = TYPE
-        self._add_properties(obj)
+    def _set_defaults(self, obj):
         obj.Bins = DEFAULT_BINS
-        obj.Version = VERSION
         obj.setEditorMode("Placement", 2)
 
     @staticmethod
@@ -325,18 +322,7 @@ class MidSurface(FeatureProxy):
         add_properties(obj, spec)
         obj.setEditorMode("ThicknessPoints", 2)
 
-    def _migrate(self, obj):
-        if "Version" not in obj.PropertiesList or obj.Version < VERSION:
-            self._add_properties(obj)
-            obj.Version = VERSION
-
-    def onDocumentRestored(self, obj):
-        self.Type = TYPE
-        self._migrate(obj)
-        _attach_view(obj)
-
     def _execute(self, obj):
-        self._migrate(obj)
         source = obj.Source
         if source is None or not is_medial_surface(source):
             raise MedialInputError("the source must be a medial surface feature")
@@ -369,12 +355,6 @@ class MidSurface(FeatureProxy):
             + "\n")
 
 
-def _attach_view(obj):
-    if FreeCAD.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
-        from mfgeom.gui.medial_view import ViewProviderMidSurface
-        ViewProviderMidSurface(obj.ViewObject)
-
-
 # ---------------------------------------------------------------------------- make
 def make_mid_surface(doc, source, csv_path=None, tolerance=None, bins=DEFAULT_BINS,
                      deflection=None, name="MidSurface"):
@@ -405,8 +385,7 @@ def make_mid_surface(doc, source, csv_path=None, tolerance=None, bins=DEFAULT_BI
         made = medial = msf.make_medial_surface(doc, source, tolerance, True, **kwargs)
     obj = doc.addObject("Part::FeaturePython", name)
     try:
-        MidSurface(obj)
-        _attach_view(obj)
+        MidSurface(obj).attach_view(obj)
         obj.Label = f"Mid-surface of {getattr(medial.Source, 'Label', medial.Label)}"
         obj.Source = medial
         obj.Bins = bins
