@@ -64,6 +64,28 @@ class FeatureProxy:
     TYPE = ""
     VERSION = 0
     VIEW_PROVIDER = ""   # "module.Class" of the view provider, for attach_view
+    OBJECT_TYPE = "Part::FeaturePython"   # the document object the proxy drives
+
+    @classmethod
+    def make(cls, doc, name, values, what, error=MfgeomError):
+        """Adds an OBJECT_TYPE object ``name`` with this proxy (and its view provider)
+        to ``doc``, sets ``values`` (property: value, in this order) and computes it.
+        Nothing is left half-made: whatever fails, the object is removed again and the
+        error raised (``error`` "<what> failed: <status>" when the recompute failed).
+        Returns the object."""
+        obj = doc.addObject(cls.OBJECT_TYPE, name)
+        try:
+            cls(obj).attach_view(obj)
+            for prop, value in values.items():
+                setattr(obj, prop, value)
+            # recompute(True): in FreeCAD 0.20 obj.recompute() leaves the new object Touched
+            obj.recompute(True)
+            if not obj.isValid():
+                raise error(f"{what} failed: {obj.getStatusString()}")
+        except Exception:  # undo the half-made object whatever went wrong, then re-raise
+            doc.removeObject(obj.Name)
+            raise
+        return obj
 
     def __init__(self, obj):
         obj.Proxy = self

@@ -25,7 +25,7 @@ import numpy as np
 import FreeCAD
 
 from mfgeom.app.feature_base import FeatureProxy, add_properties
-from mfgeom.errors import InputError, MfgeomError
+from mfgeom.errors import InputError
 
 # 1: first release.  Bump when properties change and migrate in _upgrade().
 VERSION = 1
@@ -232,16 +232,6 @@ def make_medial_axis(doc, face_ref, tolerance=DEFAULT_TOLERANCE, name="MedialAxi
     face = refs.resolve_face(obj, sub)
     check_planar_face(face, f"{obj.Label}.{sub}")
     tol = length_value(tolerance, "the tolerance")
-    feature = doc.addObject("Part::FeaturePython", name)
-    try:
-        MedialAxis(feature).attach_view(feature)
-        feature.Label = f"Medial axis of {obj.Label} {sub}"
-        feature.Face = (obj, [sub])
-        feature.Tolerance = tol
-        feature.recompute(True)
-        if not feature.isValid():
-            raise MfgeomError(f"medial axis failed: {feature.getStatusString()}")
-    except Exception:  # undo the half-made object whatever went wrong, then re-raise
-        doc.removeObject(feature.Name)
-        raise
-    return feature
+    return MedialAxis.make(doc, name, {"Label": f"Medial axis of {obj.Label} {sub}",
+                                       "Face": (obj, [sub]), "Tolerance": tol},
+                           "medial axis")

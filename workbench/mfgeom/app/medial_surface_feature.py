@@ -299,18 +299,6 @@ def make_medial_surface(doc, source, tolerance=None, major_only=True,
     tol = (default_tolerance(shape) if tolerance is None
            else length_value(tolerance, "the tolerance"))
     defl = length_value(deflection, "the deflection")
-    obj = doc.addObject("Part::FeaturePython", name)
-    try:
-        MedialSurface(obj).attach_view(obj)
-        obj.Label = f"Medial surface of {source.Label}"
-        obj.Source = source
-        obj.Tolerance = tol
-        obj.MajorOnly = bool(major_only)
-        obj.Deflection = defl
-        obj.recompute(True)
-        if not obj.isValid():
-            raise MfgeomError(f"medial surface failed: {obj.getStatusString()}")
-    except Exception:  # undo the half-made object whatever went wrong, then re-raise
-        doc.removeObject(obj.Name)
-        raise
-    return obj
+    return MedialSurface.make(doc, name, {
+        "Label": f"Medial surface of {source.Label}", "Source": source, "Tolerance": tol,
+        "MajorOnly": bool(major_only), "Deflection": defl}, "medial surface")

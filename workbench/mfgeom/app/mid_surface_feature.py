@@ -383,19 +383,13 @@ def make_mid_surface(doc, source, csv_path=None, tolerance=None, bins=DEFAULT_BI
     else:
         kwargs = {} if deflection is None else {"deflection": deflection}
         made = medial = msf.make_medial_surface(doc, source, tolerance, True, **kwargs)
-    obj = doc.addObject("Part::FeaturePython", name)
+    values = {"Label": f"Mid-surface of {getattr(medial.Source, 'Label', medial.Label)}",
+              "Source": medial, "Bins": bins}
+    if csv_path is not None:
+        values["CsvFile"] = os.path.abspath(os.path.expanduser(str(csv_path)))
     try:
-        MidSurface(obj).attach_view(obj)
-        obj.Label = f"Mid-surface of {getattr(medial.Source, 'Label', medial.Label)}"
-        obj.Source = medial
-        obj.Bins = bins
-        if csv_path is not None:
-            obj.CsvFile = os.path.abspath(os.path.expanduser(str(csv_path)))
-        obj.recompute(True)
-        if not obj.isValid():
-            raise MfgeomError(f"mid-surface failed: {obj.getStatusString()}")
-    except Exception:  # undo what was made here whatever went wrong, then re-raise
-        doc.removeObject(obj.Name)
+        obj = MidSurface.make(doc, name, values, "mid-surface")
+    except Exception:  # the medial surface made here goes too, then re-raise
         if made is not None:
             doc.removeObject(made.Name)
         raise

@@ -19,7 +19,7 @@ import time
 import FreeCAD
 
 from mfgeom.app.feature_base import FeatureProxy, add_properties
-from mfgeom.errors import InputError, MfgeomError
+from mfgeom.errors import InputError
 
 # 1: first release.  Bump when properties change and migrate in _upgrade().
 VERSION = 1
@@ -38,6 +38,7 @@ class PartingAnalysis(FeatureProxy):
     TYPE = TYPE
     VERSION = VERSION
     VIEW_PROVIDER = "mfgeom.gui.parting_view.ViewProviderPartingAnalysis"
+    OBJECT_TYPE = "App::FeaturePython"
 
     def _set_defaults(self, obj):
         obj.Mode = MODES
@@ -300,20 +301,7 @@ def make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting=
         if not (f.startswith("Face") and f[4:].isdigit() and 1 <= int(f[4:]) <= count):
             raise PartingInputError(f"{f!r} is not a face of '{source.Label}' "
                                     f"(Face1 .. Face{count})")
-    obj = doc.addObject("App::FeaturePython", name)
-    try:
-        PartingAnalysis(obj).attach_view(obj)
-        obj.Label = f"{mode} analysis of {source.Label}"
-        obj.Source = source
-        obj.Mode = mode
-        obj.DraftAngle = draft
-        obj.Weighting = weighting
-        obj.AllFaces = bool(all_faces)
-        obj.Faces = faces
-        obj.recompute(True)
-        if not obj.isValid():
-            raise MfgeomError(f"parting analysis failed: {obj.getStatusString()}")
-    except Exception:  # undo the half-made object whatever went wrong, then re-raise
-        doc.removeObject(obj.Name)
-        raise
-    return obj
+    return PartingAnalysis.make(doc, name, {
+        "Label": f"{mode} analysis of {source.Label}", "Source": source, "Mode": mode,
+        "DraftAngle": draft, "Weighting": weighting, "AllFaces": bool(all_faces),
+        "Faces": faces}, "parting analysis")

@@ -189,19 +189,7 @@ def make_point_classification(doc, face_ref, points_ref, tolerance=None,
                               f"{face_sub} of '{face_obj.Label}': its boundary is only "
                               f"defined to {least:g} mm; use at least {least:g} mm")
 
-    obj = doc.addObject("Part::FeaturePython", name)
-    try:
-        PointClassification(obj).attach_view(obj)
-        obj.Label = f"Classes of {face_sub} of {face_obj.Label}"
-        obj.Face = (face_obj, [face_sub])
-        obj.PointSource = (src_obj, src_subs)
-        obj.Tolerance = tolerance
-        obj.Strict = bool(strict)
-        # recompute(True): in FreeCAD 0.20 obj.recompute() leaves the new object Touched
-        obj.recompute(True)
-        if not obj.isValid():
-            raise RuntimeError(f"point classification failed: {obj.getStatusString()}")
-    except Exception:  # undo the half-made object whatever went wrong, then re-raise
-        doc.removeObject(obj.Name)
-        raise
-    return obj
+    return PointClassification.make(doc, name, {
+        "Label": f"Classes of {face_sub} of {face_obj.Label}", "Face": (face_obj, [face_sub]),
+        "PointSource": (src_obj, src_subs), "Tolerance": tolerance, "Strict": bool(strict)},
+        "point classification", error=RuntimeError)

@@ -540,24 +540,10 @@ def make_rotational_sweep(doc, source, axis_point=(0.0, 0.0, 0.0), axis_dir=(0.0
                                   "document")
         axis_of(axis_obj, sub)   # a straight line, or say why not
         link = (axis_obj, [sub] if sub else [])
-    obj = doc.addObject("Part::FeaturePython", name)
-    try:
-        RotationalSweep(obj).attach_view(obj)
-        obj.Label = f"Sweep of {source.Label}"
-        obj.Source = source
-        obj.AxisPoint = _vector(point)
-        obj.AxisDirection = _vector(direction)
-        if link is not None:
-            obj.AxisObject = link
-        obj.AxisReversed = bool(reverse)
-        obj.Angle = angle
-        obj.Tolerance = tol
-        obj.Deflection = defl
-        obj.Representation = representation
-        obj.recompute(True)
-        if not obj.isValid():
-            raise MfgeomError(f"rotational sweep failed: {obj.getStatusString()}")
-    except Exception:  # undo the half-made object whatever went wrong, then re-raise
-        doc.removeObject(obj.Name)
-        raise
-    return obj
+    values = {"Label": f"Sweep of {source.Label}", "Source": source,
+              "AxisPoint": _vector(point), "AxisDirection": _vector(direction)}
+    if link is not None:
+        values["AxisObject"] = link
+    values.update(AxisReversed=bool(reverse), Angle=angle, Tolerance=tol, Deflection=defl,
+                  Representation=representation)
+    return RotationalSweep.make(doc, name, values, "rotational sweep")
