@@ -524,6 +524,58 @@ print("=== result " + json.dumps(result), flush=True)
 """
 
 
+class OlderDocuments(unittest.TestCase):
+    """What the features share (mfgeom.app.feature_base.FeatureProxy): an object saved by
+    an older version (Version 0, without a property added since) opens with the property
+    back (the Mesh outputs hidden) and Version current, and recomputes to its old
+    result."""
+
+    def test_old_objects_migrate_on_restore(self):
+        from mfgeom.app import sweep_feature
+        doc = App.newDocument("Older")
+        try:
+            with StandIn():
+                box = doc.addObject("Part::Box", "Box")
+                box.Length, box.Width, box.Height = A, B, C
+                doc.recompute()
+                bottom = next(f"Face{i + 1}" for i, f in enumerate(box.Shape.Faces)
+                              if abs(f.BoundBox.ZMax) < 1e-9)
+                axis = mfgeom.make_medial_axis(doc, (box, bottom), 0.01)
+                surface = mfgeom.make_medial_surface(doc, box, 0.1)
+                mid_surface = mfgeom.make_mid_surface(doc, surface)
+                sweep = mfgeom.make_rotational_sweep(doc, box, (0, 0, 0), "Z", 30)
+                # (object, its module, the property an older version lacked, its result)
+                cases = [(axis, maf, "JunctionRadii", lambda o: list(o.JunctionRadii)),
+                         (surface, msf, "Mesh", lambda o: o.Mesh.CountFacets),
+                         (mid_surface, mid, "FaceThickness", lambda o: list(o.FaceThickness)),
+                         (sweep, sweep_feature, "Mesh", lambda o: o.Mesh.CountFacets)]
+                before = [(obj.Name, module, prop, result, result(obj))
+                          for obj, module, prop, result in cases]
+                for obj, _module, prop, _result in cases:
+                    obj.removeProperty(prop)
+                    obj.Version = 0
+                path = os.path.join(tempfile.mkdtemp(), "older.FCStd")
+                doc.saveAs(path)
+                App.closeDocument(doc.Name)
+                doc = App.openDocument(path)
+                for name, module, prop, result, value in before:
+                    obj = doc.getObject(name)
+                    self.assertIn(prop, obj.PropertiesList, name)
+                    self.assertEqual(obj.Version, module.VERSION, name)
+                    mode = obj.getEditorMode(prop)   # outputs: read-only
+                    self.assertIn("ReadOnly", mode, name)
+                    self.assertEqual("Hidden" in mode, prop == "Mesh", name)
+                    self.assertNotEqual(result(obj), value, name)   # empty until recomputed
+                    obj.touch()
+                doc.recompute()
+                for name, _module, prop, result, value in before:
+                    obj = doc.getObject(name)
+                    clean(self, obj)
+                    self.assertEqual(result(obj), value, name)
+        finally:
+            App.closeDocument(doc.Name)
+
+
 class ThinWallPart(unittest.TestCase):
     """The bundled ribbed tray (examples/parts/thin_wall.py) with the real library."""
 

@@ -25,9 +25,9 @@ import numpy as np
 import FreeCAD
 
 from mfgeom.app.feature_base import FeatureProxy, add_properties
-from mfgeom.errors import InputError, MfgeomError
+from mfgeom.errors import InputError
 
-# 1: first release.  Bump when properties change and migrate in _migrate().
+# 1: first release.  Bump when properties change and migrate in _upgrade().
 VERSION = 1
 TYPE = "Mfgeom::MedialAxis"
 DEFAULT_TOLERANCE = 0.01   # mm
@@ -135,13 +135,10 @@ class MedialAxis(FeatureProxy):
 
     TYPE = TYPE
     VERSION = VERSION
+    VIEW_PROVIDER = "mfgeom.gui.medial_view.ViewProviderMedialAxis"
 
-    def __init__(self, obj):
-        obj.Proxy = self
-        self.Type = TYPE
-        self._add_properties(obj)
+    def _set_defaults(self, obj):
         obj.Tolerance = DEFAULT_TOLERANCE
-        obj.Version = VERSION
         obj.setEditorMode("Placement", 2)   # the result is placed on the face already
 
     @staticmethod
@@ -172,18 +169,7 @@ class MedialAxis(FeatureProxy):
         ]
         add_properties(obj, spec)
 
-    def _migrate(self, obj):
-        if "Version" not in obj.PropertiesList or obj.Version < VERSION:
-            self._add_properties(obj)
-            obj.Version = VERSION
-
-    def onDocumentRestored(self, obj):
-        self.Type = TYPE
-        self._migrate(obj)
-        _attach_view(obj)
-
     def _execute(self, obj):
-        self._migrate(obj)
         face, name = resolve_face(obj.Face)
         check_planar_face(face, name)
         axis = face_medial_axis(face, float(obj.Tolerance.Value))
@@ -202,12 +188,6 @@ class MedialAxis(FeatureProxy):
             f"mfgeom: {obj.Label}: {len(sizes)} branches, {obj.JunctionCount} junctions, "
             f"radius {obj.MinRadius:.4g} .. {obj.MaxRadius:.4g} mm; library "
             f"{1e3 * axis.seconds:.1f} ms\n")
-
-
-def _attach_view(obj):
-    if FreeCAD.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
-        from mfgeom.gui.medial_view import ViewProviderMedialAxis
-        ViewProviderMedialAxis(obj.ViewObject)
 
 
 # ---------------------------------------------------------------------------- make
@@ -252,17 +232,6 @@ def make_medial_axis(doc, face_ref, tolerance=DEFAULT_TOLERANCE, name="MedialAxi
     face = refs.resolve_face(obj, sub)
     check_planar_face(face, f"{obj.Label}.{sub}")
     tol = length_value(tolerance, "the tolerance")
-    feature = doc.addObject("Part::FeaturePython", name)
-    try:
-        MedialAxis(feature)
-        _attach_view(feature)
-        feature.Label = f"Medial axis of {obj.Label} {sub}"
-        feature.Face = (obj, [sub])
-        feature.Tolerance = tol
-        feature.recompute(True)
-        if not feature.isValid():
-            raise MfgeomError(f"medial axis failed: {feature.getStatusString()}")
-    except Exception:  # undo the half-made object whatever went wrong, then re-raise
-        doc.removeObject(feature.Name)
-        raise
-    return feature
+    return MedialAxis.make(doc, name, {"Label": f"Medial axis of {obj.Label} {sub}",
+                                       "Face": (obj, [sub]), "Tolerance": tol},
+                           "medial axis")

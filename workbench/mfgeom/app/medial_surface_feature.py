@@ -33,10 +33,10 @@ import numpy as np
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, add_properties
+from mfgeom.app.feature_base import FeatureProxy, add_mesh_property, add_properties
 from mfgeom.errors import InputError, MfgeomError
 
-# 1: first release.  Bump when properties change and migrate in _migrate().
+# 1: first release.  Bump when properties change and migrate in _upgrade().
 VERSION = 1
 TYPE = "Mfgeom::MedialSurface"
 TOLERANCE_FRACTION = 0.005      # default tolerance: 0.5 % of the bounding-box diagonal
@@ -172,14 +172,11 @@ class MedialSurface(FeatureProxy):
 
     TYPE = TYPE
     VERSION = VERSION
+    VIEW_PROVIDER = "mfgeom.gui.medial_view.ViewProviderMedialSurface"
 
-    def __init__(self, obj):
-        obj.Proxy = self
-        self.Type = TYPE
-        self._add_properties(obj)
+    def _set_defaults(self, obj):
         obj.MajorOnly = True
         obj.Deflection = DEFAULT_DEFLECTION
-        obj.Version = VERSION
         obj.setEditorMode("Placement", 2)   # the result is placed in global coordinates
 
     @staticmethod
@@ -227,24 +224,9 @@ class MedialSurface(FeatureProxy):
         for name in ("SheetPoints", "SheetFacets", "SheetRadii", "SheetVertexOffsets",
                      "SheetTriangleOffsets", "SheetElements"):
             obj.setEditorMode(name, 2)   # long lists: hidden in the property editor
-        if "Mesh" not in obj.PropertiesList:
-            import Mesh  # noqa: F401 - registers Mesh::PropertyMeshKernel
-            obj.addProperty("Mesh::PropertyMeshKernel", "Mesh", "Result",
-                            "All sheets as one mesh (global), for export", 8, True)
-            obj.setEditorMode("Mesh", 2)
-
-    def _migrate(self, obj):
-        if "Version" not in obj.PropertiesList or obj.Version < VERSION:
-            self._add_properties(obj)
-            obj.Version = VERSION
-
-    def onDocumentRestored(self, obj):
-        self.Type = TYPE
-        self._migrate(obj)
-        _attach_view(obj)
+        add_mesh_property(obj, "All sheets as one mesh (global), for export")
 
     def _execute(self, obj):
-        self._migrate(obj)
         if obj.Source is None:
             raise MedialInputError("the source is gone; set the Source property again")
         shape = solid_shape(obj.Source)
@@ -279,12 +261,6 @@ class MedialSurface(FeatureProxy):
 
     def _restored(self):
         self.last_sheets = None
-
-
-def _attach_view(obj):
-    if FreeCAD.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
-        from mfgeom.gui.medial_view import ViewProviderMedialSurface
-        ViewProviderMedialSurface(obj.ViewObject)
 
 
 def result_text(obj):
@@ -323,19 +299,6 @@ def make_medial_surface(doc, source, tolerance=None, major_only=True,
     tol = (default_tolerance(shape) if tolerance is None
            else length_value(tolerance, "the tolerance"))
     defl = length_value(deflection, "the deflection")
-    obj = doc.addObject("Part::FeaturePython", name)
-    try:
-        MedialSurface(obj)
-        _attach_view(obj)
-        obj.Label = f"Medial surface of {source.Label}"
-        obj.Source = source
-        obj.Tolerance = tol
-        obj.MajorOnly = bool(major_only)
-        obj.Deflection = defl
-        obj.recompute(True)
-        if not obj.isValid():
-            raise MfgeomError(f"medial surface failed: {obj.getStatusString()}")
-    except Exception:  # undo the half-made object whatever went wrong, then re-raise
-        doc.removeObject(obj.Name)
-        raise
-    return obj
+    return MedialSurface.make(doc, name, {
+        "Label": f"Medial surface of {source.Label}", "Source": source, "Tolerance": tol,
+        "MajorOnly": bool(major_only), "Deflection": defl}, "medial surface")

@@ -29,7 +29,7 @@ from mfgeom.app.medial_surface_feature import (MedialInputError, is_medial_surfa
 from mfgeom.errors import MfgeomError
 from mfgeom.palette import one_value
 
-# 1: first release.  Bump when properties change and migrate in _migrate().
+# 1: first release.  Bump when properties change and migrate in _upgrade().
 VERSION = 1
 TYPE = "Mfgeom::MidSurface"
 DEFAULT_BINS = 10
@@ -287,13 +287,10 @@ class MidSurface(FeatureProxy):
 
     TYPE = TYPE
     VERSION = VERSION
+    VIEW_PROVIDER = "mfgeom.gui.medial_view.ViewProviderMidSurface"
 
-    def __init__(self, obj):
-        obj.Proxy = self
-        self.Type = TYPE
-        self._add_properties(obj)
+    def _set_defaults(self, obj):
         obj.Bins = DEFAULT_BINS
-        obj.Version = VERSION
         obj.setEditorMode("Placement", 2)
 
     @staticmethod
@@ -326,18 +323,7 @@ class MidSurface(FeatureProxy):
         add_properties(obj, spec)
         obj.setEditorMode("ThicknessPoints", 2)
 
-    def _migrate(self, obj):
-        if "Version" not in obj.PropertiesList or obj.Version < VERSION:
-            self._add_properties(obj)
-            obj.Version = VERSION
-
-    def onDocumentRestored(self, obj):
-        self.Type = TYPE
-        self._migrate(obj)
-        _attach_view(obj)
-
     def _execute(self, obj):
-        self._migrate(obj)
         source = obj.Source
         if source is None or not is_medial_surface(source):
             raise MedialInputError("the source must be a medial surface feature")
@@ -370,12 +356,6 @@ class MidSurface(FeatureProxy):
             + "\n")
 
 
-def _attach_view(obj):
-    if FreeCAD.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
-        from mfgeom.gui.medial_view import ViewProviderMidSurface
-        ViewProviderMidSurface(obj.ViewObject)
-
-
 # ---------------------------------------------------------------------------- make
 def make_mid_surface(doc, source, csv_path=None, tolerance=None, bins=DEFAULT_BINS,
                      deflection=None, name="MidSurface"):
@@ -404,20 +384,13 @@ def make_mid_surface(doc, source, csv_path=None, tolerance=None, bins=DEFAULT_BI
     else:
         kwargs = {} if deflection is None else {"deflection": deflection}
         made = medial = msf.make_medial_surface(doc, source, tolerance, True, **kwargs)
-    obj = doc.addObject("Part::FeaturePython", name)
+    values = {"Label": f"Mid-surface of {getattr(medial.Source, 'Label', medial.Label)}",
+              "Source": medial, "Bins": bins}
+    if csv_path is not None:
+        values["CsvFile"] = os.path.abspath(os.path.expanduser(str(csv_path)))
     try:
-        MidSurface(obj)
-        _attach_view(obj)
-        obj.Label = f"Mid-surface of {getattr(medial.Source, 'Label', medial.Label)}"
-        obj.Source = medial
-        obj.Bins = bins
-        if csv_path is not None:
-            obj.CsvFile = os.path.abspath(os.path.expanduser(str(csv_path)))
-        obj.recompute(True)
-        if not obj.isValid():
-            raise MfgeomError(f"mid-surface failed: {obj.getStatusString()}")
-    except Exception:  # undo what was made here whatever went wrong, then re-raise
-        doc.removeObject(obj.Name)
+        obj = MidSurface.make(doc, name, values, "mid-surface")
+    except Exception:  # the medial surface made here goes too, then re-raise
         if made is not None:
             doc.removeObject(made.Name)
         raise

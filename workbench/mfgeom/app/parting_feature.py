@@ -19,9 +19,9 @@ import time
 import FreeCAD
 
 from mfgeom.app.feature_base import FeatureProxy, add_properties
-from mfgeom.errors import InputError, MfgeomError
+from mfgeom.errors import InputError
 
-# 1: first release.  Bump when properties change and migrate in _migrate().
+# 1: first release.  Bump when properties change and migrate in _upgrade().
 VERSION = 1
 TYPE = "Mfgeom::PartingAnalysis"
 MODES = ["Mould", "NC3Axis"]
@@ -37,16 +37,14 @@ class PartingAnalysis(FeatureProxy):
 
     TYPE = TYPE
     VERSION = VERSION
+    VIEW_PROVIDER = "mfgeom.gui.parting_view.ViewProviderPartingAnalysis"
+    OBJECT_TYPE = "App::FeaturePython"
 
-    def __init__(self, obj):
-        obj.Proxy = self
-        self.Type = TYPE
-        self._add_properties(obj)
+    def _set_defaults(self, obj):
         obj.Mode = MODES
         obj.Weighting = WEIGHTINGS
         obj.Deflection = math.degrees(1e-3)
         obj.AngularTolerance = 1e-6
-        obj.Version = VERSION
 
     @staticmethod
     def _add_properties(obj):
@@ -105,20 +103,11 @@ class PartingAnalysis(FeatureProxy):
         ]
         add_properties(obj, spec)
 
-    def _migrate(self, obj):
-        if ("Version" not in obj.PropertiesList or obj.Version < VERSION
-                or "Faces" not in obj.PropertiesList):  # Faces came after version 1
-            self._add_properties(obj)
-            obj.Version = VERSION
-
-    def onDocumentRestored(self, obj):
-        self.Type = TYPE
-        self._migrate(obj)
-        # A document made headless (freecadcmd) has no saved view provider: give it ours.
-        _attach_view(obj)
+    def _outdated(self, obj):
+        # Faces came after version 1
+        return super()._outdated(obj) or "Faces" not in obj.PropertiesList
 
     def _execute(self, obj):
-        self._migrate(obj)
         if obj.Source is None:
             raise PartingInputError("the source is gone; set the Source property again")
         # Imported here: it loads libmfgeom, and a document must open without it.
@@ -210,12 +199,6 @@ def sphere_maps(obj):
         else:
             out.append((s, parting.surface_vm(surf, draft, tol)))
     return out
-
-
-def _attach_view(obj):
-    if FreeCAD.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
-        from mfgeom.gui.parting_view import ViewProviderPartingAnalysis
-        ViewProviderPartingAnalysis(obj.ViewObject)
 
 
 def analyse(faces, adjacency, mode, draft, weighting, all_faces, tol):
@@ -318,21 +301,7 @@ def make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting=
         if not (f.startswith("Face") and f[4:].isdigit() and 1 <= int(f[4:]) <= count):
             raise PartingInputError(f"{f!r} is not a face of '{source.Label}' "
                                     f"(Face1 .. Face{count})")
-    obj = doc.addObject("App::FeaturePython", name)
-    try:
-        PartingAnalysis(obj)
-        _attach_view(obj)
-        obj.Label = f"{mode} analysis of {source.Label}"
-        obj.Source = source
-        obj.Mode = mode
-        obj.DraftAngle = draft
-        obj.Weighting = weighting
-        obj.AllFaces = bool(all_faces)
-        obj.Faces = faces
-        obj.recompute(True)
-        if not obj.isValid():
-            raise MfgeomError(f"parting analysis failed: {obj.getStatusString()}")
-    except Exception:  # undo the half-made object whatever went wrong, then re-raise
-        doc.removeObject(obj.Name)
-        raise
-    return obj
+    return PartingAnalysis.make(doc, name, {
+        "Label": f"{mode} analysis of {source.Label}", "Source": source, "Mode": mode,
+        "DraftAngle": draft, "Weighting": weighting, "AllFaces": bool(all_faces),
+        "Faces": faces}, "parting analysis")

@@ -17,7 +17,7 @@ from mfgeom.app import preferences, refs
 from mfgeom.app.feature_base import FeatureProxy, add_properties
 
 # 1: first release; 2: Strict; 3: points in the Points kernel property, Shape empty.
-# Bump when properties change and migrate in _migrate().
+# Bump when properties change and migrate in _upgrade().
 VERSION = 3
 
 TYPE = "Mfgeom::PointClassification"
@@ -28,13 +28,10 @@ class PointClassification(FeatureProxy):
 
     TYPE = TYPE
     VERSION = VERSION
+    VIEW_PROVIDER = "mfgeom.gui.pointclass_view.ViewProviderPointClassification"
 
-    def __init__(self, obj):
-        obj.Proxy = self
-        self.Type = TYPE
-        self._add_properties(obj)
+    def _set_defaults(self, obj):
         obj.Strict = True  # new objects: a point far from the surface is not in the face
-        obj.Version = VERSION
 
     @staticmethod
     def _add_properties(obj):
@@ -73,16 +70,11 @@ class PointClassification(FeatureProxy):
         ]
         add_properties(obj, spec)
 
-    def _migrate(self, obj):
-        if "Version" not in obj.PropertiesList or obj.Version < VERSION:
-            old_version = obj.Version if "Version" in obj.PropertiesList else 0
-            strict_was_there = "Strict" in obj.PropertiesList
-            self._add_properties(obj)
-            if not strict_was_there:
-                obj.Strict = False  # older documents keep their results: projection
-            if old_version < 3:
-                self._points_out_of_shape(obj)
-            obj.Version = VERSION
+    def _upgrade(self, obj, old_version, old_properties):
+        if "Strict" not in old_properties:
+            obj.Strict = False  # older documents keep their results: projection
+        if old_version < 3:
+            self._points_out_of_shape(obj)
 
     @staticmethod
     def _points_out_of_shape(obj):
@@ -94,17 +86,7 @@ class PointClassification(FeatureProxy):
             obj.Classes = list(obj.Classes)  # the view redraws when Classes is written
         obj.Shape = Part.Shape()
 
-    def onDocumentRestored(self, obj):
-        self.Type = TYPE
-        self._migrate(obj)
-        # A document made headless (freecadcmd) has no saved view provider: give it ours
-        # so the points show their colours when the file is opened in the GUI.
-        if FreeCAD.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
-            from mfgeom.gui.pointclass_view import ViewProviderPointClassification
-            ViewProviderPointClassification(obj.ViewObject)
-
     def _execute(self, obj):
-        self._migrate(obj)
         if obj.Face is None or obj.PointSource is None:
             raise refs.InputError("the linked face or point source is gone; "
                                   "set the Face and PointSource properties again")
@@ -207,22 +189,7 @@ def make_point_classification(doc, face_ref, points_ref, tolerance=None,
                               f"{face_sub} of '{face_obj.Label}': its boundary is only "
                               f"defined to {least:g} mm; use at least {least:g} mm")
 
-    obj = doc.addObject("Part::FeaturePython", name)
-    try:
-        PointClassification(obj)
-        if FreeCAD.GuiUp:
-            from mfgeom.gui.pointclass_view import ViewProviderPointClassification
-            ViewProviderPointClassification(obj.ViewObject)
-        obj.Label = f"Classes of {face_sub} of {face_obj.Label}"
-        obj.Face = (face_obj, [face_sub])
-        obj.PointSource = (src_obj, src_subs)
-        obj.Tolerance = tolerance
-        obj.Strict = bool(strict)
-        # recompute(True): in FreeCAD 0.20 obj.recompute() leaves the new object Touched
-        obj.recompute(True)
-        if not obj.isValid():
-            raise RuntimeError(f"point classification failed: {obj.getStatusString()}")
-    except Exception:  # undo the half-made object whatever went wrong, then re-raise
-        doc.removeObject(obj.Name)
-        raise
-    return obj
+    return PointClassification.make(doc, name, {
+        "Label": f"Classes of {face_sub} of {face_obj.Label}", "Face": (face_obj, [face_sub]),
+        "PointSource": (src_obj, src_subs), "Tolerance": tolerance, "Strict": bool(strict)},
+        "point classification", error=RuntimeError)

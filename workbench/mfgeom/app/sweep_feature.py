@@ -42,10 +42,10 @@ import numpy as np
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, add_properties
+from mfgeom.app.feature_base import FeatureProxy, add_mesh_property, add_properties
 from mfgeom.errors import InputError, MfgeomError
 
-# 1: first release.  Bump when properties change and migrate in _migrate().
+# 1: first release.  Bump when properties change and migrate in _upgrade().
 VERSION = 1
 TYPE = "Mfgeom::RotationalSweep"
 REPRESENTATIONS = ["Mesh", "Solid"]
@@ -366,17 +366,14 @@ class RotationalSweep(FeatureProxy):
 
     TYPE = TYPE
     VERSION = VERSION
+    VIEW_PROVIDER = "mfgeom.gui.sweep_view.ViewProviderRotationalSweep"
 
-    def __init__(self, obj):
-        obj.Proxy = self
-        self.Type = TYPE
-        self._add_properties(obj)
+    def _set_defaults(self, obj):
         obj.Representation = REPRESENTATIONS
         obj.AxisDirection = FreeCAD.Vector(0, 0, 1)
         obj.Angle = DEFAULT_ANGLE
         obj.Tolerance = DEFAULT_TOLERANCE
         obj.Deflection = DEFAULT_DEFLECTION
-        obj.Version = VERSION
         # the result is placed in global coordinates already
         obj.setEditorMode("Placement", 2)
 
@@ -421,25 +418,10 @@ class RotationalSweep(FeatureProxy):
              "Version of this object's properties, for migrating old documents", True),
         ]
         add_properties(obj, spec)
-        if "Mesh" not in obj.PropertiesList:
-            import Mesh  # noqa: F401 - registers Mesh::PropertyMeshKernel
-            obj.addProperty("Mesh::PropertyMeshKernel", "Mesh", "Result",
-                            "The swept volume as a closed triangle mesh (global)", 8, True)
-            obj.setEditorMode("Mesh", 2)
-
-    def _migrate(self, obj):
-        if "Version" not in obj.PropertiesList or obj.Version < VERSION:
-            self._add_properties(obj)
-            obj.Version = VERSION
-
-    def onDocumentRestored(self, obj):
-        self.Type = TYPE
-        self._migrate(obj)
-        _attach_view(obj)
+        add_mesh_property(obj, "The swept volume as a closed triangle mesh (global)")
 
     def _execute(self, obj):
         import Part
-        self._migrate(obj)
         shape, point, direction, angle, tolerance, deflection = sweep_inputs(obj)
         from mfgeom import core
         t0 = time.perf_counter()
@@ -470,12 +452,6 @@ class RotationalSweep(FeatureProxy):
 
     def _restored(self):
         self.last_mesh = None
-
-
-def _attach_view(obj):
-    if FreeCAD.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
-        from mfgeom.gui.sweep_view import ViewProviderRotationalSweep
-        ViewProviderRotationalSweep(obj.ViewObject)
 
 
 # ---------------------------------------------------------------------------- make
@@ -564,25 +540,10 @@ def make_rotational_sweep(doc, source, axis_point=(0.0, 0.0, 0.0), axis_dir=(0.0
                                   "document")
         axis_of(axis_obj, sub)   # a straight line, or say why not
         link = (axis_obj, [sub] if sub else [])
-    obj = doc.addObject("Part::FeaturePython", name)
-    try:
-        RotationalSweep(obj)
-        _attach_view(obj)
-        obj.Label = f"Sweep of {source.Label}"
-        obj.Source = source
-        obj.AxisPoint = _vector(point)
-        obj.AxisDirection = _vector(direction)
-        if link is not None:
-            obj.AxisObject = link
-        obj.AxisReversed = bool(reverse)
-        obj.Angle = angle
-        obj.Tolerance = tol
-        obj.Deflection = defl
-        obj.Representation = representation
-        obj.recompute(True)
-        if not obj.isValid():
-            raise MfgeomError(f"rotational sweep failed: {obj.getStatusString()}")
-    except Exception:  # undo the half-made object whatever went wrong, then re-raise
-        doc.removeObject(obj.Name)
-        raise
-    return obj
+    values = {"Label": f"Sweep of {source.Label}", "Source": source,
+              "AxisPoint": _vector(point), "AxisDirection": _vector(direction)}
+    if link is not None:
+        values["AxisObject"] = link
+    values.update(AxisReversed=bool(reverse), Angle=angle, Tolerance=tol, Deflection=defl,
+                  Representation=representation)
+    return RotationalSweep.make(doc, name, values, "rotational sweep")

@@ -34,6 +34,21 @@ def _ref_expr(obj, subs):
     return f"({object_expr(obj)}, [{', '.join(_text(s) for s in subs)}])"
 
 
+def echo_make(doc, call, type_name, what):
+    """Runs ``call`` (the Python source of a make function's call) through the console,
+    so the Report view and a recorded macro show it, and returns the one object of proxy
+    type ``type_name`` it added to ``doc``; RuntimeError otherwise (``what``: the plural
+    noun for the message)."""
+    before = {o.Name for o in doc.Objects}
+    FreeCADGui.doCommand("import mfgeom")
+    FreeCADGui.doCommand(call)
+    new = [o for o in doc.Objects if o.Name not in before
+           and getattr(getattr(o, "Proxy", None), "Type", "") == type_name]
+    if len(new) != 1:
+        raise RuntimeError(f"'{call}' created {len(new)} {what}, expected 1")
+    return new[0]
+
+
 def point_classification_call(doc, face_ref, points_ref, tolerance, strict=True, name=None):
     """Python source of the ``mfgeom.make_point_classification`` call for these inputs.
 
@@ -60,14 +75,7 @@ def echo_make_point_classification(doc, face_ref, points_ref, tolerance, strict=
     Same arguments as :func:`point_classification_call` (``tolerance`` in mm, already
     checked by the caller or left to the make function to reject)."""
     call = point_classification_call(doc, face_ref, points_ref, tolerance, strict, name)
-    before = {o.Name for o in doc.Objects}
-    FreeCADGui.doCommand("import mfgeom")
-    FreeCADGui.doCommand(call)
-    new = [o for o in doc.Objects if o.Name not in before
-           and getattr(getattr(o, "Proxy", None), "Type", "") == "Mfgeom::PointClassification"]
-    if len(new) != 1:
-        raise RuntimeError(f"'{call}' created {len(new)} point classifications, expected 1")
-    return new[0]
+    return echo_make(doc, call, "Mfgeom::PointClassification", "point classifications")
 
 
 def make_point_classification(face_ref, points_ref, tolerance, strict=True, name=None):
@@ -98,14 +106,7 @@ def echo_make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weigh
     :func:`parting_analysis_call`)."""
     call = parting_analysis_call(doc, source, mode, draft_angle, weighting, all_faces,
                                  faces, name)
-    before = {o.Name for o in doc.Objects}
-    FreeCADGui.doCommand("import mfgeom")
-    FreeCADGui.doCommand(call)
-    new = [o for o in doc.Objects if o.Name not in before
-           and getattr(getattr(o, "Proxy", None), "Type", "") == "Mfgeom::PartingAnalysis"]
-    if len(new) != 1:
-        raise RuntimeError(f"'{call}' created {len(new)} parting analyses, expected 1")
-    return new[0]
+    return echo_make(doc, call, "Mfgeom::PartingAnalysis", "parting analyses")
 
 
 def app_set(obj, prop, value):

@@ -13,26 +13,13 @@ transaction is aborted and the document stays as it was.
 """
 
 import FreeCAD
-import FreeCADGui
 from PySide import QtCore, QtGui
 
 from mfgeom.app import medial_axis_feature as maf
 from mfgeom.app import medial_surface_feature as msf
 from mfgeom.app import mid_surface_feature as mid
-from mfgeom.errors import InputError, MfgeomError
-
-
-def _spin(name, low, high, decimals, suffix="", value=0.0, tip=""):
-    box = QtGui.QDoubleSpinBox()
-    box.setObjectName(name)
-    box.setRange(low, high)
-    box.setDecimals(decimals)
-    if suffix:
-        box.setSuffix(suffix)
-    box.setValue(value)
-    if tip:
-        box.setToolTip(tip)
-    return box
+from mfgeom.errors import InputError
+from mfgeom.gui.panel_base import TaskPanel, spin
 
 
 def _label(name, text=""):
@@ -74,10 +61,10 @@ def solid_from_selection(selection, allow_medial=False):
 
 
 # ---------------------------------------------------------------------------- base
-class MedialPanel:
-    """What the three panels share: the form (subclasses add their rows in
-    ``_rows(layout)``), the buttons, create through the console or edit in one
-    transaction, the result text.  Subclasses set TITLE, TYPE and implement ``_rows``,
+class MedialPanel(TaskPanel):
+    """What the three panels share beyond TaskPanel: the form (subclasses add their rows
+    in ``_rows(layout)``), create through the console or edit in one transaction, the
+    result text.  Subclasses set TITLE, TYPE and implement ``_rows``,
     ``_load(obj)``, ``_check()``, ``_call()`` (the make call's Python source) and
     ``_changes(obj)`` (``{property: value}`` an edit sets)."""
 
@@ -86,17 +73,12 @@ class MedialPanel:
 
     def __init__(self, obj=None):
         self.obj = obj
-        self.form = QtGui.QWidget()
-        self.form.setWindowTitle(self.TITLE if obj is None else f"Edit {obj.Label}")
-        layout = QtGui.QFormLayout(self.form)
-        self.what = _label("what")
-        layout.addRow(self.what)
+        layout = self._new_form(self.TITLE)
+        self.what.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
         self._rows(layout)
-        self.result = _label("result")
-        layout.addRow(self.result)
-        self.message = _label("message")
-        self.message.setStyleSheet("color: #b00000")
-        layout.addRow(self.message)
+        self._add_result(layout)
+        self._add_message(layout)
+        self.message.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
         if obj is not None:
             self._load(obj)
         self._show_result()
@@ -108,9 +90,6 @@ class MedialPanel:
     def _load(self, obj):
         raise NotImplementedError
 
-    def _check(self):
-        """Raise InputError for a bad value before anything is touched."""
-
     def _call(self):
         raise NotImplementedError
 
@@ -120,44 +99,8 @@ class MedialPanel:
     def result_text(self, obj):
         raise NotImplementedError
 
-    # task dialog protocol
-    def getStandardButtons(self):
-        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Apply
-                   | QtGui.QDialogButtonBox.Cancel)
-
-    def clicked(self, button):
-        if button == QtGui.QDialogButtonBox.Apply:
-            self.apply()
-
-    def apply(self):
-        try:
-            self._check()
-        except InputError as exc:
-            self._show_error(str(exc))
-            return False
-        ok = self._create() if self.obj is None else self._edit()
-        if ok:
-            self._show_result()
-        return ok
-
-    def accept(self):
-        ok = self.apply()
-        if ok:
-            self._close()
-        return ok
-
-    def reject(self):
-        self._close()
-        return True
-
-    def _close(self):
-        FreeCADGui.Control.closeDialog()
-        if FreeCADGui.ActiveDocument is not None and FreeCADGui.ActiveDocument.getInEdit():
-            FreeCADGui.ActiveDocument.resetEdit()
-
-    def _show_error(self, text):
-        self.message.setText(text)
-        FreeCAD.Console.PrintError(f"mfgeom: {text}\n")
+    def _refresh(self):
+        self._show_result()
 
     def _show_result(self):
         self.result.setText(self.result_text(self.obj) if self.obj is not None
@@ -167,57 +110,18 @@ class MedialPanel:
         raise NotImplementedError
 
     def _create(self):
-        doc = self._document()
-        call = self._call()
-        before = {o.Name for o in doc.Objects}
-        doc.openTransaction(self.TITLE)
-        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
-        try:
-            FreeCADGui.doCommand("import mfgeom")
-            FreeCADGui.doCommand(call)
-            new = [o for o in doc.Objects if o.Name not in before
-                   and getattr(getattr(o, "Proxy", None), "Type", "") == self.TYPE]
-            if len(new) != 1:
-                raise MfgeomError(f"'{call}' created {len(new)} objects, expected 1")
-        except (MfgeomError, ValueError, TypeError, RuntimeError, ImportError) as exc:
-            doc.abortTransaction()
-            self._show_error(str(exc))
+        if not self._create_by_call(self._document(), self.TITLE, self._call(), self.TYPE,
+                                    "objects"):
             return False
-        finally:
-            QtGui.QApplication.restoreOverrideCursor()
-        doc.commitTransaction()
-        self.obj = new[0]
-        self.message.setText("")
-        FreeCADGui.Selection.clearSelection()
         FreeCAD.Console.PrintMessage(f"mfgeom: {self.obj.Label}: "
                                      + self.result_text(self.obj).replace("\n", "; ") + "\n")
         return True
 
     def _edit(self):
         from mfgeom.gui import macro
-        obj, doc = self.obj, self.obj.Document
-        lines = [f"{macro.object_expr(obj)}.{name} = {value!r}"
-                 for name, value in self._changes(obj).items()]
-        if not lines:
-            return True
-        doc.openTransaction(f"Edit {obj.Label}")
-        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
-        try:
-            for line in lines:
-                FreeCADGui.doCommand(line)
-            macro.recompute(obj)
-            if not obj.isValid():
-                raise MfgeomError(obj.getStatusString())
-        except (MfgeomError, ValueError, TypeError, RuntimeError) as exc:
-            doc.abortTransaction()
-            doc.recompute()   # the old values are back: so are their results
-            self._show_error(str(exc))
-            return False
-        finally:
-            QtGui.QApplication.restoreOverrideCursor()
-        doc.commitTransaction()
-        self.message.setText("")
-        return True
+        obj = self.obj
+        return self._edit_lines([f"{macro.object_expr(obj)}.{name} = {value!r}"
+                                 for name, value in self._changes(obj).items()])
 
 
 # ---------------------------------------------------------------------------- panels
@@ -236,9 +140,9 @@ class MedialAxisPanel(MedialPanel):
             self.what.setText(f"Face: {face_ref[0].Label}.{face_ref[1]}")
 
     def _rows(self, layout):
-        self.tolerance = _spin("tolerance", 1e-6, 1e3, 6, " mm", maf.DEFAULT_TOLERANCE,
-                               "The axis' samples and the radii between them are within "
-                               "this distance of the true axis and clearance")
+        self.tolerance = spin("tolerance", 1e-6, 1e3, 6, " mm", maf.DEFAULT_TOLERANCE,
+                              "The axis' samples and the radii between them are within "
+                              "this distance of the true axis and clearance")
         layout.addRow("Tolerance", self.tolerance)
 
     def _load(self, obj):
@@ -300,9 +204,9 @@ class MedialSurfacePanel(MedialPanel):
             self.tolerance.setValue(msf.default_tolerance(msf.solid_shape(source)))
 
     def _rows(self, layout):
-        self.tolerance = _spin("tolerance", 1e-6, 1e4, 6, " mm", 0.1,
-                               "Sheets and seams lie within this distance of the true "
-                               "medial surface (default: 0.5 % of the bounding-box diagonal)")
+        self.tolerance = spin("tolerance", 1e-6, 1e4, 6, " mm", 0.1,
+                              "Sheets and seams lie within this distance of the true "
+                              "medial surface (default: 0.5 % of the bounding-box diagonal)")
         layout.addRow("Tolerance", self.tolerance)
         self.major = QtGui.QCheckBox("Major part only (the mid-surface)")
         self.major.setObjectName("major")
@@ -310,9 +214,9 @@ class MedialSurfacePanel(MedialPanel):
         self.major.setToolTip("Off: the full medial surface, with the sheets that run out "
                               "to convex edges and corners")
         layout.addRow(self.major)
-        self.deflection = _spin("deflection", 1e-6, 1e3, 6, " mm", msf.DEFAULT_DEFLECTION,
-                                "Curved faces are tessellated within this distance; the "
-                                "result is the medial surface of that polyhedron")
+        self.deflection = spin("deflection", 1e-6, 1e3, 6, " mm", msf.DEFAULT_DEFLECTION,
+                               "Curved faces are tessellated within this distance; the "
+                               "result is the medial surface of that polyhedron")
         layout.addRow("Deflection", self.deflection)
         self.legend = _label("legend")
         layout.addRow(self.legend)
@@ -375,12 +279,12 @@ class MidSurfacePanel(MedialPanel):
             box.setEnabled(self.from_solid)
 
     def _rows(self, layout):
-        self.tolerance = _spin("tolerance", 1e-6, 1e4, 6, " mm", 0.1,
-                               "Of the medial surface made from the solid (default: 0.5 % "
-                               "of the bounding-box diagonal)")
+        self.tolerance = spin("tolerance", 1e-6, 1e4, 6, " mm", 0.1,
+                              "Of the medial surface made from the solid (default: 0.5 % "
+                              "of the bounding-box diagonal)")
         layout.addRow("Tolerance", self.tolerance)
-        self.deflection = _spin("deflection", 1e-6, 1e3, 6, " mm", msf.DEFAULT_DEFLECTION,
-                                "Curved faces are tessellated within this distance")
+        self.deflection = spin("deflection", 1e-6, 1e3, 6, " mm", msf.DEFAULT_DEFLECTION,
+                               "Curved faces are tessellated within this distance")
         layout.addRow("Deflection", self.deflection)
         row = QtGui.QHBoxLayout()
         self.csv = QtGui.QLineEdit(getattr(self, "_csv_default", "") or "")

@@ -15,10 +15,10 @@ import math
 
 import FreeCAD
 import FreeCADGui
-from PySide import QtCore, QtGui
+from PySide import QtGui
 
 from mfgeom.app.parting_feature import MODES, WEIGHTINGS, PartingInputError
-from mfgeom.errors import MfgeomError
+from mfgeom.gui.panel_base import TaskPanel, combo, spin
 
 TITLE = "Parting analysis"
 MODE_TEXT = {"Mould": "Mould (parting direction)", "NC3Axis": "NC 3-axis (set-ups)"}
@@ -76,7 +76,7 @@ def result_text(obj):
     return "\n".join(lines)
 
 
-class PartingPanel:
+class PartingPanel(TaskPanel):
     """Task panel; ``source``/``faces`` to create an analysis, or ``obj`` to edit one."""
 
     def __init__(self, source=None, faces=None, obj=None):
@@ -87,58 +87,34 @@ class PartingPanel:
         self.faces = list(obj.Faces) if obj is not None else list(faces or [])
         self.doc = obj.Document if obj is not None else source.Document
 
-        self.form = QtGui.QWidget()
-        self.form.setWindowTitle(TITLE if obj is None else f"Edit {obj.Label}")
-        layout = QtGui.QFormLayout(self.form)
-        self.what = QtGui.QLabel()
-        self.what.setObjectName("what")
-        self.what.setWordWrap(True)
-        layout.addRow(self.what)
+        layout = self._new_form(TITLE)
 
-        self.mode = QtGui.QComboBox()
-        self.mode.setObjectName("mode")
-        for m in MODES:
-            self.mode.addItem(MODE_TEXT[m], m)
-        self.mode.setToolTip("Mould: parting direction (core +d, cavity -d), undercuts and "
-                             "side cores.\nNC 3-axis: set-up plan for the pockets.")
+        self.mode = combo("mode", [(MODE_TEXT[m], m) for m in MODES],
+                          "Mould: parting direction (core +d, cavity -d), undercuts and "
+                          "side cores.\nNC 3-axis: set-up plan for the pockets.")
         layout.addRow("Mode", self.mode)
 
-        self.draft = QtGui.QDoubleSpinBox()
-        self.draft.setObjectName("draft")
-        self.draft.setRange(0.0, 89.9)
-        self.draft.setDecimals(3)
-        self.draft.setSuffix(" deg")
-        self.draft.setToolTip("Mould: least angle each covered face must make with the "
-                              "parting plane.\nNC 3-axis: tool-axis tilt allowance.")
+        self.draft = spin("draft", 0.0, 89.9, 3, " deg",
+                          tip="Mould: least angle each covered face must make with the "
+                          "parting plane.\nNC 3-axis: tool-axis tilt allowance.")
         layout.addRow("Draft angle", self.draft)
 
-        self.weighting = QtGui.QComboBox()
-        self.weighting.setObjectName("weighting")
-        for w in WEIGHTINGS:
-            self.weighting.addItem(w, w)
-        self.weighting.setToolTip("Count: each concave-connected surface counts 1; "
-                                  "Area: by its area")
+        self.weighting = combo("weighting", [(w, w) for w in WEIGHTINGS],
+                               "Count: each concave-connected surface counts 1; "
+                               "Area: by its area")
         layout.addRow("Weighting", self.weighting)
 
         self.all_faces = QtGui.QCheckBox("Include all faces (not only pockets)")
         self.all_faces.setObjectName("allFaces")
         layout.addRow(self.all_faces)
 
-        self.deflection = QtGui.QDoubleSpinBox()
-        self.deflection.setObjectName("deflection")
-        self.deflection.setRange(0.001, 10.0)
-        self.deflection.setDecimals(3)
-        self.deflection.setSuffix(" deg")
-        self.deflection.setToolTip("Sampled (non-analytic) faces: their maps are shrunk by "
-                                   "at most this angle so every direction holds on the "
-                                   "true faces")
+        self.deflection = spin("deflection", 0.001, 10.0, 3, " deg",
+                               tip="Sampled (non-analytic) faces: their maps are shrunk by "
+                               "at most this angle so every direction holds on the "
+                               "true faces")
         layout.addRow("Deflection", self.deflection)
 
-        self.result = QtGui.QLabel()
-        self.result.setObjectName("result")
-        self.result.setWordWrap(True)
-        self.result.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
-        layout.addRow(self.result)
+        self._add_result(layout)
 
         buttons = QtGui.QHBoxLayout()
         self.export_json_button = QtGui.QPushButton("Export JSON...")
@@ -151,11 +127,7 @@ class PartingPanel:
         buttons.addWidget(self.export_csv_button)
         layout.addRow(buttons)
 
-        self.message = QtGui.QLabel("")
-        self.message.setObjectName("message")
-        self.message.setWordWrap(True)
-        self.message.setStyleSheet("color: #b00000")
-        layout.addRow(self.message)
+        self._add_message(layout)
 
         self.mode.currentIndexChanged.connect(self._mode_changed)
         self._load()
@@ -193,97 +165,44 @@ class PartingPanel:
                 "Deflection": (self._deflection if self.deflection.value() == self._deflection_shown
                                else float(self.deflection.value()))}
 
-    # ------------------------------------------------------------- task dialog protocol
-    def getStandardButtons(self):
-        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Apply
-                   | QtGui.QDialogButtonBox.Cancel)
-
-    def clicked(self, button):
-        if button == QtGui.QDialogButtonBox.Apply:
-            self.apply()
-
-    def apply(self):
-        """Create or update the analysis; the panel then shows its result."""
-        ok = self._create() if self.obj is None else self._edit()
-        if ok:
-            self._load()
-        return ok
-
-    def accept(self):
-        ok = self.apply()
-        if ok:
-            self._close()
-        return ok
-
-    def reject(self):
-        self._close()
-        return True
-
-    def _close(self):
-        FreeCADGui.Control.closeDialog()
-        if FreeCADGui.ActiveDocument is not None and FreeCADGui.ActiveDocument.getInEdit():
-            FreeCADGui.ActiveDocument.resetEdit()
-
-    def _show_error(self, text):
-        self.message.setText(text)
-        FreeCAD.Console.PrintError(f"mfgeom: {text}\n")
-
     # ------------------------------------------------------------- create / edit
+    def _refresh(self):
+        self._load()
+
     def _create(self):
         from mfgeom.gui import macro
         v = self.values()
-        doc = self.doc
-        doc.openTransaction(TITLE)
-        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
-        try:
-            obj = macro.echo_make_parting_analysis(doc, self.source, v["Mode"], v["DraftAngle"],
-                                                   v["Weighting"], v["AllFaces"], self.faces)
+        made = []
+
+        def make():
+            obj = macro.echo_make_parting_analysis(self.doc, self.source, v["Mode"],
+                                                   v["DraftAngle"], v["Weighting"],
+                                                   v["AllFaces"], self.faces)
+            made.append(obj)
             if abs(v["Deflection"] - obj.Deflection.Value) > 1e-12:
-                macro.app_set(obj, "Deflection", v["Deflection"])
-                macro.recompute(obj)
-                if not obj.isValid():
-                    raise PartingInputError(obj.getStatusString())
+                self._set_and_recompute(
+                    obj, [f"{macro.object_expr(obj)}.Deflection = {v['Deflection']!r}"])
             # the analysis shows a coloured copy of the part: hide the source meanwhile
             macro.app_set(self.source, "Visibility", False)
-        except (MfgeomError, ValueError, TypeError, RuntimeError, ImportError) as exc:
-            doc.abortTransaction()
-            self._show_error(str(exc))
+        if not self._run(self.doc, TITLE, make):
             return False
-        finally:
-            QtGui.QApplication.restoreOverrideCursor()
-        doc.commitTransaction()
-        self.obj = obj
-        self.message.setText("")
+        self.obj = made[0]
         FreeCADGui.Selection.clearSelection()
-        report(obj)
+        report(self.obj)
         return True
 
     def _edit(self):
         from mfgeom.gui import macro
-        obj, doc = self.obj, self.doc
+        obj = self.obj
         current = {"Mode": obj.Mode, "DraftAngle": obj.DraftAngle.Value,
                    "Weighting": obj.Weighting, "AllFaces": bool(obj.AllFaces),
                    "Deflection": obj.Deflection.Value}
-        changes = [(k, v) for k, v in self.values().items() if v != current[k]]
-        if not changes:
+        lines = [f"{macro.object_expr(obj)}.{k} = {v!r}" for k, v in self.values().items()
+                 if v != current[k]]
+        if not lines:
             return True
-        doc.openTransaction(f"Edit {obj.Label}")
-        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
-        try:
-            for name, value in changes:
-                macro.app_set(obj, name, value)
-            macro.recompute(obj)
-            if not obj.isValid():
-                raise PartingInputError(obj.getStatusString())
-        except (MfgeomError, ValueError, TypeError, RuntimeError) as exc:
-            doc.abortTransaction()
-            doc.recompute()  # the old values are back: so are their results
-            self._show_error(str(exc))
+        if not self._edit_lines(lines):
             return False
-        finally:
-            QtGui.QApplication.restoreOverrideCursor()
-        doc.commitTransaction()
-        self.message.setText("")
         report(obj)
         return True
 

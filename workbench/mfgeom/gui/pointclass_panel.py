@@ -14,6 +14,7 @@ from PySide import QtCore, QtGui
 
 from mfgeom.app import preferences
 from mfgeom.errors import InputError
+from mfgeom.gui.panel_base import TaskPanel
 
 TITLE = "Classify points"
 MAX_POINT_SIZE = 64
@@ -33,9 +34,12 @@ def _describe(face_ref, points_ref):
     return f"Face: {face}\nPoints: {points}"
 
 
-class PointClassificationPanel:
+class PointClassificationPanel(TaskPanel):
     """Task panel; ``face_ref``/``points_ref`` to create a classification, or ``obj`` (an
     existing PointClassification) to edit it."""
+
+    APPLY = False         # nothing is computed while the panel is open
+    WAIT_CURSOR = False
 
     def __init__(self, face_ref=None, points_ref=None, obj=None):
         if obj is None and (face_ref is None or points_ref is None):
@@ -46,13 +50,8 @@ class PointClassificationPanel:
             self.face_ref, self.points_ref = obj.Face, obj.PointSource
         self.doc = obj.Document if obj is not None else face_ref[0].Document
 
-        self.form = QtGui.QWidget()
-        self.form.setWindowTitle(TITLE if obj is None else f"Edit {obj.Label}")
-        layout = QtGui.QFormLayout(self.form)
-
-        self.what = QtGui.QLabel(_describe(self.face_ref, self.points_ref))
-        self.what.setWordWrap(True)
-        layout.addRow(self.what)
+        layout = self._new_form(TITLE)
+        self.what.setText(_describe(self.face_ref, self.points_ref))
 
         self.tolerance = FreeCADGui.UiLoader().createWidget("Gui::QuantitySpinBox")
         self.tolerance.setObjectName("tolerance")
@@ -92,11 +91,7 @@ class PointClassificationPanel:
                                  else preferences.point_size())
         layout.addRow("Point size", self.point_size)
 
-        self.message = QtGui.QLabel("")
-        self.message.setObjectName("message")
-        self.message.setWordWrap(True)
-        self.message.setStyleSheet("color: #b00000")
-        layout.addRow(self.message)
+        self._add_message(layout)
 
     # ------------------------------------------------------------- values
     def _line_edit(self):
@@ -124,61 +119,35 @@ class PointClassificationPanel:
         from mfgeom.app.pointclass import _check_tolerance
         return _check_tolerance(self._line_edit().text().strip())
 
-    # ------------------------------------------------------------- task dialog protocol
-    def getStandardButtons(self):
-        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
-
-    def accept(self):
-        try:
-            tol = self.tolerance_mm()
-        except InputError as exc:
-            self._show_error(str(exc))
-            return False
-        strict, size = self.strict.isChecked(), self.point_size.value()
-        ok = self._create(tol, strict, size) if self.obj is None else self._edit(tol, strict, size)
-        if ok:
-            self._close()
-        return ok
-
-    def reject(self):
-        self._close()
-        return True
-
-    def _close(self):
-        FreeCADGui.Control.closeDialog()
-        if self.obj is not None and FreeCADGui.ActiveDocument is not None:
-            FreeCADGui.ActiveDocument.resetEdit()
-
-    def _show_error(self, text):
-        self.message.setText(text)
-        FreeCAD.Console.PrintError(f"mfgeom: {text}\n")
-
     # ------------------------------------------------------------- create / edit
-    def _create(self, tol, strict, size):
+    def _check(self):
+        self.tolerance_mm()   # InputError (with the reason) unless a length
+
+    def _create(self):
         from mfgeom.gui import macro
-        doc = self.doc
-        doc.openTransaction(TITLE)
-        try:
+        tol, strict, size = self.tolerance_mm(), self.strict.isChecked(), self.point_size.value()
+        made = []
+
+        def make():
+            # on a failure make_point_classification removed its half-made object
+            # already; the abort drops whatever else the transaction holds.
             obj = macro.make_point_classification(self.face_ref, self.points_ref, tol, strict)
+            made.append(obj)
             if size != preferences.point_size():
                 macro.gui_set(obj, "PointSize", size)
             src = self.points_ref[0]
             if src.isDerivedFrom("Points::Feature") and src.ViewObject is not None:
                 macro.gui_set(src, "Visibility", False)  # our coloured copy sits on top of it
-        except (ValueError, TypeError, RuntimeError, ImportError) as exc:
-            # make_point_classification removed its half-made object already; the abort
-            # drops whatever else the transaction holds.
-            doc.abortTransaction()
-            self._show_error(str(exc))
+        if not self._run(self.doc, TITLE, make):
             return False
-        doc.commitTransaction()
         FreeCADGui.Selection.clearSelection()
-        report(obj)
+        report(made[0])
         return True
 
-    def _edit(self, tol, strict, size):
+    def _edit(self):
         from mfgeom.gui import macro
-        obj, doc = self.obj, self.doc
+        obj = self.obj
+        tol, strict, size = self.tolerance_mm(), self.strict.isChecked(), self.point_size.value()
         changes = []
         if tol != obj.Tolerance.Value:
             changes.append(("Tolerance", tol))
@@ -187,22 +156,15 @@ class PointClassificationPanel:
         vobj = obj.ViewObject
         if not changes and (vobj is None or size == vobj.PointSize):
             return True
-        doc.openTransaction(f"Edit {obj.Label}")
-        try:
-            for name, value in changes:
-                macro.app_set(obj, name, value)
+
+        def change():
             if changes:
-                macro.recompute(obj)
-                if not obj.isValid():
-                    raise InputError(obj.getStatusString())
+                self._set_and_recompute(obj, [f"{macro.object_expr(obj)}.{name} = {value!r}"
+                                              for name, value in changes])
             if vobj is not None and size != vobj.PointSize:
                 macro.gui_set(obj, "PointSize", size)
-        except (ValueError, TypeError, RuntimeError) as exc:
-            doc.abortTransaction()
-            doc.recompute()  # the old values are back: so are their results
-            self._show_error(str(exc))
+        if not self._run(obj.Document, f"Edit {obj.Label}", change, restore=True):
             return False
-        doc.commitTransaction()
         if changes:
             report(obj)
         return True

@@ -13,13 +13,12 @@ the document stays as it was.
 """
 
 import FreeCAD
-import FreeCADGui
-from PySide import QtCore, QtGui
+from PySide import QtGui
 
 from mfgeom.app.sweep_feature import (DEFAULT_ANGLE, DEFAULT_DEFLECTION, DEFAULT_TOLERANCE,
                                       REPRESENTATIONS, TYPE, SweepInputError, axis_of,
                                       check_parameters)
-from mfgeom.errors import MfgeomError
+from mfgeom.gui.panel_base import TaskPanel, combo, spin
 
 TITLE = "Rotational sweep"
 GLOBAL_AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
@@ -115,18 +114,7 @@ def sweep_call(doc, source, point, direction, angle, tolerance, deflection,
     return f"mfgeom.make_rotational_sweep({', '.join(args)})"
 
 
-def _spin(name, low, high, decimals, suffix="", value=0.0):
-    box = QtGui.QDoubleSpinBox()
-    box.setObjectName(name)
-    box.setRange(low, high)
-    box.setDecimals(decimals)
-    if suffix:
-        box.setSuffix(suffix)
-    box.setValue(value)
-    return box
-
-
-class SweepPanel:
+class SweepPanel(TaskPanel):
     """Task panel; ``source`` (and ``axis``) to create a sweep, or ``obj`` to edit one."""
 
     def __init__(self, source=None, axis=None, obj=None):
@@ -140,13 +128,7 @@ class SweepPanel:
         self.axis = axis
         self.doc = obj.Document if obj is not None else source.Document
 
-        self.form = QtGui.QWidget()
-        self.form.setWindowTitle(TITLE if obj is None else f"Edit {obj.Label}")
-        layout = QtGui.QFormLayout(self.form)
-        self.what = QtGui.QLabel()
-        self.what.setObjectName("what")
-        self.what.setWordWrap(True)
-        layout.addRow(self.what)
+        layout = self._new_form(TITLE)
 
         self.axis_choice = QtGui.QComboBox()
         self.axis_choice.setObjectName("axis")
@@ -159,8 +141,8 @@ class SweepPanel:
                                     "from the tip of its direction)")
         layout.addRow("Axis", self.axis_choice)
 
-        self.point = [_spin(f"p{c}", -1e9, 1e9, 4, " mm") for c in "xyz"]
-        self.direction = [_spin(f"d{c}", -1e6, 1e6, 6) for c in "xyz"]
+        self.point = [spin(f"p{c}", -1e9, 1e9, 4, " mm") for c in "xyz"]
+        self.direction = [spin(f"d{c}", -1e6, 1e6, 6) for c in "xyz"]
         for label, boxes in (("Axis point", self.point), ("Axis direction", self.direction)):
             row = QtGui.QHBoxLayout()
             for b in boxes:
@@ -170,36 +152,25 @@ class SweepPanel:
         self.reverse.setObjectName("reverse")
         layout.addRow(self.reverse)
 
-        self.angle = _spin("angle", 0.001, 360.0, 3, " deg", DEFAULT_ANGLE)
+        self.angle = spin("angle", 0.001, 360.0, 3, " deg", DEFAULT_ANGLE)
         self.angle.setToolTip("The part turns by 0 .. this angle (360: solid of revolution)")
         layout.addRow("Angle", self.angle)
-        self.tolerance = _spin("tolerance", 1e-6, 1e3, 6, " mm", DEFAULT_TOLERANCE)
+        self.tolerance = spin("tolerance", 1e-6, 1e3, 6, " mm", DEFAULT_TOLERANCE)
         self.tolerance.setToolTip("The result lies within this distance of the true swept "
                                   "volume")
         layout.addRow("Tolerance", self.tolerance)
-        self.deflection = _spin("deflection", 1e-6, 1e3, 6, " mm", DEFAULT_DEFLECTION)
+        self.deflection = spin("deflection", 1e-6, 1e3, 6, " mm", DEFAULT_DEFLECTION)
         self.deflection.setToolTip("Curved faces are meshed within this distance and the "
                                    "mesh pushed out by it (conservative); planar faces are "
                                    "exact")
         layout.addRow("Deflection", self.deflection)
-        self.representation = QtGui.QComboBox()
-        self.representation.setObjectName("representation")
-        for r in REPRESENTATIONS:
-            self.representation.addItem(r, r)
-        self.representation.setToolTip("Mesh: fast for any size; Solid: a Part solid "
-                                       "(coplanar triangles merged) for Part tools")
+        self.representation = combo("representation", [(r, r) for r in REPRESENTATIONS],
+                                    "Mesh: fast for any size; Solid: a Part solid "
+                                    "(coplanar triangles merged) for Part tools")
         layout.addRow("Representation", self.representation)
 
-        self.result = QtGui.QLabel()
-        self.result.setObjectName("result")
-        self.result.setWordWrap(True)
-        self.result.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
-        layout.addRow(self.result)
-        self.message = QtGui.QLabel("")
-        self.message.setObjectName("message")
-        self.message.setWordWrap(True)
-        self.message.setStyleSheet("color: #b00000")
-        layout.addRow(self.message)
+        self._add_result(layout)
+        self._add_message(layout)
 
         self.axis_choice.currentIndexChanged.connect(self._axis_changed)
         self._load()
@@ -269,82 +240,28 @@ class SweepPanel:
                 "deflection": float(self.deflection.value()),
                 "representation": self.representation.currentData()}
 
-    # ------------------------------------------------------------- task dialog protocol
-    def getStandardButtons(self):
-        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Apply
-                   | QtGui.QDialogButtonBox.Cancel)
-
-    def clicked(self, button):
-        if button == QtGui.QDialogButtonBox.Apply:
-            self.apply()
-
-    def apply(self):
-        """Create or update the sweep; the panel then shows its result.  Values are
-        checked first, so a bad one is shown without touching the document."""
-        v = self.values()
-        try:
-            check_parameters(v["point"], v["direction"] if v["axis"] is None else (0, 0, 1),
-                             v["angle"], v["tolerance"], v["deflection"])
-        except SweepInputError as exc:
-            self._show_error(str(exc))
-            return False
-        ok = self._create() if self.obj is None else self._edit()
-        if ok:
-            self._load()
-        return ok
-
-    def accept(self):
-        ok = self.apply()
-        if ok:
-            self._close()
-        return ok
-
-    def reject(self):
-        self._close()
-        return True
-
-    def _close(self):
-        FreeCADGui.Control.closeDialog()
-        if FreeCADGui.ActiveDocument is not None and FreeCADGui.ActiveDocument.getInEdit():
-            FreeCADGui.ActiveDocument.resetEdit()
-
-    def _show_error(self, text):
-        self.message.setText(text)
-        FreeCAD.Console.PrintError(f"mfgeom: {text}\n")
-
     # ------------------------------------------------------------- create / edit
+    def _check(self):
+        v = self.values()
+        check_parameters(v["point"], v["direction"] if v["axis"] is None else (0, 0, 1),
+                         v["angle"], v["tolerance"], v["deflection"])
+
+    def _refresh(self):
+        self._load()
+
     def _create(self):
         v = self.values()
-        doc = self.doc
-        call = sweep_call(doc, self.source, v["point"], v["direction"], v["angle"],
+        call = sweep_call(self.doc, self.source, v["point"], v["direction"], v["angle"],
                           v["tolerance"], v["deflection"], v["representation"], v["axis"],
                           v["reverse"])
-        before = {o.Name for o in doc.Objects}
-        doc.openTransaction(TITLE)
-        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
-        try:
-            FreeCADGui.doCommand("import mfgeom")
-            FreeCADGui.doCommand(call)
-            new = [o for o in doc.Objects if o.Name not in before
-                   and getattr(getattr(o, "Proxy", None), "Type", "") == TYPE]
-            if len(new) != 1:
-                raise MfgeomError(f"'{call}' created {len(new)} sweeps, expected 1")
-        except (MfgeomError, ValueError, TypeError, RuntimeError, ImportError) as exc:
-            doc.abortTransaction()
-            self._show_error(str(exc))
+        if not self._create_by_call(self.doc, TITLE, call, TYPE, "sweeps"):
             return False
-        finally:
-            QtGui.QApplication.restoreOverrideCursor()
-        doc.commitTransaction()
-        self.obj = new[0]
-        self.message.setText("")
-        FreeCADGui.Selection.clearSelection()
         report(self.obj)
         return True
 
     def _edit(self):
         from mfgeom.gui import macro
-        obj, doc = self.obj, self.doc
+        obj = self.obj
         v = self.values()
         target = macro.object_expr(obj)
         lines = []
@@ -364,23 +281,8 @@ class SweepPanel:
                 lines.append(f"{target}.{name} = {value!r}")
         if not lines:
             return True
-        doc.openTransaction(f"Edit {obj.Label}")
-        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
-        try:
-            for line in lines:
-                FreeCADGui.doCommand(line)
-            macro.recompute(obj)
-            if not obj.isValid():
-                raise SweepInputError(obj.getStatusString())
-        except (MfgeomError, ValueError, TypeError, RuntimeError) as exc:
-            doc.abortTransaction()
-            doc.recompute()  # the old values are back: so are their results
-            self._show_error(str(exc))
+        if not self._edit_lines(lines):
             return False
-        finally:
-            QtGui.QApplication.restoreOverrideCursor()
-        doc.commitTransaction()
-        self.message.setText("")
         report(obj)
         return True
 
