@@ -646,6 +646,193 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
     return MFG_OK;
 }
 
+/* ---- pinholes -------------------------------------------------------------------------------- */
+
+/* A directed side (u -> v) of a sheet triangle. */
+typedef struct dside {
+    int64_t u, v;
+} dside;
+
+static int cmp_dside_undirected(const void *pa, const void *pb)
+{
+    const dside *a = pa, *b = pb;
+    int64_t a0 = a->u < a->v ? a->u : a->v, a1 = a->u < a->v ? a->v : a->u;
+    int64_t b0 = b->u < b->v ? b->u : b->v, b1 = b->u < b->v ? b->v : b->u;
+    if (a0 != b0)
+        return a0 < b0 ? -1 : 1;
+    if (a1 != b1)
+        return a1 < b1 ? -1 : 1;
+    return (a->u > b->u) - (a->u < b->u);
+}
+
+static int cmp_dside_from(const void *pa, const void *pb)
+{
+    const dside *a = pa, *b = pb;
+    if (a->u != b->u)
+        return a->u < b->u ? -1 : 1;
+    return (a->v > b->v) - (a->v < b->v);
+}
+
+/* Closes the holes of a sheet narrower than tol / 4 (the bounding-box diagonal of the
+ * hole's boundary loop, or twice its area over its perimeter for a sliver; the sheet's
+ * largest loop, its outline, never).  Rotated off the lattice,
+ * the 64-segment cup's bottom sheet had a hole 0.003 wide (tolerance 0.64) where three
+ * leaves' trimmed polygons do not quite meet: not a feature of the medial surface at
+ * this tolerance, but a boundary with no seam along it.  A hole is closed by a fan of
+ * triangles on its loop, oriented with the sheet, spanning points on the bisector across
+ * less than the tolerance.  The new triangles go after the sheet's own. */
+static mfg_status close_pinholes(mfg_medial *m, double tol)
+{
+    int64_t maxt = 0;
+    for (int64_t r = 0; r < m->nsheets; r++)
+        if (m->sheet_triangle_offsets[r + 1] - m->sheet_triangle_offsets[r] > maxt)
+            maxt = m->sheet_triangle_offsets[r + 1] - m->sheet_triangle_offsets[r];
+    dside *sd = malloc((size_t)(3 * maxt + 1) * sizeof *sd);
+    dside *bd = malloc((size_t)(3 * maxt + 1) * sizeof *bd);
+    char *used = malloc((size_t)(3 * maxt + 1));
+    int64_t *loop = malloc((size_t)(3 * maxt + 1) * sizeof *loop);
+    int64_t *loop_off = malloc((size_t)(3 * maxt + 2) * sizeof *loop_off);
+    ibuf fill = {0}; /* per new triangle: sheet, then its 3 local vertices */
+    mfg_status st = MFG_OK;
+    if (!sd || !bd || !used || !loop || !loop_off) {
+        st = MFG_ERR_NOMEM;
+        goto done;
+    }
+    for (int64_t r = 0; r < m->nsheets && st == MFG_OK; r++) {
+        int64_t t0 = m->sheet_triangle_offsets[r], t1 = m->sheet_triangle_offsets[r + 1];
+        const double *V = m->sheet_vertices + 3 * m->sheet_vertex_offsets[r];
+        int64_t ns = 0, nb = 0;
+        for (int64_t t = t0; t < t1; t++)
+            for (int k = 0; k < 3; k++)
+                sd[ns++] = (dside){m->sheet_triangles[3 * t + k], m->sheet_triangles[3 * t + (k + 1) % 3]};
+        if (ns > 1)
+            qsort(sd, (size_t)ns, sizeof *sd, cmp_dside_undirected);
+        for (int64_t i = 0; i < ns;) {
+            int64_t j = i + 1;
+            while (j < ns && !((sd[j].u < sd[j].v ? sd[j].u : sd[j].v) != (sd[i].u < sd[i].v ? sd[i].u : sd[i].v) ||
+                               (sd[j].u < sd[j].v ? sd[j].v : sd[j].u) != (sd[i].u < sd[i].v ? sd[i].v : sd[i].u)))
+                j++;
+            if (j - i == 1)
+                bd[nb++] = sd[i];
+            i = j;
+        }
+        if (nb < 6) /* an outline and a hole need >= 3 sides each */
+            continue;
+        qsort(bd, (size_t)nb, sizeof *bd, cmp_dside_from);
+        memset(used, 0, (size_t)nb);
+        int64_t nl = 0, nv = 0;
+        loop_off[0] = 0;
+        for (int64_t e = 0; e < nb; e++) {
+            if (used[e])
+                continue;
+            int64_t start = bd[e].u, cur = e;
+            int closed = 0;
+            while (!used[cur]) {
+                used[cur] = 1;
+                loop[nv++] = bd[cur].u;
+                if (bd[cur].v == start) {
+                    closed = 1;
+                    break;
+                }
+                /* the first unused side leaving the end vertex */
+                int64_t lo = 0, hi = nb, w = bd[cur].v;
+                while (lo < hi) {
+                    int64_t mid = lo + (hi - lo) / 2;
+                    if (bd[mid].u < w)
+                        lo = mid + 1;
+                    else
+                        hi = mid;
+                }
+                while (lo < nb && bd[lo].u == w && used[lo])
+                    lo++;
+                if (lo == nb || bd[lo].u != w)
+                    break;
+                cur = lo;
+            }
+            if (!closed) { /* not a simple loop: leave this sheet alone */
+                nl = 0;
+                break;
+            }
+            loop_off[++nl] = nv;
+        }
+        if (nl < 2)
+            continue;
+        /* the outline: the loop of the largest box */
+        double best = -1;
+        int64_t outline = -1;
+        double *diag = malloc((size_t)nl * sizeof *diag);
+        if (!diag) {
+            st = MFG_ERR_NOMEM;
+            break;
+        }
+        for (int64_t l = 0; l < nl; l++) {
+            double lo3[3] = {INFINITY, INFINITY, INFINITY}, hi3[3] = {-INFINITY, -INFINITY, -INFINITY};
+            for (int64_t i = loop_off[l]; i < loop_off[l + 1]; i++)
+                for (int k = 0; k < 3; k++) {
+                    lo3[k] = fmin(lo3[k], V[3 * loop[i] + k]);
+                    hi3[k] = fmax(hi3[k], V[3 * loop[i] + k]);
+                }
+            double d = md_dist3(lo3, hi3);
+            if (d > best) {
+                best = d;
+                outline = l;
+            }
+            /* width: the bounding box, or for a sliver 2 area / perimeter (its
+             * inradius when a triangle) */
+            double nw[3] = {0, 0, 0}, per = 0;
+            for (int64_t i = loop_off[l]; i < loop_off[l + 1]; i++) {
+                int64_t j = i + 1 < loop_off[l + 1] ? i + 1 : loop_off[l];
+                double c[3];
+                md_cross3(V + 3 * loop[i], V + 3 * loop[j], c);
+                for (int k = 0; k < 3; k++)
+                    nw[k] += c[k];
+                per += md_dist3(V + 3 * loop[i], V + 3 * loop[j]);
+            }
+            diag[l] = per > 0 ? fmin(d, md_norm3(nw) / per) : d;
+        }
+        for (int64_t l = 0; l < nl && st == MFG_OK; l++) {
+            int64_t a = loop_off[l], n = loop_off[l + 1] - a;
+            if (l == outline || n < 3 || !(diag[l] <= 0.25 * tol))
+                continue;
+            for (int64_t i = 1; i + 1 < n; i++)
+                if (!ibuf_push(&fill, r) || !ibuf_push(&fill, loop[a]) ||
+                    !ibuf_push(&fill, loop[a + i + 1]) || !ibuf_push(&fill, loop[a + i]))
+                    st = MFG_ERR_NOMEM;
+        }
+        free(diag);
+    }
+    if (st != MFG_OK || fill.n == 0)
+        goto done;
+    {
+        int64_t nf = fill.n / 4, tot = m->sheet_triangle_offsets[m->nsheets];
+        int64_t *T = malloc((size_t)(3 * (tot + nf) + 1) * sizeof *T);
+        if (!T) {
+            st = MFG_ERR_NOMEM;
+            goto done;
+        }
+        int64_t w = 0, f = 0;
+        for (int64_t r = 0; r < m->nsheets; r++) {
+            int64_t t0 = m->sheet_triangle_offsets[r], t1 = m->sheet_triangle_offsets[r + 1];
+            memcpy(T + 3 * w, m->sheet_triangles + 3 * t0, (size_t)(3 * (t1 - t0)) * sizeof *T);
+            m->sheet_triangle_offsets[r] = w;
+            w += t1 - t0;
+            for (; f < nf && fill.v[4 * f] == r; f++, w++)
+                memcpy(T + 3 * w, fill.v + 4 * f + 1, 3 * sizeof *T);
+        }
+        m->sheet_triangle_offsets[m->nsheets] = w;
+        free(m->sheet_triangles);
+        m->sheet_triangles = T;
+    }
+done:
+    free(sd);
+    free(bd);
+    free(used);
+    free(loop);
+    free(loop_off);
+    free(fill.v);
+    return st;
+}
+
 /* ---- seams ---------------------------------------------------------------------------------- */
 
 /* Elements of a seam set at most (more: the segment keeps its own 3). */
@@ -1458,7 +1645,8 @@ static int cmp_set_ord(const void *pa, const void *pb)
  * The walk ends
  *   - near a junction whose set holds the seam's (emit_seam snaps to it);
  *   - near the free end of another piece of the same set (the pieces are joined, and the
- *     walk goes on from the joined piece's far end);
+ *     walk goes on from the joined piece's far end; alongside a piece whose near end has a
+ *     junction it goes on to that junction, and drop_covered_pieces removes the piece);
  *   - where the seam's elements stop touching (another element is nearer, or one leaves
  *     its Voronoi region): the junction of the seam's set plus that element lies within the
  *     last step, md_junction_polish places it, it is added and becomes the end;
@@ -1533,8 +1721,6 @@ static int trace_seam(const md_elements *el, const md_bvh *bvh, pend_list *pl, i
                         return 1;
                     break; /* go on from the far end */
                 }
-                if (polyline_dist(o->pl.pts.v, m, y) <= reach)
-                    return 1; /* runs into another piece's middle: stop */
             }
             continue;
         }
@@ -1575,6 +1761,42 @@ static int trace_seam(const md_elements *el, const md_bvh *bvh, pend_list *pl, i
         step *= 0.5;
     }
     return 1;
+}
+
+/* After tracing, a piece of a seam that lies within reach of another piece of the same
+ * set along its whole length says nothing the other does not (a fragment the walk went
+ * past on its way to the junction): it is removed, the shortest first. */
+static void drop_covered_pieces(pend_list *pl, const set_ord *ord, int64_t g0, int64_t g1,
+                                double reach)
+{
+    for (;;) {
+        int64_t best = -1, bn = INT64_MAX;
+        for (int64_t g = g0; g < g1; g++) {
+            pend_seam *q = &pl->v[ord[g].i];
+            int64_t n = q->pl.rad.n;
+            if (n < 1 || n >= bn)
+                continue;
+            for (int64_t h = g0; h < g1; h++) {
+                const pend_seam *o = &pl->v[ord[h].i];
+                if (h == g || o->pl.rad.n < 2 || o->pl.rad.n < n)
+                    continue;
+                int64_t k = 0;
+                while (k < n && polyline_dist(o->pl.pts.v, o->pl.rad.n, q->pl.pts.v + 3 * k) <= reach)
+                    k++;
+                if (k == n) {
+                    best = g;
+                    bn = n;
+                    break;
+                }
+            }
+        }
+        if (best < 0)
+            return;
+        pend_seam *q = &pl->v[ord[best].i];
+        free(q->pl.pts.v);
+        free(q->pl.rad.v);
+        memset(&q->pl, 0, sizeof q->pl);
+    }
 }
 
 /* The junctions the leaf search missed, found where seams end (design 4.3, recovery).
@@ -1624,6 +1846,8 @@ static int recover_junctions(const md_elements *el, const md_bvh *bvh, pend_list
                     ok = trace_seam(el, bvh, pl, ord[k].i, ord, g, g1, *J, *nj, &add, h, reach, tol);
             }
         }
+        if (ok)
+            drop_covered_pieces(pl, ord, g, g1, reach);
         g = g1;
     }
     free(ord);
@@ -1641,6 +1865,127 @@ static int recover_junctions(const md_elements *el, const md_bvh *bvh, pend_list
     }
     free(add.v);
     return ok;
+}
+
+/* ---- sheets narrower than the tolerance -------------------------------------------------- */
+
+/* (a, b, seam): the seams whose set holds a pair, for drop_narrow_sheets. */
+typedef struct pair_seam {
+    int64_t a, b, seam;
+} pair_seam;
+
+static int cmp_pair_seam(const void *pa, const void *pb)
+{
+    const pair_seam *x = pa, *y = pb;
+    if (x->a != y->a)
+        return x->a < y->a ? -1 : 1;
+    if (x->b != y->b)
+        return x->b < y->b ? -1 : 1;
+    return (x->seam > y->seam) - (x->seam < y->seam);
+}
+
+/* Is p within d of a seam of ps[lo .. hi)? */
+static int near_seams(const seam_out *o, const pair_seam *ps, int64_t lo, int64_t hi,
+                      const double *p, double d)
+{
+    for (int64_t k = lo; k < hi; k++) {
+        int64_t i = ps[k].seam, p0 = o->pt_off.v[i], np = o->pt_off.v[i + 1] - p0;
+        if (polyline_dist(o->pts.v + 3 * p0, np, p) <= d)
+            return 1;
+    }
+    return 0;
+}
+
+/* Drops the sheets that lie within the tolerance of their own seams.  A bisector sheet
+ * narrower than a leaf (on a tessellated wall, a facet against a reflex edge of the
+ * facing wall: a strip in the edge's Voronoi wedge, 2 pi / n wide) is sampled by the
+ * leaves only where it happens to cross them: a rotated 64-segment cup gave 3 592
+ * one-triangle sheets, one strip in up to 33 pieces.  Its seams (traced, recover_junctions)
+ * already carry it within the tolerance, so such pieces add nothing but clutter.  A sheet
+ * goes when, for every triangle (sides at most NARROW_GRID tol / 2), the points of a
+ * barycentric grid of spacing <= tol / 2 lie within tol / 2 of seams whose set holds the
+ * sheet's pair: every point of it is then within tol / 2 + tol / (2 sqrt 3) < tol of
+ * those seams, so the result stays complete within the tolerance. */
+#define NARROW_GRID 16
+static mfg_status drop_narrow_sheets(const seam_out *o, double tol, mfg_medial *m)
+{
+    int64_t cnt = 0;
+    for (int64_t i = 0; i < o->n; i++) {
+        int64_t ne = o->el_off.v[i + 1] - o->el_off.v[i];
+        cnt += ne * (ne - 1) / 2;
+    }
+    pair_seam *ps = malloc((size_t)(cnt + 1) * sizeof *ps);
+    if (!ps)
+        return MFG_ERR_NOMEM;
+    int64_t k = 0;
+    for (int64_t i = 0; i < o->n; i++) {
+        const int64_t *e = o->elems.v + o->el_off.v[i];
+        int64_t ne = o->el_off.v[i + 1] - o->el_off.v[i];
+        for (int64_t a = 0; a < ne; a++)
+            for (int64_t b = a + 1; b < ne; b++)
+                ps[k++] = (pair_seam){e[a] < e[b] ? e[a] : e[b], e[a] < e[b] ? e[b] : e[a], i};
+    }
+    if (k > 1)
+        qsort(ps, (size_t)k, sizeof *ps, cmp_pair_seam);
+    int64_t w = 0, wv = 0, wt = 0;
+    for (int64_t r = 0; r < m->nsheets; r++) {
+        int64_t a = m->sheet_elements[2 * r], b = m->sheet_elements[2 * r + 1];
+        int64_t v0 = m->sheet_vertex_offsets[r], v1 = m->sheet_vertex_offsets[r + 1];
+        int64_t t0 = m->sheet_triangle_offsets[r], t1 = m->sheet_triangle_offsets[r + 1];
+        /* the run of seams holding (a, b) */
+        int64_t lo = 0, hi = k;
+        while (lo < hi) {
+            int64_t mid = lo + (hi - lo) / 2;
+            if (ps[mid].a < a || (ps[mid].a == a && ps[mid].b < b))
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        int64_t end = lo;
+        while (end < k && ps[end].a == a && ps[end].b == b)
+            end++;
+        int narrow = end > lo;
+        for (int64_t t = t0; t < t1 && narrow; t++) {
+            const double *P[3];
+            double longest = 0;
+            for (int c = 0; c < 3; c++)
+                P[c] = m->sheet_vertices + 3 * (v0 + m->sheet_triangles[3 * t + c]);
+            for (int c = 0; c < 3; c++)
+                longest = fmax(longest, md_dist3(P[c], P[(c + 1) % 3]));
+            /* the barycentric grid of step 1/g: every point of the triangle lies within
+             * longest / (g sqrt 3) <= tol / (2 sqrt 3) of a grid point */
+            double g = ceil(longest / (0.5 * tol));
+            if (!(g <= NARROW_GRID))
+                narrow = 0;
+            int gi = narrow ? (int)(g > 1 ? g : 1) : 0;
+            for (int i = 0; i <= gi && narrow; i++)
+                for (int j = 0; i + j <= gi && narrow; j++) {
+                    double u = (double)i / gi, v = (double)j / gi, q[3];
+                    for (int x = 0; x < 3; x++)
+                        q[x] = P[0][x] + u * (P[1][x] - P[0][x]) + v * (P[2][x] - P[0][x]);
+                    narrow = near_seams(o, ps, lo, end, q, 0.5 * tol);
+                }
+        }
+        if (narrow)
+            continue;
+        /* keep: compact in place */
+        memmove(m->sheet_vertices + 3 * wv, m->sheet_vertices + 3 * v0, (size_t)(3 * (v1 - v0)) * sizeof(double));
+        memmove(m->sheet_radii + wv, m->sheet_radii + v0, (size_t)(v1 - v0) * sizeof(double));
+        memmove(m->sheet_triangles + 3 * wt, m->sheet_triangles + 3 * t0, (size_t)(3 * (t1 - t0)) * sizeof(int64_t));
+        m->sheet_elements[2 * w] = a;
+        m->sheet_elements[2 * w + 1] = b;
+        m->sheet_forms[w] = m->sheet_forms[r];
+        m->sheet_vertex_offsets[w] = wv;
+        m->sheet_triangle_offsets[w] = wt;
+        wv += v1 - v0;
+        wt += t1 - t0;
+        w++;
+    }
+    m->sheet_vertex_offsets[w] = wv;
+    m->sheet_triangle_offsets[w] = wt;
+    m->nsheets = w;
+    free(ps);
+    return MFG_OK;
 }
 
 /* Seam order: by element set, then first point. */
@@ -1873,7 +2218,8 @@ mfg_status mfg_medial_surface(const double *xyz, int64_t nvertices, const int64_
             st = MFG_ERR_NOMEM;
             goto fail;
         }
-    if ((st = seams_to_public(&so, m)) != MFG_OK || (st = junctions_to_public(Jall, nall, m)) != MFG_OK)
+    if ((st = drop_narrow_sheets(&so, tolerance, m)) != MFG_OK || (st = close_pinholes(m, tolerance)) != MFG_OK ||
+        (st = seams_to_public(&so, m)) != MFG_OK || (st = junctions_to_public(Jall, nall, m)) != MFG_OK)
         goto fail;
     m->cells_visited = lv.cells_visited;
     m->leaves = lv.nleaves;
