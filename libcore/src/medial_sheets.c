@@ -455,6 +455,102 @@ static double trim_term(const ctx *c, int k, int64_t t, const double *x)
     return md_dist_car(c->el, t, x, NULL) - md_dist_car(c->el, c->a, x, NULL);
 }
 
+/* The stand-in for R(t) where f has no sign change from A to q (the bisector bends out
+ * across B-C inside the tet face and back in: near a cone's apex, e.g. {z1, E} by the
+ * L-bracket's convex corner (10, 10, 40) at r ~ 0.006): the root of f nearest to the chord
+ * point x0 + t (x1 - x0) on the segments from it to the face's corners A, B, C.  Not the
+ * chord point itself: it lies off the bisector (there 0.41), and the assembly drops every
+ * triangle with a vertex off it, which left a notch a leaf wide.  One of the segments
+ * brackets a root: f(A) != 0 has the other sign than f(B) and f(C) (the two vertices are
+ * roots on A-B and A-C), so the chord point's sign differs from A's or from B's and C's.
+ * The chord point lies in the face (x0 on A-B, x1 on A-C), so the root does too: in the
+ * leaf, and like R(t) a function of the face's lattice points and its two vertices only
+ * (the leaves sharing the face agree). */
+static void face_root_near_chord(const ctx *c, const double *PA, const double *PB,
+                                 const double *PC, const double *x0, const double *x1, double t,
+                                 double *x)
+{
+    const double *P[3] = {PA, PB, PC};
+    double xc[3], best = INFINITY;
+    for (int d = 0; d < 3; d++)
+        xc[d] = x0[d] + t * (x1[d] - x0[d]);
+    memcpy(x, xc, sizeof xc); /* kept only if no segment brackets (f at a corner rounded) */
+    for (int i = 0; i < 3; i++) {
+        double y[3];
+        if (!md_root_on_segment(c->el, c->a, c->b, xc, P[i], y, NULL))
+            continue;
+        double dd = md_dist3(xc, y);
+        if (dd < best) {
+            best = dd;
+            memcpy(x, y, sizeof y);
+        }
+    }
+}
+
+/* The boundary point x (a root of f, after face_root_near_chord stood in for R(t): R(t)
+ * jumps between the bisector's branches there, the bisection stops at the jump, and the
+ * trimming term (kind k, element *t) need not vanish at x) moved onto the seam, f = 0 and
+ * the term = 0: Gauss-Newton with the least-norm step (2 equations, 3 unknowns) and a
+ * central-difference Jacobian, as in corner_point.  The seam lies outside the tet face
+ * then (the bisector leaves it across B-C): the point is the seam's point near x, not
+ * R(t).  Taken when the best iterate is within 1e-10 L of both (the steps bounce about a
+ * kink of the term at ~1e-9 where the seam meets a corner of the region, the small tray's
+ * rib top by its wall), within h of x (the lattice's h: the leaves sharing the face decide
+ * alike), and nothing else trims it; otherwise x stays, on the bisector, off the seam.  A
+ * region margin may reach 0 there on another side of the region than *t's (that corner):
+ * *t becomes the element of that side, as near as a and b there. */
+static void seam_polish(const ctx *c, int k, int64_t *t, double *x)
+{
+    double tol = 1e-12 * c->el->diag, step = 1e-7 * c->h, y[3], yb[3], Fb = INFINITY;
+    memcpy(y, x, sizeof y);
+    for (int it = 0; it < 40; it++) {
+        double F[2], J[2][3];
+        F[0] = md_dist_car(c->el, c->a, y, NULL) - md_dist_car(c->el, c->b, y, NULL);
+        F[1] = trim_term(c, k, *t, y);
+        double Fm = fmax(fabs(F[0]), fabs(F[1]));
+        if (it == 0 && Fm <= 1e-10 * c->el->diag)
+            return; /* on the seam already (the bisection ended on R(t), not a stand-in) */
+        if (Fm < Fb) {
+            Fb = Fm;
+            memcpy(yb, y, sizeof y);
+        }
+        if (Fm <= tol)
+            break;
+        for (int d = 0; d < 3; d++) {
+            double yp[3] = {y[0], y[1], y[2]}, ym[3] = {y[0], y[1], y[2]};
+            yp[d] += step;
+            ym[d] -= step;
+            J[0][d] = (md_dist_car(c->el, c->a, yp, NULL) - md_dist_car(c->el, c->b, yp, NULL) -
+                       md_dist_car(c->el, c->a, ym, NULL) + md_dist_car(c->el, c->b, ym, NULL)) /
+                      (2 * step);
+            J[1][d] = (trim_term(c, k, *t, yp) - trim_term(c, k, *t, ym)) / (2 * step);
+        }
+        /* dy = -J^T (J J^T)^-1 F; a near-singular J J^T (parallel gradients) gives up. */
+        double g00 = md_dot3(J[0], J[0]), g01 = md_dot3(J[0], J[1]), g11 = md_dot3(J[1], J[1]);
+        double det = g00 * g11 - g01 * g01;
+        if (!(det > 1e-12 * g00 * g11))
+            break;
+        double l0 = (g11 * F[0] - g01 * F[1]) / det, l1 = (g00 * F[1] - g01 * F[0]) / det;
+        double dy = 0;
+        for (int d = 0; d < 3; d++) {
+            double s = l0 * J[0][d] + l1 * J[1][d];
+            y[d] -= s;
+            dy += fabs(s);
+        }
+        if (!(dy <= 4 * c->h))
+            break;
+    }
+    int64_t arg;
+    int argk;
+    double D;
+    if (!(Fb <= 1e-10 * c->el->diag) || !(md_dist3(x, yb) <= c->h) ||
+        trim_tau(c, yb, &arg, &argk, &D) < -1e-9 * c->el->diag)
+        return;
+    if (k == TRIM_A || k == TRIM_B)
+        md_region_margin(c->el, k == TRIM_A ? c->a : c->b, yb, t);
+    memcpy(x, yb, sizeof yb);
+}
+
 /* The boundary point on the polygon edge between marching-tets vertices iu and iv, whose
  * trims differ in sign.  The polygon edge lies in the tet face of its two lattice edges;
  * they share the corner A of the lone sign of f, the others are B < C (lattice order).
@@ -504,7 +600,7 @@ static int boundary_point(ctx *c, int iu, int iv)
     const double *PA = c->cx[A], *PB = c->cx[B], *PC = c->cx[C];
     double xn[3], gn = 0, gp = 0, tol = 1e-15 * c->el->diag;
     memcpy(xn, p0->tau < 0 ? x0 : x1, sizeof xn);
-    int phase = 0, last = 0;
+    int phase = 0, last = 0, fell_back = 0;
     for (int it = 0; it < BISECT_STEPS; it++) {
         /* Phase 0 bisects the sign of tau (which may jump where a region ends) down to a
          * bracket of 2^-10; phase 1 then solves the trimming term of the negative end,
@@ -521,10 +617,8 @@ static int boundary_point(ctx *c, int iu, int iv)
         for (int d = 0; d < 3; d++)
             q[d] = PB[d] + tm * (PC[d] - PB[d]);
         if (!md_root_on_segment(c->el, c->a, c->b, PA, q, x, NULL)) {
-            /* f has no sign change from A to q (the bisector bends across B-C inside the
-             * face): fall back on the chord between the two vertices. */
-            for (int d = 0; d < 3; d++)
-                x[d] = x0[d] + tm * (x1[d] - x0[d]);
+            face_root_near_chord(c, PA, PB, PC, x0, x1, tm, x);
+            fell_back = 1;
         }
         if (phase == 0) {
             int64_t arg;
@@ -566,6 +660,8 @@ static int boundary_point(ctx *c, int iu, int iv)
             last = 1;
         }
     }
+    if (fell_back)
+        seam_polish(c, argkn, &argn, best);
     {
         int64_t arg;
         int argk;

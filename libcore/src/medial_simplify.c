@@ -273,12 +273,13 @@ static double bis_eval(const sd_mesh *M, const double *x, double *f, double g[3]
     return sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
 }
 
+/* The normal of triangle (p, q, r), not unit: (q - p) x (r - p). */
 static void cross3(const double *p, const double *q, const double *r, double n[3])
 {
-    double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, w[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
-    n[0] = u[1] * w[2] - u[2] * w[1];
-    n[1] = u[2] * w[0] - u[0] * w[2];
-    n[2] = u[0] * w[1] - u[1] * w[0];
+    double u[3], w[3];
+    md_sub3(q, p, u);
+    md_sub3(r, p, w);
+    md_cross3(u, w, n);
 }
 
 /* Is triangle (p, q, r) a good piece of the sheet: within M->dev of the bisector at 7

@@ -66,6 +66,41 @@ static inline void ms_box(tmesh *m, double a, double b, double c)
     ms_prism(m, P, 4, c);
 }
 
+/* The box [0, a] x [0, b] x [0, c], each face a k x k grid of quads split into 2 triangles
+ * (the diagonal alternating), counter-clockwise seen from outside (k <= 12 fits). */
+static inline void ms_grid_box(tmesh *m, double a, double b, double c, int k)
+{
+    memset(m, 0, sizeof *m);
+    double ext[3] = {a, b, c};
+    for (int ax = 0; ax < 3; ax++)
+        for (int side = 0; side < 2; side++)
+            for (int u = 0; u < k; u++)
+                for (int v = 0; v < k; v++) {
+                    int64_t q[4];
+                    int uv[4][2] = {{u, v}, {u + 1, v}, {u + 1, v + 1}, {u, v + 1}};
+                    for (int j = 0; j < 4; j++) {
+                        double p[3];
+                        int i1 = (ax + 1) % 3, i2 = (ax + 2) % 3;
+                        p[ax] = side * ext[ax];
+                        p[i1] = uv[j][0] * ext[i1] / k;
+                        p[i2] = uv[j][1] * ext[i2] / k;
+                        q[j] = ms_vtx(m, p[0], p[1], p[2]);
+                    }
+                    if (!side) {
+                        int64_t t = q[1];
+                        q[1] = q[3];
+                        q[3] = t;
+                    }
+                    if ((u + v) % 2) {
+                        ms_tri(m, q[0], q[1], q[2]);
+                        ms_tri(m, q[0], q[2], q[3]);
+                    } else {
+                        ms_tri(m, q[1], q[2], q[3]);
+                        ms_tri(m, q[1], q[3], q[0]);
+                    }
+                }
+}
+
 /* L-bracket: arms [0,10] x [0,50] and [0,50] x [0,10], extruded over z in [0, 40]. */
 static inline void ms_l_bracket(tmesh *m)
 {

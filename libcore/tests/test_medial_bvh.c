@@ -14,6 +14,7 @@
 #include <time.h>
 
 #include "medial.h"
+#include "medial_solids.h"
 #include "mfg_test.h"
 #include "mfgeom.h"
 
@@ -63,61 +64,30 @@ static void tri(dmesh *m, int64_t a, int64_t b, int64_t c)
     m->nt++;
 }
 
-/* Box [0,a] x [0,b] x [0,c], each face a k x k grid of quads split into 2 triangles (the
- * diagonal alternating), counter-clockwise seen from outside. */
-static void grid_box(dmesh *m, double a, double b, double c, int k)
+/* A mesh of medial_solids.h (the cuboid, the L-bracket, the grid cube) as a dmesh. */
+static void from_tmesh(dmesh *m, const tmesh *t)
 {
     memset(m, 0, sizeof *m);
-    double ext[3] = {a, b, c};
-    for (int ax = 0; ax < 3; ax++)
-        for (int side = 0; side < 2; side++)
-            for (int u = 0; u < k; u++)
-                for (int v = 0; v < k; v++) {
-                    int64_t q[4];
-                    int uv[4][2] = {{u, v}, {u + 1, v}, {u + 1, v + 1}, {u, v + 1}};
-                    for (int j = 0; j < 4; j++) {
-                        double p[3];
-                        int i1 = (ax + 1) % 3, i2 = (ax + 2) % 3;
-                        p[ax] = side * ext[ax];
-                        p[i1] = uv[j][0] * ext[i1] / k;
-                        p[i2] = uv[j][1] * ext[i2] / k;
-                        q[j] = vtx(m, p[0], p[1], p[2]);
-                    }
-                    if (!side) {
-                        int64_t t = q[1];
-                        q[1] = q[3];
-                        q[3] = t;
-                    }
-                    if ((u + v) % 2) {
-                        tri(m, q[0], q[1], q[2]);
-                        tri(m, q[0], q[2], q[3]);
-                    } else {
-                        tri(m, q[1], q[2], q[3]);
-                        tri(m, q[1], q[3], q[0]);
-                    }
-                }
+    for (int64_t i = 0; i < t->nv; i++)
+        add_v(m, t->xyz[3 * i], t->xyz[3 * i + 1], t->xyz[3 * i + 2]);
+    for (int64_t i = 0; i < t->nt; i++)
+        tri(m, t->tri[3 * i], t->tri[3 * i + 1], t->tri[3 * i + 2]);
+}
+
+/* Box [0,a] x [0,b] x [0,c], each face a k x k grid (ms_grid_box). */
+static void grid_box(dmesh *m, double a, double b, double c, int k)
+{
+    static tmesh t; /* 73 kB: not on the stack */
+    ms_grid_box(&t, a, b, c, k);
+    from_tmesh(m, &t);
 }
 
 /* L-bracket: arms [0,10] x [0,50] and [0,50] x [0,10], extruded over z in [0, 40]. */
 static void l_bracket(dmesh *m)
 {
-    memset(m, 0, sizeof *m);
-    static const double P[6][2] = {{0, 0}, {50, 0}, {50, 10}, {10, 10}, {10, 50}, {0, 50}};
-    static const int T[4][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
-    int64_t b[6], t[6];
-    for (int i = 0; i < 6; i++) {
-        b[i] = vtx(m, P[i][0], P[i][1], 0);
-        t[i] = vtx(m, P[i][0], P[i][1], 40);
-    }
-    for (int i = 0; i < 4; i++) {
-        tri(m, t[T[i][0]], t[T[i][1]], t[T[i][2]]);
-        tri(m, b[T[i][0]], b[T[i][2]], b[T[i][1]]);
-    }
-    for (int i = 0; i < 6; i++) {
-        int j = (i + 1) % 6;
-        tri(m, b[i], b[j], t[j]);
-        tri(m, b[i], t[j], t[i]);
-    }
+    static tmesh t;
+    ms_l_bracket(&t);
+    from_tmesh(m, &t);
 }
 
 /* The icosahedron subdivided once (80 triangles) on the unit sphere, then a random
