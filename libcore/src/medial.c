@@ -468,9 +468,10 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
         int keep = pair_out &&
                    tri_area(sp->xyz + 3 * tv[0], sp->xyz + 3 * tv[1], sp->xyz + 3 * tv[2]) >= amin;
         /* Design 4.1: every vertex equidistant from the pair at its radius within 1e-9 L.
-         * A vertex that is not (the extraction put one 0.41 off the bisector of {z1, E}
-         * at r = 0.006 by the full L-bracket's corner (10, 10, 40) at tol 1 % L) takes its
-         * triangles out rather than the whole result. */
+         * A guard: a vertex that is not takes its triangles out rather than spoil the
+         * result.  (The extraction's boundary fallback once put one 0.41 off the bisector
+         * by the full L-bracket's corner (10, 10, 40); since face_root_near_chord and
+         * seam_polish in medial_sheets.c nothing is dropped on the test solids.) */
         for (int k = 0; k < 3 && keep; k++) {
             const double *p = sp->xyz + 3 * tv[k];
             double r = sp->radius[tv[k]];

@@ -177,6 +177,53 @@ static inline void ms_disc(tmesh *m, int n, double R, double H)
     ms_prism(m, (const double(*)[2])P, n, H);
 }
 
+/* The solid of revolution about z of a closed simple profile (r >= 0, z), k points,
+ * with n segments; points with r == 0 lie on the axis (one vertex each).  Outward
+ * orientation (flipped when the signed volume comes out negative). */
+static inline void ms_revolve(tmesh *m, const double (*prof)[2], int k, int n)
+{
+    int64_t ids[16][128];
+    for (int i = 0; i < k; i++)
+        for (int s = 0; s < n; s++) {
+            double a = 2 * M_PI * s / n, r = prof[i][0];
+            ids[i][s] = r == 0 ? ms_vtx(m, 0, 0, prof[i][1])
+                               : ms_vtx(m, r * cos(a), r * sin(a), prof[i][1]);
+        }
+    int64_t t0 = m->nt;
+    for (int i = 0; i < k; i++) {
+        int j = (i + 1) % k;
+        for (int s = 0; s < n; s++) {
+            int t = (s + 1) % n;
+            int64_t a = ids[i][s], b = ids[i][t], c = ids[j][s], d = ids[j][t];
+            if (a != b && b != d && a != d)
+                ms_tri(m, a, b, d);
+            if (a != d && d != c && a != c)
+                ms_tri(m, a, d, c);
+        }
+    }
+    double vol = 0;
+    for (int64_t t = t0; t < m->nt; t++) {
+        const double *p = m->xyz + 3 * m->tri[3 * t], *q = m->xyz + 3 * m->tri[3 * t + 1],
+                     *r = m->xyz + 3 * m->tri[3 * t + 2];
+        vol += p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0]) +
+               p[2] * (q[0] * r[1] - q[1] * r[0]);
+    }
+    if (vol < 0)
+        for (int64_t t = t0; t < m->nt; t++) {
+            int64_t x = m->tri[3 * t + 1];
+            m->tri[3 * t + 1] = m->tri[3 * t + 2];
+            m->tri[3 * t + 2] = x;
+        }
+}
+
+/* examples/parts/cup.py (a cylinder R 20, height 30, with a blind pocket: wall 3, bottom
+ * 4) with n <= 128 segments: 8 n triangles. */
+static inline void ms_cup(tmesh *m, int n)
+{
+    const double P[6][2] = {{0, 0}, {20, 0}, {20, 30}, {17, 30}, {17, 4}, {0, 4}};
+    ms_revolve(m, P, 6, n);
+}
+
 /* A permutation of the triangles (and a rotation of each one's corners) from seed. */
 static inline void ms_shuffle(tmesh *m, unsigned long long seed)
 {

@@ -555,6 +555,53 @@ static void test_inner_corner(void)
     mfg_medial_free(m);
 }
 
+/* A tessellated curved part, 24 segments at 0.5 % of L: the facets' junctions that the
+ * leaf search misses are recovered where the seams end (issue 9, left item 1; 18 seam
+ * ends had no junction before).  Every seam end is a junction whose element set holds
+ * the seam's, at the seam's end point; every junction is equidistant from its elements
+ * (carrier distances from the public tables, within 1e-9 L). */
+static void test_cup(void)
+{
+    static tmesh t;
+    memset(&t, 0, sizeof t);
+    ms_cup(&t, 24);
+    double L = diag_of(&t), tol = 0.005 * L, eps = 1e-9 * L;
+    mfg_medial *m = run(&t, tol, 0, 0);
+    if (!m)
+        return;
+    CHECK(m->njunctions >= 200);
+    int64_t free_ends = 0, bad_set = 0, bad_point = 0, bad_radius = 0;
+    for (int64_t c = 0; c < m->nseams; c++) {
+        const int64_t *se = m->seam_elements + m->seam_element_offsets[c];
+        int64_t ns = m->seam_element_offsets[c + 1] - m->seam_element_offsets[c];
+        int64_t p0 = m->seam_point_offsets[c], p1 = m->seam_point_offsets[c + 1] - 1;
+        for (int e = 0; e < 2; e++) {
+            int64_t j = m->seam_ends[2 * c + e];
+            if (j < 0) {
+                free_ends += m->seam_radii[e ? p1 : p0] > tol;
+                continue;
+            }
+            const int64_t *je = m->junction_elements + m->junction_element_offsets[j];
+            int64_t nj = m->junction_element_offsets[j + 1] - m->junction_element_offsets[j];
+            for (int64_t a = 0, b = 0; a < ns; a++) {
+                while (b < nj && je[b] < se[a])
+                    b++;
+                bad_set += b == nj || je[b] != se[a];
+            }
+            bad_point += dist3(m->seam_points + 3 * (e ? p1 : p0), m->junction_points + 3 * j) > eps;
+        }
+    }
+    for (int64_t j = 0; j < m->njunctions; j++)
+        for (int64_t k = m->junction_element_offsets[j]; k < m->junction_element_offsets[j + 1]; k++)
+            bad_radius += fabs(carrier_dist(m, m->junction_elements[k], m->junction_points + 3 * j) -
+                               m->junction_radii[j]) > eps;
+    CHECK_EQ_INT(free_ends, 0);
+    CHECK_EQ_INT(bad_set, 0);
+    CHECK_EQ_INT(bad_point, 0);
+    CHECK_EQ_INT(bad_radius, 0);
+    mfg_medial_free(m);
+}
+
 /* At 1 % of L the leaves near the rim hold the convex edges and vertices as well (11
  * elements within D + 2 rho): the junction search must still find all 48. */
 static void test_disc_at(double frac)
@@ -691,6 +738,8 @@ int main(int argc, char **argv)
         test_tsection();
     if (!only || !strcmp(only, "corner"))
         test_inner_corner();
+    if (!only || !strcmp(only, "cup"))
+        test_cup();
     if (!only || !strcmp(only, "invariance"))
         test_invariance();
     if (!only || !strcmp(only, "errors"))
