@@ -104,30 +104,36 @@ typedef struct ibuf {
     int64_t n, cap;
 } ibuf;
 
+/* Room for element n of a growable array v of *cap elements of the size given (the
+ * capacity doubles from 64): v itself, or the moved block, or NULL when out of memory (v
+ * is then untouched). */
+static void *grow_for(void *v, int64_t n, int64_t *cap, size_t size)
+{
+    if (n < *cap)
+        return v;
+    int64_t c = *cap ? 2 * *cap : 64;
+    void *p = realloc(v, (size_t)c * size);
+    if (p)
+        *cap = c;
+    return p;
+}
+
 static int dbuf_push(dbuf *b, double x)
 {
-    if (b->n == b->cap) {
-        int64_t c = b->cap ? 2 * b->cap : 64;
-        double *v = realloc(b->v, (size_t)c * sizeof *v);
-        if (!v)
-            return 0;
-        b->v = v;
-        b->cap = c;
-    }
+    double *v = grow_for(b->v, b->n, &b->cap, sizeof *v);
+    if (!v)
+        return 0;
+    b->v = v;
     b->v[b->n++] = x;
     return 1;
 }
 
 static int ibuf_push(ibuf *b, int64_t x)
 {
-    if (b->n == b->cap) {
-        int64_t c = b->cap ? 2 * b->cap : 64;
-        int64_t *v = realloc(b->v, (size_t)c * sizeof *v);
-        if (!v)
-            return 0;
-        b->v = v;
-        b->cap = c;
-    }
+    int64_t *v = grow_for(b->v, b->n, &b->cap, sizeof *v);
+    if (!v)
+        return 0;
+    b->v = v;
     b->v[b->n++] = x;
     return 1;
 }
@@ -1025,14 +1031,10 @@ static void pieces_free(pieces *pc)
 /* Moves pl into pc (pl is left empty). */
 static int pieces_take(pieces *pc, polyline *pl)
 {
-    if (pc->n == pc->cap) {
-        int64_t c = pc->cap ? 2 * pc->cap : 8;
-        polyline *v = realloc(pc->p, (size_t)c * sizeof *v);
-        if (!v)
-            return 0;
-        pc->p = v;
-        pc->cap = c;
-    }
+    polyline *v = grow_for(pc->p, pc->n, &pc->cap, sizeof *v);
+    if (!v)
+        return 0;
+    pc->p = v;
     pc->p[pc->n++] = *pl;
     memset(pl, 0, sizeof *pl);
     return 1;
@@ -1317,14 +1319,10 @@ static void pend_free(pend_list *pl)
 /* Moves the polyline into the list (it is left empty). */
 static int pend_take(pend_list *pl, polyline *line, const int64_t *set, int32_t ne, int32_t kind)
 {
-    if (pl->n == pl->cap) {
-        int64_t c = pl->cap ? 2 * pl->cap : 64;
-        pend_seam *v = realloc(pl->v, (size_t)c * sizeof *v);
-        if (!v)
-            return 0;
-        pl->v = v;
-        pl->cap = c;
-    }
+    pend_seam *v = grow_for(pl->v, pl->n, &pl->cap, sizeof *v);
+    if (!v)
+        return 0;
+    pl->v = v;
     pend_seam *q = &pl->v[pl->n++];
     memset(q, 0, sizeof *q);
     q->pl = *line;
@@ -1522,14 +1520,10 @@ typedef struct jlist {
 
 static int jlist_push(jlist *l, const md_junction *j)
 {
-    if (l->n == l->cap) {
-        int64_t c = l->cap ? 2 * l->cap : 64;
-        md_junction *v = realloc(l->v, (size_t)c * sizeof *v);
-        if (!v)
-            return 0;
-        l->v = v;
-        l->cap = c;
-    }
+    md_junction *v = grow_for(l->v, l->n, &l->cap, sizeof *v);
+    if (!v)
+        return 0;
+    l->v = v;
     l->v[l->n++] = *j;
     return 1;
 }
