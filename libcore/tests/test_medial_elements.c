@@ -13,62 +13,6 @@
 #include "mfgeom.h"
 #include "predicates.h"
 
-/* Cube [0, s]^3, each face a k x k grid of quads split into 2 triangles (the diagonal
- * alternating), counter-clockwise seen from outside. */
-static void grid_cube(tmesh *m, double s, int k)
-{
-    memset(m, 0, sizeof *m);
-    double h = s / k;
-    for (int ax = 0; ax < 3; ax++)
-        for (int side = 0; side < 2; side++)
-            for (int u = 0; u < k; u++)
-                for (int v = 0; v < k; v++) {
-                    int64_t q[4];
-                    int uv[4][2] = {{u, v}, {u + 1, v}, {u + 1, v + 1}, {u, v + 1}};
-                    for (int c = 0; c < 4; c++) {
-                        double p[3];
-                        p[ax] = side * s;
-                        p[(ax + 1) % 3] = uv[c][0] * h;
-                        p[(ax + 2) % 3] = uv[c][1] * h;
-                        q[c] = ms_vtx(m, p[0], p[1], p[2]);
-                    }
-                    if (!side) { /* outward -ax: reverse */
-                        int64_t t = q[1];
-                        q[1] = q[3];
-                        q[3] = t;
-                    }
-                    if ((u + v) % 2) {
-                        ms_tri(m, q[0], q[1], q[2]);
-                        ms_tri(m, q[0], q[2], q[3]);
-                    } else {
-                        ms_tri(m, q[1], q[2], q[3]);
-                        ms_tri(m, q[1], q[3], q[0]);
-                    }
-                }
-}
-
-/* L-bracket: arms [0,10] x [0,50] and [0,50] x [0,10], extruded over z in [0, 40]. */
-static void l_bracket(tmesh *m)
-{
-    memset(m, 0, sizeof *m);
-    static const double P[6][2] = {{0, 0}, {50, 0}, {50, 10}, {10, 10}, {10, 50}, {0, 50}};
-    static const int T[4][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
-    int64_t b[6], t[6];
-    for (int i = 0; i < 6; i++) {
-        b[i] = ms_vtx(m, P[i][0], P[i][1], 0);
-        t[i] = ms_vtx(m, P[i][0], P[i][1], 40);
-    }
-    for (int i = 0; i < 4; i++) {
-        ms_tri(m, t[T[i][0]], t[T[i][1]], t[T[i][2]]);
-        ms_tri(m, b[T[i][0]], b[T[i][2]], b[T[i][1]]);
-    }
-    for (int i = 0; i < 6; i++) {
-        int j = (i + 1) % 6;
-        ms_tri(m, b[i], b[j], t[j]);
-        ms_tri(m, b[i], t[j], t[i]);
-    }
-}
-
 /* The face with outward normal n (exactly, as the axis-aligned solids here give), or -1. */
 static int64_t face_with(const md_elements *el, double nx, double ny, double nz, double delta)
 {
@@ -203,7 +147,7 @@ static void test_cube(void)
 {
     static tmesh m;
     for (int k = 1; k <= 3; k++) {
-        grid_cube(&m, 40, k);
+        ms_grid_box(&m, 40, 40, 40, k);
         md_elements el;
         mfg_status st = md_elements_build(m.xyz, m.nv, m.tri, m.nt, 0.5, &el);
         CHECK_EQ_INT(st, MFG_OK);
@@ -282,16 +226,16 @@ static void check_shuffle_invariant(const tmesh *m, double tol)
 static void test_canonical_ids(void)
 {
     static tmesh m;
-    grid_cube(&m, 40, 3);
+    ms_grid_box(&m, 40, 40, 40, 3);
     check_shuffle_invariant(&m, 0.5);
-    l_bracket(&m);
+    ms_l_bracket(&m);
     check_shuffle_invariant(&m, 0.4);
 }
 
 static void test_l_bracket(void)
 {
     static tmesh m;
-    l_bracket(&m);
+    ms_l_bracket(&m);
     md_elements el;
     mfg_status st = md_elements_build(m.xyz, m.nv, m.tri, m.nt, 0.4, &el);
     CHECK_EQ_INT(st, MFG_OK);
@@ -365,7 +309,7 @@ static void test_l_bracket(void)
 static void test_cube_distances(void)
 {
     static tmesh m;
-    grid_cube(&m, 40, 1);
+    ms_grid_box(&m, 40, 40, 40, 1);
     md_elements el;
     if (md_elements_build(m.xyz, m.nv, m.tri, m.nt, 0.5, &el) != MFG_OK) {
         CHECK(0);
@@ -422,7 +366,7 @@ static void check_root(const md_elements *el, int64_t a, int64_t b, const double
 static void test_bisector(void)
 {
     static tmesh m;
-    grid_cube(&m, 40, 1);
+    ms_grid_box(&m, 40, 40, 40, 1);
     md_elements el;
     if (md_elements_build(m.xyz, m.nv, m.tri, m.nt, 0.5, &el) != MFG_OK) {
         CHECK(0);
@@ -454,7 +398,7 @@ static void test_bisector(void)
 
     /* plane/edge on the L-bracket: Fo (x = 0) and the reflex edge (10,10,z), along
      * y = 3: x^2 = (10-x)^2 + 49, x = 7.45. */
-    l_bracket(&m);
+    ms_l_bracket(&m);
     if (md_elements_build(m.xyz, m.nv, m.tri, m.nt, 0.4, &el) != MFG_OK) {
         CHECK(0);
         return;
@@ -529,7 +473,7 @@ static int in_l(const double *x)
 static void test_distance_field(void)
 {
     static tmesh m;
-    l_bracket(&m);
+    ms_l_bracket(&m);
     md_elements el;
     if (md_elements_build(m.xyz, m.nv, m.tri, m.nt, 0.4, &el) != MFG_OK) {
         CHECK(0);
@@ -572,7 +516,7 @@ static void test_float32_tilted(void)
     static const struct { int k; double off; } cases[3] = {{1, 100.25}, {3, 0.0}, {3, 100.0}};
     for (int c = 0; c < 3; c++) {
         static tmesh m;
-        grid_cube(&m, 40, cases[c].k);
+        ms_grid_box(&m, 40, 40, 40, cases[c].k);
         double ca = cos(0.3), sa = sin(0.3), cb = cos(0.7), sb = sin(0.7);
         for (int64_t i = 0; i < m.nv; i++) {
             double *p = m.xyz + 3 * i;
@@ -607,7 +551,7 @@ static void test_float32_tilted(void)
 static void test_zero_area_bridge(void)
 {
     static tmesh m, r;
-    grid_cube(&m, 40, 1);
+    ms_grid_box(&m, 40, 40, 40, 1);
     memset(&r, 0, sizeof r);
     r.nv = m.nv;
     memcpy(r.xyz, m.xyz, sizeof m.xyz);
@@ -663,7 +607,7 @@ static void pyramid(tmesh *m)
 static void test_forms(void)
 {
     static tmesh m;
-    grid_cube(&m, 40, 1);
+    ms_grid_box(&m, 40, 40, 40, 1);
     md_elements el;
     if (md_elements_build(m.xyz, m.nv, m.tri, m.nt, 0.5, &el) != MFG_OK) {
         CHECK(0);
@@ -706,7 +650,7 @@ static void test_forms(void)
 static void test_dist_closed(void)
 {
     static tmesh m;
-    l_bracket(&m);
+    ms_l_bracket(&m);
     md_elements el;
     if (md_elements_build(m.xyz, m.nv, m.tri, m.nt, 0.4, &el) != MFG_OK) {
         CHECK(0);
@@ -746,7 +690,7 @@ static void test_random_roots(void)
     int roots = 0, bad = 0;
     for (int solid = 0; solid < 2; solid++) {
         if (solid)
-            l_bracket(&m);
+            ms_l_bracket(&m);
         else
             pyramid(&m);
         md_elements el;
@@ -791,7 +735,7 @@ static void test_random_roots(void)
 static void test_zero_area_on_edge(void)
 {
     static tmesh m, r;
-    grid_cube(&m, 40, 1);
+    ms_grid_box(&m, 40, 40, 40, 1);
     memset(&r, 0, sizeof r);
     r.nv = m.nv;
     memcpy(r.xyz, m.xyz, sizeof m.xyz);
@@ -855,7 +799,7 @@ static void expect_refused(const tmesh *m, double tol, mfg_status st, const char
 static void test_refusals(void)
 {
     static tmesh m;
-    grid_cube(&m, 40, 1);
+    ms_grid_box(&m, 40, 40, 40, 1);
     expect_refused(&m, 0.0, MFG_ERR_INVALID, "tolerance must be finite and > 0");
     expect_refused(&m, -1.0, MFG_ERR_INVALID, "tolerance must be finite and > 0");
     expect_refused(&m, NAN, MFG_ERR_INVALID, "tolerance must be finite and > 0");
@@ -863,7 +807,7 @@ static void test_refusals(void)
     expect_refused(&m, 1e-6, MFG_ERR_INVALID, "2^20");
     m.nt--; /* open */
     expect_refused(&m, 0.5, MFG_ERR_INVALID, "not closed");
-    grid_cube(&m, 40, 1);
+    ms_grid_box(&m, 40, 40, 40, 1);
     int64_t t = m.tri[0]; /* flip one triangle */
     m.tri[0] = m.tri[1];
     m.tri[1] = t;
