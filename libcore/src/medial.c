@@ -1806,15 +1806,41 @@ static void drop_covered_pieces(pend_list *pl, const set_ord *ord, int64_t g0, i
  * junction found resolves every free end within reach whose set it holds, so each
  * meeting point is polished about once.  Then the ends still free are traced along their
  * seams (trace_seam).  *J (nj, merged and sorted by point) is replaced by a new array with
- * the found junctions merged in (merge_junctions); the pending seams may be extended and
- * joined.  1, or 0 on NOMEM (*J untouched). */
+ * the found junctions merged in (merge_junctions; the caller frees it when it differs
+ * from its own, also after a failure); the pending seams may be extended and joined.
+ * 1, or 0 on NOMEM. */
+static int merge_added(const md_elements *el, md_junction **J, int64_t *nj, int *own, jlist *add,
+                       double tol, int full)
+{
+    if (add->n == 0)
+        return 1;
+    md_junction *all = malloc((size_t)(*nj + add->n) * sizeof *all);
+    if (!all)
+        return 0;
+    if (*nj)
+        memcpy(all, *J, (size_t)*nj * sizeof *all);
+    memcpy(all + *nj, add->v, (size_t)add->n * sizeof *all);
+    int64_t n = merge_junctions(el, all, *nj + add->n, tol, full);
+    if (*own)
+        free(*J);
+    *J = all;
+    *nj = n;
+    *own = 1;
+    add->n = 0;
+    return 1;
+}
+
 static int recover_junctions(const md_elements *el, const md_bvh *bvh, pend_list *pl,
                              md_junction **J, int64_t *nj, double h, double reach, double tol,
                              int full)
 {
     jlist add = {0};
+    int own = 0;
     set_ord *ord = malloc((size_t)(pl->n + 1) * sizeof *ord);
-    int ok = ord && junctions_from_unions(el, bvh, pl, *J, *nj, reach, tol, &add);
+    /* the unions' junctions are merged in (sorted by point) before tracing: the walks
+     * look them up by their x-slab, and the list they scan holds only their own finds */
+    int ok = ord && junctions_from_unions(el, bvh, pl, *J, *nj, reach, tol, &add) &&
+             merge_added(el, J, nj, &own, &add, tol, full);
     if (ok) {
         for (int64_t i = 0; i < pl->n; i++)
             ord[i] = (set_ord){pl, i};
@@ -1846,18 +1872,7 @@ static int recover_junctions(const md_elements *el, const md_bvh *bvh, pend_list
         g = g1;
     }
     free(ord);
-    if (ok && add.n > 0) {
-        md_junction *all = malloc((size_t)(*nj + add.n) * sizeof *all);
-        if (!all) {
-            ok = 0;
-        } else {
-            if (*nj)
-                memcpy(all, *J, (size_t)*nj * sizeof *all);
-            memcpy(all + *nj, add.v, (size_t)add.n * sizeof *all);
-            *nj = merge_junctions(el, all, *nj + add.n, tol, full);
-            *J = all;
-        }
-    }
+    ok = ok && merge_added(el, J, nj, &own, &add, tol, full);
     free(add.v);
     return ok;
 }
