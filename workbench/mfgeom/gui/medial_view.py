@@ -230,6 +230,15 @@ class LegendViewProvider(PanelViewProvider):
 
     MODE = THICKNESS_MODE
 
+    def getDisplayModes(self, vobj):
+        return [self.MODE]
+
+    def getDefaultDisplayMode(self):
+        return self.MODE
+
+    def setDisplayMode(self, mode):
+        return mode
+
     def legend_shown(self, vobj):
         return bool(vobj.Visibility) and vobj.DisplayMode == self.MODE
 
@@ -340,15 +349,6 @@ class ViewProviderMedialAxis(LegendViewProvider):
         self._draw(vobj.Object)
         self._arrange(vobj)
 
-    def getDisplayModes(self, vobj):
-        return [WIDTH_MODE]
-
-    def getDefaultDisplayMode(self):
-        return WIDTH_MODE
-
-    def setDisplayMode(self, mode):
-        return mode
-
     def updateData(self, obj, prop):
         if prop == "BranchCount":   # the last result _execute writes
             self._draw(obj)
@@ -427,15 +427,6 @@ class ViewProviderMedialSurface(LegendViewProvider):
         self._draw(vobj.Object)
         self._arrange(vobj)
 
-    def getDisplayModes(self, vobj):
-        return [THICKNESS_MODE]
-
-    def getDefaultDisplayMode(self):
-        return THICKNESS_MODE
-
-    def setDisplayMode(self, mode):
-        return mode
-
     def updateData(self, obj, prop):
         if prop == "MaxRadius":   # the last result _execute writes
             self._draw(obj)
@@ -494,15 +485,6 @@ class ViewProviderMidSurface(LegendViewProvider):
         vobj.addDisplayMode(root, THICKNESS_MODE)
         self._draw(vobj.Object)
         self._arrange(vobj)
-
-    def getDisplayModes(self, vobj):
-        return [THICKNESS_MODE]
-
-    def getDefaultDisplayMode(self):
-        return THICKNESS_MODE
-
-    def setDisplayMode(self, mode):
-        return mode
 
     def updateData(self, obj, prop):
         if prop == "MeanThickness":   # the last result _execute writes
