@@ -51,8 +51,14 @@ import numpy as np
 
 from mfgeom import core
 
-DEFAULT_TOL = 1e-6
+# The angular tolerance (rad): 0.01 degree.  CAD data of walls that are vertical by design
+# carries normals 1e-6 .. 1e-4 rad off the wall's plane (B-spline fits, STEP round trips);
+# within this tolerance such a wall is *zero draft*, not an undercut.
+DEFAULT_TOL = math.radians(0.01)
 EDGE_KINDS = ("concave", "convex", "tangent")
+# Normal components below this are flushed to 0 (they cannot change a unit vector's
+# direction by more than 1e-18 rad; the library refuses components below 2^-200)
+TINY_COMPONENT = 2.0 ** -60
 
 
 @dataclass
@@ -72,7 +78,9 @@ class FaceGauss:
         lengths = np.linalg.norm(n, axis=1)
         if not np.all(np.isfinite(lengths)) or np.any(lengths == 0):
             raise ValueError(f"face {self.name or '?'} has zero or non-finite normals")
-        self.normals = n / lengths[:, None]
+        n = n / lengths[:, None]
+        n[np.abs(n) < TINY_COMPONENT] = 0.0   # e.g. -6.2e-65 from OCCT: not an error
+        self.normals = n / np.linalg.norm(n, axis=1)[:, None]
         if not (self.shrink >= 0 and math.isfinite(self.shrink)):
             raise ValueError(f"face {self.name or '?'}: shrink must be finite and >= 0")
 
@@ -120,37 +128,93 @@ def _unit(v):
     return v / np.linalg.norm(v)
 
 
-def canonical_normals(normals, tol=DEFAULT_TOL, max_circle_search=96):
+def _distinct_axes(p, cos_t):
+    """(axes, k, sign) of unit normals p (m, 3): the distinct axes up to sign (the first
+    normal of each kept) and, per normal, the index of its axis and the sign (+-1) with
+    which it equals it: normal i is within acos(cos_t) of sign[i] * axes[k[i]].  Blocks of
+    normals are compared with the axes found so far in one product each; only normals
+    that start a new axis cost a Python step (analytic faces: a handful)."""
+    m = len(p)
+    buf = np.zeros((max(m, 1), 3))
+    count = 0
+    k_out = np.zeros(m, dtype=np.int64)
+    s_out = np.ones(m)
+    for i in range(0, m, 512):
+        block = p[i:i + 512]
+        if count:
+            dots = block @ buf[:count].T
+            k = np.argmax(np.abs(dots), axis=1)
+            best = dots[np.arange(len(block)), k]
+            hit = np.abs(best) >= cos_t
+            k_out[i:i + len(block)][hit] = k[hit]
+            s_out[i:i + len(block)][hit] = np.where(best[hit] > 0, 1.0, -1.0)
+        else:
+            hit = np.zeros(len(block), dtype=bool)
+        first_new = count
+        for j in np.nonzero(~hit)[0]:
+            n = block[j]
+            if count > first_new:   # axes started by this block's earlier normals
+                d2 = buf[first_new:count] @ n
+                kk = int(np.argmax(np.abs(d2)))
+                if abs(d2[kk]) >= cos_t:
+                    k_out[i + j] = first_new + kk
+                    s_out[i + j] = 1.0 if d2[kk] > 0 else -1.0
+                    continue
+            buf[count] = n
+            k_out[i + j] = count
+            count += 1
+    return buf[:count].copy(), k_out, s_out
+
+
+def fitted_pole(normals, tol):
+    """The pole u of the great circle that all ``normals`` lie within ``tol`` of (a
+    wall, a cylinder, a ruled B-spline wall), or None: the least singular vector of the
+    normals, checked on every normal.  A face with one normal (a plane) has no pole."""
+    n = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
+    if len(n) < 2 or np.all(n @ n[0] >= math.cos(tol)):
+        return None
+    _, _, vt = np.linalg.svd(n, full_matrices=False)
+    u = vt[2]
+    if np.max(np.abs(n @ u)) > math.sin(tol):
+        return None
+    # a sign fixed by the normals' frame, so a rotated face gives the rotated pole
+    k = int(np.argmax(np.abs(u)))
+    return u if u[k] > 0 else -u
+
+
+def canonical_normals(normals, tol=DEFAULT_TOL, max_circle_search=96, poles=()):
     """Snap a surface's normals so that degeneracies within ``tol`` become exact.
 
     Returns (R, local): a rotation R (3x3, rows = local axes) and the snapped normals in
     that frame (local = R @ n; global = local @ R).  Normals within tol are merged
     (first one kept), near-antipodal ones become the exact negation, and the great
     circle holding the most (>= 3) distinct axes within tol is made the plane z = 0
-    (those normals get z = 0 exactly).  Every normal moves by at most ~tol.  The search
-    for that circle tries the poles of all pairs of axes: skipped above
-    ``max_circle_search`` axes (densely sampled faces, which carry a shrink anyway)."""
+    (those normals get z = 0 exactly).  Every normal moves by at most ~tol.
+
+    Candidate circles: the poles of all pairs of axes (skipped above
+    ``max_circle_search`` axes), and ``poles`` (unit vectors: the part's plane normals
+    and the fitted poles of its walls, see :func:`build_surfaces`).  A candidate from
+    ``poles`` is used as given (not refitted), so a wall's circle snapped about a plane
+    normal of the part has that normal, to the last bit, as its pole: the wall's map then
+    meets the plane's map exactly (a blade wall and the disc it stands on)."""
     p = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
     p = p / np.linalg.norm(p, axis=1)[:, None]
     cos_t, sin_t = math.cos(tol), math.sin(tol)
-    # Distinct axes (up to sign) and the distinct (axis, sign) pairs of the normals.
-    axes, unique = [], []
-    for n in p:
-        if axes:
-            dots = np.asarray(axes) @ n
-            k = int(np.argmax(np.abs(dots)))
-            if abs(dots[k]) >= cos_t:
-                s = 1.0 if dots[k] > 0 else -1.0
-                if (k, s) not in unique:
-                    unique.append((k, s))
-                continue
-        axes.append(n)
-        unique.append((len(axes) - 1, 1.0))
-    axes = np.asarray(axes)
+    axes, which, sign = _distinct_axes(p, cos_t)
+    # distinct (axis, sign) pairs in order of first appearance: merged normals are one
+    _, first = np.unique(which * 2 + (sign < 0), return_index=True)
+    first.sort()
     R = np.eye(3)
     on_circle = np.zeros(len(axes), dtype=bool)
+    best, pole, given = 2, None, False
+    cands = np.asarray(poles, dtype=np.float64).reshape(-1, 3)
+    if len(axes) >= 3 and len(cands):
+        counts = (np.abs(axes @ cands.T) <= sin_t).sum(axis=0)
+        k = int(np.argmax(counts))
+        if counts[k] > best:
+            best, pole, given = int(counts[k]), cands[k], True
+            on_circle = np.abs(axes @ pole) <= sin_t
     if 3 <= len(axes) <= max_circle_search:
-        best = 2
         cross = np.cross(axes[:, None, :], axes[None, :, :])
         norms = np.linalg.norm(cross, axis=2)
         ii, jj = np.nonzero(np.triu(norms > sin_t, 1))
@@ -159,16 +223,19 @@ def canonical_normals(normals, tol=DEFAULT_TOL, max_circle_search=96):
             on = np.abs(axes @ u) <= sin_t
             cnt = int(on.sum())
             if cnt > best:
-                best, on_circle, pole = cnt, on, u
-        if best >= 3:
+                best, on_circle, pole, given = cnt, on, u, False
+    if best >= 3:
+        u = pole
+        if not given:
             # refine the pole as the best-fit plane of the axes on the circle
             _, _, vt = np.linalg.svd(axes[on_circle])
             u = vt[2] if vt[2] @ pole >= 0 else -vt[2]
-            e1 = _unit(axes[on_circle][0] - (axes[on_circle][0] @ u) * u)
-            R = np.array([e1, np.cross(u, e1), u])
+            on_circle = np.abs(axes @ u) <= sin_t
+        e1 = _unit(axes[on_circle][0] - (axes[on_circle][0] @ u) * u)
+        R = np.array([e1, np.cross(u, e1), u])
     local_axes = axes @ R.T
     local_axes[on_circle, 2] = 0.0
-    local = np.array([s * local_axes[k] for k, s in unique])
+    local = sign[first, None] * local_axes[which[first]]
     return R, local
 
 
@@ -178,14 +245,15 @@ def _memo_key(normals):
     return n.shape, n.tobytes()
 
 
-def surface_map(normals, draft=0.0, tol=DEFAULT_TOL, negative=False, memo=None):
+def surface_map(normals, draft=0.0, tol=DEFAULT_TOL, negative=False, memo=None, poles=()):
     """VM (or -VM) of a surface's normals with a draft (rad) as a core.VisibilityMap in
     global coordinates.  At zero draft the normals are canonicalised first (see
     :func:`canonical_normals`); a positive draft map {d : d.p >= sin(draft)} moves
     continuously with the normals, so there they are used as given.  ``memo``: a dict
     shared by the calls of one analysis (the answers are those without it): equal
     normals (a pattern of equal holes or pockets) are mapped once, and VM and -VM of
-    the same normals share their canonical frame."""
+    the same normals share their canonical frame.  ``poles``: candidate circle poles
+    for :func:`canonical_normals`."""
     if draft > 0.0:
         if memo is None:
             return core.visibility_map(normals, draft_angle=draft, negative=negative)
@@ -194,11 +262,11 @@ def surface_map(normals, draft=0.0, tol=DEFAULT_TOL, negative=False, memo=None):
             memo[key] = core.visibility_map(normals, draft_angle=draft, negative=negative)
         return memo[key]
     if memo is None:
-        R, local = canonical_normals(normals, tol)
+        R, local = canonical_normals(normals, tol, poles=poles)
     else:
-        key = ("canonical", _memo_key(normals), tol)
+        key = ("canonical", _memo_key(normals), tol, _memo_key(np.reshape(poles, (-1, 3))))
         if key not in memo:
-            memo[key] = canonical_normals(normals, tol)
+            memo[key] = canonical_normals(normals, tol, poles=poles)
         R, local = memo[key]
         key = ("map", key, negative)
         if key in memo:
@@ -228,6 +296,7 @@ class Surface:
     normals: np.ndarray
     shrink: float
     parts: list = field(default_factory=list)
+    poles: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
 
 
 @dataclass
@@ -247,8 +316,11 @@ class PartingResult:
 
     Mould: ``direction``/``margin`` the parting direction; ``side[s]`` for each surface:
     +1 core side (demoulded along +d), -1 cavity side (-d), 0 either (parallel to d),
-    None if not covered; ``undercuts`` (surface indices), ``insufficient_draft``
-    (surfaces demouldable along +-d only without the draft), ``side_cores`` (greedy
+    None if not covered; ``undercuts`` (surface indices: the uncovered ones),
+    ``insufficient_draft`` (surfaces with an insufficient or zero draft face),
+    ``face_angle``/``face_role`` per face (see :func:`face_draft`),
+    ``insufficient_draft_faces`` (zero draft included) and ``zero_draft_faces`` (face
+    indices), ``side_cores`` (greedy
     cover of the undercuts, list of :class:`Direction`), ``unresolved`` (surfaces no
     single direction demoulds).  NC: ``setups`` (first the main one), ``unresolved``
     (pocket surfaces no 3-axis direction reaches), ``considered`` (the surfaces taken
@@ -268,6 +340,10 @@ class PartingResult:
     side_cores: list = field(default_factory=list)
     setups: list = field(default_factory=list)
     unresolved: list = field(default_factory=list)
+    face_angle: list = field(default_factory=list)
+    face_role: list = field(default_factory=list)
+    insufficient_draft_faces: list = field(default_factory=list)
+    zero_draft_faces: list = field(default_factory=list)
 
     def faces_of(self, surfaces):
         return sorted(f for s in surfaces for f in self.surfaces[s].faces)
@@ -280,6 +356,7 @@ def build_surfaces(faces, adjacency, weighting="count", tol=DEFAULT_TOL):
     groups, has_concave = concave_surfaces(len(faces), adjacency)
     exact = [None if f.shrink > tol else f.normals for f in faces]
     snapped = _snap_across_faces(exact, tol)
+    poles = part_poles(snapped, tol)
     out = []
     for g, hc in zip(groups, has_concave):
         normals = np.concatenate([faces[f].normals if snapped[f] is None else snapped[f]
@@ -288,9 +365,11 @@ def build_surfaces(faces, adjacency, weighting="count", tol=DEFAULT_TOL):
         # a shrink within tol is below what the answer promises anyway: treated as exact
         exact_normals = [snapped[f] for f in g if snapped[f] is not None]
         parts = [(np.concatenate(exact_normals), 0.0)] if exact_normals else []
-        parts += [(faces[f].normals, faces[f].shrink) for f in g if snapped[f] is None]
+        # the answer holds up to tol: a sampled face's map is shrunk by what its shrink
+        # exceeds tol
+        parts += [(faces[f].normals, faces[f].shrink - tol) for f in g if snapped[f] is None]
         shrink = max(p[1] for p in parts)
-        out.append(Surface(g, weight, hc, normals, shrink, parts))
+        out.append(Surface(g, weight, hc, normals, shrink, parts, poles))
     return out
 
 
@@ -301,7 +380,7 @@ def surface_vm(surf, draft, tol=DEFAULT_TOL, negative=False, memo=None):
     (see :func:`surface_map`): surfaces with equal parts are mapped once."""
     if memo is not None:
         key = ("vm", tuple((_memo_key(n), shrink) for n, shrink in surf.parts), draft, tol,
-               negative)
+               negative, _memo_key(surf.poles))
         if key not in memo:
             memo[key] = _surface_vm(surf, draft, tol, negative, memo)
         return memo[key]
@@ -309,7 +388,8 @@ def surface_vm(surf, draft, tol=DEFAULT_TOL, negative=False, memo=None):
 
 
 def _surface_vm(surf, draft, tol, negative, memo):
-    maps = [surface_map(n, draft + shrink, tol, negative, memo) for n, shrink in surf.parts]
+    maps = [surface_map(n, draft + shrink, tol, negative, memo, surf.poles)
+            for n, shrink in surf.parts]
     if len(maps) == 1 or any(m.kind == "null" for m in maps):
         return maps[0] if len(maps) == 1 else core.VisibilityMap("null", np.zeros((0, 3)))
     res = core.max_intersection(maps)
@@ -330,28 +410,57 @@ def _snap_across_faces(normals, tol):
     antipodal: so faces meant to share a normal (two pockets' floors, a wall and the
     opposite wall) give maps that meet exactly, not 1e-9 apart, and coverage between
     surfaces is decided within tol too (the library's own tolerance is 1e-10 rad)."""
-    cos_t = math.cos(tol)
-    reps = np.zeros((0, 3))
-    out = []
+    given = [n for n in normals if n is not None]
+    if not given:
+        return list(normals)
+    allnormals = np.concatenate(given)
+    axes, which, sign = _distinct_axes(allnormals, math.cos(tol))
+    snapped = sign[:, None] * axes[which]
+    out, at = [], 0
     for n in normals:
         if n is None:
             out.append(None)
             continue
-        snapped = n.copy()
-        for i, v in enumerate(n):
-            dots = reps @ v
-            k = int(np.argmax(np.abs(dots))) if len(reps) else -1
-            if k >= 0 and abs(dots[k]) >= cos_t:
-                snapped[i] = reps[k] if dots[k] > 0 else -reps[k]
-            else:
-                reps = np.vstack([reps, v])
-        out.append(snapped)
+        out.append(snapped[at:at + len(n)])
+        at += len(n)
     return out
+
+
+def part_poles(normals, tol):
+    """Candidate circle poles of a part for :func:`canonical_normals`: the distinct plane
+    normals (faces with one normal; ``normals`` as snapped by :func:`_snap_across_faces`,
+    None for sampled faces) and the fitted poles (:func:`fitted_pole`) of the other
+    faces, each within tol of an earlier candidate (or of its negation) replaced by it:
+    a B-spline wall standing on a plane gets that plane's normal as its pole, bit for bit."""
+    cands = []
+    for n in normals:
+        if n is not None and len(n) and np.all(n @ n[0] >= math.cos(tol)):
+            cands.append(n[0])
+    for n in normals:
+        if n is not None:
+            u = fitted_pole(n, tol)
+            if u is not None:
+                cands.append(u)
+    if not cands:
+        return np.zeros((0, 3))
+    c = np.asarray(cands)
+    return _distinct_axes(c, math.cos(tol))[0]   # plane normals first: they are kept
 
 
 # Draft maps are polygons inscribed in small circles (within 1e-4 rad, mfgeom.h), so
 # their regions' margins differ by that much between a part and its rotated copy.
 DRAFT_TIE = 2e-4
+# Projected areas within this fraction of each other are a tie (then margins decide)
+PREFER_TIE = 1e-6
+
+
+def projected_area(faces, d):
+    """Area of the part's shadow on the plane normal to d, from its faces' normals and
+    areas: a closed solid's shadow is half the integral of |n.d| over its boundary, and
+    a face's integral is taken as its area times the mean |s.d| over its normal samples
+    (exact for planes; for curved faces an estimate, which is all a tie-break needs)."""
+    d = np.asarray(d, dtype=np.float64)
+    return 0.5 * sum(f.area * float(np.mean(np.abs(f.normals @ d))) for f in faces)
 
 
 def _reference_axes(surfaces):
@@ -368,10 +477,12 @@ def _reference_axes(surfaces):
     return axes
 
 
-def _best_region(maps, owner, weights, refs=(), tie_margin=1e-9):
+def _best_region(maps, owner, weights, refs=(), tie_margin=1e-9, prefer=None):
     """The region covering the greatest weight of distinct surfaces (each surface once,
     though it may own two maps).  Returns (direction, margin, covered surface set)
-    or None if no map has a direction."""
+    or None if no map has a direction.  ``prefer``: a function of a direction, larger
+    is better (the projected area: the shortest draw), deciding between equally heavy
+    regions before their margins do."""
     if not any(m.kind != "null" for m in maps):
         return None
     w_maps = np.array([weights[o] for o in owner], dtype=np.float64)
@@ -397,6 +508,11 @@ def _best_region(maps, owner, weights, refs=(), tie_margin=1e-9):
     # same way when the part is rotated.
     top = max(c[0] for c in cands)
     cands = [c for c in cands if c[0] >= top * (1 - 1e-12)]
+    if prefer is not None and len(cands) > 1:
+        score = {c[2]: prefer(np.asarray(regions.centres[c[2]], dtype=np.float64))
+                 for c in cands}
+        most = max(score.values())
+        cands = [c for c in cands if score[c[2]] >= most * (1 - PREFER_TIE)]
     widest = max(c[1] for c in cands)
     cands = [c for c in cands if c[1] >= widest - tie_margin]
 
@@ -470,37 +586,100 @@ def _core_score(surfaces, side):
     return (pockets, every, first)
 
 
+def _angle_range(normals, shrink, d, sign=1.0):
+    """(lowest, highest) angle (rad) of a face's normals to the plane normal to d, on
+    the side ``sign`` (+1: n.d, -1: -n.d), widened by the face's shrink (the bound on
+    how far its true normals may lie outside its samples' cone)."""
+    dots = np.clip(sign * (normals @ d), -1.0, 1.0)
+    return (math.asin(float(dots.min())) - shrink, math.asin(float(dots.max())) + shrink)
+
+
+def face_draft(faces, surfaces, covered, side, d, draft_angle, tol):
+    """Per face: (worst angle, role) at the parting direction d.
+
+    The worst angle (rad) is the lowest angle of the face's normals to the parting
+    plane on the side that demoulds it (its surface's side; for an uncovered surface the
+    better of +-d over the whole surface), so negative = undercut by that much, and
+    CAD noise on a vertical wall shows as -0.0001 deg against a real undercut's -30.
+    Roles: "zero_draft" (every normal within ``tol`` of the parting plane: a wall with no
+    draft, demouldable but not drafted), "insufficient_draft" (covered, but the worst
+    normal makes less than ``draft_angle`` - tol with the plane), "core" (+d),
+    "cavity" (-d), "undercut" (its surface is not covered)."""
+    angle = [0.0] * len(faces)
+    role = [""] * len(faces)
+    if d is None:
+        for surf in surfaces:
+            for f in surf.faces:
+                angle[f], role[f] = -math.pi / 2, "undercut"
+        return angle, role
+    limit = tol * (1 + 1e-9) + 1e-15
+    for s, surf in enumerate(surfaces):
+        sgn = side[s]
+        if sgn is None:
+            # the side that demoulds the surface best
+            dots = surf.normals @ d
+            sgn = 1.0 if float(dots.min()) >= float((-dots).min()) else -1.0
+        for f in surf.faces:
+            g = faces[f]
+            shrink = max(0.0, g.shrink - tol) if g.shrink > tol else 0.0
+            own = sgn if sgn != 0 else (1.0 if float(np.mean(g.normals @ d)) >= 0 else -1.0)
+            lo, hi = _angle_range(g.normals, shrink, d, own)
+            angle[f] = lo
+            if side[s] is None:
+                role[f] = "undercut"
+            elif max(abs(lo), abs(hi)) <= limit:
+                role[f] = "zero_draft"
+            elif draft_angle > 0 and lo < draft_angle - limit:
+                role[f] = "insufficient_draft"
+            else:
+                role[f] = "core" if own > 0 else "cavity"
+    return angle, role
+
+
 def mould_parting(faces, adjacency, draft_angle=0.0, weighting="count", tol=DEFAULT_TOL):
     """Mould parting direction (seed 000 s.2.2): each concave-connected surface S gives
-    VM(S) and -VM(S) (shrunk by ``draft_angle`` + its samples' shrink); the parting
-    direction d is the representative direction of their maximum intersection (each
-    surface counted once, weighted by ``weighting`` "count" or "area").  Covered
-    surfaces are on the core side (+d) or the cavity side (-d); the others are undercuts,
-    covered greedily by side-core directions (positive maps: a slider moving along e
-    releases the faces with e.n >= 0).  With a draft, uncovered surfaces that +-d would
-    demould without it are reported as ``insufficient_draft`` instead of undercuts."""
+    VM(S) and -VM(S); the parting direction d is the representative direction of their
+    maximum intersection (each surface counted once, weighted by ``weighting`` "count"
+    or "area").  Covered surfaces are on the core side (+d) or the cavity side (-d); the
+    others are undercuts, covered greedily by side-core directions (positive maps: a
+    slider moving along e releases the faces with e.n >= 0).
+
+    The direction is chosen without the draft, within the angular tolerance ``tol``
+    (maps of normals snapped within tol, see :func:`canonical_normals`): a mould maker
+    picks the draw, then drafts the walls.  ``draft_angle`` then classifies each face
+    (:func:`face_draft`): faces of covered surfaces whose worst normal makes less than
+    the draft with the parting plane are *insufficient draft*, walls within tol of the
+    plane are *zero draft* (listed with them).  So a box at 1 degree keeps +-z with its
+    four walls listed, instead of the body diagonal that "drafts" all six faces by 35
+    degrees.  Equally heavy regions are decided by the shortest draw (the largest
+    projected area, :func:`projected_area`), then the widest margin."""
     _check_common(draft_angle, tol, "draft_angle")
     surfaces = build_surfaces(faces, adjacency, weighting, tol)
     weights = {s: surf.weight for s, surf in enumerate(surfaces)}
     memo = {}   # equal surfaces (repeated features) mapped once
     maps, owner, free = [], [], []
     for s, surf in enumerate(surfaces):
-        if draft_angle + surf.shrink == 0.0 and _is_single_normal(surf.normals, tol):
+        if surf.shrink == 0.0 and _is_single_normal(surf.normals, tol):
             free.append(s)  # VM u -VM is the whole sphere
             continue
         for negative in (False, True):
-            maps.append(surface_vm(surf, draft_angle, tol, negative, memo))
+            maps.append(surface_vm(surf, 0.0, tol, negative, memo))
             owner.append(s)
     result = PartingResult("Mould", surfaces, considered=list(range(len(surfaces))),
                            total=float(sum(weights.values())))
-    drafted = draft_angle > 0 or any(surf.shrink for surf in surfaces)
+
+    def shadow(d):
+        return projected_area(faces, d)
+    drafted = any(surf.shrink for surf in surfaces)
     best = (_best_region(maps, owner, weights, _reference_axes(surfaces),
-                         DRAFT_TIE if drafted else 1e-9) if maps else None)
+                         DRAFT_TIE if drafted else 1e-9, prefer=shadow) if maps else None)
     if best is None:
-        # no map has a direction: every covered surface is free; take the heaviest
-        # free surface's normal (any direction would do)
+        # no map has a direction: every surface is free (planes only); any direction
+        # demoulds them, so take the free normal with the shortest draw (largest
+        # projected area), then the heaviest surface, then face order
         if free:
-            s = max(free, key=lambda k: (weights[k], -k))
+            s = max(free, key=lambda k: (round(shadow(surfaces[k].normals[0]), 9),
+                                         weights[k], -k))
             d, margin, covered = surfaces[s].normals[0].copy(), 0.0, set()
         else:
             d, margin, covered = None, 0.0, set()
@@ -517,17 +696,69 @@ def mould_parting(faces, adjacency, draft_angle=0.0, weighting="count", tol=DEFA
     result.covered = sorted(covered)
     result.count = float(sum(weights[s] for s in covered))
     result.side = side
-    uncovered = [s for s in range(len(surfaces)) if s not in covered]
-    if draft_angle > 0 and d is not None:
-        for s in uncovered:
-            surf = surfaces[s]
-            if any(surface_vm(surf, 0.0, tol, neg, memo).contains(d, tol=math.sin(tol) * 4)[0]
-                   for neg in (False, True)):
-                result.insufficient_draft.append(s)
-    result.undercuts = [s for s in uncovered if s not in result.insufficient_draft]
-    result.side_cores, result.unresolved = _greedy_cover(surfaces, result.undercuts,
-                                                         draft_angle, tol, memo)
+    result.face_angle, result.face_role = face_draft(faces, surfaces, covered, side, d,
+                                                     draft_angle, tol)
+    drafty = ("zero_draft", "insufficient_draft")
+    result.insufficient_draft_faces = [f for f, r in enumerate(result.face_role) if r in drafty]
+    result.zero_draft_faces = [f for f, r in enumerate(result.face_role) if r == "zero_draft"]
+    result.insufficient_draft = sorted({s for s, surf in enumerate(surfaces)
+                                        for f in surf.faces if result.face_role[f] in drafty})
+    result.undercuts = [s for s in range(len(surfaces)) if s not in covered]
+    result.side_cores, result.unresolved = _greedy_cover(surfaces, result.undercuts, 0.0,
+                                                         tol, memo)
     return result
+
+
+# --------------------------------------------------------------- draft analysis
+DRAFT_CLASSES = ("positive", "negative", "insufficient", "straddle")
+
+
+@dataclass
+class DraftAnalysis:
+    """Result of :func:`draft_analysis`: per face its class (:data:`DRAFT_CLASSES`) and
+    its normals' lowest and highest angle (rad) to the plane normal to ``direction``
+    (positive: the normal leans along +d)."""
+    direction: np.ndarray
+    draft_angle: float
+    classes: list
+    low: list
+    high: list
+
+
+def draft_analysis(faces, direction, draft_angle=0.0, tol=DEFAULT_TOL):
+    """Draft analysis for a pull direction the user gives (as SolidWorks' or the DFM
+    workbench's): a face is "positive" when every normal makes at least ``draft_angle``
+    (- tol) with the parting plane on the +d side, "negative" the same on the -d side,
+    "straddle" when its normals lie on both sides beyond tol (it needs a split line),
+    else "insufficient" (some normal between -draft and +draft; a wall within tol of
+    the plane is insufficient at any draft, 0 included)."""
+    if not (0.0 <= draft_angle < math.pi / 2):
+        raise ValueError(f"draft_angle must be in [0, pi/2) radians, got {draft_angle}")
+    if not (0.0 < tol < 1e-2):
+        raise ValueError(f"tol must be in (0, 0.01) radians, got {tol}")
+    d = np.asarray(direction, dtype=np.float64).reshape(3)
+    length = float(np.linalg.norm(d))
+    if not (math.isfinite(length) and length > 0):
+        raise ValueError("the pull direction must be a finite, non-zero vector")
+    d = d / length
+    limit = tol * (1 + 1e-9) + 1e-15
+    classes, low, high = [], [], []
+    for g in faces:
+        shrink = max(0.0, g.shrink - tol) if g.shrink > tol else 0.0
+        lo, hi = _angle_range(g.normals, shrink, d)
+        low.append(lo)
+        high.append(hi)
+        if max(abs(lo), abs(hi)) <= limit:
+            classes.append("insufficient")
+        elif lo >= draft_angle - limit:
+            classes.append("positive")
+        elif hi <= -draft_angle + limit:
+            classes.append("negative")
+        elif lo < -limit and hi > limit:
+            classes.append("straddle")
+        else:
+            classes.append("insufficient")
+    return DraftAnalysis(d, draft_angle, classes, low, high)
 
 
 # --------------------------------------------------------------- NC 3-axis mode
