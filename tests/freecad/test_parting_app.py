@@ -99,7 +99,9 @@ def brute_force(test, r, shape, draft, mould, key):
     dense = [np.unique(np.round(np.vstack([per_face[f] for f in s.faces]), 13), axis=0)
              for s in r.surfaces]
     dirs = parting.fibonacci_sphere(10000)
-    sin_d = math.sin(draft)
+    # Mould chooses its direction without the draft (the draft classifies faces)
+    sin_d = 0.0 if mould else math.sin(draft)
+    eps = 2 * math.sin(parting.DEFAULT_TOL)   # every answer holds up to the tolerance
     counts = np.zeros(len(dirs))
     for s in r.considered:
         dots = dirs @ dense[s].T
@@ -112,9 +114,9 @@ def brute_force(test, r, shape, draft, mould, key):
         dots = dense[s] @ r.direction
         side = r.side[s] if mould else 1
         if side == 0:
-            test.assertLess(np.abs(dots).max(), 1e-6)
+            test.assertLess(np.abs(dots).max(), eps)
         else:
-            test.assertGreaterEqual((side * dots).min(), sin_d - 1e-6, f"surface {s}")
+            test.assertGreaterEqual((side * dots).min(), sin_d - eps, f"surface {s}")
 
 
 class EdgeKinds(unittest.TestCase):
@@ -336,13 +338,22 @@ class Examples(unittest.TestCase):
     def test_block_with_three_pockets(self):
         self.check_nc("pocket_block", [(Z, 5), (X, 5), (-Y, 5)])
 
-    def test_draft_flips_the_answer(self):
-        self.check_mould("draft_flip", Z, (9.0, 11.0),
-                         [["Face19", "Face24"], ["Face20", "Face25"]], [X])
-        cos7 = math.cos(math.radians(draft_flip.TAPER_DEG - 3))
-        # with 3 degrees the straight pockets cannot be demoulded at all: no side core
-        self.check_mould("draft_flip", None, (8.0, 11.0), None, [], draft=math.radians(3),
-                         direction_test=lambda d: d @ X > cos7)
+    def test_draft_keeps_the_direction(self):
+        """The draft classifies faces, it does not move the draw: the draft-flip block
+        keeps +-z at 3 degrees (it used to jump near +x), the tapered +x pockets stay the
+        undercuts with their side core, and the vertical walls are listed (zero draft)."""
+        for draft in (0.0, math.radians(3)):
+            self.check_mould("draft_flip", Z, (9.0, 11.0),
+                             [["Face19", "Face24"], ["Face20", "Face25"]], [X], draft=draft)
+        r, faces, shape = run(draft_flip.make(), "Mould", math.radians(3))
+        walls = sorted(f"Face{i + 1}" for i, f in enumerate(shape.Faces)
+                       if isinstance(f.Surface, Part.Plane)
+                       and abs(f.normalAt(0, 0).z) < 1e-12 and f"Face{i + 1}" not in
+                       ("Face19", "Face20", "Face24", "Face25"))
+        got = sorted(faces[f].name for f in r.zero_draft_faces)
+        self.assertEqual(got, walls)
+        self.assertEqual(len(walls), 4 + 3 * 4)
+        self.assertEqual(sorted(faces[f].name for f in r.insufficient_draft_faces), walls)
 
     def test_drilled_hole(self):
         """A real drilled blind hole (exact cylinder + sampled 118 degree drill point):
@@ -480,9 +491,17 @@ class Feature(unittest.TestCase):
         self.assertEqual(list(obj.Setups), [])
         self.assertIn("Face6 Face7", list(obj.Surfaces))
         self.assertEqual(obj.MarginDeg, 0.0)
-        # bottom on the cavity side, the pocket and the top on the core side
-        self.assertIn("Face3", obj.CavityFaces)
-        self.assertTrue({"Face4", "Face6", "Face7"} <= set(obj.CoreFaces))
+        # bottom on the cavity side, the pocket's floor and the top on the core side, the
+        # walls (outer, pocket) zero draft: listed as insufficient draft, not undercut
+        self.assertEqual(list(obj.CavityFaces), ["Face3"])
+        self.assertEqual(list(obj.CoreFaces), ["Face4", "Face7"])
+        self.assertEqual(list(obj.ZeroDraftFaces), ["Face1", "Face6"])
+        self.assertEqual(list(obj.InsufficientDraftFaces), ["Face1", "Face6"])
+        angles = list(obj.WorstAngles)
+        self.assertEqual(len(angles), 7)
+        self.assertAlmostEqual(angles[0], 0.0, places=9)
+        self.assertAlmostEqual(angles[6], 90.0, places=9)     # the pocket's floor
+        self.assertAlmostEqual(angles[1], -90.0, places=9)    # the hole's wall faces -z
 
     def test_recomputes_when_source_or_parameters_change(self):
         from mfgeom.app.parting_feature import make_parting_analysis
@@ -501,9 +520,40 @@ class Feature(unittest.TestCase):
         obj.DraftAngle = 2.0
         self.doc.recompute()
         self.assert_clean(obj)
-        # with 2 degrees the walls of the cup and of its pocket have no draft
-        self.assertEqual(obj.CoveredCount, 2)
-        self.assertEqual(sorted(obj.InsufficientDraftFaces), ["Face1", "Face6", "Face7"])
+        # with 2 degrees the walls of the cup and of its pocket have no draft: listed,
+        # the direction and what it covers stay
+        self.assertEqual(obj.CoveredCount, 4)
+        self.assertEqual(sorted(obj.InsufficientDraftFaces), ["Face1", "Face6"])
+
+    def test_draft_mode_and_open_shells(self):
+        import mfgeom
+        from mfgeom.app.parting_feature import PartingInputError
+        R = rot_matrix(PLACEMENT)
+        obj = mfgeom.make_parting_analysis(self.doc, self.part, mode="Draft",
+                                           draft_angle="1 deg",
+                                           pull_direction=(self.part, "Face4"))
+        self.assert_clean(obj)
+        np.testing.assert_allclose(_np(obj.Direction), R @ Z, atol=1e-9)
+        self.assertEqual(list(obj.PositiveDraftFaces), ["Face4", "Face7"])
+        self.assertEqual(list(obj.NegativeDraftFaces), ["Face3"])
+        self.assertEqual(list(obj.InsufficientDraftFaces), ["Face1", "Face5", "Face6"])
+        self.assertEqual(list(obj.StraddleFaces), ["Face2"])   # the hole's wall
+        from mfgeom.app.parting_feature import feature_report
+        rep = feature_report(obj)
+        self.assertEqual(rep["mode"], "Draft")
+        self.assertEqual(rep["straddle_faces"], ["Face2"])
+        for bad in ((0, 0, 0), (math.nan, 0, 1), "up"):
+            with self.assertRaises(PartingInputError):
+                mfgeom.make_parting_analysis(self.doc, self.part, mode="Draft",
+                                             pull_direction=bad)
+        with self.assertRaises(PartingInputError):
+            mfgeom.make_parting_analysis(self.doc, self.part, mode="Draft")
+        shell = self.doc.addObject("Part::Feature", "Shell")
+        shell.Shape = Part.Shell(self.part.Shape.Faces[:3])
+        count = len(self.doc.Objects)
+        with self.assertRaisesRegex(PartingInputError, "holds no solid"):
+            mfgeom.make_parting_analysis(self.doc, shell)
+        self.assertEqual(len(self.doc.Objects), count)
 
     def test_some_faces(self):
         import mfgeom

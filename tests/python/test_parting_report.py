@@ -38,8 +38,14 @@ def test_mould_report_roles_side_core_and_files(tmp_path):
     assert rep["mode"] == "Mould" and np.allclose(rep["direction"], Z)
     assert (rep["covered_count"], rep["total_count"]) == (4, 5)
     assert rep["undercut_faces"] == ["Face6", "Face7"]
-    assert rep["core_faces"] == ["Face3", "Face4", "Face5"]
-    assert rep["cavity_faces"] == ["Face2"] and rep["either_faces"] == ["Face1"]
+    # the walls (outer, pocket) are parallel to d: zero draft, listed as insufficient
+    assert rep["core_faces"] == ["Face3", "Face5"] and rep["cavity_faces"] == ["Face2"]
+    assert rep["zero_draft_faces"] == ["Face1", "Face4"]
+    assert rep["insufficient_draft_faces"] == ["Face1", "Face4"]
+    worst = {w["name"]: w for w in rep["worst_faces"]}
+    assert sorted(worst) == ["Face1", "Face4", "Face6", "Face7"]
+    assert worst["Face6"]["worst_angle_deg"] == -90.0   # the hole wall faces -z too
+    assert worst["Face1"]["worst_angle_deg"] == 0.0 and worst["Face1"]["role"] == "zero_draft"
     assert len(rep["side_cores"]) == 1 and np.allclose(rep["side_cores"][0]["direction"], X)
     roles = {f["name"]: (f["role"], f["group"]) for f in rep["faces"]}
     assert roles["Face6"] == ("undercut", "side_core_1") and roles["Face2"] == ("cavity", "main")
@@ -53,7 +59,9 @@ def test_mould_report_roles_side_core_and_files(tmp_path):
     hole = rows[5]
     assert hole["group"] == "side_core_1" and float(hole["dx"]) == 1.0
     assert float(rows[2]["dz"]) == 1.0 and rows[2]["role"] == "core"
-    assert "Face6 Face7" in P.report_text(rep)
+    text = P.report_text(rep)
+    assert "Face6 Face7" in text and "2 zero draft" in text and "1 undercut" not in text
+    assert float(hole["worst_angle_deg"]) == -90.0
 
 
 def test_nc_report_setups_and_not_considered(tmp_path):

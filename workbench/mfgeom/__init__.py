@@ -51,13 +51,16 @@ def make_point_classification(doc, face_ref, points_ref, tolerance=None,
 
 
 def make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting="Count",
-                          all_faces=False, name="PartingAnalysis", faces=None):
-    """Create a parametric mould parting ("Mould") or 3-axis set-up ("NC3Axis") analysis
-    of ``source`` (or of its ``faces``, e.g. ["Face3"]) in ``doc``; ``draft_angle`` in
-    degrees.  See :func:`mfgeom.app.parting_feature.make_parting_analysis`."""
+                          all_faces=False, name="PartingAnalysis", faces=None,
+                          pull_direction=None):
+    """Create a parametric mould parting ("Mould"), 3-axis set-up ("NC3Axis") or draft
+    analysis ("Draft", along ``pull_direction``: a vector, a face, a straight edge or
+    (object, "FaceN")) of ``source`` (or of its ``faces``, e.g. ["Face3"]) in ``doc``;
+    ``draft_angle`` in degrees.  See
+    :func:`mfgeom.app.parting_feature.make_parting_analysis`."""
     from mfgeom.app.parting_feature import make_parting_analysis as _make
     return _make(doc, source, mode=mode, draft_angle=draft_angle, weighting=weighting,
-                 all_faces=all_faces, name=name, faces=faces)
+                 all_faces=all_faces, name=name, faces=faces, pull_direction=pull_direction)
 
 
 def check_clearance(doc_or_sweep, others=None, tolerance=None):

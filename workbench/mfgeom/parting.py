@@ -794,9 +794,10 @@ def fibonacci_sphere(n):
 
 
 # --------------------------------------------------------------- reports
-REPORT_VERSION = 1
+REPORT_VERSION = 2   # 2: face roles zero_draft / insufficient_draft, worst angles
 CSV_COLUMNS = ("face", "surface", "role", "group", "dx", "dy", "dz", "margin_deg",
-               "area", "shrink_deg")
+               "area", "shrink_deg", "worst_angle_deg")
+SUMMARY_FACES = 12   # face names a summary line lists before "... (+N more)"
 
 
 def _dir_list(d):
@@ -823,9 +824,14 @@ def report(result, faces, draft_angle=0.0, weighting="count", all_faces=False,
     (each: name, surface, role, group, area, shrink_deg), Mould: ``core_faces``,
     ``cavity_faces``, ``undercut_faces``, ``insufficient_draft_faces``, ``side_cores``;
     NC3Axis: ``setups`` (main first); both: ``unresolved_faces``, ``notes``.
-    Face roles: Mould "core" (+d), "cavity" (-d), "either" (parallel to d), "undercut",
-    "insufficient_draft"; NC3Axis "setup", "unresolved", "not_considered"."""
+    Face roles: Mould "core" (+d), "cavity" (-d), "zero_draft" (within the angular
+    tolerance of the parting plane), "insufficient_draft" (less than the draft),
+    "undercut", "unresolved", each with ``worst_angle_deg`` (see :func:`face_draft`);
+    ``worst_faces`` lists the faces that are not core or cavity, worst angle first;
+    NC3Axis "setup", "unresolved", "not_considered"."""
     r = result
+    if isinstance(r, DraftAnalysis):
+        return _draft_report(r, faces, tol, source, timings)
 
     def names(indices):
         return [faces[f].name or f"#{f}" for f in sorted(indices)]
@@ -841,8 +847,6 @@ def report(result, faces, draft_angle=0.0, weighting="count", all_faces=False,
         for s in range(len(r.surfaces)):
             if s in covered:
                 role[s], group[s] = side_name[r.side[s]], "main"
-        for s in r.insufficient_draft:
-            role[s] = "insufficient_draft"
         for s in r.undercuts:
             role[s] = "undercut"
         for k, c in enumerate(r.side_cores, 1):
@@ -860,10 +864,13 @@ def report(result, faces, draft_angle=0.0, weighting="count", all_faces=False,
     face_rows = []
     for s, surf in enumerate(r.surfaces):
         for f in surf.faces:
-            face_rows.append({"name": faces[f].name or f"#{f}", "index": f, "surface": s,
-                              "role": role[s], "group": group[s],
-                              "area": float(faces[f].area),
-                              "shrink_deg": math.degrees(faces[f].shrink)})
+            row = {"name": faces[f].name or f"#{f}", "index": f, "surface": s,
+                   "role": role[s], "group": group[s], "area": float(faces[f].area),
+                   "shrink_deg": math.degrees(faces[f].shrink)}
+            if r.mode == "Mould" and r.face_role:
+                row["role"] = "unresolved" if role[s] == "unresolved" else r.face_role[f]
+                row["worst_angle_deg"] = math.degrees(r.face_angle[f])
+            face_rows.append(row)
     face_rows.sort(key=lambda row: row["index"])
     sampled = [f for f in faces if f.shrink > 0]
     notes = []
@@ -897,13 +904,23 @@ def report(result, faces, draft_angle=0.0, weighting="count", all_faces=False,
         "notes": notes,
     }
     if r.mode == "Mould":
+        by_role = {}
+        for row in face_rows:
+            by_role.setdefault(row["role"], []).append(row["name"])
         rep.update({
-            "core_faces": faces_of([s for s, x in enumerate(r.side) if x == 1]),
-            "cavity_faces": faces_of([s for s, x in enumerate(r.side) if x == -1]),
-            "either_faces": faces_of([s for s, x in enumerate(r.side) if x == 0]),
+            "core_faces": by_role.get("core", []),
+            "cavity_faces": by_role.get("cavity", []),
             "undercut_faces": faces_of(r.undercuts),
-            "insufficient_draft_faces": faces_of(r.insufficient_draft),
+            "insufficient_draft_faces": names(r.insufficient_draft_faces),
+            "zero_draft_faces": names(r.zero_draft_faces),
             "side_cores": [_entry(c, faces) for c in r.side_cores],
+            # uncovered faces, worst first: the angle tells a 30 degree undercut from
+            # CAD noise of 0.001 degree
+            "worst_faces": [{"name": row["name"], "role": row["role"],
+                             "worst_angle_deg": row["worst_angle_deg"]}
+                            for row in sorted((x for x in face_rows
+                                               if x["role"] not in ("core", "cavity")),
+                                              key=lambda x: x["worst_angle_deg"])],
         })
     else:
         rep["setups"] = [_entry(c, faces) for c in r.setups]
@@ -912,8 +929,47 @@ def report(result, faces, draft_angle=0.0, weighting="count", all_faces=False,
     return rep
 
 
+def _draft_report(a, faces, tol, source, timings):
+    """:func:`report` of a :class:`DraftAnalysis`: per face its class ("role") and its
+    normals' lowest and highest angle to the parting plane."""
+    rows = [{"name": g.name or f"#{i}", "index": i, "surface": -1, "role": c, "group": "main",
+             "area": float(g.area), "shrink_deg": math.degrees(g.shrink),
+             "worst_angle_deg": math.degrees(lo), "highest_angle_deg": math.degrees(hi)}
+            for i, (g, c, lo, hi) in enumerate(zip(faces, a.classes, a.low, a.high))]
+    rep = {"report_version": REPORT_VERSION, "source": str(source), "mode": "Draft",
+           "draft_angle_deg": math.degrees(a.draft_angle), "weighting": "count",
+           "all_faces": True, "angular_tolerance_rad": float(tol),
+           "direction": _dir_list(a.direction), "margin_deg": 0.0,
+           "face_count": len(faces), "surfaces": [], "faces": rows, "unresolved_faces": [],
+           "max_shrink_deg": math.degrees(max((f.shrink for f in faces), default=0.0)),
+           "notes": [f"answers hold up to the angular tolerance {tol:.3g} rad"]}
+    for c in DRAFT_CLASSES:
+        rep[f"{c}_faces"] = [row["name"] for row in rows if row["role"] == c]
+    rep["covered_count"] = len(rep["positive_faces"]) + len(rep["negative_faces"])
+    rep["total_count"] = len(faces)
+    rep["covered_weight"], rep["total_weight"] = float(rep["covered_count"]), float(len(faces))
+    rep["worst_faces"] = [{"name": r["name"], "role": r["role"],
+                           "worst_angle_deg": r["worst_angle_deg"]}
+                          for r in rows if r["role"] in ("insufficient", "straddle")]
+    if timings:
+        rep["timings_s"] = {str(k): float(v) for k, v in timings.items()}
+    return rep
+
+
 def report_text(rep):
     """A short human-readable summary of a :func:`report` dict (Report view, .txt)."""
+    if rep["mode"] == "Draft":
+        d = rep["direction"]
+        names = [f"{w['name']} ({w['role']}, {w['worst_angle_deg']:+.3g} deg)"
+                 for w in rep["worst_faces"]]
+        more = f" ... (+{len(names) - SUMMARY_FACES} more)" if len(names) > SUMMARY_FACES else ""
+        lines = [f"Draft analysis of {rep['source'] or 'the part'} along "
+                 f"({d[0]:+.6f}, {d[1]:+.6f}, {d[2]:+.6f}) at {rep['draft_angle_deg']:g} deg: "
+                 f"{rep['face_count']} faces",
+                 "  " + ", ".join(f"{len(rep[c + '_faces'])} {c}" for c in DRAFT_CLASSES)]
+        if names:
+            lines.append("  needing draft: " + " ".join(names[:SUMMARY_FACES]) + more)
+        return "\n".join(lines) + "\n"
     def vec(d):
         return "none" if d is None else "(" + ", ".join(f"{c:+.6f}" for c in d) + ")"
     lines = [f"Parting analysis ({rep['mode']}) of {rep['source'] or 'the part'}: "
@@ -923,21 +979,31 @@ def report_text(rep):
              + (", all faces" if rep["mode"] == "NC3Axis" and rep["all_faces"] else ""),
              f"  direction {vec(rep['direction'])}, margin {rep['margin_deg']:.4g} deg, "
              f"covers {rep['covered_count']} of {rep['total_count']} surfaces"]
+    def listing(items, most=SUMMARY_FACES):
+        items = list(items)
+        more = f" ... (+{len(items) - most} more)" if len(items) > most else ""
+        return " ".join(items[:most]) + more
     if rep["mode"] == "Mould":
-        for key, label in (("core_faces", "core side (+d)"), ("cavity_faces", "cavity side (-d)"),
-                           ("either_faces", "parallel to d"), ("undercut_faces", "undercuts"),
-                           ("insufficient_draft_faces", "insufficient draft")):
-            if rep[key]:
-                lines.append(f"  {label}: {' '.join(rep[key])}")
+        zero = set(rep.get("zero_draft_faces", []))
+        lines.append(f"  faces: {len(rep['core_faces'])} core side (+d), "
+                     f"{len(rep['cavity_faces'])} cavity side (-d), {len(zero)} zero draft, "
+                     f"{len(rep['insufficient_draft_faces']) - len(zero)} below the draft, "
+                     f"{len(rep['undercut_faces'])} undercut")
+        worst = rep.get("worst_faces", [])
+        if worst:
+            lines.append("  worst faces (angle of the worst normal to the parting plane, "
+                         "negative = undercut): " + listing(
+                             [f"{w['name']} {w['worst_angle_deg']:+.3g} deg ({w['role']})"
+                              for w in worst]))
         for k, c in enumerate(rep["side_cores"], 1):
             lines.append(f"  side core {k}: {vec(c['direction'])}, margin "
-                         f"{c['margin_deg']:.4g} deg: {' '.join(c['faces'])}")
+                         f"{c['margin_deg']:.4g} deg: {listing(c['faces'])}")
     else:
         for k, c in enumerate(rep["setups"], 1):
             lines.append(f"  set-up {k}: {vec(c['direction'])}, margin {c['margin_deg']:.4g} "
-                         f"deg: {' '.join(c['faces'])}")
+                         f"deg: {listing(c['faces'])}")
     if rep["unresolved_faces"]:
-        lines.append(f"  no single direction: {' '.join(rep['unresolved_faces'])}")
+        lines.append(f"  no single direction: {listing(rep['unresolved_faces'])}")
     for note in rep["notes"]:
         lines.append(f"  note: {note}")
     if rep.get("timings_s"):
@@ -972,7 +1038,9 @@ def write_report_csv(path, rep):
                 w.writerow([r["source"], r["mode"], row["name"], row["surface"], row["role"],
                             row["group"], *[f"{c:.15g}" if c != "" else "" for c in d],
                             "" if m is None else f"{m:.9g}", f"{row['area']:.9g}",
-                            f"{row['shrink_deg']:.6g}"])
+                            f"{row['shrink_deg']:.6g}",
+                            f"{row['worst_angle_deg']:.6g}" if "worst_angle_deg" in row
+                            else ""])
 
 
 def _group_directions(rep):

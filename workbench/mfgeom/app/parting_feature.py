@@ -20,11 +20,13 @@ import FreeCAD
 
 from mfgeom.app.feature_base import FeatureProxy, add_properties
 from mfgeom.errors import InputError
+from mfgeom.parting import DEFAULT_TOL   # mfgeom.parting loads the library lazily
 
-# 1: first release.  Bump when properties change and migrate in _upgrade().
-VERSION = 1
+# 1: first release.  2: Draft mode (PullDirection), per-face worst angles and zero-draft
+# faces, warnings.  Bump when properties change and migrate in _upgrade().
+VERSION = 2
 TYPE = "Mfgeom::PartingAnalysis"
-MODES = ["Mould", "NC3Axis"]
+MODES = ["Mould", "NC3Axis", "Draft"]
 WEIGHTINGS = ["Count", "Area"]
 
 
@@ -44,7 +46,8 @@ class PartingAnalysis(FeatureProxy):
         obj.Mode = MODES
         obj.Weighting = WEIGHTINGS
         obj.Deflection = math.degrees(1e-3)
-        obj.AngularTolerance = 1e-6
+        obj.AngularTolerance = DEFAULT_TOL
+        obj.PullDirection = FreeCAD.Vector(0, 0, 1)
 
     @staticmethod
     def _add_properties(obj):
@@ -54,10 +57,15 @@ class PartingAnalysis(FeatureProxy):
             ("App::PropertyStringList", "Faces", "Input",
              "Only these faces of the source (e.g. Face3); empty: all faces", False),
             ("App::PropertyEnumeration", "Mode", "Input",
-             "Mould: parting direction, undercuts, side cores; NC3Axis: set-up plan", False),
+             "Mould: parting direction, undercuts, side cores; NC3Axis: set-up plan; "
+             "Draft: draft analysis along PullDirection", False),
             ("App::PropertyAngle", "DraftAngle", "Input",
-             "Mould: least angle every covered face must make with the parting plane; "
-             "NC3Axis: tool-axis tilt allowance (maps shrunk by it)", False),
+             "Mould, Draft: least angle a face must make with the parting plane (faces "
+             "below it are listed as insufficient draft; the direction is chosen without "
+             "it); NC3Axis: tool-axis tilt allowance (maps shrunk by it)", False),
+            ("App::PropertyVector", "PullDirection", "Input",
+             "Draft: the pull direction (global), e.g. a face normal or an edge's "
+             "direction", False),
             ("App::PropertyEnumeration", "Weighting", "Input",
              "Count: every concave-connected surface counts 1; Area: by its area", False),
             ("App::PropertyBool", "AllFaces", "Input",
@@ -66,8 +74,9 @@ class PartingAnalysis(FeatureProxy):
             ("App::PropertyAngle", "Deflection", "Input",
              "Largest angle by which sampled (non-analytic) faces' maps may be shrunk", False),
             ("App::PropertyFloat", "AngularTolerance", "Input",
-             "Radians: normals closer than this are snapped together (rotation-stable "
-             "answers); every answer holds up to it", False),
+             "Radians (default 0.01 deg): normals closer than this are snapped together, "
+             "walls within it of the parting plane are zero draft (CAD noise, not "
+             "undercuts); every answer holds up to it", False),
             ("App::PropertyVector", "Direction", "Result",
              "Parting direction (core side +d) or main set-up direction, global", True),
             ("App::PropertyFloat", "MarginDeg", "Result",
@@ -85,7 +94,23 @@ class PartingAnalysis(FeatureProxy):
             ("App::PropertyStringList", "CavityFaces", "Result",
              "Mould: faces demoulded along -d", True),
             ("App::PropertyStringList", "InsufficientDraftFaces", "Result",
-             "Mould: faces +-d demoulds only without the draft", True),
+             "Mould, Draft: faces with less than the draft (zero-draft faces included)",
+             True),
+            ("App::PropertyStringList", "ZeroDraftFaces", "Result",
+             "Mould: faces whose normals all lie within the angular tolerance of the "
+             "parting plane", True),
+            ("App::PropertyFloatList", "WorstAngles", "Result",
+             "Per face of the source (Face1 first; 0 for faces not analysed), degrees: "
+             "the angle of its worst normal to the parting plane on its side "
+             "(negative: undercut by that much); Draft: the lowest angle along +d", True),
+            ("App::PropertyStringList", "PositiveDraftFaces", "Result",
+             "Draft: faces drafted along +PullDirection", True),
+            ("App::PropertyStringList", "NegativeDraftFaces", "Result",
+             "Draft: faces drafted along -PullDirection", True),
+            ("App::PropertyStringList", "StraddleFaces", "Result",
+             "Draft: faces with normals on both sides of the parting plane", True),
+            ("App::PropertyStringList", "Warnings", "Result",
+             "Faces skipped or approximated (e.g. no normal at a singular point)", True),
             ("App::PropertyVectorList", "SideCoreDirections", "Result",
              "Mould: side-core (slider) directions for the undercuts, global", True),
             ("App::PropertyStringList", "SideCores", "Result",
@@ -107,40 +132,38 @@ class PartingAnalysis(FeatureProxy):
         # Faces came after version 1
         return super()._outdated(obj) or "Faces" not in obj.PropertiesList
 
+    def _upgrade(self, obj, old_version, old_properties):
+        if "PullDirection" not in old_properties:
+            obj.PullDirection = FreeCAD.Vector(0, 0, 1)
+        if "Mode" in old_properties:
+            mode = obj.Mode
+            obj.Mode = MODES   # the enumeration gained Draft
+            obj.Mode = mode
+
     def _execute(self, obj):
         if obj.Source is None:
             raise PartingInputError("the source is gone; set the Source property again")
-        # Imported here: it loads libmfgeom, and a document must open without it.
-        from mfgeom.app import gauss_map
+        if not obj.Source.Shape.Solids:
+            raise PartingInputError(f"'{obj.Source.Label}' holds no solid (a shell or "
+                                    "faces only): a mould or a set-up needs a closed part")
         # FreeCAD's progress bar (status bar; a dialog on long runs) in the GUI.
         progress = FreeCAD.Base.ProgressIndicator()
         progress.start(f"Parting analysis of {obj.Source.Label}", 2)
         try:
-            t0 = time.perf_counter()
-            faces, adjacency, _ = gauss_map.part_gauss(obj.Source,
-                                                       math.radians(obj.Deflection.Value),
-                                                       face_names=list(obj.Faces) or None)
-            t1 = time.perf_counter()
-            progress.next()
-            result = analyse(faces, adjacency, obj.Mode, math.radians(obj.DraftAngle.Value),
-                             obj.Weighting.lower(), obj.AllFaces, obj.AngularTolerance)
-            t2 = time.perf_counter()
-            progress.next()
+            last = _compute(obj, progress)
         finally:
             progress.stop()
-        self.last = {"key": _options_key(obj), "faces": faces, "result": result,
-                     "timings": {"gauss_maps": t1 - t0, "parting": t2 - t1}}
-        _store(obj, result, faces)
+        self.last = last
+        faces, result = last["faces"], last["result"]
+        _store(obj, result, faces, len(obj.Source.Shape.Faces))
+        obj.Warnings = list(last["warnings"])
+        t = last["timings"]
         FreeCAD.Console.PrintLog(
             f"mfgeom: {obj.Label}: {len(faces)} faces, {obj.Mode}, covered "
-            f"{obj.CoveredCount}/{obj.TotalCount} (Gauss maps {1e3 * (t1 - t0):.1f} ms, "
-            f"parting {1e3 * (t2 - t1):.1f} ms)\n")
-        sampled = sum(1 for f in faces if f.shrink > 0)
-        if sampled:
-            FreeCAD.Console.PrintMessage(
-                f"mfgeom: {obj.Label}: normals of {sampled} curved faces are sampled; their "
-                f"maps are shrunk by up to {obj.MaxShrinkDeg:.3g} deg so every direction "
-                "holds on the true faces\n")
+            f"{obj.CoveredCount}/{obj.TotalCount} (Gauss maps {1e3 * t['gauss_maps']:.1f} ms, "
+            f"parting {1e3 * t['parting']:.1f} ms)\n")
+        for w in last["warnings"]:
+            FreeCAD.Console.PrintWarning(f"mfgeom: {obj.Label}: {w}\n")
 
     def _restored(self):
         self.last = None
@@ -150,7 +173,42 @@ def _options_key(obj):
     """What the last analysis depends on besides the source's geometry."""
     return (obj.Source.Name if obj.Source else None, tuple(obj.Faces), obj.Mode,
             obj.DraftAngle.Value, obj.Weighting, bool(obj.AllFaces), obj.Deflection.Value,
-            obj.AngularTolerance)
+            obj.AngularTolerance, _tuple(obj.PullDirection))
+
+
+def _compute(obj, progress=None):
+    """The analysis of ``obj`` as its properties ask: {"key", "faces", "result",
+    "timings", "warnings"}; touches no property."""
+    # Imported here: it loads libmfgeom, and a document must open without it.
+    from mfgeom.app import gauss_map
+    t0 = time.perf_counter()
+    warnings = []
+    faces, adjacency, _ = gauss_map.part_gauss(obj.Source, math.radians(obj.Deflection.Value),
+                                               face_names=list(obj.Faces) or None,
+                                               **_warnings_arg(gauss_map, warnings))
+    t1 = time.perf_counter()
+    if progress is not None:
+        progress.next()
+    result = analyse(faces, adjacency, obj.Mode, math.radians(obj.DraftAngle.Value),
+                     obj.Weighting.lower(), obj.AllFaces, obj.AngularTolerance,
+                     _tuple(obj.PullDirection))
+    t2 = time.perf_counter()
+    if progress is not None:
+        progress.next()
+    return {"key": _options_key(obj), "faces": faces, "result": result,
+            "timings": {"gauss_maps": t1 - t0, "parting": t2 - t1}, "warnings": warnings}
+
+
+def _warnings_arg(gauss_map, warnings):
+    """part_gauss's ``warnings`` argument where it has one (faces skipped or
+    approximated are reported there)."""
+    import inspect
+    params = inspect.signature(gauss_map.part_gauss).parameters
+    return {"warnings": warnings} if "warnings" in params else {}
+
+
+def _tuple(v):
+    return (float(v.x), float(v.y), float(v.z))
 
 
 def analysis_of(obj):
@@ -158,13 +216,8 @@ def analysis_of(obj):
     left untouched) when the proxy lost it (a restored document) or the options changed."""
     last = getattr(obj.Proxy, "last", None)
     if last is None or last["key"] != _options_key(obj):
-        from mfgeom.app import gauss_map
-        faces, adjacency, _ = gauss_map.part_gauss(obj.Source,
-                                                   math.radians(obj.Deflection.Value),
-                                                   face_names=list(obj.Faces) or None)
-        result = analyse(faces, adjacency, obj.Mode, math.radians(obj.DraftAngle.Value),
-                         obj.Weighting.lower(), obj.AllFaces, obj.AngularTolerance)
-        last = {"key": _options_key(obj), "faces": faces, "result": result, "timings": {}}
+        last = _compute(obj)
+        last["timings"] = {}
         obj.Proxy.last = last
     return last["faces"], last["result"], last["timings"]
 
@@ -185,13 +238,16 @@ def sphere_maps(obj):
     NC3Axis: VM(S) of the surfaces considered.  Drafts and shrinks as in the analysis."""
     from mfgeom import parting
     _, result, _ = analysis_of(obj)
-    draft = math.radians(obj.DraftAngle.Value)
+    if obj.Mode == "Draft":
+        return []   # a given direction: no maps were intersected
+    # Mould chooses its direction without the draft; NC shrinks the maps by the tilt
+    draft = math.radians(obj.DraftAngle.Value) if obj.Mode == "NC3Axis" else 0.0
     tol = obj.AngularTolerance
     out = []
     for s in result.considered:
         surf = result.surfaces[s]
         if result.mode == "Mould":
-            if draft + surf.shrink == 0.0 and parting._is_single_normal(surf.normals, tol):
+            if surf.shrink == 0.0 and parting._is_single_normal(surf.normals, tol):
                 out.append((s, None))
                 continue
             for negative in (False, True):
@@ -201,9 +257,15 @@ def sphere_maps(obj):
     return out
 
 
-def analyse(faces, adjacency, mode, draft, weighting, all_faces, tol):
-    """The pure computation behind the feature (FaceGauss list in, PartingResult out)."""
+def analyse(faces, adjacency, mode, draft, weighting, all_faces, tol, pull=(0.0, 0.0, 1.0)):
+    """The pure computation behind the feature (FaceGauss list in, PartingResult or,
+    Draft, DraftAnalysis out)."""
     from mfgeom import parting
+    if mode == "Draft":
+        try:
+            return parting.draft_analysis(faces, pull, draft, tol)
+        except ValueError as exc:
+            raise PartingInputError(str(exc)) from None
     if mode == "Mould":
         return parting.mould_parting(faces, adjacency, draft_angle=draft, weighting=weighting,
                                      tol=tol)
@@ -225,7 +287,37 @@ def _direction_json(entry, faces):
                        "faces": _names(faces, entry.faces)})
 
 
-def _store(obj, r, faces):
+def _store(obj, r, faces, nfaces):
+    """The result properties from a PartingResult (Mould, NC3Axis) or a DraftAnalysis."""
+    from mfgeom import parting
+    angles = [0.0] * nfaces
+    index = [int(f.name[4:]) - 1 if f.name.startswith("Face") and f.name[4:].isdigit()
+             else -1 for f in faces]
+    empty = ("UncoveredFaces", "CoreFaces", "CavityFaces", "InsufficientDraftFaces",
+             "ZeroDraftFaces", "SideCores", "Setups", "UnresolvedFaces", "PositiveDraftFaces",
+             "NegativeDraftFaces", "StraddleFaces")
+    for prop in empty:
+        setattr(obj, prop, [])
+    obj.SideCoreDirections = []
+    if isinstance(r, parting.DraftAnalysis):
+        obj.Direction = _vector(r.direction)
+        obj.MarginDeg = 0.0
+        by_class = {c: [faces[i].name for i, k in enumerate(r.classes) if k == c]
+                    for c in parting.DRAFT_CLASSES}
+        obj.PositiveDraftFaces = by_class["positive"]
+        obj.NegativeDraftFaces = by_class["negative"]
+        obj.StraddleFaces = by_class["straddle"]
+        obj.InsufficientDraftFaces = by_class["insufficient"]
+        obj.CoveredCount = len(by_class["positive"]) + len(by_class["negative"])
+        obj.TotalCount = len(faces)
+        obj.CoveredWeight = float(obj.CoveredCount)
+        obj.Surfaces = []
+        obj.MaxShrinkDeg = math.degrees(max((f.shrink for f in faces), default=0.0))
+        for i, lo in zip(index, r.low):
+            if 0 <= i < nfaces:
+                angles[i] = math.degrees(lo)
+        obj.WorstAngles = angles
+        return
     surf_faces = [s.faces for s in r.surfaces]
     obj.Direction = _vector(r.direction)
     obj.MarginDeg = math.degrees(r.margin)
@@ -234,12 +326,15 @@ def _store(obj, r, faces):
     obj.CoveredWeight = float(r.count)
     uncovered = [s for s in r.considered if s not in set(r.covered)]
     obj.UncoveredFaces = _names(faces, [f for s in uncovered for f in surf_faces[s]])
-    side = r.side if r.mode == "Mould" else [None] * len(r.surfaces)
-    obj.CoreFaces = _names(faces, [f for s, x in enumerate(side) if x == 1 for f in surf_faces[s]])
-    obj.CavityFaces = _names(faces, [f for s, x in enumerate(side) if x == -1
-                                     for f in surf_faces[s]])
-    obj.InsufficientDraftFaces = _names(faces, [f for s in r.insufficient_draft
-                                                for f in surf_faces[s]])
+    if r.mode == "Mould":
+        obj.CoreFaces = _names(faces, [f for f, x in enumerate(r.face_role) if x == "core"])
+        obj.CavityFaces = _names(faces, [f for f, x in enumerate(r.face_role) if x == "cavity"])
+        obj.InsufficientDraftFaces = _names(faces, r.insufficient_draft_faces)
+        obj.ZeroDraftFaces = _names(faces, r.zero_draft_faces)
+        for i, a in zip(index, r.face_angle):
+            if 0 <= i < nfaces:
+                angles[i] = math.degrees(a)
+    obj.WorstAngles = angles
     obj.SideCoreDirections = [_vector(c.direction) for c in r.side_cores]
     obj.SideCores = [_direction_json(c, faces) for c in r.side_cores]
     obj.Setups = [_direction_json(s, faces) for s in r.setups]
@@ -274,10 +369,52 @@ def _angle_deg(value, what):
     return value
 
 
+def pull_vector(pull):
+    """A unit FreeCAD.Vector from what a user gives as the pull direction: a vector (or
+    3 numbers), a face (its normal at its parameter box's centre, as oriented in the
+    solid), a straight edge (its direction), or (object, "FaceN" / "EdgeN") as a
+    selection gives it (global placement applied)."""
+    import Part
+    shape = None
+    if isinstance(pull, (tuple, list)) and len(pull) == 2 and hasattr(pull[0], "Shape"):
+        obj, sub = pull
+        try:
+            shape = obj.Shape.getElement(str(sub))
+        except Exception:
+            raise PartingInputError(f"'{obj.Label}' has no {sub}") from None
+        if hasattr(obj, "getGlobalPlacement"):
+            shape = shape.copy()
+            shape.Placement = obj.getGlobalPlacement().multiply(obj.Placement.inverse()) \
+                .multiply(shape.Placement)
+    elif isinstance(pull, Part.Shape):
+        shape = pull
+    if shape is not None:
+        if isinstance(shape, Part.Face):
+            u0, u1, v0, v1 = shape.ParameterRange
+            v = shape.normalAt((u0 + u1) / 2, (v0 + v1) / 2)
+        elif isinstance(shape, Part.Edge) and isinstance(shape.Curve, (Part.Line,
+                                                                        Part.LineSegment)):
+            v = shape.Vertexes[-1].Point - shape.Vertexes[0].Point
+        else:
+            raise PartingInputError("the pull direction must be a vector, a face or a "
+                                    "straight edge")
+    else:
+        try:
+            v = FreeCAD.Vector(*[float(c) for c in pull])
+        except (TypeError, ValueError):
+            raise PartingInputError(f"the pull direction must be 3 numbers, got {pull!r}") \
+                from None
+    if not all(math.isfinite(c) for c in (v.x, v.y, v.z)) or v.Length == 0:
+        raise PartingInputError("the pull direction must be a finite, non-zero vector")
+    return v.normalize()
+
+
 def make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting="Count",
-                          all_faces=False, name="PartingAnalysis", faces=None):
+                          all_faces=False, name="PartingAnalysis", faces=None,
+                          pull_direction=None):
     """Create a parting analysis of ``source`` (a document object with a solid Shape) in
-    ``doc`` and compute it.  ``mode``: "Mould" or "NC3Axis"; ``draft_angle``: degrees (a
+    ``doc`` and compute it.  ``mode``: "Mould", "NC3Axis" or "Draft" (a draft analysis
+    along ``pull_direction``: see :func:`pull_vector`); ``draft_angle``: degrees (a
     number, an angle Quantity or a string such as "3 deg"; NC3Axis: the tilt
     allowance); ``weighting``: "Count" or "Area"; ``all_faces`` (NC3Axis): every
     surface, not only pockets; ``faces``: only these faces of the source (names such as
@@ -295,6 +432,13 @@ def make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting=
     if weighting not in WEIGHTINGS:
         raise PartingInputError(f"weighting must be one of {WEIGHTINGS}, got {weighting!r}")
     draft = _angle_deg(draft_angle, "the draft angle")
+    if not source.Shape.Solids:
+        raise PartingInputError(f"'{source.Label}' holds no solid (a shell or faces only): "
+                                "a mould or a set-up needs a closed part")
+    if mode == "Draft" and pull_direction is None:
+        raise PartingInputError("Draft mode needs a pull direction (a vector, a face or an "
+                                "edge)")
+    pull = pull_vector(pull_direction) if pull_direction is not None else FreeCAD.Vector(0, 0, 1)
     faces = [str(f) for f in faces] if faces else []
     count = len(source.Shape.Faces)
     for f in faces:
@@ -304,4 +448,4 @@ def make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting=
     return PartingAnalysis.make(doc, name, {
         "Label": f"{mode} analysis of {source.Label}", "Source": source, "Mode": mode,
         "DraftAngle": draft, "Weighting": weighting, "AllFaces": bool(all_faces),
-        "Faces": faces}, "parting analysis")
+        "PullDirection": pull, "Faces": faces}, "parting analysis")

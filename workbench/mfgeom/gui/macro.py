@@ -85,9 +85,9 @@ def make_point_classification(face_ref, points_ref, tolerance, strict=True, name
 
 
 def parting_analysis_call(doc, source, mode="Mould", draft_angle=0.0, weighting="Count",
-                          all_faces=False, faces=None, name=None):
+                          all_faces=False, faces=None, name=None, pull_direction=None):
     """Python source of the ``mfgeom.make_parting_analysis`` call for these inputs
-    (``draft_angle`` in degrees, written with its unit)."""
+    (``draft_angle`` in degrees, written with its unit; ``pull_direction`` 3 numbers)."""
     args = [document_expr(doc), object_expr(source), f"mode={_text(mode)}",
             f"draft_angle={_text(f'{float(draft_angle)!r} deg')}",
             f"weighting={_text(weighting)}"]
@@ -97,15 +97,18 @@ def parting_analysis_call(doc, source, mode="Mould", draft_angle=0.0, weighting=
         args.append(f"faces=[{', '.join(_text(f) for f in faces)}]")
     if name:
         args.append(f"name={_text(name)}")
+    if pull_direction is not None:
+        args.append("pull_direction=(" + ", ".join(repr(float(c)) for c in pull_direction)
+                    + ")")
     return f"mfgeom.make_parting_analysis({', '.join(args)})"
 
 
 def echo_make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting="Count",
-                               all_faces=False, faces=None, name=None):
+                               all_faces=False, faces=None, name=None, pull_direction=None):
     """Create a parting analysis through the Python console and return it (arguments as
     :func:`parting_analysis_call`)."""
     call = parting_analysis_call(doc, source, mode, draft_angle, weighting, all_faces,
-                                 faces, name)
+                                 faces, name, pull_direction)
     return echo_make(doc, call, "Mfgeom::PartingAnalysis", "parting analyses")
 
 

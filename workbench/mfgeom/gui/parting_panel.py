@@ -21,7 +21,22 @@ from mfgeom.app.parting_feature import MODES, WEIGHTINGS, PartingInputError
 from mfgeom.gui.panel_base import TaskPanel, combo, spin
 
 TITLE = "Parting analysis"
-MODE_TEXT = {"Mould": "Mould (parting direction)", "NC3Axis": "NC 3-axis (set-ups)"}
+MODE_TEXT = {"Mould": "Mould (parting direction)", "NC3Axis": "NC 3-axis (set-ups)",
+             "Draft": "Draft analysis (given pull direction)"}
+
+
+def parse_direction(text):
+    """(x, y, z) from "x, y, z" (commas or spaces); PartingInputError if it is not three
+    finite numbers, not all zero."""
+    parts = text.replace(",", " ").replace(";", " ").split()
+    try:
+        v = tuple(float(p) for p in parts)
+    except ValueError:
+        v = ()
+    if len(v) != 3 or not all(math.isfinite(c) for c in v) or not any(v):
+        raise PartingInputError(f"The pull direction must be three numbers such as "
+                                f"'0, 0, 1', got {text!r}.")
+    return v
 
 
 def source_from_selection(selection):
@@ -57,11 +72,30 @@ def result_text(obj):
     d = obj.Direction
     lines = [f"Direction ({d.x:+.4f}, {d.y:+.4f}, {d.z:+.4f}), margin {obj.MarginDeg:.3g} deg",
              f"Covers {obj.CoveredCount} of {obj.TotalCount} surfaces"]
+    def listing(names, most=8):
+        more = f" ... (+{len(names) - most} more)" if len(names) > most else ""
+        return " ".join(list(names)[:most]) + more
+    if obj.Mode == "Draft":
+        lines = [f"Pull direction ({d.x:+.4f}, {d.y:+.4f}, {d.z:+.4f}), draft "
+                 f"{obj.DraftAngle.Value:g} deg",
+                 f"Faces: {len(obj.PositiveDraftFaces)} positive, "
+                 f"{len(obj.NegativeDraftFaces)} negative, "
+                 f"{len(obj.InsufficientDraftFaces)} insufficient, "
+                 f"{len(obj.StraddleFaces)} straddle"]
+        if obj.InsufficientDraftFaces:
+            lines.append(f"Insufficient draft: {listing(obj.InsufficientDraftFaces)}")
+        if obj.StraddleFaces:
+            lines.append(f"Straddle: {listing(obj.StraddleFaces)}")
+        return "\n".join(lines)
     if obj.Mode == "Mould":
         if obj.UncoveredFaces:
-            lines.append(f"Undercuts: {' '.join(obj.UncoveredFaces)}")
-        if obj.InsufficientDraftFaces:
-            lines.append(f"Insufficient draft: {' '.join(obj.InsufficientDraftFaces)}")
+            lines.append(f"Undercuts: {listing(obj.UncoveredFaces)}")
+        zero = set(obj.ZeroDraftFaces)
+        if zero:
+            lines.append(f"Zero draft: {listing(obj.ZeroDraftFaces)}")
+        below = [f for f in obj.InsufficientDraftFaces if f not in zero]
+        if below:
+            lines.append(f"Insufficient draft: {listing(below)}")
         for k, v in enumerate(obj.SideCoreDirections, 1):
             lines.append(f"Side core {k}: ({v.x:+.4f}, {v.y:+.4f}, {v.z:+.4f})")
     else:
@@ -72,7 +106,9 @@ def result_text(obj):
             lines.append(f"Set-up {k}: ({x:+.4f}, {y:+.4f}, {z:+.4f}), "
                          f"{len(e['faces'])} faces")
     if obj.UnresolvedFaces:
-        lines.append(f"No single direction: {' '.join(obj.UnresolvedFaces)}")
+        lines.append(f"No single direction: {listing(obj.UnresolvedFaces)}")
+    if getattr(obj, "Warnings", None):
+        lines.append(f"Warnings: {len(obj.Warnings)} (see the Report view)")
     return "\n".join(lines)
 
 
@@ -91,8 +127,23 @@ class PartingPanel(TaskPanel):
 
         self.mode = combo("mode", [(MODE_TEXT[m], m) for m in MODES],
                           "Mould: parting direction (core +d, cavity -d), undercuts and "
-                          "side cores.\nNC 3-axis: set-up plan for the pockets.")
+                          "side cores.\nNC 3-axis: set-up plan for the pockets.\n"
+                          "Draft analysis: positive / negative / insufficient / straddle "
+                          "draft of every face along a pull direction you give.")
         layout.addRow("Mode", self.mode)
+
+        pull_row = QtGui.QHBoxLayout()
+        self.pull = QtGui.QLineEdit("0, 0, 1")
+        self.pull.setObjectName("pullDirection")
+        self.pull.setToolTip("Draft analysis: the pull direction x, y, z (global)")
+        self.pull_pick = QtGui.QPushButton("From selection")
+        self.pull_pick.setObjectName("pullFromSelection")
+        self.pull_pick.setToolTip("Take the normal of the selected face or the direction "
+                                  "of the selected straight edge")
+        self.pull_pick.clicked.connect(self.pull_from_selection)
+        pull_row.addWidget(self.pull)
+        pull_row.addWidget(self.pull_pick)
+        layout.addRow("Pull direction", pull_row)
 
         self.draft = spin("draft", 0.0, 89.9, 3, " deg",
                           tip="Mould: least angle each covered face must make with the "
@@ -140,6 +191,8 @@ class PartingPanel(TaskPanel):
             self.draft.setValue(obj.DraftAngle.Value)
             self.weighting.setCurrentIndex(WEIGHTINGS.index(obj.Weighting))
             self.all_faces.setChecked(bool(obj.AllFaces))
+            p = obj.PullDirection
+            self.pull.setText(f"{p.x:.12g}, {p.y:.12g}, {p.z:.12g}")
             self._deflection = obj.Deflection.Value
         else:
             self._deflection = math.degrees(1e-3)
@@ -157,15 +210,38 @@ class PartingPanel(TaskPanel):
     def _mode_changed(self, *_):
         nc = self.mode.currentData() == "NC3Axis"
         self.all_faces.setEnabled(nc)
+        draft = self.mode.currentData() == "Draft"
+        self.pull.setEnabled(draft)
+        self.pull_pick.setEnabled(draft)
+
+    def pull_from_selection(self):
+        """Fill the pull direction from the selected face (normal) or edge."""
+        from mfgeom.app.parting_feature import pull_vector
+        sel = [(s.Object, n) for s in FreeCADGui.Selection.getSelectionEx() for n in
+               s.SubElementNames]
+        try:
+            if len(sel) != 1:
+                raise PartingInputError("Select one face or one straight edge for the pull "
+                                        "direction.")
+            v = pull_vector(sel[0])
+        except PartingInputError as exc:
+            self._show_error(str(exc))
+            return None
+        self.pull.setText(f"{v.x:.12g}, {v.y:.12g}, {v.z:.12g}")
+        return v
 
     def values(self):
         return {"Mode": self.mode.currentData(), "DraftAngle": float(self.draft.value()),
+                "PullDirection": parse_direction(self.pull.text()),
                 "Weighting": self.weighting.currentData(),
                 "AllFaces": bool(self.all_faces.isChecked()),
                 "Deflection": (self._deflection if self.deflection.value() == self._deflection_shown
                                else float(self.deflection.value()))}
 
     # ------------------------------------------------------------- create / edit
+    def _check(self):
+        self.values()   # a bad pull direction raises PartingInputError
+
     def _refresh(self):
         self._load()
 
@@ -175,9 +251,10 @@ class PartingPanel(TaskPanel):
         made = []
 
         def make():
-            obj = macro.echo_make_parting_analysis(self.doc, self.source, v["Mode"],
-                                                   v["DraftAngle"], v["Weighting"],
-                                                   v["AllFaces"], self.faces)
+            obj = macro.echo_make_parting_analysis(
+                self.doc, self.source, v["Mode"], v["DraftAngle"], v["Weighting"],
+                v["AllFaces"], self.faces,
+                pull_direction=v["PullDirection"] if v["Mode"] == "Draft" else None)
             made.append(obj)
             if abs(v["Deflection"] - obj.Deflection.Value) > 1e-12:
                 self._set_and_recompute(
@@ -194,11 +271,17 @@ class PartingPanel(TaskPanel):
     def _edit(self):
         from mfgeom.gui import macro
         obj = self.obj
+        p = obj.PullDirection
         current = {"Mode": obj.Mode, "DraftAngle": obj.DraftAngle.Value,
                    "Weighting": obj.Weighting, "AllFaces": bool(obj.AllFaces),
-                   "Deflection": obj.Deflection.Value}
-        lines = [f"{macro.object_expr(obj)}.{k} = {v!r}" for k, v in self.values().items()
-                 if v != current[k]]
+                   "Deflection": obj.Deflection.Value, "PullDirection": (p.x, p.y, p.z)}
+        values = self.values()
+        lines = [f"{macro.object_expr(obj)}.{k} = {v!r}" for k, v in values.items()
+                 if v != current[k] and k != "PullDirection"]
+        if values["PullDirection"] != current["PullDirection"]:
+            x, y, z = values["PullDirection"]
+            lines.append(f"{macro.object_expr(obj)}.PullDirection = "
+                         f"FreeCAD.Vector({x!r}, {y!r}, {z!r})")
         if not lines:
             return True
         if not self._edit_lines(lines):

@@ -36,6 +36,7 @@ MODES = ("Result", "Part", "Sphere", "Surfaces")
 SPHERE_LEVEL = 4            # icosphere subdivisions: 10 * 4**4 + 2 = 2562 vertices
 PARALLEL = palette.SHAPE_GREY
 INSUFFICIENT_DRAFT = palette.SETUP_COLORS[7]   # pink
+STRADDLE = palette.SETUP_COLORS[2]             # sand: Draft mode, normals on both sides
 NO_DIRECTION = (0.0, 0.0, 0.0)
 # Surfaces mode: a qualitative cycle (the set-up colours, light ones first)
 SURFACE_COLORS = (palette.SETUP_COLORS[0], palette.SETUP_COLORS[4], palette.CAVITY_SIDE,
@@ -145,7 +146,12 @@ def face_colors(obj, nfaces):
         for name in names:
             if name.startswith("Face") and name[4:].isdigit() and 0 < int(name[4:]) <= nfaces:
                 cols[int(name[4:]) - 1] = color
-    if obj.Mode == "Mould":
+    if obj.Mode == "Draft":
+        paint(getattr(obj, "PositiveDraftFaces", []), palette.CORE_SIDE)
+        paint(getattr(obj, "NegativeDraftFaces", []), palette.CAVITY_SIDE)
+        paint(obj.InsufficientDraftFaces, INSUFFICIENT_DRAFT)
+        paint(getattr(obj, "StraddleFaces", []), STRADDLE)
+    elif obj.Mode == "Mould":
         analysed = [n for surf in obj.Surfaces for n in surf.split()]
         paint(analysed, PARALLEL)
         paint(obj.CoreFaces, palette.CORE_SIDE)
@@ -222,7 +228,10 @@ def arrows_of(obj, shape):
         return np.array([v.x, v.y, v.z]) if hasattr(v, "x") else np.asarray(v, float)
     out = []
     d = vec(obj.Direction)
-    if obj.Mode == "Mould":
+    if obj.Mode == "Draft":
+        if np.linalg.norm(d) > 0.5:
+            out.append((centre, d, palette.CORE_SIDE))
+    elif obj.Mode == "Mould":
         if np.linalg.norm(d) > 0.5:
             out += [(centre, d, palette.CORE_SIDE), (centre, -d, palette.CAVITY_SIDE)]
         for entry in obj.SideCores:
