@@ -138,8 +138,8 @@ def assert_same(solid, fa):
         assert solid["core_faces"] == list(fa.CoreFaces)
         assert solid["cavity_faces"] == list(fa.CavityFaces)
         assert solid["insufficient_draft_faces"] == list(fa.InsufficientDraftFaces)
-        assert sorted(solid["undercut_faces"] + solid["insufficient_draft_faces"]) == \
-            sorted(fa.UncoveredFaces)
+        assert solid["zero_draft_faces"] == list(fa.ZeroDraftFaces)
+        assert sorted(solid["undercut_faces"]) == sorted(fa.UncoveredFaces)
         assert len(solid["side_cores"]) == len(fa.SideCoreDirections)
         for c, v in zip(solid["side_cores"], fa.SideCoreDirections):
             assert np.allclose(c["direction"], [v.x, v.y, v.z], atol=1e-9)

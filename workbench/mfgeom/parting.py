@@ -173,7 +173,7 @@ def fitted_pole(normals, tol):
     n = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
     if len(n) < 2 or np.all(n @ n[0] >= math.cos(tol)):
         return None
-    _, _, vt = np.linalg.svd(n, full_matrices=False)
+    _, _, vt = np.linalg.svd(n)   # full: 2 normals have a pole too
     u = vt[2]
     if np.max(np.abs(n @ u)) > math.sin(tol):
         return None
