@@ -135,16 +135,24 @@ def _():
     state["obj"], state["hole"] = obj, hole
 
 
-@check("undercut faces in the undercut colour, the others by side")
+@check("undercut faces in the undercut colour, zero-draft walls pink, the others by side")
 def _():
     from mfgeom import palette
+    from mfgeom.gui.parting_view import INSUFFICIENT_DRAFT
     obj, hole, part = state["obj"], state["hole"], state["part"]
+    # the cup's outer wall and its pocket's wall are parallel to the axis: zero draft
+    walls = [f"Face{i + 1}" for i, f in enumerate(part.Shape.Faces)
+             if f.Surface.TypeId == "Part::GeomCylinder" and f"Face{i + 1}" not in hole]
+    assert sorted(obj.ZeroDraftFaces) == sorted(walls) and len(walls) == 2, \
+        (list(obj.ZeroDraftFaces), walls)
     colors = obj.ViewObject.DiffuseColor
     assert len(colors) == len(part.Shape.Faces), (len(colors), len(part.Shape.Faces))
     for i, c in enumerate(colors):
         name = f"Face{i + 1}"
         if name in hole:
             want = palette.UNDERCUT
+        elif name in walls:
+            want = INSUFFICIENT_DRAFT
         elif name in obj.CoreFaces:
             want = palette.CORE_SIDE
         elif name in obj.CavityFaces:
