@@ -17,6 +17,7 @@ typedef struct region {
     int64_t nv;
     double *v;
     double c[3], margin;
+    double weight; /* of its cover set */
     int64_t cand;
     double *fan; /* large POLYGON: bearings of its vertices about c (region_holds) */
 } region;
@@ -562,9 +563,12 @@ mfg_status mfg_regions_of(work *W, int maximal_only, double level, double eps,
             cand *c = &W->cands[idx[t]];
             if (c->weight < (maximal_only ? level : top) - eps)
                 break;
+            /* only a region at least as heavy as the candidate's ownership absorbs it:
+             * were the sweep and the cover set ever to disagree, a lighter region built
+             * first must not hide a heavier one */
             int held = 0;
             for (int64_t r = 0; r < nr && !held; r++)
-                held = region_holds(&R[r], c->x);
+                held = R[r].weight >= c->weight - eps && region_holds(&R[r], c->x);
             if (held)
                 continue;
             if ((st = mfg_compute_cover(W, idx[t])) != MFG_OK)
@@ -585,6 +589,7 @@ mfg_status mfg_regions_of(work *W, int maximal_only, double level, double eps,
             if (dominated)
                 continue;
             st = build_region(W, idx[t], &R[nr]);
+            R[nr].weight = cw;
             if (st == MFG_OK)
                 st = region_fan_build(&R[nr]);
             if (st == MFG_OK) {

@@ -374,11 +374,34 @@ static mfg_status check_polygon_map(sset *S)
                     (long long)S->id);
 }
 
-/* The set's bounding cap (centre cc, radius cr): the smallest cap of its vertices,
- * widened to hold every vertex despite rounding.  A cap of radius >= pi/2 is not convex:
- * containing the vertices no longer means containing the set.  A polygon lies in the
- * hemisphere around the sum of its inward edge normals (x.n_k >= 0 for all k gives
- * x.sum >= 0); an arc this large gets no cap at all (radius pi). */
+/* How far beyond a POLYGON its tolerance reaches (radians): membership is x.n_k >= -TOL
+ * for every edge k (mfg_set_contains, the sweep's intervals), the polygon with every edge
+ * moved out by TOL, whose vertex k lies asin(TOL / sin(theta_k / 2)) beyond vertex k
+ * (theta_k: the interior angle there; sin(theta_k / 2) = |n_k-1 + n_k| / 2).  At a sharp
+ * vertex that is far more than TOL: 2.6e-8 rad at the poles of a lune 0.44 degrees wide,
+ * where such a lune and its negation (and every other set through the pole) overlap.
+ * Doubled against rounding; pi when the polygon is too thin to bound it. */
+static double polygon_slack_reach(const sset *S)
+{
+    double least = 1.0;
+    for (int64_t k = 0; k < S->nv; k++) {
+        const double *p = S->n + 3 * ((k + S->nv - 1) % S->nv), *q = S->n + 3 * k;
+        double s[3] = {p[0] + q[0], p[1] + q[1], p[2] + q[2]};
+        least = fmin(least, 0.5 * sqrt(mfg_dot3(s, s)));
+    }
+    return least > 4 * TOL ? 2.0 * asin(TOL / least) : MFG_PI;
+}
+
+/* The set's bounding cap (centre cc, radius cr): it must hold every direction the set
+ * contains with the tolerance, since the float tests that skip sets and cells by their
+ * caps (mfg_set_contains, mfg_caps_apart) must agree with the membership tests.  It is
+ * the smallest cap of the vertices, widened by how far the tolerance reaches beyond them
+ * (polygon_slack_reach: the moved-out polygon is the hull of its moved-out vertices) and
+ * by CAP_WIDEN against rounding.  A cap of radius >= pi/2 is not convex: containing the
+ * vertices no longer means containing the set.  A polygon lies in the hemisphere around
+ * the sum s of its inward edge normals (x.n_k >= -TOL for all k gives x.s >= -nv TOL, so
+ * the moved-out polygon lies within asin(nv TOL / |s|) beyond it); an arc this large
+ * gets no cap at all (radius pi). */
 static void bounding_cap(sset *S)
 {
     double cosr;
@@ -386,16 +409,20 @@ static void bounding_cap(sset *S)
     S->cr = acos(fmin(fmax(cosr, -1.0), 1.0));
     for (int64_t k = 0; k < S->nv; k++)
         S->cr = fmax(S->cr, mfg_angle3(S->cc, S->v + 3 * k));
-    if (S->cr >= MFG_PI / 2 - CAP_HEMI_MARGIN) {
+    double reach = S->kind == MFG_VM_POLYGON ? polygon_slack_reach(S) : 0.0;
+    if (S->cr + reach >= MFG_PI / 2 - CAP_HEMI_MARGIN) {
         double sum[3] = {0, 0, 0};
         S->cr = MFG_PI;
         if (S->kind == MFG_VM_POLYGON) {
             for (int64_t k = 0; k < S->nv; k++)
                 for (int d = 0; d < 3; d++)
                     sum[d] += S->n[3 * k + d];
-            if (mfg_unit3(sum, S->cc))
-                S->cr = MFG_PI / 2 + CAP_HEMI_MARGIN;
+            double len = sqrt(mfg_dot3(sum, sum)), f = len > 0.0 ? (double)S->nv * TOL / len : 2.0;
+            if (f < 0.5 && mfg_unit3(sum, S->cc))
+                S->cr = MFG_PI / 2 + CAP_HEMI_MARGIN + 2.0 * asin(f);
         }
+    } else {
+        S->cr += reach;
     }
     S->cr = fmin(S->cr + CAP_WIDEN, MFG_PI);
     S->cos_cr = cos(S->cr);

@@ -645,8 +645,162 @@ static void test_point_sets_at_point_pieces(void)
     mfg_regions_free(r);
 }
 
+/* ---- Lunes sharing their poles (issue 17: parts with a U slot) ----------------------- */
+
+/* Is d in the polygon v[0..n) with the library's tolerance (every edge's half-space
+ * moved out by MFG_SPHERE_TOL)? */
+static int covered_tol(const double *v, int64_t n, const double *d)
+{
+    for (int64_t k = 0; k < n; k++) {
+        double c[3];
+        cross(v + 3 * k, v + 3 * ((k + 1) % n), c);
+        unit(c);
+        if (dot(c, d) < -MFG_SPHERE_TOL)
+            return 0;
+    }
+    return 1;
+}
+
+/* The lune from pole p round to -p through the meridians (of the frame e1, e2, e1 x e2
+ * = p) at bearings f1 < f2: p, m(f1), -p, m(f2), counter-clockwise seen from outside. */
+static void lune(const double p[3], const double e1[3], const double e2[3], double c1, double s1,
+                 double c2, double s2, double *v)
+{
+    for (int i = 0; i < 3; i++) {
+        v[i] = p[i];
+        v[3 + i] = c1 * e1[i] + s1 * e2[i];
+        v[6 + i] = -p[i];
+        v[9 + i] = c2 * e1[i] + s2 * e2[i];
+    }
+}
+
+/* The negated lune -A, still counter-clockwise: -(reversed vertices). */
+static void negated(const double *a, double *b)
+{
+    for (int k = 0; k < 4; k++)
+        for (int i = 0; i < 3; i++)
+            b[3 * k + i] = -a[3 * (3 - k) + i];
+}
+
+static void random_rotation(double R[9])
+{
+    double q[4], n = 0;
+    do {
+        n = 0;
+        for (int i = 0; i < 4; i++) {
+            q[i] = rng_uniform(-1, 1);
+            n += q[i] * q[i];
+        }
+    } while (n > 1 || n < 1e-3);
+    n = sqrt(n);
+    double w = q[0] / n, x = q[1] / n, y = q[2] / n, z = q[3] / n;
+    double m[9] = {1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w),
+                   2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
+                   2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)};
+    memcpy(R, m, sizeof m);
+}
+
+static void rotate(const double R[9], const double *a, double *b)
+{
+    for (int i = 0; i < 3; i++)
+        b[i] = R[3 * i] * a[0] + R[3 * i + 1] * a[1] + R[3 * i + 2] * a[2];
+}
+
+/* n lunes, each A or -A (A a thin lune about the pole p): every one has p and -p as
+ * vertices, so both poles lie in all n and the maximum is n, a POINT at a pole (A and -A
+ * share both boundary circles, from opposite sides).  Checks max_intersection, that its
+ * centre lies in every map of its cover, and level_regions(2) and (1). */
+static void check_pole_lunes(const double *v, int n, const double p[3], const char *what)
+{
+    int64_t off[17];
+    int32_t kinds[16];
+    for (int i = 0; i <= n; i++)
+        off[i] = 4 * i;
+    for (int i = 0; i < n; i++)
+        kinds[i] = MFG_VM_POLYGON;
+    /* the reference, exactly: the poles are vertices of every map */
+    for (int i = 0; i < n; i++) {
+        double mp[3] = {-p[0], -p[1], -p[2]};
+        CHECK(covered_tol(v + 12 * i, 4, p) && covered_tol(v + 12 * i, 4, mp));
+    }
+    mfg_regions *r = NULL;
+    CHECK_EQ_INT(mfg_max_intersection(v, off, kinds, NULL, n, NULL, &r), MFG_OK);
+    if (!r)
+        return;
+    if (r->weight != n)
+        fprintf(stderr, "%s: max weight %g, expected %d\n", what, r->weight, n);
+    CHECK(r->weight == n);
+    CHECK(r->nregions >= 1);
+    for (int64_t g = 0; g < r->nregions; g++) {
+        CHECK_EQ_INT(r->cover_offsets[g + 1] - r->cover_offsets[g], n);
+        CHECK_EQ_INT(r->kinds[g], MFG_VM_POINT);
+        CHECK(fabs(dot(r->centres + 3 * g, p)) > 1 - 1e-12);
+        for (int64_t k = r->cover_offsets[g]; k < r->cover_offsets[g + 1]; k++)
+            CHECK(covered_tol(v + 12 * r->cover[k], 4, r->centres + 3 * g));
+    }
+    mfg_regions_free(r);
+    for (double level = 1; level <= 2; level++) {
+        r = NULL;
+        CHECK_EQ_INT(mfg_level_regions(v, off, kinds, NULL, n, NULL, level, &r), MFG_OK);
+        int64_t most = 0;
+        for (int64_t g = 0; r && g < r->nregions; g++)
+            if (r->cover_offsets[g + 1] - r->cover_offsets[g] > most)
+                most = r->cover_offsets[g + 1] - r->cover_offsets[g];
+        CHECK_EQ_INT(most, n);
+        mfg_regions_free(r);
+    }
+}
+
+/* The issue's maps: A, -A, A with A = (0,0,1), (-a,-b,0), (0,0,-1), (a',-b,0), a lune
+ * 0.44 degrees wide.  The tolerance's half-spaces x.n >= -1e-10 of such a lune reach
+ * 2.6e-8 rad beyond its poles, where the sweep found weight 3; the bounding cap (a
+ * hemisphere widened by 2e-9) refused those directions to mfg_set_contains, so the cover
+ * set came out as {-A} alone and its region (holding the poles) hid every other
+ * candidate: count 1.  Symmetric values gave 2, sin / cos-built ones 3. */
+static void test_lunes_sharing_poles(void)
+{
+    const double a = 0.0038461538461550923, a2 = 0.0038461538461556127, b = 0.999992603522942;
+    const double z[3] = {0, 0, 1}, x[3] = {1, 0, 0}, y[3] = {0, 1, 0};
+    double v[16 * 12], A[12], B[12];
+    /* exactly the issue's vertices */
+    lune(z, x, y, -a, -b, a2, -b, A);
+    negated(A, B);
+    memcpy(v, A, sizeof A), memcpy(v + 12, B, sizeof B), memcpy(v + 24, A, sizeof A);
+    check_pole_lunes(v, 3, z, "issue's lunes");
+    /* the order of the maps does not matter */
+    memcpy(v, B, sizeof B), memcpy(v + 12, A, sizeof A), memcpy(v + 24, A, sizeof A);
+    check_pole_lunes(v, 3, z, "issue's lunes, -A first");
+    /* symmetric values */
+    lune(z, x, y, -a, -b, a, -b, A);
+    negated(A, B);
+    memcpy(v, A, sizeof A), memcpy(v + 12, B, sizeof B), memcpy(v + 24, A, sizeof A);
+    check_pole_lunes(v, 3, z, "symmetric lunes");
+    /* built from sin / cos of the half width */
+    const double t = 1.0 / 260.0;
+    lune(z, x, y, -sin(t), -cos(t), sin(t), -cos(t), A);
+    negated(A, B);
+    memcpy(v, A, sizeof A), memcpy(v + 12, B, sizeof B), memcpy(v + 24, A, sizeof A);
+    check_pole_lunes(v, 3, z, "sin/cos lunes");
+    /* rotated at random, more copies, thinner and wider lunes, A or -A at random */
+    for (int trial = 0; trial < 40; trial++) {
+        double R[9], p[3], e1[3], e2[3];
+        random_rotation(R);
+        rotate(R, z, p), rotate(R, x, e1), rotate(R, y, e2);
+        double h = trial < 10 ? t : exp(rng_uniform(log(1e-5), log(0.5)));
+        lune(p, e1, e2, -sin(h), -cos(h), sin(h), -cos(h), A);
+        negated(A, B);
+        int n = (int)rng_int(2, 8);
+        for (int i = 0; i < n; i++)
+            memcpy(v + 12 * i, i == 0 ? A : (i == 1 || rng_int(0, 1)) ? B : A, sizeof A);
+        char what[64];
+        snprintf(what, sizeof what, "rotated lunes, trial %d", trial);
+        check_pole_lunes(v, n, p, what);
+    }
+}
+
 int main(void)
 {
+    test_lunes_sharing_poles();
     test_ignored_and_tiny_weights();
     test_level_reported_exactly();
     test_point_sets_at_point_pieces();
