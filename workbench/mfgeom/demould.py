@@ -9,9 +9,14 @@ face's normals cannot (a face shadowed by another part of the solid).
 Sampling: every triangle of a face gets at least its centroid; a triangle larger than
 ``area / samples_per_face`` of its face is cut into L x L similar sub-triangles (L =
 round(sqrt(samples_per_face * triangle area / face area)), at most ``max_subdivision``),
-each sampled at its centroid; a sample weighs its sub-triangle's area.  Samples are
-strictly inside their triangle (the triangle is passed as the sample's own triangle, so a
-rounded sample off its plane is not blocked by it).  A ray that passes exactly through an
+each sampled at its centroid; a sample weighs its sub-triangle's area.  Samples lie
+strictly inside their triangle, lifted off it by ``lift`` times the mesh's size (its
+largest |coordinate| or box diagonal) along the triangle's normal (outward for an
+outward-oriented mesh, as OCCT's and the library's are): the mould's surface just
+outside the part.  The lift makes a wall parallel to d (zero draft) free along it even
+when rounding (float32 mesh nodes, a rotated part) bends the wall's triangles a hair out
+of one plane; with ``lift=0`` such walls are decided on the exact doubles.  The triangle
+is also passed as the sample's own triangle (ignored by its rays).  A ray that passes exactly through an
 edge or vertex only ("grazes", e.g. sliding up a wall parallel to d to the wall's top
 edge) counts as free, as in the library; the grazing samples are counted for the report.
 """
@@ -74,14 +79,24 @@ def _subdivision_centroids(level):
     return np.array(uv, dtype=np.float64)
 
 
-def sample_points(vertices, triangles, face_ids, samples_per_face=64, max_subdivision=8):
+LIFT = 1e-6
+
+
+def sample_points(vertices, triangles, face_ids, samples_per_face=64, max_subdivision=8,
+                  lift=LIFT):
     """(points (m, 3), own triangle (m,), weight (m,)) sampling every face as described in
     the module doc."""
     v = np.asarray(vertices, dtype=np.float64)
     t = np.asarray(triangles, dtype=np.int64)
     f = np.asarray(face_ids, dtype=np.int64)
     a, b, c = v[t[:, 0]], v[t[:, 1]], v[t[:, 2]]
-    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    normal = np.cross(b - a, c - a)
+    area = 0.5 * np.linalg.norm(normal, axis=1)
+    unit = np.divide(normal, 2 * area[:, None], out=np.zeros_like(normal),
+                     where=area[:, None] > 0)
+    if len(v):
+        size = max(float(np.abs(v).max()), float(np.linalg.norm(v.max(0) - v.min(0))))
+        unit *= lift * size
     faces, inverse = np.unique(f, return_inverse=True)
     face_area = np.bincount(inverse, weights=area, minlength=len(faces))
     share = np.divide(area, face_area[inverse], out=np.zeros_like(area),
@@ -93,7 +108,7 @@ def sample_points(vertices, triangles, face_ids, samples_per_face=64, max_subdiv
         uv = _subdivision_centroids(int(lv))
         ab, ac = (b - a)[sel], (c - a)[sel]
         p = (a[sel][:, None, :] + uv[:, 0][None, :, None] * ab[:, None, :]
-             + uv[:, 1][None, :, None] * ac[:, None, :])
+             + uv[:, 1][None, :, None] * ac[:, None, :] + unit[sel][:, None, :])
         points.append(p.reshape(-1, 3))
         own.append(np.repeat(sel, len(uv)))
         weight.append(np.repeat(area[sel] / len(uv), len(uv)))
@@ -103,18 +118,19 @@ def sample_points(vertices, triangles, face_ids, samples_per_face=64, max_subdiv
 
 
 def face_demouldability(vertices, triangles, face_ids, direction, samples_per_face=64,
-                        max_subdivision=8, tolerance=0.0):
+                        max_subdivision=8, tolerance=0.0, lift=LIFT):
     """Per face (in increasing face id) a :class:`FaceRays` for the triangle mesh
-    (``vertices`` (n, 3), ``triangles`` (t, 3), outward or not: only the triangles
-    matter) whose triangle k belongs to face ``face_ids[k]``, along ``direction``.  The
-    mesh should be one welded surface (neighbouring faces sharing their edges' nodes)
+    (``vertices`` (n, 3), ``triangles`` (t, 3), counter-clockwise seen from outside: the
+    samples are lifted outward, see the module doc) whose triangle k belongs to face
+    ``face_ids[k]``, along ``direction``.  The mesh should be one welded surface (neighbouring faces sharing their edges' nodes)
     so that no ray slips through a crack between faces.  ``tolerance``: the blocked
     fraction a side may have and still count as free (0: any blocked sample blocks)."""
     t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
     f = np.asarray(face_ids, dtype=np.int64).reshape(-1)
     if len(f) != len(t):
         raise ValueError(f"face_ids has {len(f)} entries for {len(t)} triangles")
-    points, own, weight = sample_points(vertices, t, f, samples_per_face, max_subdivision)
+    points, own, weight = sample_points(vertices, t, f, samples_per_face, max_subdivision,
+                                        lift)
     bits = core.ray_blocked(vertices, t, points, own, direction)
     faces, inverse = np.unique(f[own], return_inverse=True)
     n = len(faces)
