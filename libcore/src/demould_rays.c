@@ -42,7 +42,8 @@
 typedef struct ray_grid {
     int axis_i, axis_j, axis_k;
     double ri, rj;          /* d_i / d_k, d_j / d_k */
-    double x0, y0, inv;     /* origin of the grid and 1 / cell size */
+    double x0, y0;          /* origin of the grid */
+    double inv, inv_y;      /* cells per unit along u and v */
     int64_t gx, gy;         /* cells per row, rows */
     int64_t *offsets;       /* gx * gy + 1 */
     int64_t *entries;       /* triangle indices, by cell */
@@ -190,25 +191,48 @@ mfg_status mfg_ray_blocked(const double *xyz, int64_t nvertices, const int64_t *
         nfiled++;
     }
 
-    /* Grid: about one cell per filed triangle, square cells, made coarser while the
-     * boxes would cover more than ENTRIES_PER_TRIANGLE cells each on average. */
+    /* Grid: about one cell per filed triangle, cells shaped like the mean box (long thin
+     * triangles, e.g. the strips of a cylinder seen from the side, then cover a cell or
+     * two each instead of a whole row), made coarser while the boxes would cover more
+     * than ENTRIES_PER_TRIANGLE cells each on average. */
     g.x0 = lo_u;
     g.y0 = lo_v;
     g.gx = g.gy = 1;
-    g.inv = 1.0;
+    g.inv = g.inv_y = 1.0;
     int64_t nentries = 0;
     if (nfiled > 0) {
-        double w = hi_u - lo_u, h = hi_v - lo_v;
-        double cs = sqrt(w * h / (double)nfiled);
-        if (!(cs > 0) || cs < fmax(w, h) / (double)nfiled)
-            cs = fmax(w, h) / (double)nfiled;
-        if (!(cs > 0))
-            cs = 1.0;
+        double w = hi_u - lo_u, h = hi_v - lo_v, mw = 0, mh = 0;
+        for (int64_t t = 0; t < ntriangles; t++)
+            if (dn[t]) {
+                mw += box[4 * t + 2] - box[4 * t];
+                mh += box[4 * t + 3] - box[4 * t + 1];
+            }
+        /* cw * ch = w * h / nfiled and cw / ch = mw / mh, each within the domain */
+        double aspect = (mw > 0 && mh > 0) ? mw / mh : 1.0;
+        double cell_area = w * h / (double)nfiled;
+        double ch = sqrt(cell_area / aspect), cw = ch * aspect;
+        if (!(cw <= w)) {
+            cw = w;
+            ch = cell_area / w;
+        }
+        if (!(ch <= h)) {
+            ch = h;
+            cw = fmin(w, cell_area / h);
+        }
+        if (!(cw > 0))
+            cw = w > 0 ? w : 1.0;
+        if (!(ch > 0))
+            ch = h > 0 ? h : 1.0;
         for (;;) {
-            double nx = ceil(w / cs), ny = ceil(h / cs);
-            g.gx = nx < 1 ? 1 : (int64_t)nx;
-            g.gy = ny < 1 ? 1 : (int64_t)ny;
-            g.inv = 1.0 / cs;
+            double nx = ceil(w / cw), ny = ceil(h / ch);
+            g.gx = nx < 1 ? 1 : (nx > 1e9 ? 1000000000 : (int64_t)nx);
+            g.gy = ny < 1 ? 1 : (ny > 1e9 ? 1000000000 : (int64_t)ny);
+            g.inv = (double)g.gx / w;
+            g.inv_y = (double)g.gy / h;
+            if (!(g.inv > 0) || !isfinite(g.inv))
+                g.inv = 1.0, g.gx = 1;
+            if (!(g.inv_y > 0) || !isfinite(g.inv_y))
+                g.inv_y = 1.0, g.gy = 1;
             nentries = 0;
             for (int64_t t = 0; t < ntriangles; t++) {
                 if (!dn[t])
@@ -216,14 +240,16 @@ mfg_status mfg_ray_blocked(const double *xyz, int64_t nvertices, const int64_t *
                 const double *bx = box + 4 * t;
                 int64_t *cl = cells + 4 * t;
                 cl[0] = clamp_cell(cell_of(bx[0], g.x0, g.inv, g.gx), g.gx);
-                cl[1] = clamp_cell(cell_of(bx[1], g.y0, g.inv, g.gy), g.gy);
+                cl[1] = clamp_cell(cell_of(bx[1], g.y0, g.inv_y, g.gy), g.gy);
                 cl[2] = clamp_cell(cell_of(bx[2], g.x0, g.inv, g.gx), g.gx);
-                cl[3] = clamp_cell(cell_of(bx[3], g.y0, g.inv, g.gy), g.gy);
+                cl[3] = clamp_cell(cell_of(bx[3], g.y0, g.inv_y, g.gy), g.gy);
                 nentries += (cl[2] - cl[0] + 1) * (cl[3] - cl[1] + 1);
             }
-            if (nentries <= ENTRIES_PER_TRIANGLE * nfiled || (g.gx == 1 && g.gy == 1))
+            if ((nentries <= ENTRIES_PER_TRIANGLE * nfiled &&
+                 g.gx * g.gy <= 4 * nfiled + 16) || (g.gx == 1 && g.gy == 1))
                 break;
-            cs *= 2.0;
+            cw *= 2.0;
+            ch *= 2.0;
         }
     }
     int64_t ncells = g.gx * g.gy;
@@ -283,7 +309,7 @@ mfg_status mfg_ray_blocked(const double *xyz, int64_t nvertices, const int64_t *
          * clamped cell is in the cell range of every box holding the point. */
         if (nfiled > 0 && pu >= lo_u && pu <= hi_u && pv >= lo_v && pv <= hi_v) {
             int64_t cx = clamp_cell(cell_of(pu, g.x0, g.inv, g.gx), g.gx);
-            int64_t cy = clamp_cell(cell_of(pv, g.y0, g.inv, g.gy), g.gy);
+            int64_t cy = clamp_cell(cell_of(pv, g.y0, g.inv_y, g.gy), g.gy);
             int64_t c = cy * g.gx + cx;
             for (int64_t e = g.offsets[c]; e < g.offsets[c + 1]; e++) {
                 int64_t t = g.entries[e];

@@ -660,8 +660,52 @@ static void test_speed(int print)
     free(out);
 }
 
+/* An open tube of long strips seen from the side (the grid's cells follow the strips'
+ * shape): with d normal to the axis a centroid is free exactly on the side its strip
+ * faces. */
+static void test_tube_strips(void)
+{
+    int n = 3000;
+    double *xyz = malloc(sizeof(double) * 6 * (size_t)n);
+    int64_t *tris = malloc(sizeof(int64_t) * 6 * (size_t)n);
+    for (int k = 0; k < n; k++) {
+        double th = 2 * M_PI * k / n;
+        double *lo = xyz + 3 * k, *hi = xyz + 3 * (n + k);
+        lo[0] = hi[0] = cos(th), lo[1] = hi[1] = sin(th), lo[2] = 0, hi[2] = 100;
+        int64_t k1 = (k + 1) % n;
+        int64_t *t = tris + 6 * k;
+        t[0] = k, t[1] = k1, t[2] = k1 + n, t[3] = k, t[4] = k1 + n, t[5] = k + n;
+    }
+    int64_t nt = 2 * (int64_t)n;
+    double *pts = malloc(sizeof(double) * 3 * (size_t)nt);
+    int64_t *own = malloc(sizeof(int64_t) * (size_t)nt);
+    uint8_t *out = malloc((size_t)nt);
+    for (int64_t t = 0; t < nt; t++) {
+        for (int k = 0; k < 3; k++)
+            pts[3 * t + k] = (xyz[3 * tris[3 * t] + k] + xyz[3 * tris[3 * t + 1] + k] +
+                              xyz[3 * tris[3 * t + 2] + k]) / 3.0;
+        own[t] = t;
+    }
+    double d[3] = {0.8, -0.6, 0};
+    CHECK_EQ_INT(mfg_ray_blocked(xyz, 2 * (int64_t)n, tris, nt, pts, own, nt, d, out), MFG_OK);
+    int64_t wrong = 0;
+    for (int64_t t = 0; t < nt; t++) {
+        const double *a = xyz + 3 * tris[3 * t], *b = xyz + 3 * tris[3 * t + 1], *c = xyz + 3 * tris[3 * t + 2];
+        int dn = mfg_orient3d_vec(a, b, c, d);
+        uint8_t expect = dn > 0 ? NEG : (dn < 0 ? POS : 0);
+        wrong += (out[t] & (POS | NEG)) != expect;
+    }
+    CHECK_EQ_INT(wrong, 0);
+    free(xyz);
+    free(tris);
+    free(pts);
+    free(own);
+    free(out);
+}
+
 int main(int argc, char **argv)
 {
+    test_tube_strips();
     test_orient3d_vec();
     test_hostile();
     test_edges_vertices();
