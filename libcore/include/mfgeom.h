@@ -382,9 +382,10 @@ MFG_API void mfg_mesh_free(mfg_mesh *mesh);
  *   - own_triangle[i] (0 .. ntriangles-1, or -1 for none) is the triangle p_i was sampled
  *     on: it is ignored (a rounded sample point may lie a hair off its plane).
  *     own_triangle may be NULL: no triangle is ignored.
- * direction must be non-zero (its length does not matter).  Time O((n + m) * k) where k
- * is the number of triangles whose projection (along d) overlaps a point's grid cell
- * (a uniform grid on the plane normal to d; a few for tessellations), memory O(n + m).
+ * direction must be non-zero (its length does not matter).  Time O(n log n + m (log n +
+ * k)) where k is the number of triangles whose projected bounding box (along d) holds a
+ * point's projection (a 2-D bounding-volume hierarchy; a few for tessellations),
+ * memory O(n + m).
  * Errors: MFG_ERR_NULL, MFG_ERR_INVALID (counts, a coordinate or the direction NaN, Inf,
  * out of range or zero, an index out of range), MFG_ERR_NOMEM; blocked_out is not
  * written on failure.

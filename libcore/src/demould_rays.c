@@ -13,9 +13,13 @@
  * covers the projection of its origin.  The triangles not parallel to d are projected
  * along d onto the coordinate plane most nearly normal to d (dropping the axis k of the
  * largest |d_k|): x -> (x_i - x_k d_i / d_k, x_j - x_k d_j / d_k).  Their projected
- * bounding boxes, padded for rounding, are filed in a uniform grid (counting sort into
- * CSR lists); a point tests the triangles of the one cell its projection falls in.  The
- * grid only selects candidates: whether a ray meets a triangle is decided exactly.
+ * bounding boxes, padded for rounding, go into a 2-D bounding-volume hierarchy: sorted
+ * along a Morton (Z-order) curve of their centres, cut into leaves of LEAF boxes, and a
+ * complete binary tree of unions over the leaves (a linear BVH, Lauterbach et al. 2009).
+ * A point descends into the nodes whose box holds its projection, O(log n + k): dense
+ * patches (a finely meshed fillet on a big coarse part) and long strips (a cylinder seen
+ * from the side) cost no more than a uniform mesh, which a uniform grid cannot offer.
+ * The tree only selects candidates: whether a ray meets a triangle is decided exactly.
  *
  * Exact test of the line L = {p + s d} against triangle abc (n = (b - a) x (c - a)):
  *   e_ab = sign det[a - p, b - p, d], e_bc, e_ca likewise: L passes every directed edge
@@ -30,47 +34,54 @@
  * difference carry at most 4u (|x_i| + |x_j| + |x_k|) error each (u = 2^-53); a point
  * whose exact projection lies in a triangle's exact projection is within twice that of
  * the computed bounding box.  The pad is 64u times the largest such sum over all the
- * vertices and points: never too small, and far below any cell.
+ * vertices and points: never too small, and far below any feature.
  */
 
 #define U 1.1102230246251565e-16
 
-/* Entries allowed per filed triangle before the grid is made coarser (long thin
- * triangles, e.g. the strips of a cylinder, would otherwise cover many cells each). */
-#define ENTRIES_PER_TRIANGLE 16
+#define LEAF 4 /* boxes per leaf of the tree */
 
-typedef struct ray_grid {
+typedef struct ray_proj {
     int axis_i, axis_j, axis_k;
-    double ri, rj;          /* d_i / d_k, d_j / d_k */
-    double x0, y0;          /* origin of the grid */
-    double inv, inv_y;      /* cells per unit along u and v */
-    int64_t gx, gy;         /* cells per row, rows */
-    int64_t *offsets;       /* gx * gy + 1 */
-    int64_t *entries;       /* triangle indices, by cell */
-} ray_grid;
+    double ri, rj; /* d_i / d_k, d_j / d_k */
+} ray_proj;
 
-static inline void project(const ray_grid *g, const double *x, double *u, double *v)
+typedef struct morton_ref {
+    uint32_t code;
+    int64_t t;
+} morton_ref;
+
+static int cmp_morton(const void *pa, const void *pb)
+{
+    const morton_ref *a = pa, *b = pb;
+    if (a->code != b->code)
+        return a->code < b->code ? -1 : 1;
+    return (a->t > b->t) - (a->t < b->t);
+}
+
+/* The 16 bits of x spread to the even bits of the result. */
+static uint32_t spread16(uint32_t x)
+{
+    x &= 0xffff;
+    x = (x | (x << 8)) & 0x00ff00ffu;
+    x = (x | (x << 4)) & 0x0f0f0f0fu;
+    x = (x | (x << 2)) & 0x33333333u;
+    x = (x | (x << 1)) & 0x55555555u;
+    return x;
+}
+
+static uint32_t quantize16(double t, double lo, double scale)
+{
+    double q = (t - lo) * scale;
+    if (!(q > 0))
+        return 0;
+    return q >= 65535.0 ? 65535u : (uint32_t)q;
+}
+
+static inline void project(const ray_proj *g, const double *x, double *u, double *v)
 {
     *u = x[g->axis_i] - g->ri * x[g->axis_k];
     *v = x[g->axis_j] - g->rj * x[g->axis_k];
-}
-
-/* The cell coordinate of projected value t along an axis of n cells: monotone in t, so
- * a value inside a padded box falls in a cell of the box's range. */
-static inline int64_t cell_of(double t, double t0, double inv, int64_t n)
-{
-    double c = (t - t0) * inv;
-    if (!(c >= 0.0))
-        return -1;
-    if (c >= (double)n)
-        return n;
-    int64_t ci = (int64_t)c;
-    return ci < n ? ci : n - 1;
-}
-
-static inline int64_t clamp_cell(int64_t c, int64_t n)
-{
-    return c < 0 ? 0 : (c >= n ? n - 1 : c);
 }
 
 /* Sign of s* of the crossing of line p + s d with triangle abc, and where: 2 interior,
@@ -130,7 +141,7 @@ mfg_status mfg_ray_blocked(const double *xyz, int64_t nvertices, const int64_t *
                                 (long long)(ntriangles - 1));
 
     const double *d = direction;
-    ray_grid g;
+    ray_proj g;
     g.axis_k = 0;
     for (int k = 1; k < 3; k++)
         if (fabs(d[k]) > fabs(d[g.axis_k]))
@@ -143,12 +154,12 @@ mfg_status mfg_ray_blocked(const double *xyz, int64_t nvertices, const int64_t *
     /* Sizes: counts <= 2^40, so every allocation below is far below SIZE_MAX. */
     int8_t *dn = malloc((size_t)ntriangles + 1);
     double *box = malloc(((size_t)ntriangles + 1) * 4 * sizeof *box);
-    int64_t *cells = malloc(((size_t)ntriangles + 1) * 4 * sizeof *cells);
-    if (!dn || !box || !cells) {
+    morton_ref *order = malloc(((size_t)ntriangles + 1) * sizeof *order);
+    if (!dn || !box || !order) {
         free(dn);
         free(box);
-        free(cells);
-        return mfg_fail(MFG_ERR_NOMEM, "out of memory for the ray grid of %lld triangles",
+        free(order);
+        return mfg_fail(MFG_ERR_NOMEM, "out of memory for the ray test of %lld triangles",
                         (long long)ntriangles);
     }
 
@@ -188,131 +199,82 @@ mfg_status mfg_ray_blocked(const double *xyz, int64_t nvertices, const int64_t *
         lo_v = fmin(lo_v, bx[1]);
         hi_u = fmax(hi_u, bx[2]);
         hi_v = fmax(hi_v, bx[3]);
+        order[nfiled].t = t;
         nfiled++;
     }
 
-    /* Grid: about one cell per filed triangle, cells shaped like the mean box (long thin
-     * triangles, e.g. the strips of a cylinder seen from the side, then cover a cell or
-     * two each instead of a whole row), made coarser while the boxes would cover more
-     * than ENTRIES_PER_TRIANGLE cells each on average. */
-    g.x0 = lo_u;
-    g.y0 = lo_v;
-    g.gx = g.gy = 1;
-    g.inv = g.inv_y = 1.0;
-    int64_t nentries = 0;
-    if (nfiled > 0) {
-        double w = hi_u - lo_u, h = hi_v - lo_v, mw = 0, mh = 0;
-        for (int64_t t = 0; t < ntriangles; t++)
-            if (dn[t]) {
-                mw += box[4 * t + 2] - box[4 * t];
-                mh += box[4 * t + 3] - box[4 * t + 1];
-            }
-        /* cw * ch = w * h / nfiled and cw / ch = mw / mh, each within the domain */
-        double aspect = (mw > 0 && mh > 0) ? mw / mh : 1.0;
-        double cell_area = w * h / (double)nfiled;
-        double ch = sqrt(cell_area / aspect), cw = ch * aspect;
-        if (!(cw <= w)) {
-            cw = w;
-            ch = cell_area / w;
-        }
-        if (!(ch <= h)) {
-            ch = h;
-            cw = fmin(w, cell_area / h);
-        }
-        if (!(cw > 0))
-            cw = w > 0 ? w : 1.0;
-        if (!(ch > 0))
-            ch = h > 0 ? h : 1.0;
-        for (;;) {
-            double nx = ceil(w / cw), ny = ceil(h / ch);
-            g.gx = nx < 1 ? 1 : (nx > 1e9 ? 1000000000 : (int64_t)nx);
-            g.gy = ny < 1 ? 1 : (ny > 1e9 ? 1000000000 : (int64_t)ny);
-            g.inv = (double)g.gx / w;
-            g.inv_y = (double)g.gy / h;
-            if (!(g.inv > 0) || !isfinite(g.inv))
-                g.inv = 1.0, g.gx = 1;
-            if (!(g.inv_y > 0) || !isfinite(g.inv_y))
-                g.inv_y = 1.0, g.gy = 1;
-            nentries = 0;
-            for (int64_t t = 0; t < ntriangles; t++) {
-                if (!dn[t])
-                    continue;
-                const double *bx = box + 4 * t;
-                int64_t *cl = cells + 4 * t;
-                cl[0] = clamp_cell(cell_of(bx[0], g.x0, g.inv, g.gx), g.gx);
-                cl[1] = clamp_cell(cell_of(bx[1], g.y0, g.inv_y, g.gy), g.gy);
-                cl[2] = clamp_cell(cell_of(bx[2], g.x0, g.inv, g.gx), g.gx);
-                cl[3] = clamp_cell(cell_of(bx[3], g.y0, g.inv_y, g.gy), g.gy);
-                nentries += (cl[2] - cl[0] + 1) * (cl[3] - cl[1] + 1);
-            }
-            if ((nentries <= ENTRIES_PER_TRIANGLE * nfiled &&
-                 g.gx * g.gy <= 4 * nfiled + 16) || (g.gx == 1 && g.gy == 1))
-                break;
-            cw *= 2.0;
-            ch *= 2.0;
-        }
+    /* Z-order of the box centres, then the complete tree over the leaves: node k has
+     * children 2k+1 and 2k+2; the leaves are nodes nleaf_pow - 1 .. 2 nleaf_pow - 2,
+     * leaf l holding order[l * LEAF ..] (fewer in the last, none in the padding). */
+    double su = hi_u > lo_u ? 65535.0 / (hi_u - lo_u) : 0.0;
+    double sv = hi_v > lo_v ? 65535.0 / (hi_v - lo_v) : 0.0;
+    for (int64_t r = 0; r < nfiled; r++) {
+        const double *bx = box + 4 * order[r].t;
+        uint32_t qu = quantize16(0.5 * bx[0] + 0.5 * bx[2], lo_u, su);
+        uint32_t qv = quantize16(0.5 * bx[1] + 0.5 * bx[3], lo_v, sv);
+        order[r].code = spread16(qu) | (spread16(qv) << 1);
     }
-    int64_t ncells = g.gx * g.gy;
-    g.offsets = calloc((size_t)ncells + 1, sizeof *g.offsets);
-    g.entries = malloc(((size_t)nentries + 1) * sizeof *g.entries);
-    if (!g.offsets || !g.entries) {
+    qsort(order, (size_t)nfiled, sizeof *order, cmp_morton);
+    int64_t nleaves = (nfiled + LEAF - 1) / LEAF, pow2 = 1;
+    while (pow2 < nleaves)
+        pow2 *= 2;
+    int64_t nnodes = 2 * pow2 - 1;
+    double *node = malloc((size_t)nnodes * 4 * sizeof *node);
+    int64_t *stack = malloc(((size_t)64 + 1) * sizeof *stack);
+    if (!node || !stack) {
         free(dn);
         free(box);
-        free(cells);
-        free(g.offsets);
-        free(g.entries);
-        return mfg_fail(MFG_ERR_NOMEM, "out of memory for a ray grid of %lld entries",
-                        (long long)nentries);
+        free(order);
+        free(node);
+        free(stack);
+        return mfg_fail(MFG_ERR_NOMEM, "out of memory for the ray tree of %lld triangles",
+                        (long long)nfiled);
     }
-    for (int64_t t = 0; t < ntriangles && nfiled > 0; t++) {
-        if (!dn[t])
-            continue;
-        const int64_t *cl = cells + 4 * t;
-        for (int64_t cy = cl[1]; cy <= cl[3]; cy++)
-            for (int64_t cx = cl[0]; cx <= cl[2]; cx++)
-                g.offsets[cy * g.gx + cx + 1]++;
+    for (int64_t l = 0; l < pow2; l++) {
+        double *nb = node + 4 * (pow2 - 1 + l);
+        nb[0] = nb[1] = INFINITY;
+        nb[2] = nb[3] = -INFINITY;
+        for (int64_t r = l * LEAF; r < (l + 1) * LEAF && r < nfiled; r++) {
+            const double *bx = box + 4 * order[r].t;
+            nb[0] = fmin(nb[0], bx[0]);
+            nb[1] = fmin(nb[1], bx[1]);
+            nb[2] = fmax(nb[2], bx[2]);
+            nb[3] = fmax(nb[3], bx[3]);
+        }
     }
-    for (int64_t c = 0; c < ncells; c++)
-        g.offsets[c + 1] += g.offsets[c];
-    /* Fill with a moving cursor per cell (the cells array is reused as nothing else
-     * needs the boxes' cell ranges after this pass). */
-    int64_t *cursor = malloc(((size_t)ncells + 1) * sizeof *cursor);
-    if (!cursor) {
-        free(dn);
-        free(box);
-        free(cells);
-        free(g.offsets);
-        free(g.entries);
-        return mfg_fail(MFG_ERR_NOMEM, "out of memory for a ray grid of %lld cells",
-                        (long long)ncells);
+    for (int64_t k = pow2 - 2; k >= 0; k--) {
+        double *nb = node + 4 * k;
+        const double *l = node + 4 * (2 * k + 1), *r = node + 4 * (2 * k + 2);
+        nb[0] = fmin(l[0], r[0]);
+        nb[1] = fmin(l[1], r[1]);
+        nb[2] = fmax(l[2], r[2]);
+        nb[3] = fmax(l[3], r[3]);
     }
-    memcpy(cursor, g.offsets, (size_t)ncells * sizeof *cursor);
-    for (int64_t t = 0; t < ntriangles && nfiled > 0; t++) {
-        if (!dn[t])
-            continue;
-        const int64_t *cl = cells + 4 * t;
-        for (int64_t cy = cl[1]; cy <= cl[3]; cy++)
-            for (int64_t cx = cl[0]; cx <= cl[2]; cx++)
-                g.entries[cursor[cy * g.gx + cx]++] = t;
-    }
-    free(cursor);
-    free(cells);
 
-    /* The queries: nothing can fail from here on. */
+    /* The queries: nothing can fail from here on.  The tree's depth is log2(pow2) <= 40,
+     * so a stack of 64 suffices (each pop pushes at most two). */
     for (int64_t i = 0; i < npoints; i++) {
         const double *p = points + 3 * i;
         int64_t own = own_triangle ? own_triangle[i] : -1;
         uint8_t bits = 0;
         double pu, pv;
         project(&g, p, &pu, &pv);
-        /* Outside the union of the padded boxes no triangle can be met; inside, the
-         * clamped cell is in the cell range of every box holding the point. */
-        if (nfiled > 0 && pu >= lo_u && pu <= hi_u && pv >= lo_v && pv <= hi_v) {
-            int64_t cx = clamp_cell(cell_of(pu, g.x0, g.inv, g.gx), g.gx);
-            int64_t cy = clamp_cell(cell_of(pv, g.y0, g.inv_y, g.gy), g.gy);
-            int64_t c = cy * g.gx + cx;
-            for (int64_t e = g.offsets[c]; e < g.offsets[c + 1]; e++) {
-                int64_t t = g.entries[e];
+        int64_t top = 0;
+        if (nfiled > 0)
+            stack[top++] = 0;
+        while (top > 0) {
+            int64_t k = stack[--top];
+            const double *nb = node + 4 * k;
+            if (pu < nb[0] || pu > nb[2] || pv < nb[1] || pv > nb[3])
+                continue;
+            if (k < pow2 - 1) {
+                stack[top++] = 2 * k + 2;
+                stack[top++] = 2 * k + 1;
+                continue;
+            }
+            int64_t l = k - (pow2 - 1);
+            for (int64_t r = l * LEAF; r < (l + 1) * LEAF && r < nfiled; r++) {
+                int64_t t = order[r].t;
                 if (t == own)
                     continue;
                 const double *bx = box + 4 * t;
@@ -327,19 +289,18 @@ mfg_status mfg_ray_blocked(const double *xyz, int64_t nvertices, const int64_t *
                     bits |= side > 0 ? MFG_RAY_BLOCKED_POS : MFG_RAY_BLOCKED_NEG;
                 else if (where == 1)
                     bits |= side > 0 ? MFG_RAY_GRAZES_POS : MFG_RAY_GRAZES_NEG;
-                if ((bits & (MFG_RAY_BLOCKED_POS | MFG_RAY_BLOCKED_NEG)) ==
-                        (MFG_RAY_BLOCKED_POS | MFG_RAY_BLOCKED_NEG) &&
-                    (bits & (MFG_RAY_GRAZES_POS | MFG_RAY_GRAZES_NEG)) ==
-                        (MFG_RAY_GRAZES_POS | MFG_RAY_GRAZES_NEG))
-                    break;
             }
+            if (bits == (MFG_RAY_BLOCKED_POS | MFG_RAY_BLOCKED_NEG | MFG_RAY_GRAZES_POS |
+                         MFG_RAY_GRAZES_NEG))
+                break;
         }
         blocked_out[i] = bits;
     }
     free(dn);
     free(box);
-    free(g.offsets);
-    free(g.entries);
+    free(order);
+    free(node);
+    free(stack);
     mfg_clear_error();
     return MFG_OK;
 }
