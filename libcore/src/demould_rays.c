@@ -136,7 +136,8 @@ mfg_status mfg_ray_blocked(const double *xyz, int64_t nvertices, const int64_t *
         for (int64_t i = 0; i < npoints; i++)
             if (own_triangle[i] < -1 || own_triangle[i] >= ntriangles)
                 return mfg_fail(MFG_ERR_INVALID,
-                                "own_triangle[%lld] = %lld is neither -1 nor a triangle index 0 .. %lld",
+                                "own_triangle[%lld] = %lld is neither -1 nor a triangle index "
+                                "0 .. %lld",
                                 (long long)i, (long long)own_triangle[i],
                                 (long long)(ntriangles - 1));
 

@@ -12,7 +12,6 @@ blocked upward although its normal says "core side": the blocked fraction is the
 shadowed share of its area.  A rotated copy gives the same verdicts for the rotated
 direction."""
 
-import math
 import os
 import sys
 import unittest

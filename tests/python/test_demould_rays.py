@@ -58,7 +58,8 @@ def test_random_soups_agree_with_float_brute_force():
         np.testing.assert_array_equal(got[clear], ref[clear])
         compared += int(clear.sum())
         # the direction's length does not matter, and -d swaps the two bits
-        np.testing.assert_array_equal(core.ray_blocked(vertices, triangles, points, own, 7 * d), got)
+        longer = core.ray_blocked(vertices, triangles, points, own, 7 * d)
+        np.testing.assert_array_equal(longer, got)
         swapped = core.ray_blocked(vertices, triangles, points, own, -d)
         np.testing.assert_array_equal(swapped & 1, (got >> 1) & 1)
         np.testing.assert_array_equal(swapped & 2, (got & 1) << 1)
@@ -156,7 +157,8 @@ def test_sampling():
     a, b, c = v[t[own, 0]], v[t[own, 1]], v[t[own, 2]]
     n = np.cross(b - a, c - a)
     for p, q, r in ((a, b, c), (b, c, a), (c, a, b)):
-        lam = np.einsum("ij,ij->i", np.cross(q - points, r - points), n) / np.einsum("ij,ij->i", n, n)
+        lam = (np.einsum("ij,ij->i", np.cross(q - points, r - points), n)
+               / np.einsum("ij,ij->i", n, n))
         assert lam.min() > 1 / 18 - 1e-12
     lifted, _, _ = demould.sample_points(v, t, faces, samples_per_face=64)
     offset = np.einsum("ij,ij->i", lifted - points, n / np.linalg.norm(n, axis=1)[:, None])

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Demouldability of each face by rays (issue 17), FreeCAD-free: sample points on each
-face's triangles, ask :func:`mfgeom.core.ray_blocked` whether the rays along +d (the core
-side) and -d (the cavity side) leave the part, and give each face a verdict.
+face's triangles, ask :func:`mfgeom.core.ray_blocked` whether the rays along +d (the
+core side) and -d (the cavity side) leave the part, and give each face a verdict.
 
 This is the independent reference of the parting analysis: it sees the undercuts a
 face's normals cannot (a face shadowed by another part of the solid).
@@ -9,16 +9,17 @@ face's normals cannot (a face shadowed by another part of the solid).
 Sampling: every triangle of a face gets at least its centroid; a triangle larger than
 ``area / samples_per_face`` of its face is cut into L x L similar sub-triangles (L =
 round(sqrt(samples_per_face * triangle area / face area)), at most ``max_subdivision``),
-each sampled at its centroid; a sample weighs its sub-triangle's area.  Samples lie
+each sampled at its centroid; a sample weighs its sub-triangle's area. Samples lie
 strictly inside their triangle, lifted off it by ``lift`` times the mesh's size (its
 largest |coordinate| or box diagonal) along the triangle's normal (outward for an
 outward-oriented mesh, as OCCT's and the library's are): the mould's surface just
-outside the part.  The lift makes a wall parallel to d (zero draft) free along it even
+outside the part. The lift makes a wall parallel to d (zero draft) free along it even
 when rounding (float32 mesh nodes, a rotated part) bends the wall's triangles a hair out
-of one plane; with ``lift=0`` such walls are decided on the exact doubles.  The triangle
-is also passed as the sample's own triangle (ignored by its rays).  A ray that passes exactly through an
-edge or vertex only ("grazes", e.g. sliding up a wall parallel to d to the wall's top
-edge) counts as free, as in the library; the grazing samples are counted for the report.
+of one plane; with ``lift=0`` such walls are decided on the exact doubles. The triangle
+is also passed as the sample's own triangle (ignored by its rays). A ray that passes
+exactly through an edge or vertex only ("grazes", e.g. sliding up a wall parallel to d
+to the wall's top edge) counts as free, as in the library; the grazing samples are
+counted for the report.
 """
 
 import numpy as np
@@ -120,11 +121,12 @@ def sample_points(vertices, triangles, face_ids, samples_per_face=64, max_subdiv
 def face_demouldability(vertices, triangles, face_ids, direction, samples_per_face=64,
                         max_subdivision=8, tolerance=0.0, lift=LIFT):
     """Per face (in increasing face id) a :class:`FaceRays` for the triangle mesh
-    (``vertices`` (n, 3), ``triangles`` (t, 3), counter-clockwise seen from outside: the
-    samples are lifted outward, see the module doc) whose triangle k belongs to face
-    ``face_ids[k]``, along ``direction``.  The mesh should be one welded surface (neighbouring faces sharing their edges' nodes)
-    so that no ray slips through a crack between faces.  ``tolerance``: the blocked
-    fraction a side may have and still count as free (0: any blocked sample blocks)."""
+    (``vertices`` (n, 3), ``triangles`` (t, 3), counter-clockwise seen from outside: the samples are
+    lifted outward, see the module doc) whose triangle k belongs to face
+    ``face_ids[k]``, along ``direction``. The mesh should be one welded surface
+    (neighbouring faces sharing their edges' nodes) so that no ray slips through a crack
+    between faces. ``tolerance``: the blocked fraction a side may have and still count
+    as free (0: any blocked sample blocks)."""
     t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
     f = np.asarray(face_ids, dtype=np.int64).reshape(-1)
     if len(f) != len(t):
