@@ -61,6 +61,17 @@ if [ $clearance_rc -ne 0 ] || ! grep -qE "^freecad-clearance: [0-9]+ passed, 0 f
   failed=1
 fi
 
+echo "--- FreeCAD ray check tests (freecadcmd)"
+ray_log="$FREECAD_USER_HOME/ray_check.log"
+freecadcmd tests/freecad/test_ray_check_app.py > "$ray_log" 2>&1
+ray_rc=$?
+grep -E "^(FAIL|ERROR): |^freecad-ray-check: " "$ray_log"
+if [ $ray_rc -ne 0 ] || ! grep -qE "^freecad-ray-check: [0-9]+ passed, 0 failed$" "$ray_log" ||
+   grep -q "Traceback" "$ray_log"; then
+  echo "ray check tests: FAILED (exit $ray_rc)"; grep -n -A12 "Traceback" "$ray_log" | head -120
+  failed=1
+fi
+
 echo "--- FreeCAD rotational sweep tests (freecadcmd)"
 sweep_log="$FREECAD_USER_HOME/sweep.log"
 freecadcmd tests/freecad/test_sweep_app.py > "$sweep_log" 2>&1

@@ -360,6 +360,48 @@ MFG_API mfg_status mfg_mesh_weld(const double *xyz_soup, int64_t ntriangles,
 MFG_API void mfg_mesh_free(mfg_mesh *mesh);
 
 /* ------------------------------------------------------------------------------------ */
+/* Demouldability by rays (issue 17): does a ray along +d / -d leave the part?            */
+/* ------------------------------------------------------------------------------------ */
+/*
+ * For each point p_i (points[3*i ..]) the two open rays p + s*d (s > 0, the core side)
+ * and p - s*d (s > 0, the cavity side) are tested against the triangles of a mesh (as
+ * for mfg_mesh_check: any mesh with valid coordinates and indices, closed or not), and
+ * blocked_out[i] gets the bits
+ *   MFG_RAY_BLOCKED_POS  the ray along +d crosses the interior of a triangle
+ *   MFG_RAY_BLOCKED_NEG  the ray along -d crosses the interior of a triangle
+ *   MFG_RAY_GRAZES_POS   the ray along +d passes exactly through an edge or a vertex of a
+ *                        triangle (without its interior): it touches, it is not counted
+ *                        as blocked (through the shared edge of two faces of a closed
+ *                        mesh it may or may not enter the solid; the caller samples
+ *                        other points)
+ *   MFG_RAY_GRAZES_NEG   likewise along -d
+ * decided exactly (orientation predicates on the doubles given; no tolerance), with:
+ *   - a triangle whose plane is parallel to d (or contains the ray: a wall parallel to d
+ *     along which the ray slides) and a zero-area triangle never block nor graze;
+ *   - a crossing at s = 0 (p itself lies on the triangle) does not count;
+ *   - own_triangle[i] (0 .. ntriangles-1, or -1 for none) is the triangle p_i was sampled
+ *     on: it is ignored (a rounded sample point may lie a hair off its plane).
+ *     own_triangle may be NULL: no triangle is ignored.
+ * direction must be non-zero (its length does not matter).  Time O(n log n + m (log n +
+ * k)) where k is the number of triangles whose projected bounding box (along d) holds a
+ * point's projection (a 2-D bounding-volume hierarchy; a few for tessellations),
+ * memory O(n + m).
+ * Errors: MFG_ERR_NULL, MFG_ERR_INVALID (counts, a coordinate or the direction NaN, Inf,
+ * out of range or zero, an index out of range), MFG_ERR_NOMEM; blocked_out is not
+ * written on failure.
+ */
+#define MFG_RAY_BLOCKED_POS 1
+#define MFG_RAY_BLOCKED_NEG 2
+#define MFG_RAY_GRAZES_POS 4
+#define MFG_RAY_GRAZES_NEG 8
+
+MFG_API mfg_status mfg_ray_blocked(const double *xyz, int64_t nvertices,
+                                   const int64_t *triangles, int64_t ntriangles,
+                                   const double *points, const int64_t *own_triangle,
+                                   int64_t npoints, const double direction[3],
+                                   uint8_t *blocked_out);
+
+/* ------------------------------------------------------------------------------------ */
 /* Rotational swept volume (seed 003)                                                    */
 /* ------------------------------------------------------------------------------------ */
 /*

@@ -80,7 +80,7 @@ static int64_t corner_at(const int64_t *tris, int64_t side, int64_t v)
 }
 
 /* Arguments as every entry point takes them: out may be checked by the caller. */
-static mfg_status validate(const double *xyz, int64_t nv, const int64_t *tris, int64_t nt)
+mfg_status mfg_mesh_validate(const double *xyz, int64_t nv, const int64_t *tris, int64_t nt)
 {
     if (nv < 0 || nv > MFG_MAX_COUNT)
         return mfg_fail(MFG_ERR_INVALID, "nvertices must be between 0 and %lld (got %lld)",
@@ -311,7 +311,7 @@ mfg_status mfg_mesh_check(const double *xyz, int64_t nvertices, const int64_t *t
 {
     if (!out)
         return mfg_fail(MFG_ERR_NULL, "out (the report) is NULL");
-    mfg_status st = validate(xyz, nvertices, triangles, ntriangles);
+    mfg_status st = mfg_mesh_validate(xyz, nvertices, triangles, ntriangles);
     if (st != MFG_OK)
         return st;
     mesh_findings f;
@@ -373,7 +373,7 @@ mfg_status mfg_mesh_require_closed(const double *xyz, int64_t nvertices,
                                    const int64_t *triangles, int64_t ntriangles,
                                    mfg_mesh_report *report, int64_t **out_neighbours)
 {
-    mfg_status st = validate(xyz, nvertices, triangles, ntriangles);
+    mfg_status st = mfg_mesh_validate(xyz, nvertices, triangles, ntriangles);
     if (st != MFG_OK)
         return st;
     int64_t *nb = NULL;

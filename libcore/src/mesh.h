@@ -25,6 +25,13 @@ mfg_status mfg_mesh_require_closed(const double *xyz, int64_t nvertices,
                                    const int64_t *triangles, int64_t ntriangles,
                                    mfg_mesh_report *report, int64_t **out_neighbours);
 
+/* The argument checks every mesh entry point makes (mfg_mesh_check, the closed check, the
+ * ray test): counts within 0 .. MFG_MAX_COUNT, xyz and triangles not NULL when needed,
+ * every coordinate accepted by mfg_coord_ok, every index within 0 .. nvertices-1.
+ * MFG_ERR_NULL / MFG_ERR_INVALID with a detail naming the first bad value. */
+mfg_status mfg_mesh_validate(const double *xyz, int64_t nvertices, const int64_t *triangles,
+                             int64_t ntriangles);
+
 /* 1 when triangle abc has zero area, exactly (its three projected orientations vanish). */
 int mfg_triangle_zero_area(const double *a, const double *b, const double *c);
 

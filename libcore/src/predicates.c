@@ -346,6 +346,33 @@ int mfg_orient3d(const double a[3], const double b[3], const double c[3], const 
     return expansion_sign(n, s);
 }
 
+int mfg_orient3d_vec(const double o[3], const double a[3], const double b[3], const double v[3])
+{
+    double ax = a[0] - o[0], ay = a[1] - o[1], az = a[2] - o[2];
+    double bx = b[0] - o[0], by = b[1] - o[1], bz = b[2] - o[2];
+    double det = v[0] * (ay * bz - az * by) + v[1] * (az * bx - ax * bz) +
+                 v[2] * (ax * by - ay * bx);
+    double perm = fabs(v[0]) * (fabs(ay * bz) + fabs(az * by)) +
+                  fabs(v[1]) * (fabs(az * bx) + fabs(ax * bz)) +
+                  fabs(v[2]) * (fabs(ax * by) + fabs(ay * bx));
+    /* Two columns are rounded differences, the third is exact: fewer roundings than in
+     * orient3d, so its bound (7 + 56u) u on the permanent holds a fortiori. */
+    double bound = (7.0 + 56.0 * U) * U * perm;
+    if (perm > 1e-250 && perm < 1e250) {
+        if (det > bound)
+            return 1;
+        if (-det > bound)
+            return -1;
+    }
+    /* Exact: det[a - o, b - o, v] = det[a, b, v] + det[o, a, v] + det[b, o, v]. */
+    double abv[24], oav[24], bov[24], s1[48], s[72], tmp[72];
+    int n_abv = det3_expansion(a, b, v, abv), n_oav = det3_expansion(o, a, v, oav);
+    int n_bov = det3_expansion(b, o, v, bov);
+    int n1 = sum_expansion(n_abv, abv, n_oav, oav, s1, tmp);
+    int n = sum_expansion(n1, s1, n_bov, bov, s, tmp);
+    return expansion_sign(n, s);
+}
+
 /* Exact a . b as an expansion of up to 6 components. */
 static int dot3_expansion(const double a[3], const double b[3], double *e)
 {

@@ -59,6 +59,13 @@ int mfg_parallel3(const double a[3], const double b[3]);
  * for coordinates allowed by mfg_coord_ok. */
 int mfg_orient3d(const double a[3], const double b[3], const double c[3], const double d[3]);
 
+/* Sign of det[a - o, b - o, v] for points o, a, b and a vector v (exact; no point o + v
+ * is formed, so it is exact where orient3d(a, b, o + v, o) would need a rounded sum).
+ * With v the direction of a line through o: the side on which the line passes the
+ * directed segment ab.  With o, a, b a triangle: the sign of its normal
+ * (a - o) x (b - o) along v. */
+int mfg_orient3d_vec(const double o[3], const double a[3], const double b[3], const double v[3]);
+
 /* a x b with each component computed from exact products (Kahan's trick): nearly
  * parallel vectors still give an accurate direction instead of rounding noise or 0. */
 void mfg_cross3_accurate(const double a[3], const double b[3], double out[3]);

@@ -862,6 +862,67 @@ def rotational_sweep(vertices, triangles, axis_point, axis_direction, angle, tol
     return SweepResult(verts, tris, stats.volume, stats.area, stats.bbox[:])
 
 
+# --------------------------------------------------------------------------- #
+# Demouldability by rays (issue 17)                                           #
+# --------------------------------------------------------------------------- #
+
+RAY_BLOCKED_POS = 1   # the ray along +d crosses the interior of a triangle
+RAY_BLOCKED_NEG = 2   # the ray along -d likewise
+RAY_GRAZES_POS = 4    # the ray along +d passes exactly through an edge or vertex only
+RAY_GRAZES_NEG = 8    # the ray along -d likewise
+
+_lib.mfg_ray_blocked.restype = ctypes.c_int
+_lib.mfg_ray_blocked.argtypes = [_c_double_p, ctypes.c_int64, _c_int64_p, ctypes.c_int64,
+                                 _c_double_p, _c_int64_p, ctypes.c_int64, _c_double_p,
+                                 _c_uint8_p]
+
+
+def _as_indices(value, what):
+    """A 1-D int64 array of integers (floats, booleans, strings: TypeError)."""
+    try:
+        arr = np.asarray(value)
+    except ValueError as exc:
+        raise ValueError(f"{what}: {exc}") from None
+    if arr.size == 0:
+        arr = np.zeros(0, dtype=np.int64)
+    elif arr.dtype.kind == "u":
+        if arr.dtype.itemsize >= 8 and int(arr.max()) >= 2**63:
+            raise ValueError(f"{what}: an index does not fit in int64")
+    elif arr.dtype.kind != "i":
+        raise TypeError(f"{what} must be integers, got {arr.dtype.name}")
+    if arr.ndim != 1:
+        raise ValueError(f"{what} must have shape (m,), got {arr.shape}")
+    return np.ascontiguousarray(arr, dtype=np.int64)
+
+
+def ray_blocked(vertices, triangles, points, own_triangle, direction):
+    """For each point (``points`` (m, 3)), whether the open rays p + s d and p - s d
+    (s > 0, ``direction`` d non-zero) cross the triangle mesh (``vertices`` (n, 3),
+    ``triangles`` (t, 3); any mesh, closed or not), decided exactly (mfg_ray_blocked):
+    a uint8 array (m,) of the bits RAY_BLOCKED_POS / RAY_BLOCKED_NEG (the ray crosses a
+    triangle's interior) and RAY_GRAZES_POS / RAY_GRAZES_NEG (it passes exactly through
+    an edge or vertex only: not counted as blocked).  Triangles parallel to d (walls the
+    ray slides along) and crossings at s = 0 do not count.  ``own_triangle`` (m,) gives
+    the triangle each point was sampled on (ignored for that point; -1 for none), or
+    None.  Bad counts, indices, coordinates or a zero direction raise MfgError."""
+    xyz = _as_vertices(vertices)
+    tri = _as_triangles(triangles)
+    pts = _as_vertices(points, "points")
+    d = _as_vector3(direction, "direction")
+    own = None
+    if own_triangle is not None:
+        own = _as_indices(own_triangle, "own_triangle")
+        if len(own) != len(pts):
+            raise ValueError(f"own_triangle has {len(own)} entries for {len(pts)} points")
+    out = np.zeros(len(pts), dtype=np.uint8)
+    _check(_lib.mfg_ray_blocked(_ptr(xyz, ctypes.c_double), len(xyz),
+                                _ptr(tri, ctypes.c_int64), len(tri),
+                                _ptr(pts, ctypes.c_double),
+                                None if own is None else _ptr(own, ctypes.c_int64),
+                                len(pts), _ptr(d, ctypes.c_double), _ptr(out, ctypes.c_uint8)))
+    return out
+
+
 # ---- medial axis of a face (issue 9 section 2) -------------------------------------------
 
 class _MedialAxis(ctypes.Structure):
