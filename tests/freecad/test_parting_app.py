@@ -502,6 +502,15 @@ class Feature(unittest.TestCase):
         self.assertAlmostEqual(angles[0], 0.0, places=9)
         self.assertAlmostEqual(angles[6], 90.0, places=9)     # the pocket's floor
         self.assertAlmostEqual(angles[1], -90.0, places=9)    # the hole's wall faces -z
+        # the ray check ran and agrees: no face the normals call demouldable is blocked
+        self.assertEqual(list(obj.ShadowedFaces), [])
+        from mfgeom.app.parting_feature import feature_report
+        rep = feature_report(obj)
+        self.assertTrue(rep["ray_checked"])
+        rays = {row["name"]: row["ray_blocked"] for row in rep["faces"]}
+        self.assertEqual(rays["Face4"], 0.0)   # the top along +d
+        self.assertEqual(rays["Face7"], 0.0)   # the pocket's floor along +d
+        self.assertGreater(rays["Face2"], 0.5)  # the hole's wall: blocked both ways
 
     def test_recomputes_when_source_or_parameters_change(self):
         from mfgeom.app.parting_feature import make_parting_analysis

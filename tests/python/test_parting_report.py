@@ -75,3 +75,31 @@ def test_nc_report_setups_and_not_considered(tmp_path):
     rows = list(csv.DictReader(open(tmp_path / "r.csv")))
     assert len(rows) == 14 and rows[6]["group"] == "setup_2" and float(rows[6]["dx"]) == 1.0
     assert rows[0]["dx"] == ""  # a surface not considered has no direction
+
+
+class _Rays:
+    """A FaceRays stand-in: blocked fractions along +d and -d."""
+
+    def __init__(self, pos, neg, samples=10):
+        self.blocked_pos, self.blocked_neg, self.samples = pos, neg, samples
+
+
+def test_ray_check_flags_faces_the_normals_call_demouldable():
+    """apply_ray_check: a core face blocked along +d and a cavity face blocked along -d
+    are shadowed; a core face blocked only along -d (its other side) is not; an undercut
+    blocked either way is not 'shadowed' (the normals already say so); under 2 % is noise."""
+    faces, adj = cup_hole()
+    r = P.mould_parting(faces, adj)
+    rays = {"Face3": _Rays(0.5, 1.0),      # top, core: blocked along +d -> shadowed
+            "Face2": _Rays(0.0, 0.3),      # bottom, cavity: blocked along -d -> shadowed
+            "Face5": _Rays(0.0, 1.0),      # pocket floor, core: free along +d
+            "Face1": _Rays(0.01, 0.5),     # outer wall, zero draft: 1 % -> not flagged
+            "Face6": _Rays(1.0, 1.0)}      # hole wall: an undercut already
+    assert P.apply_ray_check(r, faces, rays) == [1, 2]
+    assert r.ray_blocked[2] == 0.5 and r.ray_blocked[1] == 0.3 and r.ray_blocked[0] == 0.01
+    assert r.ray_blocked[4] == 0.0 and r.ray_blocked[6] is None   # Face7: no rays given
+    rep = P.report(r, faces)
+    assert rep["ray_checked"] and rep["shadowed_faces"] == ["Face2", "Face3"]
+    row = {x["name"]: x for x in rep["faces"]}
+    assert row["Face3"]["shadowed"] and not row["Face1"]["shadowed"]
+    assert "2 faces demouldable by their normals are blocked" in P.report_text(rep)

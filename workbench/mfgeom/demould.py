@@ -83,6 +83,15 @@ def _subdivision_centroids(level):
 LIFT = 1e-6
 
 
+def mesh_size(vertices):
+    """The length ``lift`` is a fraction of: the mesh's largest |coordinate| or its box
+    diagonal, whichever is larger (0 for no vertices)."""
+    v = np.asarray(vertices, dtype=np.float64).reshape(-1, 3)
+    if not len(v):
+        return 0.0
+    return max(float(np.abs(v).max()), float(np.linalg.norm(v.max(0) - v.min(0))))
+
+
 def sample_points(vertices, triangles, face_ids, samples_per_face=64, max_subdivision=8,
                   lift=LIFT):
     """(points (m, 3), own triangle (m,), weight (m,)) sampling every face as described in
@@ -96,8 +105,7 @@ def sample_points(vertices, triangles, face_ids, samples_per_face=64, max_subdiv
     unit = np.divide(normal, 2 * area[:, None], out=np.zeros_like(normal),
                      where=area[:, None] > 0)
     if len(v):
-        size = max(float(np.abs(v).max()), float(np.linalg.norm(v.max(0) - v.min(0))))
-        unit *= lift * size
+        unit *= lift * mesh_size(v)
     faces, inverse = np.unique(f, return_inverse=True)
     face_area = np.bincount(inverse, weights=area, minlength=len(faces))
     share = np.divide(area, face_area[inverse], out=np.zeros_like(area),

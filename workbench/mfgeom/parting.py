@@ -344,6 +344,8 @@ class PartingResult:
     face_role: list = field(default_factory=list)
     insufficient_draft_faces: list = field(default_factory=list)
     zero_draft_faces: list = field(default_factory=list)
+    ray_blocked: list = field(default_factory=list)
+    shadowed_faces: list = field(default_factory=list)
 
     def faces_of(self, surfaces):
         return sorted(f for s in surfaces for f in self.surfaces[s].faces)
@@ -709,6 +711,43 @@ def mould_parting(faces, adjacency, draft_angle=0.0, weighting="count", tol=DEFA
     return result
 
 
+# --------------------------------------------------------------- ray check
+# A face the normals call demouldable is flagged when the rays of more than this
+# fraction of its area are blocked on its side (a few samples at a fillet's edge may
+# touch the tessellation's chords; a shadowed face is blocked over much of its area)
+RAY_BLOCKED_FRACTION = 0.02
+
+
+def apply_ray_check(result, faces, rays, min_fraction=RAY_BLOCKED_FRACTION):
+    """Compare a Mould result with the ray check (:mod:`mfgeom.demould`): ``rays`` maps
+    a face name ("Face7") to its FaceRays at ``result.direction``.  Sets, per face of
+    ``faces``, ``result.ray_blocked`` (the blocked fraction on the face's own side: +d for
+    the core side, -d for the cavity side, the lesser for zero draft, the lesser too for
+    undercuts) and ``result.shadowed_faces``: faces the normals call demouldable (core,
+    cavity, zero or insufficient draft) whose rays are blocked over more than
+    ``min_fraction`` of their area, so another part of the solid stands in the way (an
+    undercut the normals cannot see).  Returns the shadowed face indices."""
+    blocked = [None] * len(faces)
+    shadowed = []
+    for f, g in enumerate(faces):
+        r = rays.get(g.name)
+        if r is None or r.samples == 0:
+            continue
+        role = result.face_role[f] if result.face_role else ""
+        if role == "core":
+            b = r.blocked_pos
+        elif role == "cavity":
+            b = r.blocked_neg
+        else:
+            b = min(r.blocked_pos, r.blocked_neg)
+        blocked[f] = float(b)
+        if role in ("core", "cavity", "zero_draft", "insufficient_draft") and b > min_fraction:
+            shadowed.append(f)
+    result.ray_blocked = blocked
+    result.shadowed_faces = shadowed
+    return shadowed
+
+
 # --------------------------------------------------------------- draft analysis
 DRAFT_CLASSES = ("positive", "negative", "insufficient", "straddle")
 
@@ -870,6 +909,9 @@ def report(result, faces, draft_angle=0.0, weighting="count", all_faces=False,
             if r.mode == "Mould" and r.face_role:
                 row["role"] = "unresolved" if role[s] == "unresolved" else r.face_role[f]
                 row["worst_angle_deg"] = math.degrees(r.face_angle[f])
+                if r.ray_blocked and r.ray_blocked[f] is not None:
+                    row["ray_blocked"] = r.ray_blocked[f]
+                    row["shadowed"] = f in r.shadowed_faces
             face_rows.append(row)
     face_rows.sort(key=lambda row: row["index"])
     sampled = [f for f in faces if f.shrink > 0]
@@ -913,6 +955,9 @@ def report(result, faces, draft_angle=0.0, weighting="count", all_faces=False,
             "undercut_faces": faces_of(r.undercuts),
             "insufficient_draft_faces": names(r.insufficient_draft_faces),
             "zero_draft_faces": names(r.zero_draft_faces),
+            # the ray check (if run): faces the normals call demouldable, blocked by rays
+            "ray_checked": bool(r.ray_blocked),
+            "shadowed_faces": names(r.shadowed_faces),
             "side_cores": [_entry(c, faces) for c in r.side_cores],
             # uncovered faces, worst first: the angle tells a 30 degree undercut from
             # CAD noise of 0.001 degree
@@ -989,6 +1034,12 @@ def report_text(rep):
                      f"{len(rep['cavity_faces'])} cavity side (-d), {len(zero)} zero draft, "
                      f"{len(rep['insufficient_draft_faces']) - len(zero)} below the draft, "
                      f"{len(rep['undercut_faces'])} undercut")
+        if rep.get("ray_checked"):
+            shadowed = rep.get("shadowed_faces", [])
+            lines.append("  ray check: " + (f"{len(shadowed)} faces demouldable by their "
+                                            f"normals are blocked by the part: "
+                                            f"{listing(shadowed)}" if shadowed else
+                                            "agrees with the normals on every face"))
         worst = rep.get("worst_faces", [])
         if worst:
             lines.append("  worst faces (angle of the worst normal to the parting plane, "

@@ -48,6 +48,7 @@ class PartingAnalysis(FeatureProxy):
         obj.Deflection = math.degrees(1e-3)
         obj.AngularTolerance = DEFAULT_TOL
         obj.PullDirection = FreeCAD.Vector(0, 0, 1)
+        obj.RayCheck = True
 
     @staticmethod
     def _add_properties(obj):
@@ -77,6 +78,12 @@ class PartingAnalysis(FeatureProxy):
              "Radians (default 0.01 deg): normals closer than this are snapped together, "
              "walls within it of the parting plane are zero draft (CAD noise, not "
              "undercuts); every answer holds up to it", False),
+            ("App::PropertyBool", "RayCheck", "Input",
+             "Mould: check the answer with rays along +-d from sample points of every face "
+             "(a face shadowed by another part of the solid is flagged)", False),
+            ("App::PropertyLength", "RayDeflection", "Input",
+             "Mould: tessellation deflection (mm) of the ray check; 0: 1/500 of the part's "
+             "bounding-box diagonal", False),
             ("App::PropertyVector", "Direction", "Result",
              "Parting direction (core side +d) or main set-up direction, global", True),
             ("App::PropertyFloat", "MarginDeg", "Result",
@@ -109,6 +116,9 @@ class PartingAnalysis(FeatureProxy):
              "Draft: faces drafted along -PullDirection", True),
             ("App::PropertyStringList", "StraddleFaces", "Result",
              "Draft: faces with normals on both sides of the parting plane", True),
+            ("App::PropertyStringList", "ShadowedFaces", "Result",
+             "Mould: faces the normals call demouldable whose rays along their side are "
+             "blocked by the part (more than 2 % of their area)", True),
             ("App::PropertyStringList", "Warnings", "Result",
              "Faces skipped or approximated (e.g. no normal at a singular point)", True),
             ("App::PropertyVectorList", "SideCoreDirections", "Result",
@@ -135,6 +145,8 @@ class PartingAnalysis(FeatureProxy):
     def _upgrade(self, obj, old_version, old_properties):
         if "PullDirection" not in old_properties:
             obj.PullDirection = FreeCAD.Vector(0, 0, 1)
+        if "RayCheck" not in old_properties:
+            obj.RayCheck = True
         if "Mode" in old_properties:
             mode = obj.Mode
             obj.Mode = MODES   # the enumeration gained Draft
@@ -173,7 +185,8 @@ def _options_key(obj):
     """What the last analysis depends on besides the source's geometry."""
     return (obj.Source.Name if obj.Source else None, tuple(obj.Faces), obj.Mode,
             obj.DraftAngle.Value, obj.Weighting, bool(obj.AllFaces), obj.Deflection.Value,
-            obj.AngularTolerance, _tuple(obj.PullDirection))
+            obj.AngularTolerance, _tuple(obj.PullDirection), bool(obj.RayCheck),
+            obj.RayDeflection.Value)
 
 
 def _compute(obj, progress=None):
@@ -183,9 +196,10 @@ def _compute(obj, progress=None):
     from mfgeom.app import gauss_map
     t0 = time.perf_counter()
     warnings = []
-    faces, adjacency, _ = gauss_map.part_gauss(obj.Source, math.radians(obj.Deflection.Value),
-                                               face_names=list(obj.Faces) or None,
-                                               **_warnings_arg(gauss_map, warnings))
+    faces, adjacency, shape = gauss_map.part_gauss(obj.Source,
+                                                   math.radians(obj.Deflection.Value),
+                                                   face_names=list(obj.Faces) or None,
+                                                   **_warnings_arg(gauss_map, warnings))
     t1 = time.perf_counter()
     if progress is not None:
         progress.next()
@@ -193,10 +207,31 @@ def _compute(obj, progress=None):
                      obj.Weighting.lower(), obj.AllFaces, obj.AngularTolerance,
                      _tuple(obj.PullDirection))
     t2 = time.perf_counter()
+    timings = {"gauss_maps": t1 - t0, "parting": t2 - t1}
+    if obj.Mode == "Mould" and obj.RayCheck and result.direction is not None:
+        run_ray_check(result, faces, shape, obj.RayDeflection.Value)
+        timings["ray_check"] = time.perf_counter() - t2
     if progress is not None:
         progress.next()
     return {"key": _options_key(obj), "faces": faces, "result": result,
-            "timings": {"gauss_maps": t1 - t0, "parting": t2 - t1}, "warnings": warnings}
+            "timings": timings, "warnings": warnings}
+
+
+def ray_deflection(shape, deflection=0.0):
+    """The ray check's tessellation deflection (mm): ``deflection`` if > 0, else 1/500 of
+    the shape's bounding-box diagonal (at least 1e-3 mm)."""
+    if deflection > 0:
+        return float(deflection)
+    return max(1e-3, shape.BoundBox.DiagonalLength / 500.0)
+
+
+def run_ray_check(result, faces, shape, deflection=0.0):
+    """The ray check (:mod:`mfgeom.app.ray_check`) of a Mould result on ``shape`` (global,
+    as gauss_map analysed it), applied to ``result`` (:func:`mfgeom.parting.apply_ray_check`)."""
+    from mfgeom import parting
+    from mfgeom.app import ray_check
+    rays = ray_check.ray_check(shape, result.direction, ray_deflection(shape, deflection))
+    parting.apply_ray_check(result, faces, {f"Face{r.face + 1}": r for r in rays})
 
 
 def _warnings_arg(gauss_map, warnings):
@@ -295,7 +330,7 @@ def _store(obj, r, faces, nfaces):
              else -1 for f in faces]
     empty = ("UncoveredFaces", "CoreFaces", "CavityFaces", "InsufficientDraftFaces",
              "ZeroDraftFaces", "SideCores", "Setups", "UnresolvedFaces", "PositiveDraftFaces",
-             "NegativeDraftFaces", "StraddleFaces")
+             "NegativeDraftFaces", "StraddleFaces", "ShadowedFaces")
     for prop in empty:
         setattr(obj, prop, [])
     obj.SideCoreDirections = []
@@ -331,6 +366,7 @@ def _store(obj, r, faces, nfaces):
         obj.CavityFaces = _names(faces, [f for f, x in enumerate(r.face_role) if x == "cavity"])
         obj.InsufficientDraftFaces = _names(faces, r.insufficient_draft_faces)
         obj.ZeroDraftFaces = _names(faces, r.zero_draft_faces)
+        obj.ShadowedFaces = _names(faces, r.shadowed_faces)
         for i, a in zip(index, r.face_angle):
             if 0 <= i < nfaces:
                 angles[i] = math.degrees(a)

@@ -93,6 +93,8 @@ def result_text(obj):
         zero = set(obj.ZeroDraftFaces)
         if zero:
             lines.append(f"Zero draft: {listing(obj.ZeroDraftFaces)}")
+        if getattr(obj, "ShadowedFaces", None):
+            lines.append(f"Blocked by rays (shadowed): {listing(obj.ShadowedFaces)}")
         below = [f for f in obj.InsufficientDraftFaces if f not in zero]
         if below:
             lines.append(f"Insufficient draft: {listing(below)}")

@@ -30,6 +30,7 @@ import math
 import numpy as np
 
 from mfgeom import palette
+from mfgeom.app.ray_check import triangles_by_face
 from mfgeom.gui.view_base import PanelViewProvider
 
 MODES = ("Result", "Part", "Sphere", "Surfaces")
@@ -158,6 +159,8 @@ def face_colors(obj, nfaces):
         paint(obj.CavityFaces, palette.CAVITY_SIDE)
         paint(obj.UncoveredFaces, palette.UNDERCUT)
         paint(obj.InsufficientDraftFaces, INSUFFICIENT_DRAFT)
+        # the ray check found them blocked: undercuts the normals cannot see
+        paint(getattr(obj, "ShadowedFaces", []), palette.UNDERCUT)
         paint(obj.UnresolvedFaces, NO_DIRECTION)
     else:
         for k, entry in enumerate(obj.Setups, 1):
@@ -174,40 +177,6 @@ def surface_colors(obj, nfaces):
             if 0 <= i < nfaces:
                 cols[i] = SURFACE_COLORS[k % len(SURFACE_COLORS)]
     return cols
-
-
-def triangles_by_face(shape, deflection, angular=0.5):
-    """(points (n, 3), triangles (m, 3), face index of each triangle) of ``shape``.
-    MeshPart meshes the whole shape with one segment per face, in face order: ~8x
-    faster than Face.tessellate face by face, the fallback (a plate with 225 holes, 456
-    faces: 0.43 s against 3.5 s).  ``angular`` (rad): Part's own default, 28.6 deg; 0.25
-    doubled the triangles and tripled the time, and smooth shading hides the facets."""
-    try:
-        import MeshPart
-        mesh = MeshPart.meshFromShape(Shape=shape, LinearDeflection=deflection,
-                                      AngularDeflection=angular, Relative=False,
-                                      Segments=True)
-        if mesh.countSegments() == len(shape.Faces):
-            points, tris = mesh.Topology
-            pts = np.array([(p.x, p.y, p.z) for p in points], dtype=np.float64).reshape(-1, 3)
-            tri = np.asarray(tris, dtype=np.int32).reshape(-1, 3)
-            own = np.zeros(len(tri), dtype=np.int32)
-            for k in range(mesh.countSegments()):
-                own[np.asarray(mesh.getSegment(k), dtype=np.int64)] = k
-            return pts, tri, own
-    except ImportError:
-        pass
-    points, tris, owner, base = [], [], [], 0
-    for i, face in enumerate(shape.Faces):
-        p, t = face.tessellate(deflection)
-        points.append(np.array([(v.x, v.y, v.z) for v in p], dtype=np.float64).reshape(-1, 3))
-        if t:
-            tris.append(np.asarray(t, dtype=np.int32) + base)
-            owner.append(np.full(len(t), i, dtype=np.int32))
-        base += len(p)
-    return (np.vstack(points) if points else np.zeros((0, 3)),
-            np.vstack(tris) if tris else np.zeros((0, 3), dtype=np.int32),
-            np.concatenate(owner) if owner else np.zeros(0, dtype=np.int32))
 
 
 def arrows_of(obj, shape):
