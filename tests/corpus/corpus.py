@@ -20,10 +20,15 @@ for a FreeCAD document every solid of its result objects, in global coordinates.
 """
 
 import gzip
+import json
 import os
+import resource
+import select
 import shutil
+import signal
 import sys
 import tempfile
+import time
 from dataclasses import dataclass
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -223,6 +228,65 @@ def face_kinds(shapes):
             name = type(f.Surface).__name__
             out[name] = out.get(name, 0) + 1
     return out
+
+
+def _vm_limit(memory_gb):
+    """Address-space limit for a child: the current size plus ``memory_gb``."""
+    with open("/proc/self/status") as f:
+        size_kb = next(int(line.split()[1]) for line in f if line.startswith("VmSize:"))
+    return size_kb * 1024 + int(memory_gb * 2**30)
+
+
+def run_isolated(work, timeout, memory_gb=3.0):
+    """Runs ``work(emit)`` in a forked child with an address-space limit (its size +
+    ``memory_gb``), killed after ``timeout`` s: one part that hangs or exhausts memory
+    does not take the others with it (as the CLI batch runs one worker per part).
+    ``emit(dict)`` sends a JSON-able message to the parent at once (so the last one
+    tells where a killed child was).  Returns (messages, wall seconds, status: "ok",
+    "timeout" or "died: signal N / exit N")."""
+    rfd, wfd = os.pipe()
+    limit = _vm_limit(memory_gb)
+    t0 = time.perf_counter()
+    pid = os.fork()
+    if pid == 0:   # child: never returns
+        os.close(rfd)
+        rc = 0
+        try:
+            resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+            out = os.fdopen(wfd, "w")
+
+            def emit(msg):
+                out.write(json.dumps(msg) + "\n")
+                out.flush()
+            work(emit)
+            out.close()
+        except BaseException:  # noqa: BLE001 - reported as the exit status
+            rc = 3
+        os._exit(rc)
+    os.close(wfd)
+    messages, buf, status = [], b"", "ok"
+    deadline = t0 + timeout
+    while True:
+        left = deadline - time.perf_counter()
+        if left <= 0:
+            os.kill(pid, signal.SIGKILL)
+            status = "timeout"
+            break
+        ready, _, _ = select.select([rfd], [], [], left)
+        if not ready:
+            continue
+        chunk = os.read(rfd, 65536)
+        if not chunk:
+            break
+        buf += chunk
+        *lines, buf = buf.split(b"\n")
+        messages += [json.loads(x) for x in lines if x]
+    os.close(rfd)
+    _, code = os.waitpid(pid, 0)
+    if status == "ok" and code != 0:
+        status = (f"died: signal {os.WTERMSIG(code)}" if os.WIFSIGNALED(code)
+                  else f"died: exit {os.WEXITSTATUS(code)}")
+    return messages, time.perf_counter() - t0, status
 
 
 # ------------------------------------------------------------------ maintenance
