@@ -65,6 +65,15 @@ def _where(exc):
     return f"{os.path.relpath(f.filename, REPO)}:{f.lineno} in {f.name}"
 
 
+def _chain(exc):
+    """The traceback's frames as 'file:line function' joined by ' > ' (outermost first,
+    this file's frames left out)."""
+    frames = [f for f in traceback.extract_tb(exc.__traceback__)
+              if os.path.abspath(f.filename) != os.path.abspath(__file__)]
+    return " > ".join(f"{os.path.relpath(f.filename, REPO)}:{f.lineno} {f.name}"
+                      for f in frames if f.name not in ("<genexpr>", "<listcomp>"))
+
+
 def _error(exc):
     return f"{type(exc).__name__}: {' '.join(str(exc).split())[:200]} (at {_where(exc)})"
 
@@ -121,9 +130,25 @@ class PartRun:
     def stage(self, text):
         self.emit({"stage": text})
 
-    def failure(self, label, stage, exc):
-        tb = "".join(traceback.format_exception(type(exc), exc, exc.__traceback__)[-4:])
-        self.emit({"problem": f"{label}: {stage}: {_error(exc)}", "traceback": tb})
+    def failure(self, label, stage, exc, extra=""):
+        self.emit({"problem": f"{label}: {stage}: {_error(exc)}{extra}",
+                   "traceback": _chain(exc)})
+
+    @staticmethod
+    def failing_faces(solid, limit=3):
+        """' (FaceN Surface: error, ...)' for the first faces whose own Gauss map
+        fails: which face of a failed part_gauss is at fault."""
+        bad = []
+        for i, face in enumerate(solid.Faces):
+            try:
+                gauss_map.face_gauss(face)
+            except Exception as exc:  # noqa: BLE001
+                bad.append(f"Face{i + 1} {type(face.Surface).__name__}: "
+                           f"{type(exc).__name__}")
+        if not bad:
+            return ""
+        more = f", {len(bad) - limit} more" if len(bad) > limit else ""
+        return f" [faces: {', '.join(bad[:limit])}{more}]"
 
     def run(self):
         part = self.part
@@ -163,7 +188,7 @@ class PartRun:
             faces, adj, _ = gauss_map.part_gauss(solid)
             t[0] += time.perf_counter() - t0
         except Exception as exc:  # noqa: BLE001
-            self.failure(label, "Gauss maps", exc)
+            self.failure(label, "Gauss maps", exc, self.failing_faces(solid))
             return
         results = {}
         for mode in MODES:
@@ -261,7 +286,7 @@ class Corpus(unittest.TestCase):
         for m in problems:
             FAILURES.append(m["problem"])
             if "traceback" in m:
-                FAILURES.append("    " + m["traceback"].strip().replace("\n", "\n    "))
+                FAILURES.append("    at " + m["traceback"])
         if status != "ok":
             FAILURES.append(lines[-1])
         if lines:
