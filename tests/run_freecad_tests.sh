@@ -100,6 +100,15 @@ if [ $medial_rc -ne 0 ] || ! grep -qE "^freecad-medial: [0-9]+ passed, 0 failed$
   failed=1
 fi
 
+echo "--- FreeCAD corpus of real parts (freecadcmd)"
+corpus_log="$FREECAD_USER_HOME/corpus.log"
+freecadcmd tests/freecad/test_corpus_app.py > "$corpus_log" 2>&1
+corpus_rc=$?
+grep -E "^(FAIL|ERROR): |^corpus-failure: |^corpus: |^freecad-corpus: " "$corpus_log"
+if [ $corpus_rc -ne 0 ] || ! grep -qE "^freecad-corpus: [0-9]+ passed, 0 failed$" "$corpus_log"; then
+  echo "corpus tests: FAILED (exit $corpus_rc)"; failed=1
+fi
+
 echo "--- FreeCAD GUI tests (freecad under xvfb)"
 bash tests/gui/run_gui_tests.sh || failed=1
 
