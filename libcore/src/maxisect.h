@@ -15,15 +15,17 @@
 #include "mfg_internal.h"
 #include "sphere.h"
 
-/* Coverage tolerance (radians): a set contains the directions within this distance. */
+/* Coverage tolerance (radians): a set contains the directions within this distance; a
+ * POLYGON contains x when x.n >= -TOL for each inward edge normal n (its edges moved out
+ * by TOL), which reaches further beyond a sharp vertex (maxisect_sets.c, bounding_cap). */
 #define TOL MFG_SPHERE_TOL
 
 /* Slack in the cosine comparisons of bounding caps (which only ever skip work): far
  * above the rounding of a dot product of unit vectors (~1e-16). */
 #define CAP_SLACK_COS 1e-12
 
-/* Caps are widened by this much (radians) so the float tests that skip far sets or
- * cells never skip one within the coverage tolerance. */
+/* Caps are widened by this much (radians), beyond the tolerance's reach, so the float
+ * tests that skip far sets or cells never skip one within the coverage tolerance. */
 #define CAP_WIDEN 1e-9
 
 /* A region thinner than this (radians; 10 TOL) is the arc or point it thickens, and a
