@@ -452,6 +452,9 @@ def part_poles(normals, tol):
 # Draft maps are polygons inscribed in small circles (within 1e-4 rad, mfgeom.h), so
 # their regions' margins differ by that much between a part and its rotated copy.
 DRAFT_TIE = 2e-4
+# A direction counts as in a map within this (sin of an angle): the library's own
+# angular tolerance MFG_SPHERE_TOL is 1e-10 rad
+CONTAINS_TOL = 1e-9
 # Projected areas within this fraction of each other are a tie (then margins decide)
 PREFER_TIE = 1e-6
 
@@ -509,23 +512,51 @@ def _best_region(maps, owner, weights, refs=(), tie_margin=1e-9, prefer=None):
     # library's order, which depends on coordinates, so ties (symmetric parts) break the
     # same way when the part is rotated.
     top = max(c[0] for c in cands)
-    cands = [c for c in cands if c[0] >= top * (1 - 1e-12)]
+    # explicit candidates: (weight, margin, centre, cover map indices)
+    heavy = [c for c in cands if c[0] >= top * (1 - 1e-12)]
+    cands = [(c[0], c[1], _unit(np.asarray(regions.centres[c[2]], dtype=np.float64)),
+              tuple(regions.covers[c[2]])) for c in heavy]
+    # An arc region (margin 0: e.g. the great circle of directions along a slot) has
+    # no rotation-invariant centre: the library's depends on coordinates.  Its points
+    # nearest the part's reference axes (and, for an open arc, its ends) compete too.
+    for c in heavy:
+        i = c[2]
+        if regions.kinds[i] != "edge":
+            continue
+        pts = np.asarray(regions.regions[i], dtype=np.float64).reshape(-1, 3)
+        cover = tuple(regions.covers[i])
+        extra = [] if regions.closed[i] else [pts[0], pts[-1]]
+        if len(pts) >= 2:
+            pole = np.cross(pts[0], pts[len(pts) // 2 if len(pts) > 2 else 1])
+            if np.linalg.norm(pole) > 1e-9:
+                pole = _unit(pole)
+                for r in refs:
+                    q = np.asarray(r) - (np.asarray(r) @ pole) * pole
+                    if np.linalg.norm(q) > 1e-9:
+                        extra += [_unit(q), -_unit(q)]
+        for q in extra:
+            q = _unit(q)
+            if all(maps[k].contains(q, tol=CONTAINS_TOL)[0] for k in cover):
+                cands.append((c[0], c[1], q, cover))
+    # A point region of maps that are antipodal point pairs (a through bore, a slot
+    # open at both ends) is reported at one of its two points, whichever the library's
+    # coordinate order meets first; the other point is as good when every cover map
+    # holds it, so both compete and the keys below decide (the same for a rotated part).
+    for w, m, c, cover in list(cands):
+        if m <= tie_margin and all(maps[k].contains(-c, tol=CONTAINS_TOL)[0] for k in cover):
+            cands.append((w, m, -c, cover))
     if prefer is not None and len(cands) > 1:
-        score = {c[2]: prefer(np.asarray(regions.centres[c[2]], dtype=np.float64))
-                 for c in cands}
-        most = max(score.values())
-        cands = [c for c in cands if score[c[2]] >= most * (1 - PREFER_TIE)]
+        score = [prefer(c[2]) for c in cands]
+        most = max(score)
+        cands = [c for c, sc in zip(cands, score) if sc >= most * (1 - PREFER_TIE)]
     widest = max(c[1] for c in cands)
     cands = [c for c in cands if c[1] >= widest - tie_margin]
 
     def key(c):
-        d = np.asarray(regions.centres[c[2]], dtype=np.float64)
-        return (sorted({owner[k] for k in regions.covers[c[2]]}),
-                tuple(-round(float(d @ r), 3) for r in refs))
-    i = min(cands, key=key)[2]
-    margin = float(regions.margins[i])
-    covered = {owner[k] for k in regions.covers[i]}
-    return _unit(np.asarray(regions.centres[i], dtype=np.float64)), margin, covered
+        return (sorted({owner[k] for k in c[3]}),
+                tuple(-round(float(c[2] @ r), 6) for r in refs))
+    w, margin, centre, cover = min(cands, key=key)
+    return centre, float(margin), {owner[k] for k in cover}
 
 
 def _greedy_cover(surfaces, candidates, draft, tol, memo=None):
