@@ -244,9 +244,11 @@ _NET_MAX_PATCHES = 4096  # patches of one face, at most (then no more subdivisio
 
 def _non_rational(geom):
     """True when the B-spline / Bezier geometry's weights are all equal (a common factor
-    cancels from the derivatives' directions)."""
+    cancels from the derivatives' directions) up to 1e-12 relative: OCCT's lofts give
+    weights such as 0.9999999999999998, whose effect on a normal's direction is of that
+    order (far below any tolerance of the analysis)."""
     w = np.asarray(geom.getWeights(), dtype=np.float64).ravel()
-    return bool(w.size == 0 or np.all(w == w[0]))
+    return bool(w.size == 0 or (w.min() > 0 and w.max() - w.min() <= 1e-12 * w.max()))
 
 
 def _poles(geom):
@@ -413,19 +415,32 @@ class _Cone:
     most new vectors before the hull is taken."""
 
     def __init__(self):
-        self.rays = np.zeros((0, 3))
+        self._rays = np.zeros((0, 3))
+        self._pending = []
         self.vm = None
 
     def add(self, x):
         from mfgeom import core
         if not len(x):
             return
-        if self.vm is not None and self.vm.kind == "polygon":
+        if self.vm is not None and self.vm.kind != "polygon":
+            # no half-space holds the cone (its map is empty): nothing to prune with;
+            # the extreme rays are taken once, when asked for
+            self._pending.append(x)
+            return
+        if self.vm is not None:
             x = x[~np.all(x @ self.vm.vertices.T > 1e-12, axis=1)]
             if not len(x):
                 return
-        self.rays = _cone_rays(np.concatenate([self.rays, x]))
-        self.vm = core.visibility_map(self.rays)
+        self._rays = _cone_rays(np.concatenate([self._rays, x]))
+        self.vm = core.visibility_map(self._rays)
+
+    @property
+    def rays(self):
+        if self._pending:
+            self._rays = _cone_rays(np.concatenate([self._rays] + self._pending))
+            self._pending = []
+        return self._rays
 
     def seeing_directions(self):
         """Directions d with d.n >= 0 for every vector n of the cone: the vertices and
