@@ -397,17 +397,6 @@ def _unit_rows(c, floor):
         return np.where((n > floor)[..., None], c / n[..., None], np.nan)
 
 
-def _fibonacci(n):
-    i = np.arange(n) + 0.5
-    z = 1 - 2 * i / n
-    r = np.sqrt(1 - z * z)
-    t = math.pi * (1 + 5 ** 0.5) * i
-    return np.stack([r * np.cos(t), r * np.sin(t), z], axis=1)
-
-
-_SUPPORT_DIRS = _fibonacci(256)
-
-
 class _Cone:
     """The convex cone of unit vectors added so far, kept as its extreme rays and, while
     it lies in an open half-space, the vertices of its visibility map (the library's):
@@ -443,17 +432,22 @@ class _Cone:
         return self._rays
 
     def seeing_directions(self):
-        """Directions d with d.n >= 0 for every vector n of the cone: the vertices and
-        edge midpoints of its visibility map and the _SUPPORT_DIRS inside it; None when
-        the map is empty (no direction sees them all: a wider cone changes nothing)."""
+        """Directions d with d.n >= 0 for every vector n of the cone: the vertices of its
+        visibility map, their and its edges' midpoints, its centre (the vertices' mean)
+        and the midpoints between the centre and those (all from the map alone, so the
+        same for a rotated part); None when the map is empty (no direction sees all the
+        vectors: a wider cone changes nothing then)."""
         if self.vm is None or self.vm.kind == "null" or not len(self.vm.vertices):
             return None
         v = self.vm.vertices
-        mids = v + np.roll(v, -1, axis=0)
-        mids = mids[np.linalg.norm(mids, axis=1) > 1e-9]
-        mids /= np.linalg.norm(mids, axis=1)[:, None]
-        inside = _SUPPORT_DIRS[(_SUPPORT_DIRS @ self.rays.T).min(axis=1) >= 0]
-        return np.concatenate([v, mids, inside])
+        pts = [v, v + np.roll(v, -1, axis=0)]
+        centre = v.sum(axis=0)
+        if np.linalg.norm(centre) > 1e-9:
+            centre = centre / np.linalg.norm(centre)
+            pts += [centre[None], pts[0] + centre, _unit_rows(pts[1], 1e-30) + centre]
+        w = np.concatenate(pts)
+        w = w[np.linalg.norm(w, axis=1) > 1e-9]
+        return w / np.linalg.norm(w, axis=1)[:, None]
 
 
 def _normal_patch_weights(p, q):
