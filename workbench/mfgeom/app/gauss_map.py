@@ -378,16 +378,31 @@ def _net_surface(surf, box):
 
 def _split(nets, axis):
     """de Casteljau halves of Bezier nets (N, p+1, q+1, 3) along axis 1 (u) or 2 (v)."""
-    a = np.moveaxis(nets, axis, 1)
-    first, last = [a[:, 0]], [a[:, -1]]
+    a = nets if axis == 1 else nets.swapaxes(1, 2)
+    deg = a.shape[1] - 1
+    left = np.empty_like(a)
+    right = np.empty_like(a)
+    left[:, 0] = a[:, 0]
+    right[:, deg] = a[:, deg]
     cur = a
-    while cur.shape[1] > 1:
+    for r in range(1, deg + 1):
         cur = (cur[:, :-1] + cur[:, 1:]) * 0.5
-        first.append(cur[:, 0])
-        last.append(cur[:, -1])
-    left = np.stack(first, axis=1)
-    right = np.stack(last[::-1], axis=1)
-    return np.moveaxis(left, 1, axis), np.moveaxis(right, 1, axis)
+        left[:, r] = cur[:, 0]
+        right[:, deg - r] = cur[:, -1]
+    if axis == 1:
+        return left, right
+    return left.swapaxes(1, 2), right.swapaxes(1, 2)
+
+
+def _cross(a, b):
+    """np.cross of (..., 3) arrays, without its per-call overhead."""
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
 
 
 def _unit_rows(c, floor):
@@ -489,12 +504,13 @@ def _net_normals(nets, deflection):
     :meth:`_Cone.seeing_directions`), up to _NET_MAX_DEPTH halvings or _NET_MAX_PATCHES
     patches.  Patches inside the face's cone are not refined: only the cone's boundary
     matters.  Zero crosses (collapsed edges) are dropped; the returned set is the
-    extreme rays of the accepted crosses (and of the exact normals, which they span)."""
+    extreme rays of the accepted patches' control vectors (or, when no direction sees
+    all exact normals, those: their cone is then the whole space)."""
     if nets.shape[1] < 2 or nets.shape[2] < 2:
         return np.zeros((0, 3))
     scale = float(np.ptp(nets.reshape(-1, 3), axis=0).max()) or 1.0
     floor = (1e-12 * scale) ** 2   # crosses are products of two differences
-    out, truth = _Cone(), _Cone()
+    out, truth = [], _Cone()
     weights = _normal_patch_weights(nets.shape[1] - 1, nets.shape[2] - 1)
     accepted = 0
     cur = nets
@@ -502,12 +518,12 @@ def _net_normals(nets, deflection):
         k = len(cur)
         du = cur[:, 1:] - cur[:, :-1]            # (k, p, q+1, 3)
         dv = cur[:, :, 1:] - cur[:, :, :-1]      # (k, p+1, q, 3)
-        raw = np.cross(du.reshape(k, -1, 1, 3), dv.reshape(k, 1, -1, 3)).reshape(k, -1, 3)
+        raw = _cross(du.reshape(k, -1, 1, 3), dv.reshape(k, 1, -1, 3)).reshape(k, -1, 3)
         crosses = _unit_rows(np.einsum("mc,kcx->kmx", weights, raw), floor)
-        corners = _unit_rows(np.stack([np.cross(du[:, 0, 0], dv[:, 0, 0]),
-                                       np.cross(du[:, -1, 0], dv[:, -1, 0]),
-                                       np.cross(du[:, 0, -1], dv[:, 0, -1]),
-                                       np.cross(du[:, -1, -1], dv[:, -1, -1])], axis=1), floor)
+        corners = _unit_rows(np.stack([_cross(du[:, 0, 0], dv[:, 0, 0]),
+                                       _cross(du[:, -1, 0], dv[:, -1, 0]),
+                                       _cross(du[:, 0, -1], dv[:, 0, -1]),
+                                       _cross(du[:, -1, -1], dv[:, -1, -1])], axis=1), floor)
         c = corners.reshape(-1, 3)
         truth.add(c[~np.isnan(c[:, 0])])
         W = truth.seeing_directions() if depth < _NET_MAX_DEPTH else None
@@ -519,7 +535,9 @@ def _net_normals(nets, deflection):
             excess = np.empty(k)
             step = max(1, 60000 // (crosses.shape[1] * len(W)))
             for i in range(0, k, step):
-                low = np.nan_to_num(crosses[i:i + step] @ W.T, nan=1.0).min(axis=1)
+                proj = crosses[i:i + step] @ W.T
+                proj[np.isnan(proj)] = 1.0   # dropped (zero) crosses
+                low = proj.min(axis=1)
                 excess[i:i + step] = (m_true[None, :]
                                       - np.arcsin(np.clip(low, -1, 1))).max(axis=1)
             bad = excess > deflection
@@ -527,14 +545,24 @@ def _net_normals(nets, deflection):
                 bad[:] = False
         accepted += int((~bad).sum())
         good = crosses[~bad].reshape(-1, 3)
-        out.add(good[~np.isnan(good[:, 0])])
+        out.append(good[~np.isnan(good[:, 0])])
         if not bad.any():
             break
         a, b = _split(cur[bad], 1)
         halves = np.concatenate([a, b])
         a, b = _split(halves, 2)
         cur = np.concatenate([a, b])
-    return out.rays
+    vm = truth.vm
+    if vm is not None and vm.kind == "null":
+        # no direction sees all the exact normals: their cone is the whole space, which
+        # holds every normal (the map is empty whatever is added)
+        return truth.rays
+    crosses = np.concatenate(out)
+    if vm is not None and vm.kind == "polygon":
+        # crosses strictly inside the exact normals' cone (which the crosses' cone holds)
+        # add nothing to it
+        crosses = crosses[~np.all(crosses @ vm.vertices.T > 1e-12, axis=1)]
+    return _cone_rays(np.concatenate([truth.rays, crosses]))
 
 
 def _hull_2d(pts):
