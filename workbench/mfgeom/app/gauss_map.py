@@ -179,28 +179,46 @@ def _arc_deviations(a, m, b):
     return np.where(nc < 1e-15, far, near)
 
 
+def _parallel_normals(face, us, v):
+    """Normals along the parallel v of a surface of revolution (cone, sphere, torus: u is
+    the angle about the axis k), at the u values ``us``: n(u) is n(u0) turned about k by
+    u - u0, i.e. c + cos(u - u0) a + sin(u - u0) b with c = (n0.k) k, a = n0 - c,
+    b = k x n0, which three OCCT normals (at u0, u0 + pi/2, u0 + pi) give exactly:
+    c = (n(u0) + n(u0 + pi)) / 2, a = n(u0) - c, b = n(u0 + pi/2) - c."""
+    us = np.asarray(us, dtype=np.float64)
+    return _parallel_from(_parallel_fit(face, float(us[0]), v), us)
+
+
+def _parallel_from(fit, us):
+    """The normals of a :func:`_parallel_normals` fit (u0, c, a, b) at ``us``."""
+    u0, c, a, b = fit
+    t = np.asarray(us, dtype=np.float64) - u0
+    return c + np.cos(t)[:, None] * a + np.sin(t)[:, None] * b
+
+
+def _parallel_fit(face, u0, v):
+    n = _normals(face, [(u0, v), (u0 + math.pi / 2, v), (u0 + math.pi, v)])
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    c = (n[0] + n[2]) * 0.5
+    return (u0, c, n[0] - c, n[1] - c)
+
+
 def _small_circle_samples(face, u0, u1, v, deflection):
     """u values along a small circle (v fixed) whose pieces deviate <= deflection from
-    great arcs; returns (us, normals at us, deviation).  Each doubling of the pieces
-    keeps the normals already evaluated: linspace(u0, u1, 2k + 1)[::2] equals
-    linspace(u0, u1, k + 1) exactly (the step is halved, a power of two), so only the
-    new samples and the new middles cost OCCT calls."""
+    great arcs; returns (us, normals at us, deviation).  The normals are those of
+    :func:`_parallel_normals` (three OCCT calls per parallel); the pieces double until
+    the deviation, measured at each piece's middle, is <= deflection."""
     ev = _evaluator(face)
     k = _pieces(u1 - u0, math.pi / 2)
-    us = np.linspace(u0, u1, k + 1)
-    a = _normals(ev, [(u, v) for u in us])
+    fit = _parallel_fit(ev, u0, v)   # the three OCCT normals, once
     while True:
-        mids = (us[:-1] + us[1:]) / 2
-        m = _normals(ev, [(u, v) for u in mids])
+        fine = np.linspace(u0, u1, 2 * k + 1)
+        n = _parallel_from(fit, fine)
+        a, m = n[::2], n[1::2]
         dev = float(_arc_deviations(a[:-1], m, a[1:]).max())
         if dev <= deflection or k >= 4096:
-            return us, a, dev
+            return fine[::2], a, dev
         k *= 2
-        finer = np.linspace(u0, u1, k + 1)
-        fresh = np.empty((k + 1, 3))
-        fresh[::2] = a
-        fresh[1::2] = _normals(ev, [(u, v) for u in finer[1::2]])
-        us, a = finer, fresh
 
 
 def face_gauss(face, deflection=DEFAULT_DEFLECTION, name="", warnings=None):
@@ -243,8 +261,8 @@ def _face_gauss(face, deflection, name):
                                                  -3 * math.pi / 4) if v0 <= c <= v1],
                       key=lambda v: abs(math.sin(v) * math.cos(v)))
         us, _, dev = _small_circle_samples(ev, u0, u1, v_worst, deflection)
-        uv = [(u, v) for u in us for v in vs]
-        return FaceGauss(_normals(ev, uv), dev, area, name)
+        normals = np.concatenate([_parallel_normals(ev, us, float(v)) for v in vs])
+        return FaceGauss(normals, dev, area, name)
     net = _net_surface(surf, (u0, u1, v0, v1))
     if net is not None:
         normals = _net_normals(net[0], deflection)
