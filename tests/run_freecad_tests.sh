@@ -50,6 +50,17 @@ if [ $parting_rc -ne 0 ] || ! grep -qE "^freecad-parting: [0-9]+ passed, 0 faile
   failed=1
 fi
 
+echo "--- FreeCAD Gaussian map tests (freecadcmd)"
+gauss_log="$FREECAD_USER_HOME/gauss_map.log"
+freecadcmd tests/freecad/test_gauss_map_app.py > "$gauss_log" 2>&1
+gauss_rc=$?
+grep -E "^(FAIL|ERROR): |^freecad-gauss-map: " "$gauss_log"
+if [ $gauss_rc -ne 0 ] || ! grep -qE "^freecad-gauss-map: [0-9]+ passed, 0 failed$" "$gauss_log" ||
+   grep -q "Traceback" "$gauss_log"; then
+  echo "gauss map tests: FAILED (exit $gauss_rc)"; grep -n -A12 "Traceback" "$gauss_log" | head -120
+  failed=1
+fi
+
 echo "--- FreeCAD clearance tests (freecadcmd)"
 clearance_log="$FREECAD_USER_HOME/clearance.log"
 freecadcmd tests/freecad/test_clearance_app.py > "$clearance_log" 2>&1

@@ -218,7 +218,7 @@ class GaussMaps(unittest.TestCase):
             face = face.copy()
             face.Placement = PLACEMENT
             g = gauss_map.face_gauss(face, name=name)
-            if name in ("plane", "cylinder"):
+            if name in ("plane", "cylinder", "bspline"):   # B-spline: its control net's bound
                 self.assertEqual(g.shrink, 0.0, name)
             else:
                 self.assertGreater(g.shrink, 0.0, name)
@@ -229,9 +229,9 @@ class GaussMaps(unittest.TestCase):
             self.assert_valid_bound(face, g)
 
     def test_cone_samples_are_the_normals_at_their_parameters(self):
-        """A cone's samples, refined by doubling with the coarser levels' normals kept,
-        are Face.normalAt at the returned parameters bit for bit (linspace of 2k + 1
-        points holds that of k + 1 exactly), and face_gauss returns them."""
+        """A cone's samples (normals along a parallel from three OCCT normals, turned
+        about the axis) are Face.normalAt at the returned parameters to rounding, and
+        face_gauss returns them."""
         face = Part.makeCone(3, 1, 4).Faces[0].copy()
         face.Placement = PLACEMENT
         u0, u1, v0, v1 = face.ParameterRange
@@ -240,11 +240,10 @@ class GaussMaps(unittest.TestCase):
         self.assertGreater(len(us), 17)   # several doublings
         self.assertLessEqual(dev, 1e-3)
         ref = np.array([tuple(face.normalAt(float(u), vm)) for u in us])
-        np.testing.assert_array_equal(normals, ref)
+        np.testing.assert_allclose(normals, ref, rtol=0, atol=1e-14)
         np.testing.assert_array_equal(us, np.linspace(u0, u1, len(us)))
-        # FaceGauss scales its normals to unit length, the same operation on both
-        np.testing.assert_array_equal(gauss_map.face_gauss(face).normals,
-                                      parting.FaceGauss(ref).normals)
+        np.testing.assert_allclose(gauss_map.face_gauss(face).normals,
+                                   parting.FaceGauss(ref).normals, rtol=0, atol=1e-14)
 
     def test_every_example_face(self):
         for name in EXAMPLES:
@@ -376,7 +375,11 @@ class Examples(unittest.TestCase):
 
     def test_bspline_part(self):
         faces, _, _ = gauss_map.part_gauss(example("bspline_part"))
-        self.assertTrue(any(0 < f.shrink <= gauss_map.DEFAULT_DEFLECTION for f in faces))
+        # the B-spline top is bounded by its control net (exact cone bound, shrink 0)
+        shape = example("bspline_part")
+        spline = [g for f, g in zip(shape.Faces, faces) if isinstance(f.Surface, Part.BSplineSurface)]
+        self.assertTrue(spline)
+        self.assertTrue(all(g.shrink == 0.0 for g in spline))
         self.check_mould("bspline_part", Z, (7.0, 7.0), [], [])
         self.check_nc("bspline_part", [(Z, 2)])
 
@@ -392,14 +395,16 @@ class RandomRotations(unittest.TestCase):
         out = []
         # sampled faces' maps are draft polygons too: their regions move by ~1e-8
         exact = 1e-9 if all(f.shrink == 0 for f in faces) else 1e-6
+        surfaces = parting.build_surfaces(faces, adj)
         for draft, atol in ((0.0, exact), (math.radians(3), 1e-4)):
             r = parting.mould_parting(faces, adj, draft_angle=draft)
             out.append(((r.covered, r.undercuts, r.insufficient_draft, r.unresolved,
                          [c.surfaces for c in r.side_cores]),
-                        [R.T @ r.direction] + [R.T @ c.direction for c in r.side_cores], atol))
+                        [R.T @ r.direction] + [R.T @ c.direction for c in r.side_cores], atol,
+                        (draft, [R.T @ surfaces[i].normals.T for i in r.covered])))
         nc = parting.nc_setups(faces, adj)
         out.append((([s.surfaces for s in nc.setups], nc.unresolved),
-                    [R.T @ s.direction for s in nc.setups], 1e-6))
+                    [R.T @ s.direction for s in nc.setups], 1e-6, None))
         return out
 
     def test_examples(self):
@@ -419,9 +424,21 @@ class RandomRotations(unittest.TestCase):
                         moved.Placement = pl
                     got = self.answer(moved, rot_matrix(pl))
                     for want, have in zip(reference, got):
-                        (want_sets, want_dirs, atol), (got_sets, got_dirs, _) = want, have
+                        (want_sets, want_dirs, atol, ref), (got_sets, got_dirs, _, _) = want, have
                         with self.subTest(part=name, rotation=k, how=how):
                             self.assertEqual(got_sets, want_sets)
+                            if (ref is not None and ref[0] > 0 and len(got_dirs) == 1
+                                    and not np.allclose(got_dirs, want_dirs, atol=atol)):
+                                # with a draft, equally good directions of a symmetric part
+                                # (bspline_part: mirror images) are a tie that rounding of
+                                # the normals breaks either way: the direction found must
+                                # demould the reference's covered surfaces with the draft
+                                draft, covered_normals = ref
+                                for n in covered_normals:
+                                    dots = got_dirs[0] @ n
+                                    self.assertTrue(dots.min() >= math.sin(draft) - 1e-4
+                                                    or dots.max() <= -math.sin(draft) + 1e-4)
+                                continue
                             np.testing.assert_allclose(got_dirs, want_dirs, atol=atol)
 
 
