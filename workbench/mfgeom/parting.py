@@ -881,7 +881,7 @@ def _entry(entry, faces):
 
 
 def report(result, faces, draft_angle=0.0, weighting="count", all_faces=False,
-           tol=DEFAULT_TOL, source="", timings=None):
+           tol=DEFAULT_TOL, source="", timings=None, warnings=()):
     """The result of :func:`mould_parting` or :func:`nc_setups` as a plain dict (JSON
     types only), for the Report view, the exports and the CLI.
 
@@ -901,7 +901,9 @@ def report(result, faces, draft_angle=0.0, weighting="count", all_faces=False,
     NC3Axis "setup", "unresolved", "not_considered"."""
     r = result
     if isinstance(r, DraftAnalysis):
-        return _draft_report(r, faces, tol, source, timings)
+        rep = _draft_report(r, faces, tol, source, timings)
+        rep["warnings"] = [str(w) for w in warnings]
+        return rep
 
     def names(indices):
         return [faces[f].name or f"#{f}" for f in sorted(indices)]
@@ -1002,6 +1004,9 @@ def report(result, faces, draft_angle=0.0, weighting="count", all_faces=False,
         rep["setups"] = [_entry(c, faces) for c in r.setups]
     if timings:
         rep["timings_s"] = {str(k): float(v) for k, v in timings.items()}
+    # faces skipped or approximated by the Gauss maps (e.g. no normal at a singular
+    # point): the part is analysed all the same
+    rep["warnings"] = [str(w) for w in warnings]
     return rep
 
 
@@ -1086,6 +1091,10 @@ def report_text(rep):
                          f"deg: {listing(c['faces'])}")
     if rep["unresolved_faces"]:
         lines.append(f"  no single direction: {listing(rep['unresolved_faces'])}")
+    for w in rep.get("warnings", [])[:SUMMARY_FACES]:
+        lines.append(f"  warning: {w}")
+    if len(rep.get("warnings", [])) > SUMMARY_FACES:
+        lines.append(f"  ... (+{len(rep['warnings']) - SUMMARY_FACES} more warnings)")
     for note in rep["notes"]:
         lines.append(f"  note: {note}")
     if rep.get("timings_s"):

@@ -160,8 +160,9 @@ def analyse_source(source, face_names, label="", mode="Mould", draft_deg=0.0,
     ``uncovered_faces`` (the considered faces the main direction does not cover, as the
     feature's UncoveredFaces)."""
     t0 = time.perf_counter()
+    warnings = []   # faces skipped or approximated: the part is analysed all the same
     faces, adj, _ = gauss_map.part_gauss(source, math.radians(deflection_deg),
-                                         face_names=face_names)
+                                         face_names=face_names, warnings=warnings)
     t1 = time.perf_counter()
     draft = math.radians(draft_deg)
     if mode == "Mould":
@@ -172,7 +173,8 @@ def analyse_source(source, face_names, label="", mode="Mould", draft_deg=0.0,
     t2 = time.perf_counter()
     rep = parting.report(r, faces, draft_angle=draft, weighting=weighting,
                          all_faces=all_faces, tol=tol, source=label,
-                         timings={"gauss_maps": t1 - t0, "analysis": t2 - t1})
+                         timings={"gauss_maps": t1 - t0, "analysis": t2 - t1},
+                         warnings=warnings)
     covered = set(r.covered)
     uncovered = [f for s in r.considered if s not in covered for f in r.surfaces[s].faces]
     return {"name": label, **rep,

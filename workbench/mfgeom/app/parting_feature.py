@@ -199,7 +199,7 @@ def _compute(obj, progress=None):
     faces, adjacency, shape = gauss_map.part_gauss(obj.Source,
                                                    math.radians(obj.Deflection.Value),
                                                    face_names=list(obj.Faces) or None,
-                                                   **_warnings_arg(gauss_map, warnings))
+                                                   warnings=warnings)
     t1 = time.perf_counter()
     if progress is not None:
         progress.next()
@@ -234,14 +234,6 @@ def run_ray_check(result, faces, shape, deflection=0.0):
     parting.apply_ray_check(result, faces, {f"Face{r.face + 1}": r for r in rays})
 
 
-def _warnings_arg(gauss_map, warnings):
-    """part_gauss's ``warnings`` argument where it has one (faces skipped or
-    approximated are reported there)."""
-    import inspect
-    params = inspect.signature(gauss_map.part_gauss).parameters
-    return {"warnings": warnings} if "warnings" in params else {}
-
-
 def _tuple(v):
     return (float(v.x), float(v.y), float(v.z))
 
@@ -263,7 +255,8 @@ def feature_report(obj):
     faces, result, timings = analysis_of(obj)
     return parting.report(result, faces, math.radians(obj.DraftAngle.Value),
                           obj.Weighting.lower(), bool(obj.AllFaces), obj.AngularTolerance,
-                          source=obj.Source.Label if obj.Source else "", timings=timings)
+                          source=obj.Source.Label if obj.Source else "", timings=timings,
+                          warnings=list(obj.Warnings))
 
 
 def sphere_maps(obj):
