@@ -39,49 +39,27 @@ elif grep -q "Traceback" "$app_log"; then
   echo "app tests: traceback in the log:"; grep -n -A12 "Traceback" "$app_log"; failed=1
 fi
 
-echo "--- FreeCAD parting tests (freecadcmd)"
-parting_log="$FREECAD_USER_HOME/parting.log"
-freecadcmd tests/freecad/test_parting_app.py > "$parting_log" 2>&1
-parting_rc=$?
-grep -E "^(FAIL|ERROR): |^freecad-parting: " "$parting_log"
-if [ $parting_rc -ne 0 ] || ! grep -qE "^freecad-parting: [0-9]+ passed, 0 failed$" "$parting_log" ||
-   grep -q "Traceback" "$parting_log"; then
-  echo "parting tests: FAILED (exit $parting_rc)"; grep -n -A12 "Traceback" "$parting_log" | head -120
-  failed=1
-fi
+# app_suite TITLE FILE LABEL [EXTRA]: runs tests/freecad/FILE with freecadcmd; passes when
+# it exits 0, prints "LABEL: N passed, 0 failed" and (unless EXTRA is "tracebacks-ok") logs
+# no traceback.  The failures and summary lines are echoed.
+app_suite() {
+  local title=$1 file=$2 label=$3 extra=${4:-} log rc
+  echo "--- FreeCAD $title (freecadcmd)"
+  log="$FREECAD_USER_HOME/${file%.py}.log"
+  freecadcmd "tests/freecad/$file" > "$log" 2>&1
+  rc=$?
+  grep -E "^(FAIL|ERROR): |^corpus-failure: |^corpus: |^[a-z]+ library: |^$label: " "$log"
+  if [ $rc -ne 0 ] || ! grep -qE "^$label: [0-9]+ passed, 0 failed$" "$log" ||
+     { [ "$extra" != "tracebacks-ok" ] && grep -q "Traceback" "$log"; }; then
+    echo "$title: FAILED (exit $rc)"; grep -n -A12 "Traceback" "$log" | head -120
+    failed=1
+  fi
+}
 
-echo "--- FreeCAD Gaussian map tests (freecadcmd)"
-gauss_log="$FREECAD_USER_HOME/gauss_map.log"
-freecadcmd tests/freecad/test_gauss_map_app.py > "$gauss_log" 2>&1
-gauss_rc=$?
-grep -E "^(FAIL|ERROR): |^freecad-gauss-map: " "$gauss_log"
-if [ $gauss_rc -ne 0 ] || ! grep -qE "^freecad-gauss-map: [0-9]+ passed, 0 failed$" "$gauss_log" ||
-   grep -q "Traceback" "$gauss_log"; then
-  echo "gauss map tests: FAILED (exit $gauss_rc)"; grep -n -A12 "Traceback" "$gauss_log" | head -120
-  failed=1
-fi
-
-echo "--- FreeCAD clearance tests (freecadcmd)"
-clearance_log="$FREECAD_USER_HOME/clearance.log"
-freecadcmd tests/freecad/test_clearance_app.py > "$clearance_log" 2>&1
-clearance_rc=$?
-grep -E "^(FAIL|ERROR): |^freecad-clearance: " "$clearance_log"
-if [ $clearance_rc -ne 0 ] || ! grep -qE "^freecad-clearance: [0-9]+ passed, 0 failed$" "$clearance_log" ||
-   grep -q "Traceback" "$clearance_log"; then
-  echo "clearance tests: FAILED (exit $clearance_rc)"; grep -n -A12 "Traceback" "$clearance_log" | head -120
-  failed=1
-fi
-
-echo "--- FreeCAD ray check tests (freecadcmd)"
-ray_log="$FREECAD_USER_HOME/ray_check.log"
-freecadcmd tests/freecad/test_ray_check_app.py > "$ray_log" 2>&1
-ray_rc=$?
-grep -E "^(FAIL|ERROR): |^freecad-ray-check: " "$ray_log"
-if [ $ray_rc -ne 0 ] || ! grep -qE "^freecad-ray-check: [0-9]+ passed, 0 failed$" "$ray_log" ||
-   grep -q "Traceback" "$ray_log"; then
-  echo "ray check tests: FAILED (exit $ray_rc)"; grep -n -A12 "Traceback" "$ray_log" | head -120
-  failed=1
-fi
+app_suite "parting tests" test_parting_app.py freecad-parting
+app_suite "Gaussian map tests" test_gauss_map_app.py freecad-gauss-map
+app_suite "clearance tests" test_clearance_app.py freecad-clearance
+app_suite "ray check tests" test_ray_check_app.py freecad-ray-check
 
 echo "--- FreeCAD rotational sweep tests (freecadcmd)"
 sweep_log="$FREECAD_USER_HOME/sweep.log"
@@ -100,25 +78,9 @@ if [ $sweep_rc -ne 0 ] || ! grep -qE "^freecad-sweep: [0-9]+ passed, 0 failed$" 
   failed=1
 fi
 
-echo "--- FreeCAD medial axis / surface tests (freecadcmd)"
-medial_log="$FREECAD_USER_HOME/medial.log"
-freecadcmd tests/freecad/test_medial_app.py > "$medial_log" 2>&1
-medial_rc=$?
-grep -E "^(FAIL|ERROR): |^medial library: |^freecad-medial: " "$medial_log"
-if [ $medial_rc -ne 0 ] || ! grep -qE "^freecad-medial: [0-9]+ passed, 0 failed$" "$medial_log" ||
-   grep -q "Traceback" "$medial_log"; then
-  echo "medial tests: FAILED (exit $medial_rc)"; grep -n -A12 "Traceback" "$medial_log" | head -120
-  failed=1
-fi
-
-echo "--- FreeCAD corpus of real parts (freecadcmd)"
-corpus_log="$FREECAD_USER_HOME/corpus.log"
-freecadcmd tests/freecad/test_corpus_app.py > "$corpus_log" 2>&1
-corpus_rc=$?
-grep -E "^(FAIL|ERROR): |^corpus-failure: |^corpus: |^freecad-corpus: " "$corpus_log"
-if [ $corpus_rc -ne 0 ] || ! grep -qE "^freecad-corpus: [0-9]+ passed, 0 failed$" "$corpus_log"; then
-  echo "corpus tests: FAILED (exit $corpus_rc)"; failed=1
-fi
+app_suite "medial axis / surface tests" test_medial_app.py freecad-medial
+# the corpus test runs each part in a child process; a child's traceback is its report
+app_suite "corpus of real parts" test_corpus_app.py freecad-corpus tracebacks-ok
 
 echo "--- FreeCAD GUI tests (freecad under xvfb)"
 bash tests/gui/run_gui_tests.sh || failed=1
