@@ -666,9 +666,12 @@ def _projected_hull(s, m):
     """The rows of s (unit, all with s.m > 0) that are extreme rays of their cone."""
     if len(s) <= 3:
         return s
-    e1 = np.cross(m, (1.0, 0.0, 0.0) if abs(m[0]) < 0.9 else (0.0, 1.0, 0.0))
-    e1 /= np.linalg.norm(e1)
-    e2 = np.cross(m, e1)
+    mx, my, mz = float(m[0]), float(m[1]), float(m[2])
+    # e1 = m x (x or y axis), e2 = m x e1: an orthonormal frame of the tangent plane
+    e1 = (0.0, mz, -my) if abs(mx) < 0.9 else (-mz, 0.0, mx)
+    l1 = math.sqrt(e1[0] ** 2 + e1[1] ** 2 + e1[2] ** 2)
+    e1 = np.array(e1) / l1
+    e2 = np.array((my * e1[2] - mz * e1[1], mz * e1[0] - mx * e1[2], mx * e1[1] - my * e1[0]))
     d = s @ m
     pts = np.stack([s @ e1, s @ e2], axis=1) / d[:, None]
     # prefilter (Akl-Toussaint): the extreme points in _PREFILTER directions are hull
