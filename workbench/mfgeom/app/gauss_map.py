@@ -448,13 +448,14 @@ def _unit_rows(c, floor):
 
 
 class _Cone:
-    """The convex cone of unit vectors added so far, kept as its extreme rays and, while
-    it lies in an open half-space, the vertices of its visibility map (the library's):
-    a vector x with x.v > 0 for every vertex v is inside the cone already, which drops
-    most new vectors before the hull is taken."""
+    """The convex cone of unit vectors added so far: a spanning set of them and, while it
+    lies in a half-space, its visibility map (the library's); a vector x with x.v > 0
+    for every vertex v of the map is inside the cone already and is not kept.  Once the
+    map is empty nothing can be pruned: vectors are only collected."""
 
     def __init__(self):
         self._rays = np.zeros((0, 3))
+        self._hulled = True
         self._pending = []
         self.vm = None
 
@@ -471,14 +472,25 @@ class _Cone:
             x = x[~np.all(x @ self.vm.vertices.T > 1e-12, axis=1)]
             if not len(x):
                 return
-        self._rays = _cone_rays(np.concatenate([self._rays, x]))
+        # the library's map takes any spanning set: the hull is taken when asked for
+        self._rays = np.concatenate([self._rays, x])
+        self._hulled = False
         self.vm = core.visibility_map(self._rays)
 
     @property
     def rays(self):
+        """The extreme rays (a spanning set before :meth:`hull`)."""
         if self._pending:
-            self._rays = _cone_rays(np.concatenate([self._rays] + self._pending))
+            self._rays = np.concatenate([self._rays] + self._pending)
             self._pending = []
+            self._hulled = False
+        return self._rays
+
+    def hull(self):
+        rays = self.rays
+        if not self._hulled:
+            self._rays = _cone_rays(rays)
+            self._hulled = True
         return self._rays
 
     def seeing_directions(self):
@@ -593,7 +605,7 @@ def _net_normals(nets, deflection):
     if vm is not None and vm.kind == "null":
         # no direction sees all the exact normals: their cone is the whole space, which
         # holds every normal (the map is empty whatever is added)
-        return truth.rays
+        return truth.hull()
     crosses = np.concatenate(out)
     if vm is not None and vm.kind == "polygon":
         # crosses strictly inside the exact normals' cone (which the crosses' cone holds)
