@@ -818,17 +818,23 @@ def edge_kind(edge, f1, f2, tangent_tol=DEFAULT_TANGENT_TOL, in_f1=None, normals
     return "convex" if c[0] * tan[0] + c[1] * tan[1] + c[2] * tan[2] > 0 else "concave"
 
 
-def adjacency(shape, tangent_tol=DEFAULT_TANGENT_TOL):
+def adjacency(shape, tangent_tol=DEFAULT_TANGENT_TOL, only=None, warnings=None):
     """[(i, j, kind)] for every edge shared by faces i < j of ``shape`` (0-based).
     Linear in the number of edges: each face's edges are listed once, and each shared
     edge remembers how it runs in each of its faces (no search of a face's edges per
-    shared edge, which was quadratic on faces with many holes)."""
+    shared edge, which was quadratic on faces with many holes).  ``only``: a set of face
+    indices: edges between those faces only.  An edge OCCT cannot classify (no normal
+    at its middle nor near it) is taken as concave (it joins its faces into one
+    surface, the conservative choice) with "FaceI/FaceJ: <why>, taken as concave"
+    appended to ``warnings`` (a list; without one the error is raised)."""
     faces = shape.Faces
     # hash code -> [[edge, {owner face: the edge as that face lists it}], ...]: different
     # edges may share a hash code (OCCT's are pointer-based; seen on a 4999-face part),
     # so isSame decides
     buckets = {}
     for i, f in enumerate(faces):
+        if only is not None and i not in only:
+            continue
         for e in f.Edges:
             if e.Degenerated:
                 continue
@@ -851,9 +857,15 @@ def adjacency(shape, tangent_tol=DEFAULT_TANGENT_TOL):
             for a in range(len(lst)):
                 for b in range(a + 1, len(lst)):
                     i, j = lst[a], lst[b]
-                    out.append((i, j, edge_kind(edge, faces[i], faces[j], tangent_tol,
-                                                owners[i], (normals_of(i), normals_of(j)),
-                                                owners[j])))
+                    try:
+                        kind = edge_kind(edge, faces[i], faces[j], tangent_tol, owners[i],
+                                         (normals_of(i), normals_of(j)), owners[j])
+                    except Exception as exc:
+                        if warnings is None:
+                            raise
+                        warnings.append(f"Face{i + 1}/Face{j + 1}: {exc}, taken as concave")
+                        kind = "concave"
+                    out.append((i, j, kind))
     return sorted(out)
 
 
@@ -866,7 +878,8 @@ def part_gauss(source, deflection=DEFAULT_DEFLECTION, tangent_tol=DEFAULT_TANGEN
     only those faces, joined only across edges they share with each other.
     A face OCCT cannot evaluate is left out of ``faces`` (and of the adjacency), with
     "FaceN: <why>, skipped" appended to ``warnings`` when a list is given; without one,
-    ValueError with that message is raised (the part's other faces are not analysed)."""
+    ValueError with that message is raised (the part's other faces are not analysed).
+    An edge that cannot be classified is taken as concave, warned (:func:`adjacency`)."""
     shape = shape_of(source, deep=False)   # only read here
     all_faces = shape.Faces
     if face_names is None:
@@ -889,6 +902,6 @@ def part_gauss(source, deflection=DEFAULT_DEFLECTION, tangent_tol=DEFAULT_TANGEN
             faces.append(g)
             kept.append(i)
     index = {i: k for k, i in enumerate(kept)}
-    adj = [(index[i], index[j], kind) for i, j, kind in adjacency(shape, tangent_tol)
-           if i in index and j in index]
+    adj = [(index[i], index[j], kind)
+           for i, j, kind in adjacency(shape, tangent_tol, set(kept), warnings)]
     return faces, adj, shape
