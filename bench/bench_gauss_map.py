@@ -9,7 +9,8 @@ Run with the system interpreter (FreeCAD is imported from /usr/lib/freecad/lib):
 The parts are built once and cached as BREP files under build/bench_gauss_map/ (building
 the 5 000-face part takes a few minutes of OCCT booleans).  Prints a Markdown table: per
 part the faces, the B-spline faces, part_gauss wall and CPU time (best of 3 each), its
-normals, the largest shrink and the warnings; --profile prints cProfile's top entries for the biggest part.
+normals, the largest shrink and the warnings; --profile prints cProfile's top entries
+for the biggest part.
 
 The parts:
 * fan: a disc (radius 60, 6 thick) with a hex hub bore and ``BLADES`` blades, each lofted

@@ -802,8 +802,8 @@ def edge_kind(edge, f1, f2, tangent_tol=DEFAULT_TANGENT_TOL, in_f1=None, normals
     f1, the dihedral is convex when (n1 x n2) . T > 0 (f2 turns away from the material).
     ``in_f1`` / ``in_f2`` (the edge as f1.Edges / f2.Edges list it) and ``normals`` (a
     :class:`_FaceNormals` of f1 and one of f2) spare the searches and repeated OCCT
-    evaluations when the caller has them (:func:`adjacency`).  Plain float arithmetic on 3-vectors: numpy's
-    per-call overhead was most of the cost."""
+    evaluations when the caller has them (:func:`adjacency`).  Plain float arithmetic
+    on 3-vectors: numpy's per-call overhead was most of the cost."""
     t0, t1 = edge.ParameterRange
     t = (t0 + t1) / 2
     p = edge.valueAt(t)
