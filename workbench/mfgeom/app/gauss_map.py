@@ -269,7 +269,8 @@ def _face_gauss(face, deflection, name):
         if len(normals):
             ev_net = _Normals(face, net[1])
             return FaceGauss(ev_net.check_sign() * normals, 0.0, area, name)
-    return _grid_gauss(ev, deflection, name, area)
+    return _grid_gauss(ev, deflection, name, area,
+                       revolution=isinstance(surf, Part.SurfaceOfRevolution))
 
 
 # ------------------------------------------------------------------ control nets
@@ -709,19 +710,29 @@ def _plane_deviation(a, b, m):
     return np.where(nc > 1e-12, near, far)
 
 
-def _grid_gauss(face, deflection, name, area):
+def _grid_normals(ev, us, vs, revolution):
+    """(len(us), len(vs), 3) normals on the grid us x vs; for a surface of revolution
+    (u the angle about its axis) each parallel from three OCCT normals
+    (:func:`_parallel_normals`)."""
+    if revolution:
+        return np.stack([_parallel_normals(ev, us, float(v)) for v in vs], axis=1)
+    return _normals(ev, [(u, v) for u in us for v in vs]).reshape(len(us), len(vs), 3)
+
+
+def _grid_gauss(face, deflection, name, area, revolution=False):
     """UV grid of k x k cells; the normals at the cells' edge midpoints and centres (a
     grid twice as fine) measure how far the surface's normals leave the great arcs
     between neighbouring samples; shrink = twice the largest such deviation (the factor
     covers the deviation's peak not being exactly at a midpoint).  k doubles until
     shrink <= deflection (or the grid reaches 128 x 128 cells); each doubling keeps the
-    normals already evaluated (linspace of 4k + 1 points holds that of 2k + 1 exactly)."""
+    normals already evaluated (linspace of 4k + 1 points holds that of 2k + 1 exactly).
+    ``revolution``: the face's surface is one of revolution (u about its axis)."""
     ev = _evaluator(face)
     u0, u1, v0, v1 = ev.face.ParameterRange
     k = 8
     us = np.linspace(u0, u1, 2 * k + 1)
     vs = np.linspace(v0, v1, 2 * k + 1)
-    fine = _normals(ev, [(u, v) for u in us for v in vs]).reshape(2 * k + 1, 2 * k + 1, 3)
+    fine = _grid_normals(ev, us, vs, revolution)
     while True:
         n = fine[::2, ::2]
         dev = max(_plane_deviation(n[:-1, :], n[1:, :], fine[1::2, ::2]).max(),
@@ -734,6 +745,9 @@ def _grid_gauss(face, deflection, name, area):
         k *= 2
         us = np.linspace(u0, u1, 2 * k + 1)
         vs = np.linspace(v0, v1, 2 * k + 1)
+        if revolution:
+            fine = _grid_normals(ev, us, vs, True)
+            continue
         finer = np.empty((2 * k + 1, 2 * k + 1, 3))
         finer[::2, ::2] = fine
         odd_u = [(u, v) for u in us[1::2] for v in vs]
