@@ -267,6 +267,33 @@ class Singular(unittest.TestCase):
         self.assertEqual(len(full), len(shape.Faces))
         self.assertGreater(len(full_adj), len(adj))
 
+    def test_unclassifiable_edge_taken_as_concave(self):
+        # a spherical dimple in the top face: its rim is convex
+        shape = Part.makeBox(10, 10, 10).cut(Part.makeSphere(3, App.Vector(5, 5, 10)))
+        sphere = next(i for i, f in enumerate(shape.Faces) if isinstance(f.Surface, Part.Sphere))
+        original = gauss_map._FaceNormals.at
+
+        def fails_on_spheres(self, p, edge=None, t=None):
+            if isinstance(self.surface, Part.Sphere):
+                raise gauss_map.NoNormal(0.0, 0.0)
+            return original(self, p, edge, t)
+        gauss_map._FaceNormals.at = fails_on_spheres
+        try:
+            warnings = []
+            faces, adj, _ = gauss_map.part_gauss(shape, warnings=warnings)
+        finally:
+            gauss_map._FaceNormals.at = original
+        self.assertEqual(len(faces), len(shape.Faces))
+        touching = [(i, j, k) for i, j, k in adj if sphere in (i, j)]
+        self.assertTrue(touching)
+        self.assertTrue(all(k == "concave" for _, _, k in touching))
+        self.assertEqual(len(warnings), len(touching))
+        self.assertTrue(all(w.endswith(", taken as concave") and f"Face{sphere + 1}" in w
+                            for w in warnings), warnings)
+        # without the failure the dimple's rim is convex
+        _, adj, _ = gauss_map.part_gauss(shape)
+        self.assertEqual({k for i, j, k in adj if sphere in (i, j)}, {"convex"})
+
     def test_nudged_normals(self):
         """Where OCCT gives no normal (here: at the box's corners), the normal is taken
         slightly inside; the samples stay normals of the face."""
@@ -286,6 +313,57 @@ class Singular(unittest.TestCase):
         ref = gauss_map.face_gauss(face)
         self.assertEqual(g.normals.shape, ref.normals.shape)
         np.testing.assert_allclose(g.normals, ref.normals, atol=1e-6)
+
+
+class Adjacency(unittest.TestCase):
+    def test_kinds_against_projected_normals(self):
+        """Edge kinds on a part with B-spline faces (blades lofted through periodic
+        sections, fused on a plate, placed) against OCCT's Face.normalAt at the edge's
+        middle projected onto each face (Surface.parameter), the edge's tangent as it
+        runs in the first face."""
+        plate = Part.makeBox(40, 40, 4, App.Vector(-20, -20, -4))
+        blades = []
+        wires = []
+        for f, z in ((0.0, -1.0), (0.5, 5.0), (1.0, 10.0)):
+            c, s = math.cos(0.5 * f), math.sin(0.5 * f)
+            pts = [App.Vector(c * 6 * math.cos(t) - s * 1.2 * math.sin(t),
+                              s * 6 * math.cos(t) + c * 1.2 * math.sin(t), z)
+                   for t in np.linspace(0, 2 * math.pi, 11)[:-1]]
+            curve = Part.BSplineCurve()
+            curve.interpolate(pts, PeriodicFlag=True)
+            wires.append(Part.Wire([curve.toShape()]))
+        blade = Part.makeLoft(wires, True, False)
+        for k in range(3):
+            b = blade.copy()
+            b.translate(App.Vector(-12 + 12 * k, 0, 0))
+            blades.append(b)
+        part = plate.fuse(blades)
+        part.Placement = PLACEMENT
+        faces = part.Faces
+        self.assertTrue(any(isinstance(f.Surface, Part.BSplineSurface) for f in faces))
+        adj = gauss_map.adjacency(part)
+        self.assertTrue(adj)
+        kinds = set()
+        for i, j, kind in adj:
+            edges = [e for e in faces[i].Edges if any(e.isSame(x) for x in faces[j].Edges)]
+            want = []
+            for e in edges:
+                t0, t1 = e.ParameterRange
+                t = (t0 + t1) / 2
+                p = e.valueAt(t)
+                n1 = faces[i].normalAt(*faces[i].Surface.parameter(p))
+                n2 = faces[j].normalAt(*faces[j].Surface.parameter(p))
+                c = n1.cross(n2)
+                if math.atan2(c.Length, n1.dot(n2)) <= gauss_map.DEFAULT_TANGENT_TOL:
+                    want.append("tangent")
+                    continue
+                ine = next(x for x in faces[i].Edges if x.isSame(e))
+                tan = ine.tangentAt(t) * (-1.0 if ine.Orientation == "Reversed" else 1.0)
+                want.append("convex" if c.dot(tan) > 0 else "concave")
+            self.assertIn(kind, want, (i, j))
+            kinds.add(kind)
+        self.assertIn("concave", kinds)   # the blade roots
+        self.assertIn("convex", kinds)
 
 
 def main():

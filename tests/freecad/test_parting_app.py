@@ -377,7 +377,8 @@ class Examples(unittest.TestCase):
         faces, _, _ = gauss_map.part_gauss(example("bspline_part"))
         # the B-spline top is bounded by its control net (exact cone bound, shrink 0)
         shape = example("bspline_part")
-        spline = [g for f, g in zip(shape.Faces, faces) if isinstance(f.Surface, Part.BSplineSurface)]
+        spline = [g for f, g in zip(shape.Faces, faces)
+                  if isinstance(f.Surface, Part.BSplineSurface)]
         self.assertTrue(spline)
         self.assertTrue(all(g.shrink == 0.0 for g in spline))
         self.check_mould("bspline_part", Z, (7.0, 7.0), [], [])

@@ -269,7 +269,8 @@ def _face_gauss(face, deflection, name):
         if len(normals):
             ev_net = _Normals(face, net[1])
             return FaceGauss(ev_net.check_sign() * normals, 0.0, area, name)
-    return _grid_gauss(ev, deflection, name, area)
+    return _grid_gauss(ev, deflection, name, area,
+                       revolution=isinstance(surf, Part.SurfaceOfRevolution))
 
 
 # ------------------------------------------------------------------ control nets
@@ -448,13 +449,14 @@ def _unit_rows(c, floor):
 
 
 class _Cone:
-    """The convex cone of unit vectors added so far, kept as its extreme rays and, while
-    it lies in an open half-space, the vertices of its visibility map (the library's):
-    a vector x with x.v > 0 for every vertex v is inside the cone already, which drops
-    most new vectors before the hull is taken."""
+    """The convex cone of unit vectors added so far: a spanning set of them and, while it
+    lies in a half-space, its visibility map (the library's); a vector x with x.v > 0
+    for every vertex v of the map is inside the cone already and is not kept.  Once the
+    map is empty nothing can be pruned: vectors are only collected."""
 
     def __init__(self):
         self._rays = np.zeros((0, 3))
+        self._hulled = True
         self._pending = []
         self.vm = None
 
@@ -471,14 +473,25 @@ class _Cone:
             x = x[~np.all(x @ self.vm.vertices.T > 1e-12, axis=1)]
             if not len(x):
                 return
-        self._rays = _cone_rays(np.concatenate([self._rays, x]))
+        # the library's map takes any spanning set: the hull is taken when asked for
+        self._rays = np.concatenate([self._rays, x])
+        self._hulled = False
         self.vm = core.visibility_map(self._rays)
 
     @property
     def rays(self):
+        """The extreme rays (a spanning set before :meth:`hull`)."""
         if self._pending:
-            self._rays = _cone_rays(np.concatenate([self._rays] + self._pending))
+            self._rays = np.concatenate([self._rays] + self._pending)
             self._pending = []
+            self._hulled = False
+        return self._rays
+
+    def hull(self):
+        rays = self.rays
+        if not self._hulled:
+            self._rays = _cone_rays(rays)
+            self._hulled = True
         return self._rays
 
     def seeing_directions(self):
@@ -593,7 +606,7 @@ def _net_normals(nets, deflection):
     if vm is not None and vm.kind == "null":
         # no direction sees all the exact normals: their cone is the whole space, which
         # holds every normal (the map is empty whatever is added)
-        return truth.rays
+        return truth.hull()
     crosses = np.concatenate(out)
     if vm is not None and vm.kind == "polygon":
         # crosses strictly inside the exact normals' cone (which the crosses' cone holds)
@@ -666,9 +679,12 @@ def _projected_hull(s, m):
     """The rows of s (unit, all with s.m > 0) that are extreme rays of their cone."""
     if len(s) <= 3:
         return s
-    e1 = np.cross(m, (1.0, 0.0, 0.0) if abs(m[0]) < 0.9 else (0.0, 1.0, 0.0))
-    e1 /= np.linalg.norm(e1)
-    e2 = np.cross(m, e1)
+    mx, my, mz = float(m[0]), float(m[1]), float(m[2])
+    # e1 = m x (x or y axis), e2 = m x e1: an orthonormal frame of the tangent plane
+    e1 = (0.0, mz, -my) if abs(mx) < 0.9 else (-mz, 0.0, mx)
+    l1 = math.sqrt(e1[0] ** 2 + e1[1] ** 2 + e1[2] ** 2)
+    e1 = np.array(e1) / l1
+    e2 = np.array((my * e1[2] - mz * e1[1], mz * e1[0] - mx * e1[2], mx * e1[1] - my * e1[0]))
     d = s @ m
     pts = np.stack([s @ e1, s @ e2], axis=1) / d[:, None]
     # prefilter (Akl-Toussaint): the extreme points in _PREFILTER directions are hull
@@ -694,19 +710,29 @@ def _plane_deviation(a, b, m):
     return np.where(nc > 1e-12, near, far)
 
 
-def _grid_gauss(face, deflection, name, area):
+def _grid_normals(ev, us, vs, revolution):
+    """(len(us), len(vs), 3) normals on the grid us x vs; for a surface of revolution
+    (u the angle about its axis) each parallel from three OCCT normals
+    (:func:`_parallel_normals`)."""
+    if revolution:
+        return np.stack([_parallel_normals(ev, us, float(v)) for v in vs], axis=1)
+    return _normals(ev, [(u, v) for u in us for v in vs]).reshape(len(us), len(vs), 3)
+
+
+def _grid_gauss(face, deflection, name, area, revolution=False):
     """UV grid of k x k cells; the normals at the cells' edge midpoints and centres (a
     grid twice as fine) measure how far the surface's normals leave the great arcs
     between neighbouring samples; shrink = twice the largest such deviation (the factor
     covers the deviation's peak not being exactly at a midpoint).  k doubles until
     shrink <= deflection (or the grid reaches 128 x 128 cells); each doubling keeps the
-    normals already evaluated (linspace of 4k + 1 points holds that of 2k + 1 exactly)."""
+    normals already evaluated (linspace of 4k + 1 points holds that of 2k + 1 exactly).
+    ``revolution``: the face's surface is one of revolution (u about its axis)."""
     ev = _evaluator(face)
     u0, u1, v0, v1 = ev.face.ParameterRange
     k = 8
     us = np.linspace(u0, u1, 2 * k + 1)
     vs = np.linspace(v0, v1, 2 * k + 1)
-    fine = _normals(ev, [(u, v) for u in us for v in vs]).reshape(2 * k + 1, 2 * k + 1, 3)
+    fine = _grid_normals(ev, us, vs, revolution)
     while True:
         n = fine[::2, ::2]
         dev = max(_plane_deviation(n[:-1, :], n[1:, :], fine[1::2, ::2]).max(),
@@ -719,6 +745,9 @@ def _grid_gauss(face, deflection, name, area):
         k *= 2
         us = np.linspace(u0, u1, 2 * k + 1)
         vs = np.linspace(v0, v1, 2 * k + 1)
+        if revolution:
+            fine = _grid_normals(ev, us, vs, True)
+            continue
         finer = np.empty((2 * k + 1, 2 * k + 1, 3))
         finer[::2, ::2] = fine
         odd_u = [(u, v) for u in us[1::2] for v in vs]
@@ -742,48 +771,59 @@ def _oriented_tangent(edge, face, t, in_face=None):
     return (sign * tan.x, sign * tan.y, sign * tan.z)
 
 
-def _normal_at_point(face, p, surface=None):
-    """Outward normal of ``face`` at the point p of it (its surface's parameters of p)."""
-    u, v = (surface if surface is not None else face.Surface).parameter(p)
-    n = face.normalAt(u, v)
-    return (n.x, n.y, n.z)
-
-
 class _FaceNormals:
-    """Outward normals of one face at points on it, for :func:`adjacency`: the face's
-    Surface is fetched once, and a plane's normal is evaluated once.  Face.normalAt
-    builds a surface adaptor that bounds the face's parameters from all of its edges,
-    so one call on a cube side with 600 holes costs ~0.1 ms; a plane's normal is the
-    same at every point (the cross product of its constant first derivatives, oriented
-    by the face)."""
+    """Outward normals of one face at points of its edges, for :func:`adjacency`: the
+    point's (u, v) from the edge's curve on the face (its pcurve: 2.5 us; projecting the
+    point onto a B-spline surface, ``Surface.parameter``, took ~1 ms), the normal from
+    :class:`_Normals` (the surface's normal with the face's sign, nudged inside where
+    OCCT has none); a plane's normal is evaluated once."""
 
     def __init__(self, face):
         self.face = face
         self.surface = face.Surface
         self.plane = isinstance(self.surface, Part.Plane)
         self.normal = None
+        self.normals = _Normals(face, self.surface)
 
-    def at(self, p):
-        if not self.plane:
-            return _normal_at_point(self.face, p, self.surface)
-        if self.normal is None:
-            self.normal = _normal_at_point(self.face, p, self.surface)
-        return self.normal
+    def at(self, p, edge=None, t=None):
+        """The normal at the point p of the face, which is ``edge`` (as the face lists
+        it) at its parameter t when those are given."""
+        if self.normal is not None:
+            return self.normal
+        uv = None
+        if edge is not None:
+            try:
+                pc = self.face.curveOnSurface(edge)
+                if pc is not None:
+                    q = pc[0].value(t)
+                    uv = (q.x, q.y)
+            except Exception:   # no pcurve: project instead
+                uv = None
+        if uv is None:
+            uv = self.surface.parameter(p)
+        x, y, z = self.normals.at(float(uv[0]), float(uv[1]))
+        length = math.sqrt(x * x + y * y + z * z)
+        n = (x / length, y / length, z / length)
+        if self.plane:
+            self.normal = n
+        return n
 
 
-def edge_kind(edge, f1, f2, tangent_tol=DEFAULT_TANGENT_TOL, in_f1=None, normals=None):
+def edge_kind(edge, f1, f2, tangent_tol=DEFAULT_TANGENT_TOL, in_f1=None, normals=None,
+              in_f2=None):
     """'concave', 'convex' or 'tangent' for the edge shared by faces f1 and f2, from
     their outward normals at the edge's middle: with T the edge's tangent as it runs in
     f1, the dihedral is convex when (n1 x n2) . T > 0 (f2 turns away from the material).
-    ``in_f1`` (the edge as f1.Edges lists it) and ``normals`` (a :class:`_FaceNormals`
-    of f1 and one of f2) spare the searches and repeated OCCT evaluations when the
-    caller has them (:func:`adjacency`).  Plain float arithmetic on 3-vectors: numpy's
-    per-call overhead was most of the cost."""
+    ``in_f1`` / ``in_f2`` (the edge as f1.Edges / f2.Edges list it) and ``normals`` (a
+    :class:`_FaceNormals` of f1 and one of f2) spare the searches and repeated OCCT
+    evaluations when the caller has them (:func:`adjacency`).  Plain float arithmetic
+    on 3-vectors: numpy's per-call overhead was most of the cost."""
     t0, t1 = edge.ParameterRange
     t = (t0 + t1) / 2
     p = edge.valueAt(t)
     n1, n2 = normals if normals is not None else (_FaceNormals(f1), _FaceNormals(f2))
-    a, b = n1.at(p), n2.at(p)
+    a = n1.at(p, in_f1 if in_f1 is not None else edge, t)
+    b = n2.at(p, in_f2 if in_f2 is not None else edge, t)
     c = (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
     if math.atan2(math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
                   a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) <= tangent_tol:
@@ -792,17 +832,23 @@ def edge_kind(edge, f1, f2, tangent_tol=DEFAULT_TANGENT_TOL, in_f1=None, normals
     return "convex" if c[0] * tan[0] + c[1] * tan[1] + c[2] * tan[2] > 0 else "concave"
 
 
-def adjacency(shape, tangent_tol=DEFAULT_TANGENT_TOL):
+def adjacency(shape, tangent_tol=DEFAULT_TANGENT_TOL, only=None, warnings=None):
     """[(i, j, kind)] for every edge shared by faces i < j of ``shape`` (0-based).
     Linear in the number of edges: each face's edges are listed once, and each shared
     edge remembers how it runs in each of its faces (no search of a face's edges per
-    shared edge, which was quadratic on faces with many holes)."""
+    shared edge, which was quadratic on faces with many holes).  ``only``: a set of face
+    indices: edges between those faces only.  An edge OCCT cannot classify (no normal
+    at its middle nor near it) is taken as concave (it joins its faces into one
+    surface, the conservative choice) with "FaceI/FaceJ: <why>, taken as concave"
+    appended to ``warnings`` (a list; without one the error is raised)."""
     faces = shape.Faces
     # hash code -> [[edge, {owner face: the edge as that face lists it}], ...]: different
     # edges may share a hash code (OCCT's are pointer-based; seen on a 4999-face part),
     # so isSame decides
     buckets = {}
     for i, f in enumerate(faces):
+        if only is not None and i not in only:
+            continue
         for e in f.Edges:
             if e.Degenerated:
                 continue
@@ -825,8 +871,15 @@ def adjacency(shape, tangent_tol=DEFAULT_TANGENT_TOL):
             for a in range(len(lst)):
                 for b in range(a + 1, len(lst)):
                     i, j = lst[a], lst[b]
-                    out.append((i, j, edge_kind(edge, faces[i], faces[j], tangent_tol,
-                                                owners[i], (normals_of(i), normals_of(j)))))
+                    try:
+                        kind = edge_kind(edge, faces[i], faces[j], tangent_tol, owners[i],
+                                         (normals_of(i), normals_of(j)), owners[j])
+                    except Exception as exc:
+                        if warnings is None:
+                            raise
+                        warnings.append(f"Face{i + 1}/Face{j + 1}: {exc}, taken as concave")
+                        kind = "concave"
+                    out.append((i, j, kind))
     return sorted(out)
 
 
@@ -839,7 +892,8 @@ def part_gauss(source, deflection=DEFAULT_DEFLECTION, tangent_tol=DEFAULT_TANGEN
     only those faces, joined only across edges they share with each other.
     A face OCCT cannot evaluate is left out of ``faces`` (and of the adjacency), with
     "FaceN: <why>, skipped" appended to ``warnings`` when a list is given; without one,
-    ValueError with that message is raised (the part's other faces are not analysed)."""
+    ValueError with that message is raised (the part's other faces are not analysed).
+    An edge that cannot be classified is taken as concave, warned (:func:`adjacency`)."""
     shape = shape_of(source, deep=False)   # only read here
     all_faces = shape.Faces
     if face_names is None:
@@ -862,6 +916,6 @@ def part_gauss(source, deflection=DEFAULT_DEFLECTION, tangent_tol=DEFAULT_TANGEN
             faces.append(g)
             kept.append(i)
     index = {i: k for k, i in enumerate(kept)}
-    adj = [(index[i], index[j], kind) for i, j, kind in adjacency(shape, tangent_tol)
-           if i in index and j in index]
+    adj = [(index[i], index[j], kind)
+           for i, j, kind in adjacency(shape, tangent_tol, set(kept), warnings)]
     return faces, adj, shape
