@@ -417,6 +417,7 @@ mfg_status mfg_cell_search(work *W, int mode, double threshold, double eps)
     free(root.eidx);
     while (st == MFG_OK && h.n > 0) {
         cell *c = heap_pop(&h);
+        W->ncells++;
         double lim = keep_best ? W->best : threshold;
         if (mode == MODE_MIN ? c->full > W->best + eps : c->ub < lim - eps) {
             cell_free(c); /* nothing left can reach the limit */
