@@ -9,7 +9,7 @@
 
 #include "mfgeom.h"
 
-/* MSOP_10.stp.gz, 157 faces: max_intersection in _best_region (VM, -VM of surfaces) (unit weights). */
+/* MSOP_10.stp.gz, 157 faces: max_intersection in _best_region (unit weights). */
 #define MSOP_N 54
 static const double MSOP_V[] = {
     2.22044604925e-16, 6.90338440812017e-29, 1.0,
