@@ -37,10 +37,13 @@
  */
 
 /* The three entry points differ only in the search mode and the region rule. */
-static mfg_status run(int mode, const double *vertices, const int64_t *offsets,
-                      const int32_t *kinds, const int32_t *closed, int64_t npolys,
-                      const double *weights, double level, mfg_regions **out)
+mfg_status mfg_maxisect_run(int mode, const double *vertices, const int64_t *offsets,
+                            const int32_t *kinds, const int32_t *closed, int64_t npolys,
+                            const double *weights, double level, mfg_regions **out,
+                            int64_t *ncells)
 {
+    if (ncells)
+        *ncells = 0;
     if (!out)
         return mfg_fail(MFG_ERR_NULL, "out is NULL");
     work W;
@@ -54,6 +57,8 @@ static mfg_status run(int mode, const double *vertices, const int64_t *offsets,
      * lose bits, and only the comparisons, which have the tolerance, use the scaled one. */
     if (st == MFG_OK && mode == MODE_LEVEL)
         (*out)->weight = level;
+    if (ncells)
+        *ncells = W.ncells;
     mfg_sets_free(&W);
     if (st == MFG_OK)
         mfg_clear_error();
@@ -64,7 +69,8 @@ mfg_status mfg_max_intersection(const double *vertices, const int64_t *offsets,
                                 const int32_t *kinds, const int32_t *closed, int64_t npolys,
                                 const double *weights, mfg_regions **out)
 {
-    return run(MODE_MAX, vertices, offsets, kinds, closed, npolys, weights, 0.0, out);
+    return mfg_maxisect_run(MODE_MAX, vertices, offsets, kinds, closed, npolys, weights, 0.0, out,
+                            NULL);
 }
 
 mfg_status mfg_level_regions(const double *vertices, const int64_t *offsets,
@@ -73,14 +79,16 @@ mfg_status mfg_level_regions(const double *vertices, const int64_t *offsets,
 {
     if (!(level > -1e300 && level < 1e300))
         return mfg_fail(MFG_ERR_INVALID, "level must be finite (got %g)", level);
-    return run(MODE_LEVEL, vertices, offsets, kinds, closed, npolys, weights, level, out);
+    return mfg_maxisect_run(MODE_LEVEL, vertices, offsets, kinds, closed, npolys, weights, level,
+                            out, NULL);
 }
 
 mfg_status mfg_min_intersection(const double *vertices, const int64_t *offsets,
                                 const int32_t *kinds, const int32_t *closed, int64_t npolys,
                                 const double *weights, mfg_regions **out)
 {
-    return run(MODE_MIN, vertices, offsets, kinds, closed, npolys, weights, 0.0, out);
+    return mfg_maxisect_run(MODE_MIN, vertices, offsets, kinds, closed, npolys, weights, 0.0, out,
+                            NULL);
 }
 
 void mfg_regions_free(mfg_regions *r)

@@ -85,6 +85,7 @@ typedef struct work {
     int mode; /* MODE_MAX, MODE_LEVEL or MODE_MIN */
     int scale_exp; /* weights are the caller's times 2^-scale_exp (scale_weights) */
     double eps;    /* weights closer than this are equal */
+    int64_t ncells; /* cells the search took from its queue (its work, for the tests) */
 } work;
 
 /* What a call looks for: the maximum, every local maximum >= a level, the minimum. */
@@ -102,6 +103,16 @@ enum { MODE_MAX, MODE_LEVEL, MODE_MIN };
  * treated exactly as by the test against every edge. */
 #define FAN_MIN_VERTICES 32 /* below this, testing every edge is as fast */
 #define FAN_PAD 2
+
+/* ---- maxisect.c ------------------------------------------------------------------- */
+
+/* The entry points' common body (mode MODE_MAX, MODE_LEVEL or MODE_MIN); when ncells is
+ * not NULL it receives the number of cells the search examined (W.ncells), also on
+ * error, so tests can bound the work without timing it. */
+mfg_status mfg_maxisect_run(int mode, const double *vertices, const int64_t *offsets,
+                            const int32_t *kinds, const int32_t *closed, int64_t npolys,
+                            const double *weights, double level, mfg_regions **out,
+                            int64_t *ncells);
 
 /* ---- maxisect_sets.c -------------------------------------------------------------- */
 

@@ -32,6 +32,7 @@ typedef struct cell {
     double ub;          /* full + weight of the partial sets */
     double key;         /* heap priority: ub (max, level) or -full (min) */
     int depth;
+    int stall;          /* levels in a row whose split changed nothing (STALL_LEVELS) */
 } cell;
 
 static void cell_init(cell *c, const double q[4][3])
@@ -60,6 +61,40 @@ static void cell_init(cell *c, const double q[4][3])
     c->q.sin_cr = sin(c->q.cr);
 }
 
+/* Slack (radians, 10 TOL) of the test whether a thin set's piece reaches a cell: a
+ * direction of the cell (or of an arc clipped to it by mfg_polygon_interval, within TOL
+ * of it) is within TOL of the piece only if the piece comes within 2 TOL of the cell, so
+ * a piece farther than this holds no direction the cell's sweep looks at. */
+#define THIN_CELL_SLACK (10 * TOL)
+
+/* Does piece k of thin set S (an arc a -> b, or a point) come within THIN_CELL_SLACK of
+ * cell c?  x(s) = a + s (b - a), s in [0, 1], covers the arc; a direction x(s)/|x(s)|
+ * at angle delta or less outside edge j of the cell has x(s).n_j >= -delta |x(s)|
+ * >= -delta (|x(s)| <= 1), so asking x(s).n_j >= -slack of all four edges for one s,
+ * a linear program in s, keeps every piece that may matter (and perhaps a few more). */
+static int thin_piece_meets(const sset *S, int64_t k, const cell *c)
+{
+    const double *a = S->v + 3 * k;
+    const double *b = S->kind == MFG_VM_POINT ? a : S->v + 3 * ((k + 1) % S->nv);
+    double lo = 0.0, hi = 1.0;
+    for (int j = 0; j < 4; j++) {
+        const double *n = c->q.n + 3 * j;
+        double fa = mfg_dot3(a, n) + THIN_CELL_SLACK, fb = mfg_dot3(b, n) + THIN_CELL_SLACK;
+        if (fa >= 0.0 && fb >= 0.0)
+            continue;
+        if (fa < 0.0 && fb < 0.0)
+            return 0;
+        double s = fa / (fa - fb); /* fa - fb != 0: the signs differ */
+        if (fa < 0.0)
+            lo = fmax(lo, s);
+        else
+            hi = fmin(hi, s);
+        if (lo > hi)
+            return 0;
+    }
+    return 1;
+}
+
 /* 0: the set misses the cell, 1: meets it partly, 2: contains it (with the tolerance).
  * Only the pieces ein[0..nin) of S can still decide; the ones that stay undecided for
  * this cell are written to eout (for POLYGON sets; thin sets keep all of theirs). */
@@ -71,9 +106,15 @@ static int classify_cell(const sset *S, const cell *c, const int32_t *ein, int64
     if (mfg_caps_apart(c->q.cc, c->q.cr, c->q.cos_cr, c->q.sin_cr, S))
         return 0;
     if (S->kind != MFG_VM_POLYGON) {
-        memcpy(eout, ein, (size_t)nin * sizeof(int32_t));
-        *nout = nin;
-        return 1;
+        /* A thin set meets the cell only along its pieces: keep those that reach it.
+         * Its cap alone cannot decide: a half circle's cap is a hemisphere and an
+         * antipodal pair of points has none, so they would be partial in every cell. */
+        int64_t m = 0;
+        for (int64_t t = 0; t < nin; t++)
+            if (thin_piece_meets(S, ein[t], c))
+                eout[m++] = ein[t];
+        *nout = m;
+        return m ? 1 : 0;
     }
     if (S->ir > c->q.cr &&
         mfg_dot3(c->q.cc, S->ic) >= S->cos_ir * c->q.cos_cr + S->sin_ir * c->q.sin_cr + CAP_SLACK_COS)
@@ -190,6 +231,9 @@ static mfg_status make_child(work *W, const cell *p, const double q[4][3], cell 
             partial_w += S->w;
         }
     }
+    /* Same partial sets and pieces as the parent: splitting decided nothing here. */
+    c->stall = p->depth >= 0 && c->npart == p->npart && c->eoff[c->npart] == p->eoff[p->npart]
+                   ? p->stall + 1 : 0;
     c->ub = c->full + partial_w;
     c->key = W->mode == MODE_MIN ? -c->full : c->ub;
     *out = c;
@@ -305,9 +349,16 @@ static mfg_status leaf_min(work *W, const cell *c, double eps)
 }
 
 /* A cell meeting at most LEAF_SETS sets partly is swept exactly; cells are not split
- * beyond MAX_DEPTH (a cube face quartered 16 times: cells of ~2e-5 rad). */
+ * beyond MAX_DEPTH (a cube face quartered 16 times: cells of ~2e-5 rad), nor once
+ * STALL_LEVELS splits in a row left a cell with exactly its parent's partial sets and
+ * pieces.  That happens where the sets' boundaries coincide: many maps sharing a
+ * boundary circle (a surface's VM and -VM, faces with a common normal) or a vertex.
+ * Splitting cannot separate them, the bound stays the same, and every cell along a
+ * shared circle would be split down to MAX_DEPTH (2^16 cells per quarter circle);
+ * the sweep is exact in a cell of any size and costs the same in the big one. */
 #define LEAF_SETS 16
 #define MAX_DEPTH 16
+#define STALL_LEVELS 3
 
 mfg_status mfg_cell_search(work *W, int mode, double threshold, double eps)
 {
@@ -366,6 +417,7 @@ mfg_status mfg_cell_search(work *W, int mode, double threshold, double eps)
     free(root.eidx);
     while (st == MFG_OK && h.n > 0) {
         cell *c = heap_pop(&h);
+        W->ncells++;
         double lim = keep_best ? W->best : threshold;
         if (mode == MODE_MIN ? c->full > W->best + eps : c->ub < lim - eps) {
             cell_free(c); /* nothing left can reach the limit */
@@ -388,7 +440,7 @@ mfg_status mfg_cell_search(work *W, int mode, double threshold, double eps)
             cell_free(c);
             break;
         }
-        if (c->npart <= LEAF_SETS || c->depth >= MAX_DEPTH) {
+        if (c->npart <= LEAF_SETS || c->depth >= MAX_DEPTH || c->stall >= STALL_LEVELS) {
             st = mode == MODE_MIN ? leaf_min(W, c, eps) : leaf(W, c, threshold, keep_best, eps);
         } else {
             const double *p = c->q.v;
