@@ -276,6 +276,10 @@ def _face_gauss(face, deflection, name):
 # ------------------------------------------------------------------ control nets
 _NET_MAX_DEPTH = 8       # halvings of a Bezier patch in each direction, at most
 _NET_MAX_PATCHES = 4096  # patches of one face, at most (then no more subdivision)
+# ... and their control vectors, at most: a degree 7 x 8 patch (OCCT's pump housing)
+# has ~10x a bicubic one's, and 4096 of them took 4 s a face; stopping earlier leaves
+# the bound conservative (wider only)
+_NET_MAX_CROSSES = 16384
 
 
 def _non_rational(geom):
@@ -591,7 +595,8 @@ def _net_normals(nets, deflection):
                 excess[i:i + step] = (m_true[None, :]
                                       - np.arcsin(np.clip(low, -1, 1))).max(axis=1)
             bad = excess > deflection
-            if 4 * int(bad.sum()) + accepted > _NET_MAX_PATCHES:
+            if (4 * int(bad.sum()) + accepted > _NET_MAX_PATCHES
+                    or (4 * int(bad.sum()) + accepted) * crosses.shape[1] > _NET_MAX_CROSSES):
                 bad[:] = False
         accepted += int((~bad).sum())
         good = crosses[~bad].reshape(-1, 3)
