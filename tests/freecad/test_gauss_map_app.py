@@ -367,16 +367,9 @@ class Adjacency(unittest.TestCase):
 
 
 def main():
-    loader = unittest.defaultTestLoader
-    suite = unittest.TestSuite(
-        loader.loadTestsFromTestCase(cls) for cls in list(globals().values())
-        if isinstance(cls, type) and issubclass(cls, unittest.TestCase))
-    result = unittest.TextTestRunner(stream=sys.stdout, verbosity=2).run(suite)
-    failed = len(result.failures) + len(result.errors)
-    passed = result.testsRun - failed - len(result.skipped)
-    sys.stdout.write(f"freecad-gauss-map: {passed} passed, {failed} failed\n")
-    sys.stdout.flush()
-    return 0 if failed == 0 and result.testsRun > 0 else 1
+    sys.path.insert(0, HERE)
+    from app_runner import run_tests
+    return run_tests(globals(), "freecad-gauss-map")
 
 
 sys.exit(main())
