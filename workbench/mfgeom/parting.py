@@ -654,7 +654,7 @@ def face_draft(faces, surfaces, covered, side, d, draft_angle, tol):
             sgn = 1.0 if float(dots.min()) >= float((-dots).min()) else -1.0
         for f in surf.faces:
             g = faces[f]
-            shrink = max(0.0, g.shrink - tol) if g.shrink > tol else 0.0
+            shrink = max(0.0, g.shrink - tol)   # what the tolerance does not absorb
             own = sgn if sgn != 0 else (1.0 if float(np.mean(g.normals @ d)) >= 0 else -1.0)
             lo, hi = _angle_range(g.normals, shrink, d, own)
             angle[f] = lo
@@ -802,10 +802,7 @@ def draft_analysis(faces, direction, draft_angle=0.0, tol=DEFAULT_TOL):
     "straddle" when its normals lie on both sides beyond tol (it needs a split line),
     else "insufficient" (some normal between -draft and +draft; a wall within tol of
     the plane is insufficient at any draft, 0 included)."""
-    if not (0.0 <= draft_angle < math.pi / 2):
-        raise ValueError(f"draft_angle must be in [0, pi/2) radians, got {draft_angle}")
-    if not (0.0 < tol < 1e-2):
-        raise ValueError(f"tol must be in (0, 0.01) radians, got {tol}")
+    _check_common(draft_angle, tol, "draft_angle")
     d = np.asarray(direction, dtype=np.float64).reshape(3)
     length = float(np.linalg.norm(d))
     if not (math.isfinite(length) and length > 0):
@@ -814,7 +811,7 @@ def draft_analysis(faces, direction, draft_angle=0.0, tol=DEFAULT_TOL):
     limit = tol * (1 + 1e-9) + 1e-15
     classes, low, high = [], [], []
     for g in faces:
-        shrink = max(0.0, g.shrink - tol) if g.shrink > tol else 0.0
+        shrink = max(0.0, g.shrink - tol)   # what the tolerance does not absorb
         lo, hi = _angle_range(g.normals, shrink, d)
         low.append(lo)
         high.append(hi)
