@@ -181,3 +181,26 @@ def test_rotated_float32_box_keeps_zero_draft_walls_free():
         unlifted_wrong += [r.verdict for r in unlifted] != expected
     # why the lift: on the exact doubles a bent zero-draft wall blocks itself
     assert unlifted_wrong > 0
+
+
+def test_scaled_and_moved_inputs_give_the_same_flags():
+    """A unit cube and points on/around it, scaled by 1e-9 .. 1e9 and moved: the exact
+    predicates give the same flags at every scale (no absolute epsilon anywhere)."""
+    import itertools
+    corners = np.array(list(itertools.product((0.0, 1.0), repeat=3)))
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4),
+             (1, 5, 7, 3)]
+    tris = np.array([t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))])
+    pts = np.array([[0.3, 0.4, 1.0], [0.3, 0.4, 0.0], [0.3, 0.4, 0.5], [0.3, 0.4, 2.0],
+                    [1.5, 0.5, 0.5]])
+    own = np.array([-1, -1, -1, -1, -1])
+    d = np.array([0.0, 0.0, 1.0])
+    want = core.ray_blocked(corners, tris, pts, own, d)
+    assert want[2] == core.RAY_BLOCKED_POS | core.RAY_BLOCKED_NEG   # inside the cube
+    assert want[3] & core.RAY_BLOCKED_NEG and not want[3] & core.RAY_BLOCKED_POS
+    assert want[4] == 0                                                # beside it
+    shift = np.array([3.0, -7.0, 11.0])
+    for scale in (1e-9, 1e-3, 1.0, 1e3, 1e9):
+        got = core.ray_blocked(corners * scale + shift * scale, tris, pts * scale + shift * scale,
+                               own, d * scale)
+        np.testing.assert_array_equal(got, want, err_msg=f"scale {scale}")
