@@ -11,14 +11,16 @@ FUZZ_SECONDS=${MFGEOM_FUZZ_SECONDS:-30}
 passed=0
 failed=0
 failed_names=()
-suite() {  # suite NAME COMMAND...: runs one suite, records its outcome
-  local name=$1; shift
+times=()
+suite() {  # suite NAME COMMAND...: runs one suite, records its outcome and its time
+  local name=$1 t0=$SECONDS; shift
   echo "=== $name"
   if "$@"; then
-    passed=$((passed + 1)); echo "=== $name: ok"
+    passed=$((passed + 1)); echo "=== $name: ok ($((SECONDS - t0)) s)"
   else
-    failed=$((failed + 1)); failed_names+=("$name"); echo "=== $name: FAILED"
+    failed=$((failed + 1)); failed_names+=("$name"); echo "=== $name: FAILED ($((SECONDS - t0)) s)"
   fi
+  times+=("$(printf '%6d s  %s' $((SECONDS - t0)) "$name")")
 }
 
 build_release() {
@@ -45,8 +47,16 @@ suite "C unit tests under ASan+UBSan (ctest)" ctest_asan
 suite "binding tests (pytest)" pytest_binding
 suite "FreeCAD App + GUI tests" bash tests/run_freecad_tests.sh
 suite "fuzz ($FUZZ_SECONDS s)" bash tests/fuzz/run_fuzz.sh "$FUZZ_SECONDS"
+# FreeCAD 1.0 (Debian 13 root; MFGEOM_SKIP_FREECAD1=1 leaves it out, e.g. as a non-root user)
+if [ "${MFGEOM_SKIP_FREECAD1:-0}" != 1 ]; then
+  suite "FreeCAD 1.0: Debian 13 root" bash tests/freecad1/run.sh root
+  suite "FreeCAD 1.0: build" bash tests/freecad1/run.sh build
+  suite "FreeCAD 1.0: App + GUI tests" bash tests/freecad1/run.sh tests
+  suite "FreeCAD 1.0: README demo" bash tests/freecad1/run.sh demo
+fi
 
 echo
+echo "time per suite:"; printf '%s\n' "${times[@]}"
 if [ "$failed" -gt 0 ]; then echo "failed suites: ${failed_names[*]}"; fi
 echo "suites: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
