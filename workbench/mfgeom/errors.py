@@ -14,3 +14,8 @@ class InputError(MfgeomError, ValueError):
 class LibraryError(MfgeomError, ImportError):
     """libmfgeom.so could not be found or loaded; the text says where it was looked for
     and how to build it."""
+
+
+class Cancelled(MfgeomError):
+    """A long computation was stopped on request (the progress dialog's Cancel, Esc, a
+    progress callable asking to stop); nothing was written.  The text names the stage."""

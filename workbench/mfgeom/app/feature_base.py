@@ -8,6 +8,7 @@ import traceback
 
 import FreeCAD
 
+from mfgeom import progress
 from mfgeom.errors import InputError, MfgeomError
 
 
@@ -51,6 +52,16 @@ def one_line_error(obj, exc):
     if isinstance(exc, InputError):
         return type(exc)(message)
     return MfgeomError(f"{message} ({type(exc).__name__})")
+
+
+def progress_sink():
+    """Where a recompute shows its progress (mfgeom.progress): the GUI's progress dialog
+    with its Cancel button, or nothing headless (freecadcmd, a script), where a long
+    computation is stopped with Ctrl+C instead."""
+    if not FreeCAD.GuiUp:
+        return None
+    from mfgeom.gui.progress_dialog import ProgressDialog
+    return ProgressDialog()
 
 
 class FeatureProxy:
@@ -131,7 +142,8 @@ class FeatureProxy:
     def execute(self, obj):
         try:
             self._migrate(obj)
-            self._execute(obj)
+            with progress.task(f"Recomputing {obj.Label}", progress_sink()):
+                self._execute(obj)
         except Exception as exc:  # whatever failed: one clear line, details in the log
             FreeCAD.Console.PrintLog(f"mfgeom: {obj.Label}: {traceback.format_exc()}")
             error = one_line_error(obj, exc)
