@@ -22,13 +22,7 @@ For every part (one test each):
   direction R d (within ROTATION_TOL_DEG; in Mould mode up to sign, +d and -d being the
   same parting).  A direction that moved is classified in the message: "tie" when R^T d'
   covers as much on the original part's own normals (both directions are equally good:
-  the tie-break is not rotation invariant), "worse" otherwise;
-* the Mould answer against OCCT itself (check_worst_angles, check_rays): the worst angle
-  per face (r.face_angle, the feature's WorstAngles) against OCCT's normals sampled
-  densely inside the trimmed face, and the ray check's blocked fractions
-  (run_ray_check, as the feature runs it) against exact rays cut with the solid, on a
-  bounded number of faces per part.  ``corpus-reference:`` lines give the largest
-  differences seen.
+  the tie-break is not rotation invariant), "worse" otherwise.
 """
 
 import math
@@ -70,7 +64,6 @@ ANGLE_STATS, RAY_STATS = [], []   # |reported - sampled| per face checked (rad; 
 # face is wider than its true normals by up to 3.4e-3 rad (README, tested on 15 face
 # kinds), rounded up to 4e-3.
 ANGLE_FACES_PER_PART = 16
-ANALYTIC = ("Plane", "Cylinder", "Cone", "Sphere", "Toroid")
 ANGLE_GRID = 16
 ANGLE_EDGE_POINTS = 12
 ANGLE_SLACK = 4e-3
@@ -230,9 +223,7 @@ class PartRun:
         angular tolerance (the analysis is conservative; the tolerance is the snapping
         it promises), and never more than ANGLE_SLACK + the face's shrink + the
         lattice's resolution below it (how far the true worst may lie from the
-        samples; ANGLE_SLACK is the Gaussian map's documented bound looseness) — except
-        a control-net bound seen from where its face is an undercut, which is only
-        conservative (Bottom Face281: the net reaches -90 deg, OCCT -83.4)."""
+        samples; ANGLE_SLACK is the Gaussian map's documented bound looseness)."""
         d = np.asarray(r.direction, dtype=np.float64)
         most = max(2, ANGLE_FACES_PER_PART // max(1, self.nsolids))
         for f in angle_faces(r, faces, solid, most):
@@ -243,16 +234,11 @@ class PartRun:
                 continue
             rep = float(r.face_angle[f])
             slack = ANGLE_SLACK + faces[f].shrink + step
-            # a control-net bound (B-spline etc., shrink 0) is tight only for the
-            # directions that see the face (it is refined for those: README); from
-            # where the face is an undercut it is only conservative
-            net = faces[f].shrink == 0 and type(face.Surface).__name__ not in ANALYTIC
             fits = []
             for sign in _sides_of(r, f):
                 worst = float(np.arcsin(np.clip(sign * (normals @ d), -1, 1)).min())
-                tight = not (net and worst < -parting.DEFAULT_TOL)
                 fits.append((worst, rep <= worst + parting.DEFAULT_TOL + 1e-12
-                             and (rep >= worst - slack or not tight)))
+                             and rep >= worst - slack))
             self.emit({"angle_gap": min(abs(w - rep) for w, _ in fits)})
             if not any(ok for _, ok in fits):
                 self.problem(

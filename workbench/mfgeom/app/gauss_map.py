@@ -29,10 +29,7 @@ What is exact and what is sampled (``FaceGauss.shrink`` is 0 where exact):
   vectors (:func:`_net_normals`).  Patches are halved (de Casteljau) while their control
   vectors cost a direction seeing the face's exact normals more than ``deflection`` of
   draft margin.  The face's orientation sign is checked against one ``Face.normalAt``.
-  Weights equal to 1e-12 relative count as non-rational (OCCT's lofts).  When the
-  exact normals found already see no common direction (the cone is the whole space and
-  bounds nothing: 5 faces of the corpus, e.g. Bottom Face117), the face takes the UV
-  grid below instead, whose shrink bounds its worst angle.
+  Weights equal to 1e-12 relative count as non-rational (OCCT's lofts).
 * anything else (rational B-splines, revolution, other kinds): a UV grid refined
   until shrink <= ``deflection``, shrink = twice the largest angle of a cell's edge
   midpoint or centre normal from the great arc between the neighbouring samples.  This
@@ -253,17 +250,6 @@ def _lattice(rows, cols):
                       np.column_stack([idx[:-1, :].ravel(), idx[1:, :].ravel()])])
 
 
-def _unbounded(normals):
-    """Whether no direction sees all of ``normals`` (their cone is the whole space)."""
-    from mfgeom import core
-    if len(normals) < 2:
-        return False
-    try:
-        return core.visibility_map(normals).kind == "null"
-    except Exception:  # noqa: BLE001 - the library refused them: keep the net's answer
-        return False
-
-
 def _face_gauss(face, deflection, name):
     u0, u1, v0, v1 = face.ParameterRange
     surf = face.Surface
@@ -295,12 +281,6 @@ def _face_gauss(face, deflection, name):
     net = _net_surface(surf, (u0, u1, v0, v1))
     if net is not None:
         normals = _net_normals(net[0], deflection)
-        if len(normals) and _unbounded(normals):
-            # the exact normals found already see no common direction, so the net's
-            # cone is the whole space: it bounds nothing, and those normals are only
-            # samples (corpus part Bottom, Face117: they gave a worst angle of -5.002 deg
-            # where OCCT has -5.064).  The sampled grid carries a bound (its shrink).
-            normals = ()
         if len(normals):
             ev_net = _Normals(face, net[1])
             return FaceGauss(ev_net.check_sign() * normals, 0.0, area, name)
