@@ -64,6 +64,7 @@ ANGLE_STATS, RAY_STATS = [], []   # |reported - sampled| per face checked (rad; 
 # face is wider than its true normals by up to 3.4e-3 rad (README, tested on 15 face
 # kinds), rounded up to 4e-3.
 ANGLE_FACES_PER_PART = 16
+ANALYTIC = ("Plane", "Cylinder", "Cone", "Sphere", "Toroid")
 ANGLE_GRID = 16
 ANGLE_EDGE_POINTS = 12
 ANGLE_SLACK = 4e-3
@@ -87,6 +88,13 @@ KNOWN_GAPS = (
      "tie between two arc regions covering the same 2 surfaces"),
     ("Motor-c/Solid1 NC3Axis rotated: direction",
      "tie: 0.24 deg apart on a sampled surface's region"),
+    # a B-spline face whose control net's exact normals already see no common direction:
+    # the net's cone is the whole space and bounds nothing, so the worst angle comes from
+    # those exact normals only (samples, not a bound).  Taking the sampled grid for such
+    # faces fixes it but turns closed lofts into grids (tests/freecad/test_gauss_map_app)
+    ("Bottom/Solid1 Face117 (BSplineSurface): worst angle",
+     "net cone is the whole space: worst angle from exact normals, not a bound "
+     "(-5.002 deg against OCCT's -5.064)"),
 )
 
 
@@ -223,7 +231,9 @@ class PartRun:
         angular tolerance (the analysis is conservative; the tolerance is the snapping
         it promises), and never more than ANGLE_SLACK + the face's shrink + the
         lattice's resolution below it (how far the true worst may lie from the
-        samples; ANGLE_SLACK is the Gaussian map's documented bound looseness)."""
+        samples; ANGLE_SLACK is the Gaussian map's documented bound looseness) — except
+        a control-net bound seen from where its face is an undercut, which is only
+        conservative (Bottom Face281: the net reaches -90 deg, OCCT -83.4)."""
         d = np.asarray(r.direction, dtype=np.float64)
         most = max(2, ANGLE_FACES_PER_PART // max(1, self.nsolids))
         for f in angle_faces(r, faces, solid, most):
@@ -234,11 +244,16 @@ class PartRun:
                 continue
             rep = float(r.face_angle[f])
             slack = ANGLE_SLACK + faces[f].shrink + step
+            # a control-net bound (B-spline etc., shrink 0) is tight only for the
+            # directions that see the face (it is refined for those: README); from
+            # where the face is an undercut it is only conservative
+            net = faces[f].shrink == 0 and type(face.Surface).__name__ not in ANALYTIC
             fits = []
             for sign in _sides_of(r, f):
                 worst = float(np.arcsin(np.clip(sign * (normals @ d), -1, 1)).min())
+                tight = not (net and worst < -parting.DEFAULT_TOL)
                 fits.append((worst, rep <= worst + parting.DEFAULT_TOL + 1e-12
-                             and rep >= worst - slack))
+                             and (rep >= worst - slack or not tight)))
             self.emit({"angle_gap": min(abs(w - rep) for w, _ in fits)})
             if not any(ok for _, ok in fits):
                 self.problem(
