@@ -246,6 +246,13 @@ def check_legend(panel, obj, meanings):
     # every colour on the part is explained, and nothing else is listed
     assert painted == set(shown.values()), (sorted(painted), shown)
     assert len(set(shown.values())) == len(shown), f"two classes share a colour: {shown}"
+    from mfgeom import palette
+    from mfgeom.gui.parting_view import FACE_CLASSES
+    mould = [FACE_CLASSES[k][1] for k in ("core", "cavity", "zero_draft", "insufficient_draft",
+                                          "undercut", "shadowed", "no_direction", "other")]
+    least = min(palette.contrast(a, b, v) for v in palette.VISIONS
+                for i, a in enumerate(mould) for b in mould[i + 1:])
+    assert least >= 10, f"two Mould classes differ by {least:.1f} CIELAB units only"
     colors = obj.ViewObject.DiffuseColor
     for prop, words in meanings:
         keys = [k for k, t in texts.items() if words.lower() in t.lower()]

@@ -10,8 +10,8 @@ along each direction and a visibility sphere beside the part, all drawn with Coi
   green: the colours stay legible.
 * Colours: one table, :data:`FACE_CLASSES` (from mfgeom.palette), read by the view and
   by the task panel's legend (:func:`legend_entries`).  Mould core side (+d) blue,
-  cavity side (-d) red, zero draft pink, insufficient draft brown, undercuts indigo,
-  shadowed (ray check) dark grey, undercuts with no side core black, other faces grey;
+  cavity side (-d) red, zero draft pink, insufficient draft sand, undercuts indigo,
+  shadowed (ray check) brown, undercuts with no side core black, other faces grey;
   Draft positive blue, negative red, insufficient pink, straddle sand; NC3Axis set-up k
   in ``setup_color(k)``, unresolved pockets red, faces not considered grey.  Display mode "Surfaces" colours the concave-connected surfaces.
 * Arrows: Mould +d (core colour) and -d (cavity colour) from the part's centre, each side
@@ -39,7 +39,9 @@ MODES = ("Result", "Part", "Sphere", "Surfaces")
 SPHERE_LEVEL = 4            # icosphere subdivisions: 10 * 4**4 + 2 = 2562 vertices
 # The face classes of the Result display mode: key -> (legend label, RGB).  The one
 # table of the parting colours: face_colors paints from it and the task panel's legend
-# (legend_entries) lists from it.  In the order the legend lists them.
+# (legend_entries) lists from it.  In the order the legend lists them.  The Mould
+# colours differ by >= 10 CIELAB units under normal, protan and deutan vision (the
+# least: core blue against zero-draft pink under protanopia, 10.3).
 FACE_CLASSES = {
     # Mould
     "core": ("Core side (+d)", palette.CORE_SIDE),
@@ -47,10 +49,10 @@ FACE_CLASSES = {
     "zero_draft": ("Zero draft (wall within the angular tolerance of d)",
                    palette.SETUP_COLORS[5]),                              # pink
     "insufficient_draft": ("Insufficient draft (below the draft angle)",
-                           palette.SETUP_COLORS[1]),                      # brown
+                           palette.SETUP_COLORS[2]),                      # sand
     "undercut": ("Undercut (not demouldable along +-d)", palette.UNDERCUT),  # indigo
     "shadowed": ("Shadowed (ray check: blocked by the part)",
-                 palette.SETUP_COLORS[6]),                                # dark grey
+                 palette.SETUP_COLORS[1]),                                # brown
     "no_direction": ("Undercut with no side-core direction", (0.0, 0.0, 0.0)),
     # Draft
     "positive": ("Positive draft (along +pull)", palette.CORE_SIDE),
