@@ -595,9 +595,101 @@ static void test_sweep(void)
     sweep_expect(BOX_XYZ, 8, BOX_TRI + 3, 11, AXP, AXD, NAN, 0.01, 0, BIT(MFG_ERR_INVALID), "open mesh, NaN angle", 0);
 }
 
+/* ------------------------------------------------------------------------ */
+/* mfg_ray_blocked: the box mesh above, 2 sample points                      */
+/* ------------------------------------------------------------------------ */
+
+static const double RAY_PTS[6] = {0.5, 0.3, 0.5, 0.5, 0.3, 2}; /* inside, above (off the diagonals) */
+static const int64_t RAY_OWN[2] = {-1, -1};
+static const double RAY_D[3] = {0, 0, 1};
+
+static void ray_expect(const double *xyz, int64_t nv, const int64_t *tri, int64_t nt, const double *pts,
+                       const int64_t *own, int64_t np, const double *d, int null_out, unsigned allowed,
+                       const char *what, long long which)
+{
+    uint8_t out[16];
+    memset(out, OUT_SENTINEL, sizeof out);
+    mfg_status st = mfg_ray_blocked(xyz, nv, tri, nt, pts, own, np, d, null_out ? NULL : out);
+    expect(st, allowed, what, which);
+    if (st != MFG_OK)
+        CHECK(untouched(out, sizeof out));
+}
+
+static void test_rays(void)
+{
+    /* the good call: a point inside the box is blocked both ways, one above it along -z only */
+    uint8_t out[2] = {0xFF, 0xFF};
+    CHECK(mfg_ray_blocked(BOX_XYZ, 8, BOX_TRI, 12, RAY_PTS, RAY_OWN, 2, RAY_D, out) == MFG_OK);
+    CHECK((out[0] & (MFG_RAY_BLOCKED_POS | MFG_RAY_BLOCKED_NEG)) ==
+          (MFG_RAY_BLOCKED_POS | MFG_RAY_BLOCKED_NEG));
+    CHECK((out[1] & (MFG_RAY_BLOCKED_POS | MFG_RAY_BLOCKED_NEG)) == MFG_RAY_BLOCKED_NEG);
+    /* NULL pointers */
+    ray_expect(NULL, 8, BOX_TRI, 12, RAY_PTS, RAY_OWN, 2, RAY_D, 0, BIT(MFG_ERR_NULL), "ray NULL xyz", 0);
+    ray_expect(BOX_XYZ, 8, NULL, 12, RAY_PTS, RAY_OWN, 2, RAY_D, 0, BIT(MFG_ERR_NULL), "ray NULL triangles", 0);
+    ray_expect(BOX_XYZ, 8, BOX_TRI, 12, NULL, RAY_OWN, 2, RAY_D, 0, BIT(MFG_ERR_NULL), "ray NULL points", 0);
+    ray_expect(BOX_XYZ, 8, BOX_TRI, 12, RAY_PTS, RAY_OWN, 2, NULL, 0, BIT(MFG_ERR_NULL), "ray NULL direction", 0);
+    ray_expect(BOX_XYZ, 8, BOX_TRI, 12, RAY_PTS, RAY_OWN, 2, RAY_D, 1, BIT(MFG_ERR_NULL), "ray NULL out", 0);
+    /* own_triangle may be NULL (documented) */
+    ray_expect(BOX_XYZ, 8, BOX_TRI, 12, RAY_PTS, NULL, 2, RAY_D, 0, BIT(MFG_OK), "ray NULL own_triangle", 0);
+    /* negative and huge counts: each of the three counts in turn */
+    for (size_t i = 0; i < sizeof NEGATIVE_COUNTS / sizeof NEGATIVE_COUNTS[0]; i++) {
+        int64_t c = NEGATIVE_COUNTS[i];
+        ray_expect(BOX_XYZ, c, BOX_TRI, 12, RAY_PTS, RAY_OWN, 2, RAY_D, 0, BIT(MFG_ERR_INVALID), "ray nvertices<0", c);
+        ray_expect(BOX_XYZ, 8, BOX_TRI, c, RAY_PTS, RAY_OWN, 2, RAY_D, 0, BIT(MFG_ERR_INVALID), "ray ntriangles<0", c);
+        ray_expect(BOX_XYZ, 8, BOX_TRI, 12, RAY_PTS, RAY_OWN, c, RAY_D, 0, BIT(MFG_ERR_INVALID), "ray npoints<0", c);
+    }
+    for (size_t i = 0; i < sizeof HUGE_COUNTS / sizeof HUGE_COUNTS[0]; i++) {
+        int64_t c = HUGE_COUNTS[i];
+        ray_expect(BOX_XYZ, c, BOX_TRI, 12, RAY_PTS, RAY_OWN, 2, RAY_D, 0, ANY_ERR | BIT(MFG_ERR_NOMEM),
+                   "ray huge nvertices", c);
+        ray_expect(BOX_XYZ, 8, BOX_TRI, c, RAY_PTS, RAY_OWN, 2, RAY_D, 0, ANY_ERR | BIT(MFG_ERR_NOMEM),
+                   "ray huge ntriangles", c);
+        ray_expect(BOX_XYZ, 8, BOX_TRI, 12, RAY_PTS, RAY_OWN, c, RAY_D, 0, ANY_ERR | BIT(MFG_ERR_NOMEM),
+                   "ray huge npoints", c);
+    }
+    /* out-of-range indices: a triangle's vertex, a point's own triangle */
+    static const int64_t BAD_INDEX[] = {8, 9, -1, INT64_MAX, INT64_MIN};
+    for (size_t i = 0; i < sizeof BAD_INDEX / sizeof BAD_INDEX[0]; i++) {
+        int64_t tri[36];
+        memcpy(tri, BOX_TRI, sizeof tri);
+        tri[35] = BAD_INDEX[i];
+        ray_expect(BOX_XYZ, 8, tri, 12, RAY_PTS, RAY_OWN, 2, RAY_D, 0, BIT(MFG_ERR_INVALID), "ray vertex index",
+                   (long long)BAD_INDEX[i]);
+        if (BAD_INDEX[i] == -1)
+            continue; /* -1 is "no own triangle" */
+        int64_t own[2] = {0, BAD_INDEX[i] < 12 ? BAD_INDEX[i] + 4 : BAD_INDEX[i]}; /* 12, 13: past the 12 triangles */
+        ray_expect(BOX_XYZ, 8, BOX_TRI, 12, RAY_PTS, own, 2, RAY_D, 0, BIT(MFG_ERR_INVALID), "ray own triangle",
+                   (long long)own[1]);
+    }
+    int64_t own_neg[2] = {0, -2};
+    ray_expect(BOX_XYZ, 8, BOX_TRI, 12, RAY_PTS, own_neg, 2, RAY_D, 0, BIT(MFG_ERR_INVALID), "ray own triangle", -2);
+    /* NaN / Inf / zero direction, NaN / Inf coordinates and points */
+    for (size_t i = 0; i < sizeof BAD_REALS / sizeof BAD_REALS[0]; i++) {
+        double v = BAD_REALS[i];
+        if (isfinite(v))
+            continue;
+        for (int k = 0; k < 3; k++) {
+            double d[3] = {0, 0, 1}, pts[6], xyz[24];
+            d[k] = v;
+            ray_expect(BOX_XYZ, 8, BOX_TRI, 12, RAY_PTS, RAY_OWN, 2, d, 0, BIT(MFG_ERR_INVALID), "ray direction", k);
+            memcpy(pts, RAY_PTS, sizeof pts);
+            pts[3 + k] = v;
+            ray_expect(BOX_XYZ, 8, BOX_TRI, 12, pts, RAY_OWN, 2, RAY_D, 0, BIT(MFG_ERR_INVALID), "ray point", k);
+            memcpy(xyz, BOX_XYZ, sizeof xyz);
+            xyz[21 + k] = v;
+            ray_expect(xyz, 8, BOX_TRI, 12, RAY_PTS, RAY_OWN, 2, RAY_D, 0, BIT(MFG_ERR_INVALID), "ray vertex", k);
+        }
+    }
+    static const double ZERO[3] = {0, 0, 0}, NEG_ZERO[3] = {-0.0, 0.0, -0.0};
+    ray_expect(BOX_XYZ, 8, BOX_TRI, 12, RAY_PTS, RAY_OWN, 2, ZERO, 0, BIT(MFG_ERR_INVALID), "ray zero direction", 0);
+    ray_expect(BOX_XYZ, 8, BOX_TRI, 12, RAY_PTS, RAY_OWN, 2, NEG_ZERO, 0, BIT(MFG_ERR_INVALID), "ray -0 direction", 0);
+    /* zero points: nothing to test, nothing written (OK or a clean error, as documented) */
+    ray_expect(BOX_XYZ, 8, BOX_TRI, 12, RAY_PTS, RAY_OWN, 0, RAY_D, 0, ANY_ERR | BIT(MFG_OK), "ray no points", 0);
+}
+
 int main(int argc, char **argv)
 {
-    /* "pointclass", "visibility", "sphere" or "sweep" runs one family (one ctest each, so one
+    /* "pointclass", "visibility", "sphere", "sweep" or "rays" runs one family (one ctest each, so one
      * family's failure does not hide another's); no argument runs all. */
     const char *only = argc > 1 ? argv[1] : "";
     if (!only[0] || !strcmp(only, "pointclass")) {
@@ -611,5 +703,7 @@ int main(int argc, char **argv)
         test_sphere();
     if (!only[0] || !strcmp(only, "sweep"))
         test_sweep();
+    if (!only[0] || !strcmp(only, "rays"))
+        test_rays();
     return mfg_test_report("test_hostile_api");
 }

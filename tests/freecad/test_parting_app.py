@@ -611,6 +611,35 @@ class Feature(unittest.TestCase):
         self.assert_clean(again)
         np.testing.assert_allclose(_np(again.Direction), direction, atol=1e-12)
 
+    def test_version2_document_loads(self):
+        """A document saved by version 2 (the angle property was called "Deflection")
+        opens with it as NormalDeflection (same degrees), Version 3, no "Deflection"
+        left, and recomputes to the same direction."""
+        import tempfile
+        from mfgeom.app.parting_feature import VERSION, make_parting_analysis
+        self.assertEqual(VERSION, 3)
+        obj = make_parting_analysis(self.doc, self.part)
+        direction, obj_name = _np(obj.Direction), obj.Name
+        # the object as version 2 saved it
+        obj.removeProperty("NormalDeflection")
+        obj.addProperty("App::PropertyAngle", "Deflection", "Input", "old tooltip")
+        obj.Deflection = 0.125
+        obj.Version = 2
+        path = os.path.join(tempfile.mkdtemp(), "parting_v2.FCStd")
+        self.doc.saveAs(path)
+        App.closeDocument(self.doc.Name)
+        self.doc = App.openDocument(path)
+        again = self.doc.getObject(obj_name)
+        self.assertEqual(again.Version, VERSION)
+        self.assertNotIn("Deflection", again.PropertiesList)
+        self.assertEqual(again.getTypeIdOfProperty("NormalDeflection"), "App::PropertyAngle")
+        self.assertAlmostEqual(again.NormalDeflection.Value, 0.125, places=12)
+        np.testing.assert_allclose(_np(again.Direction), direction)
+        again.touch()
+        self.doc.recompute()
+        self.assert_clean(again)
+        np.testing.assert_allclose(_np(again.Direction), direction, atol=1e-12)
+
     def test_bad_input_leaves_the_document_alone(self):
         from mfgeom.app.parting_feature import PartingInputError, make_parting_analysis
         before = len(self.doc.Objects)

@@ -123,7 +123,7 @@ def _():
     assert obj.isValid() and "Touched" not in obj.State, (obj.getStatusString(), obj.State)
     assert doc.UndoCount == undo + 1, (undo, doc.UndoCount)
     # the panel's deflection box rounds to its decimals; untouched, the default stays exact
-    assert obj.Deflection.Value == math.degrees(1e-3), obj.Deflection.Value
+    assert obj.NormalDeflection.Value == math.degrees(1e-3), obj.NormalDeflection.Value
     assert not part.Visibility, "the source stays shown under its coloured copy"
     # the hole: a cylinder along x and its floor (cup_hole.py's faces)
     hole = sorted(f"Face{i + 1}" for i, f in enumerate(part.Shape.Faces)
@@ -138,7 +138,7 @@ def _():
 @check("undercut faces in the undercut colour, zero-draft walls pink, the others by side")
 def _():
     from mfgeom import palette
-    from mfgeom.gui.parting_view import INSUFFICIENT_DRAFT
+    from mfgeom.gui.parting_view import class_color
     obj, hole, part = state["obj"], state["hole"], state["part"]
     # the cup's outer wall and its pocket's wall are parallel to the axis: zero draft
     walls = [f"Face{i + 1}" for i, f in enumerate(part.Shape.Faces)
@@ -152,7 +152,7 @@ def _():
         if name in hole:
             want = palette.UNDERCUT
         elif name in walls:
-            want = INSUFFICIENT_DRAFT
+            want = class_color("zero_draft")
         elif name in obj.CoreFaces:
             want = palette.CORE_SIDE
         elif name in obj.CavityFaces:
@@ -217,6 +217,54 @@ def _():
     assert abs(abs(obj.SideCoreDirections[0].x) - 1) < 1e-9
 
 
+def rgb8(c):
+    return tuple(int(round(255 * x)) for x in c[:3])
+
+
+def check_legend(panel, obj, meanings):
+    """The panel's legend lists one swatch per colour the view paints (what is drawn:
+    the swatch's pixels and the view's DiffuseColor), each with the label of its class;
+    ``meanings`` ((property with face names, words the label must hold)) checks that
+    the faces of each class are painted in the colour the legend gives those words."""
+    Gui.updateGui()
+    box = panel["legend"]
+    assert box.isVisible(), "the legend is hidden"
+    _, QtGui = qt()
+    swatches = {w.objectName()[len("legendSwatch_"):]: w
+                for w in box.findChildren(QtGui.QLabel)
+                if w.objectName().startswith("legendSwatch_")}
+    texts = {w.objectName()[len("legendText_"):]: w.text()
+             for w in box.findChildren(QtGui.QLabel)
+             if w.objectName().startswith("legendText_")}
+    assert swatches and set(swatches) == set(texts), (sorted(swatches), sorted(texts))
+    shown = {}
+    for key, w in swatches.items():
+        img = w.grab().toImage()
+        c = img.pixelColor(img.width() // 2, img.height() // 2)
+        shown[key] = (c.red(), c.green(), c.blue())
+    painted = {rgb8(c) for c in obj.ViewObject.DiffuseColor}
+    # every colour on the part is explained, and nothing else is listed
+    assert painted == set(shown.values()), (sorted(painted), shown)
+    assert len(set(shown.values())) == len(shown), f"two classes share a colour: {shown}"
+    from mfgeom import palette
+    from mfgeom.gui.parting_view import FACE_CLASSES
+    mould = [FACE_CLASSES[k][1] for k in ("core", "cavity", "zero_draft", "insufficient_draft",
+                                          "undercut", "shadowed", "no_direction", "other")]
+    least = min(palette.contrast(a, b, v) for v in palette.VISIONS
+                for i, a in enumerate(mould) for b in mould[i + 1:])
+    assert least >= 10, f"two Mould classes differ by {least:.1f} CIELAB units only"
+    colors = obj.ViewObject.DiffuseColor
+    for prop, words in meanings:
+        keys = [k for k, t in texts.items() if words.lower() in t.lower()]
+        assert len(keys) == 1, (words, texts)
+        names = getattr(obj, prop)
+        assert names, f"no {prop} to check"
+        for name in names:
+            assert rgb8(colors[int(name[4:]) - 1]) == shown[keys[0]], \
+                (prop, name, rgb8(colors[int(name[4:]) - 1]), texts[keys[0]], shown[keys[0]])
+    return texts
+
+
 @check("display modes switch; double click edits, shows the result, exports")
 def _():
     obj = state["obj"]
@@ -229,6 +277,11 @@ def _():
     panel = task_panel()
     assert panel is not None, "double click opened no panel"
     assert "Undercuts" in panel["result"].text(), panel["result"].text()
+    # the legend: core, cavity, zero draft, undercut, each with the colour of its faces
+    texts = check_legend(panel, obj, (("CoreFaces", "Core side"), ("CavityFaces", "Cavity"),
+                                      ("ZeroDraftFaces", "Zero draft"),
+                                      ("UncoveredFaces", "Undercut (")))
+    assert len(texts) == 4 or (len(texts) == 5 and "other" in texts), texts
     from mfgeom.gui import parting_panel
     path_json = os.path.join(OUT, "parting.json")
     path_csv = os.path.join(OUT, "parting.csv")
@@ -245,6 +298,8 @@ def _():
     press(panel["apply"])
     assert obj.Mode == "NC3Axis" and obj.isValid() and len(obj.Setups) == 2, obj.getStatusString()
     assert "Set-up 2" in panel["result"].text(), panel["result"].text()
+    texts = check_legend(panel, obj, ())
+    assert "Set-up 1" in texts.values() and "Set-up 2" in texts.values(), texts
     assert obj.Document.UndoCount == undo + 1
     press(panel["cancel"])
     assert task_panel() is None

@@ -236,6 +236,20 @@ def face_gauss(face, deflection=DEFAULT_DEFLECTION, name="", warnings=None):
         return None
 
 
+def _chain(k):
+    """Arcs (FaceGauss.arcs) 0-1, 1-2, ..., of k normals along one curve."""
+    i = np.arange(max(0, k - 1))
+    return np.column_stack([i, i + 1])
+
+
+def _lattice(rows, cols):
+    """Arcs of a rows x cols lattice of normals (row by row): along each row (a parallel)
+    and along each column (a meridian, a great circle on a sphere or torus)."""
+    idx = np.arange(rows * cols).reshape(rows, cols)
+    return np.vstack([np.column_stack([idx[:, :-1].ravel(), idx[:, 1:].ravel()]),
+                      np.column_stack([idx[:-1, :].ravel(), idx[1:, :].ravel()])])
+
+
 def _face_gauss(face, deflection, name):
     u0, u1, v0, v1 = face.ParameterRange
     surf = face.Surface
@@ -247,11 +261,12 @@ def _face_gauss(face, deflection, name):
     if isinstance(surf, Part.Cylinder):
         us = np.linspace(u0, u1, _pieces(u1 - u0, math.pi / 2) + 1)
         vm = (v0 + v1) / 2
-        return FaceGauss(_normals(ev, [(u, vm) for u in us]), 0.0, area, name)
+        return FaceGauss(_normals(ev, [(u, vm) for u in us]), 0.0, area, name,
+                         _chain(len(us)))
     if isinstance(surf, Part.Cone):
         vm = (v0 + v1) / 2
         _us, normals, dev = _small_circle_samples(ev, u0, u1, vm, deflection)
-        return FaceGauss(normals, dev, area, name)
+        return FaceGauss(normals, dev, area, name, _chain(len(normals)))
     if isinstance(surf, (Part.Sphere, Part.Toroid)):
         # meridians are great circles: gaps <= pi/2 are exact along v
         vs = np.linspace(v0, v1, _pieces(v1 - v0, math.pi / 2) + 1)
@@ -262,7 +277,7 @@ def _face_gauss(face, deflection, name):
                       key=lambda v: abs(math.sin(v) * math.cos(v)))
         us, _, dev = _small_circle_samples(ev, u0, u1, v_worst, deflection)
         normals = np.concatenate([_parallel_normals(ev, us, float(v)) for v in vs])
-        return FaceGauss(normals, dev, area, name)
+        return FaceGauss(normals, dev, area, name, _lattice(len(vs), len(us)))
     net = _net_surface(surf, (u0, u1, v0, v1))
     if net is not None:
         normals = _net_normals(net[0], deflection)

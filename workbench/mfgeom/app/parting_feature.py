@@ -23,8 +23,10 @@ from mfgeom.errors import InputError
 from mfgeom.parting import DEFAULT_TOL   # mfgeom.parting loads the library lazily
 
 # 1: first release.  2: Draft mode (PullDirection), per-face worst angles and zero-draft
-# faces, warnings.  Bump when properties change and migrate in _upgrade().
-VERSION = 2
+# faces, warnings.  3: the angle "Deflection" renamed NormalDeflection (a deflection in
+# mm is RayDeflection's; one word, one unit).  Bump when properties change and migrate
+# in _upgrade().
+VERSION = 3
 TYPE = "Mfgeom::PartingAnalysis"
 MODES = ["Mould", "NC3Axis", "Draft"]
 WEIGHTINGS = ["Count", "Area"]
@@ -45,7 +47,7 @@ class PartingAnalysis(FeatureProxy):
     def _set_defaults(self, obj):
         obj.Mode = MODES
         obj.Weighting = WEIGHTINGS
-        obj.Deflection = math.degrees(1e-3)
+        obj.NormalDeflection = math.degrees(1e-3)
         obj.AngularTolerance = DEFAULT_TOL
         obj.PullDirection = FreeCAD.Vector(0, 0, 1)
         obj.RayCheck = True
@@ -72,8 +74,12 @@ class PartingAnalysis(FeatureProxy):
             ("App::PropertyBool", "AllFaces", "Input",
              "NC3Axis: plan for every surface, not only the pockets (surfaces with a "
              "concave edge)", False),
-            ("App::PropertyAngle", "Deflection", "Input",
-             "Largest angle by which sampled (non-analytic) faces' maps may be shrunk", False),
+            ("App::PropertyAngle", "NormalDeflection", "Input",
+             "An angle (degrees, not a length): how far the normals of a sampled "
+             "(non-analytic) face may deviate from its Gaussian map's samples, i.e. the "
+             "largest angle by which its map is shrunk (default 0.057 deg = 1e-3 rad). "
+             "The ray check's tessellation deflection, a length in mm, is RayDeflection",
+             False),
             ("App::PropertyFloat", "AngularTolerance", "Input",
              "Radians (default 0.01 deg): normals closer than this are snapped together, "
              "walls within it of the parting plane are zero draft (CAD noise, not "
@@ -82,8 +88,9 @@ class PartingAnalysis(FeatureProxy):
              "Mould: check the answer with rays along +-d from sample points of every face "
              "(a face shadowed by another part of the solid is flagged)", False),
             ("App::PropertyLength", "RayDeflection", "Input",
-             "Mould: tessellation deflection (mm) of the ray check; 0: 1/500 of the part's "
-             "bounding-box diagonal", False),
+             "Mould: a length (mm): the chordal deflection of the ray check's "
+             "tessellation; 0: 1/500 of the part's bounding-box diagonal. (The angle of "
+             "the Gaussian maps is NormalDeflection)", False),
             ("App::PropertyVector", "Direction", "Result",
              "Parting direction (core side +d) or main set-up direction, global", True),
             ("App::PropertyFloat", "MarginDeg", "Result",
@@ -143,6 +150,12 @@ class PartingAnalysis(FeatureProxy):
         return super()._outdated(obj) or "Faces" not in obj.PropertiesList
 
     def _upgrade(self, obj, old_version, old_properties):
+        if "Deflection" in old_properties:
+            # versions 1, 2: "Deflection" was this angle (degrees)
+            obj.NormalDeflection = _old_angle(obj.Deflection)
+            obj.removeProperty("Deflection")
+        elif "NormalDeflection" not in old_properties:
+            obj.NormalDeflection = math.degrees(1e-3)
         if "PullDirection" not in old_properties:
             obj.PullDirection = FreeCAD.Vector(0, 0, 1)
         if "RayCheck" not in old_properties:
@@ -181,10 +194,15 @@ class PartingAnalysis(FeatureProxy):
         self.last = None
 
 
+def _old_angle(value):
+    """Degrees of an old document's angle property (a Quantity or a plain number)."""
+    return float(getattr(value, "Value", value))
+
+
 def _options_key(obj):
     """What the last analysis depends on besides the source's geometry."""
     return (obj.Source.Name if obj.Source else None, tuple(obj.Faces), obj.Mode,
-            obj.DraftAngle.Value, obj.Weighting, bool(obj.AllFaces), obj.Deflection.Value,
+            obj.DraftAngle.Value, obj.Weighting, bool(obj.AllFaces), obj.NormalDeflection.Value,
             obj.AngularTolerance, _tuple(obj.PullDirection), bool(obj.RayCheck),
             obj.RayDeflection.Value)
 
@@ -197,7 +215,7 @@ def _compute(obj, progress=None):
     t0 = time.perf_counter()
     warnings = []
     faces, adjacency, shape = gauss_map.part_gauss(obj.Source,
-                                                   math.radians(obj.Deflection.Value),
+                                                   math.radians(obj.NormalDeflection.Value),
                                                    face_names=list(obj.Faces) or None,
                                                    warnings=warnings)
     t1 = time.perf_counter()

@@ -162,12 +162,15 @@ class PartingPanel(TaskPanel):
         layout.addRow(self.all_faces)
 
         self.deflection = spin("deflection", 0.001, 10.0, 3, " deg",
-                               tip="Sampled (non-analytic) faces: their maps are shrunk by "
-                               "at most this angle so every direction holds on the "
-                               "true faces")
-        layout.addRow("Deflection", self.deflection)
+                               tip="An angle, not a length (property NormalDeflection): "
+                               "sampled (non-analytic) faces' Gaussian maps are shrunk by "
+                               "at most this angle so every direction holds on the true "
+                               "faces.\nThe ray check's tessellation deflection (mm) is "
+                               "the property RayDeflection.")
+        layout.addRow("Normal deflection", self.deflection)
 
         self._add_result(layout)
+        self._add_legend(layout)
 
         buttons = QtGui.QHBoxLayout()
         self.export_json_button = QtGui.QPushButton("Export JSON...")
@@ -185,6 +188,39 @@ class PartingPanel(TaskPanel):
         self.mode.currentIndexChanged.connect(self._mode_changed)
         self._load()
 
+    def _add_legend(self, layout):
+        """The colour legend of the view: one swatch and label per face class present
+        in the result (mfgeom.gui.parting_view.legend_entries, the view's own table)."""
+        self.legend = QtGui.QGroupBox("Colours")
+        self.legend.setObjectName("legend")
+        self._legend_grid = QtGui.QGridLayout(self.legend)
+        self._legend_grid.setContentsMargins(6, 6, 6, 6)
+        self._legend_grid.setColumnStretch(1, 1)
+        layout.addRow(self.legend)
+
+    def _fill_legend(self):
+        from mfgeom.gui.parting_view import legend_entries
+        grid = self._legend_grid
+        while grid.count():
+            w = grid.takeAt(0).widget()
+            if w is not None:
+                w.setParent(None)
+                w.deleteLater()
+        obj = self.obj
+        entries = legend_entries(obj) if obj is not None and obj.isValid() else []
+        for row, (key, label, rgb) in enumerate(entries):
+            swatch = QtGui.QLabel()
+            swatch.setObjectName(f"legendSwatch_{key}")
+            swatch.setFixedSize(18, 14)
+            r, g, b = (int(round(255 * c)) for c in rgb)
+            swatch.setStyleSheet(f"background-color: rgb({r}, {g}, {b}); "
+                                 "border: 1px solid #404040")
+            text = QtGui.QLabel(label)
+            text.setObjectName(f"legendText_{key}")
+            grid.addWidget(swatch, row, 0)
+            grid.addWidget(text, row, 1)
+        self.legend.setVisible(bool(entries))
+
     # ------------------------------------------------------------- values
     def _load(self):
         obj = self.obj
@@ -195,7 +231,7 @@ class PartingPanel(TaskPanel):
             self.all_faces.setChecked(bool(obj.AllFaces))
             p = obj.PullDirection
             self.pull.setText(f"{p.x:.12g}, {p.y:.12g}, {p.z:.12g}")
-            self._deflection = obj.Deflection.Value
+            self._deflection = obj.NormalDeflection.Value
         else:
             self._deflection = math.degrees(1e-3)
         # the box rounds to its decimals: an untouched box keeps the exact value
@@ -205,6 +241,7 @@ class PartingPanel(TaskPanel):
         which = ", ".join(self.faces) if self.faces else "all faces"
         self.what.setText(f"Part: {src} ({which})")
         self.result.setText(result_text(obj))
+        self._fill_legend()
         self.export_json_button.setEnabled(obj is not None)
         self.export_csv_button.setEnabled(obj is not None)
         self._mode_changed()
@@ -237,7 +274,7 @@ class PartingPanel(TaskPanel):
                 "PullDirection": parse_direction(self.pull.text()),
                 "Weighting": self.weighting.currentData(),
                 "AllFaces": bool(self.all_faces.isChecked()),
-                "Deflection": (self._deflection if self.deflection.value() == self._deflection_shown
+                "NormalDeflection": (self._deflection if self.deflection.value() == self._deflection_shown
                                else float(self.deflection.value()))}
 
     # ------------------------------------------------------------- create / edit
@@ -258,9 +295,9 @@ class PartingPanel(TaskPanel):
                 v["AllFaces"], self.faces,
                 pull_direction=v["PullDirection"] if v["Mode"] == "Draft" else None)
             made.append(obj)
-            if abs(v["Deflection"] - obj.Deflection.Value) > 1e-12:
+            if abs(v["NormalDeflection"] - obj.NormalDeflection.Value) > 1e-12:
                 self._set_and_recompute(
-                    obj, [f"{macro.object_expr(obj)}.Deflection = {v['Deflection']!r}"])
+                    obj, [f"{macro.object_expr(obj)}.NormalDeflection = {v['NormalDeflection']!r}"])
             # the analysis shows a coloured copy of the part: hide the source meanwhile
             macro.app_set(self.source, "Visibility", False)
         if not self._run(self.doc, TITLE, make):
@@ -276,7 +313,7 @@ class PartingPanel(TaskPanel):
         p = obj.PullDirection
         current = {"Mode": obj.Mode, "DraftAngle": obj.DraftAngle.Value,
                    "Weighting": obj.Weighting, "AllFaces": bool(obj.AllFaces),
-                   "Deflection": obj.Deflection.Value, "PullDirection": (p.x, p.y, p.z)}
+                   "NormalDeflection": obj.NormalDeflection.Value, "PullDirection": (p.x, p.y, p.z)}
         values = self.values()
         lines = [f"{macro.object_expr(obj)}.{k} = {v!r}" for k, v in values.items()
                  if v != current[k] and k != "PullDirection"]

@@ -8,10 +8,12 @@ along each direction and a visibility sphere beside the part, all drawn with Coi
   panel hides it while the analysis is shown and deleting the analysis shows it again.
   The copy is not a selectable Part shape, so selecting the analysis does not paint it
   green: the colours stay legible.
-* Colours (mfgeom.palette): Mould core side (+d) blue, cavity side (-d) red, faces
-  parallel to d grey, undercuts indigo, insufficient draft pink, no direction at all
-  black; NC3Axis set-up k in ``setup_color(k)``, unresolved pockets red, faces not
-  considered grey.  Display mode "Surfaces" colours the concave-connected surfaces.
+* Colours: one table, :data:`FACE_CLASSES` (from mfgeom.palette), read by the view and
+  by the task panel's legend (:func:`legend_entries`).  Mould core side (+d) blue,
+  cavity side (-d) red, zero draft pink, insufficient draft sand, undercuts indigo,
+  shadowed (ray check) brown, undercuts with no side core black, other faces grey;
+  Draft positive blue, negative red, insufficient pink, straddle sand; NC3Axis set-up k
+  in ``setup_color(k)``, unresolved pockets red, faces not considered grey.  Display mode "Surfaces" colours the concave-connected surfaces.
 * Arrows: Mould +d (core colour) and -d (cavity colour) from the part's centre, each side
   core from its faces' centre; NC3Axis each set-up from its faces' centre.
 * The visibility sphere: an icosphere (2562 vertices, 5120 triangles) beside the part,
@@ -35,10 +37,33 @@ from mfgeom.gui.view_base import PanelViewProvider
 
 MODES = ("Result", "Part", "Sphere", "Surfaces")
 SPHERE_LEVEL = 4            # icosphere subdivisions: 10 * 4**4 + 2 = 2562 vertices
-PARALLEL = palette.SHAPE_GREY
-INSUFFICIENT_DRAFT = palette.SETUP_COLORS[7]   # pink
-STRADDLE = palette.SETUP_COLORS[2]             # sand: Draft mode, normals on both sides
-NO_DIRECTION = (0.0, 0.0, 0.0)
+# The face classes of the Result display mode: key -> (legend label, RGB).  The one
+# table of the parting colours: face_colors paints from it and the task panel's legend
+# (legend_entries) lists from it.  In the order the legend lists them.  The Mould
+# colours differ by >= 10 CIELAB units under normal, protan and deutan vision (the
+# least: core blue against zero-draft pink under protanopia, 10.3).
+FACE_CLASSES = {
+    # Mould
+    "core": ("Core side (+d)", palette.CORE_SIDE),
+    "cavity": ("Cavity side (-d)", palette.CAVITY_SIDE),
+    "zero_draft": ("Zero draft (wall within the angular tolerance of d)",
+                   palette.SETUP_COLORS[5]),                              # pink
+    "insufficient_draft": ("Insufficient draft (below the draft angle)",
+                           palette.SETUP_COLORS[2]),                      # sand
+    "undercut": ("Undercut (not demouldable along +-d)", palette.UNDERCUT),  # indigo
+    "shadowed": ("Shadowed (ray check: blocked by the part)",
+                 palette.SETUP_COLORS[1]),                                # brown
+    "no_direction": ("Undercut with no side-core direction", (0.0, 0.0, 0.0)),
+    # Draft
+    "positive": ("Positive draft (along +pull)", palette.CORE_SIDE),
+    "negative": ("Negative draft (along -pull)", palette.CAVITY_SIDE),
+    "insufficient": ("Insufficient draft", palette.SETUP_COLORS[5]),      # pink
+    "straddle": ("Straddle (normals on both sides)", palette.SETUP_COLORS[2]),  # sand
+    # NC3Axis (set-up k: "setup<k>", see class_color)
+    "unresolved": ("Pocket no set-up reaches", palette.CAVITY_SIDE),
+    # every mode
+    "other": ("Not classified (parallel to d, or not analysed)", palette.SHAPE_GREY),
+}
 # Surfaces mode: a qualitative cycle (the set-up colours, light ones first)
 SURFACE_COLORS = (palette.SETUP_COLORS[0], palette.SETUP_COLORS[4], palette.CAVITY_SIDE,
                   palette.SETUP_COLORS[5], palette.SETUP_COLORS[2], palette.SETUP_COLORS[7],
@@ -138,35 +163,67 @@ def coverage_colors(count):
     return col
 
 
-def face_colors(obj, nfaces):
-    """One RGB per face of the source's shape (Face1 first) from the result properties."""
-    grey = palette.SHAPE_GREY
-    cols = [grey] * nfaces
+def class_label(key):
+    """The legend text of a face class key (FACE_CLASSES, or "setup<k>")."""
+    if key.startswith("setup"):
+        return f"Set-up {key[5:]}"
+    return FACE_CLASSES[key][0]
 
-    def paint(names, color):
+
+def class_color(key):
+    """The RGB of a face class key (FACE_CLASSES, or "setup<k>": palette.setup_color(k))."""
+    if key.startswith("setup"):
+        return palette.setup_color(int(key[5:]))
+    return FACE_CLASSES[key][1]
+
+
+def face_classes(obj, nfaces):
+    """One class key per face of the source's shape (Face1 first) from the result
+    properties; later assignments win (a shadowed core face is "shadowed")."""
+    keys = ["other"] * nfaces
+
+    def mark(names, key):
         for name in names:
             if name.startswith("Face") and name[4:].isdigit() and 0 < int(name[4:]) <= nfaces:
-                cols[int(name[4:]) - 1] = color
+                keys[int(name[4:]) - 1] = key
     if obj.Mode == "Draft":
-        paint(getattr(obj, "PositiveDraftFaces", []), palette.CORE_SIDE)
-        paint(getattr(obj, "NegativeDraftFaces", []), palette.CAVITY_SIDE)
-        paint(obj.InsufficientDraftFaces, INSUFFICIENT_DRAFT)
-        paint(getattr(obj, "StraddleFaces", []), STRADDLE)
+        mark(getattr(obj, "PositiveDraftFaces", []), "positive")
+        mark(getattr(obj, "NegativeDraftFaces", []), "negative")
+        mark(obj.InsufficientDraftFaces, "insufficient")
+        mark(getattr(obj, "StraddleFaces", []), "straddle")
     elif obj.Mode == "Mould":
-        analysed = [n for surf in obj.Surfaces for n in surf.split()]
-        paint(analysed, PARALLEL)
-        paint(obj.CoreFaces, palette.CORE_SIDE)
-        paint(obj.CavityFaces, palette.CAVITY_SIDE)
-        paint(obj.UncoveredFaces, palette.UNDERCUT)
-        paint(obj.InsufficientDraftFaces, INSUFFICIENT_DRAFT)
+        mark(obj.CoreFaces, "core")
+        mark(obj.CavityFaces, "cavity")
+        mark(obj.UncoveredFaces, "undercut")
+        mark(obj.InsufficientDraftFaces, "insufficient_draft")
+        mark(getattr(obj, "ZeroDraftFaces", []), "zero_draft")
         # the ray check found them blocked: undercuts the normals cannot see
-        paint(getattr(obj, "ShadowedFaces", []), palette.UNDERCUT)
-        paint(obj.UnresolvedFaces, NO_DIRECTION)
+        mark(getattr(obj, "ShadowedFaces", []), "shadowed")
+        mark(obj.UnresolvedFaces, "no_direction")
     else:
         for k, entry in enumerate(obj.Setups, 1):
-            paint(json.loads(entry)["faces"], palette.setup_color(k))
-        paint(obj.UnresolvedFaces, palette.CAVITY_SIDE)
-    return cols
+            mark(json.loads(entry)["faces"], f"setup{k}")
+        mark(obj.UnresolvedFaces, "unresolved")
+    return keys
+
+
+def face_colors(obj, nfaces):
+    """One RGB per face of the source's shape (Face1 first) from the result properties."""
+    return [class_color(k) for k in face_classes(obj, nfaces)]
+
+
+def legend_entries(obj, nfaces=None):
+    """[(key, label, RGB)] of the face classes present in ``obj``'s result, in the
+    table's order (set-ups in their order): what the task panel's legend shows."""
+    if nfaces is None:
+        source = getattr(obj, "Source", None)
+        nfaces = len(source.Shape.Faces) if source is not None else 0
+    present = set(face_classes(obj, nfaces))
+    order = [k for k in FACE_CLASSES if k in present and k != "other"]
+    order += sorted((k for k in present if k.startswith("setup")), key=lambda k: int(k[5:]))
+    if "other" in present:
+        order.append("other")
+    return [(k, class_label(k), class_color(k)) for k in order]
 
 
 def surface_colors(obj, nfaces):
