@@ -9,14 +9,12 @@ diagram is silently empty); secondary edges (a segment and its own endpoint) and
 outside the face or inside holes are not medial axis and are filtered here; curved edges
 are parabolas (sampled here to the tolerance).
 
-available() tells whether FreeCAD's Path module can be imported (/usr/lib/freecad-python3/lib)."""
+available() tells whether FreeCAD's Path module can be imported (mfgeom.paths finds FreeCAD)."""
 import math
-import sys
 import time
 
 import numpy as np
 
-_FC = '/usr/lib/freecad-python3/lib'
 
 
 def available():
@@ -28,8 +26,9 @@ def available():
 
 
 def _path():
-    if _FC not in sys.path:
-        sys.path.append(_FC)
+    from mfgeom import paths
+    if paths.add_freecad_to_path() is None:
+        raise ImportError("FreeCAD's Python modules not found (set MFGEOM_FREECAD_LIB)")
     import FreeCAD  # noqa: F401  (Path needs it loaded)
     import Path
     return Path
