@@ -8,6 +8,7 @@ import traceback
 
 import FreeCAD
 
+from mfgeom import compat
 from mfgeom.errors import InputError, MfgeomError
 
 
@@ -45,9 +46,10 @@ def attach_view(obj, view_provider):
 def one_line_error(obj, exc):
     """The exception a failed recompute raises: an InputError stays one (so callers can
     catch it), anything else becomes an MfgeomError naming the original class; the
-    message is prefixed with the object's label, on one line."""
+    message is on one line and names the object once: prefixed with its label where
+    FreeCAD does not do so itself (0.20; 1.0 reports "<Label>: <message>")."""
     text = " ".join(str(exc).split()) or type(exc).__name__
-    message = f"{obj.Label}: {text}"
+    message = text if compat.freecad_names_failed_objects() else f"{obj.Label}: {text}"
     if isinstance(exc, InputError):
         return type(exc)(message)
     return MfgeomError(f"{message} ({type(exc).__name__})")
