@@ -55,6 +55,16 @@ def one_line_error(obj, exc):
     return MfgeomError(f"{message} ({type(exc).__name__})")
 
 
+def status_line(obj):
+    """Why ``obj``'s recompute failed, naming it: "<Label>: <message>" on every FreeCAD
+    version (the status string carries the label only where our message does, see
+    one_line_error)."""
+    status = obj.getStatusString()
+    if compat.freecad_names_failed_objects() and not status.startswith(f"{obj.Label}: "):
+        return f"{obj.Label}: {status}"
+    return status
+
+
 class FeatureProxy:
     """Base of the App proxies.  Subclasses set TYPE, VERSION and VIEW_PROVIDER and
     implement ``_add_properties(obj)`` (adds what ``obj`` lacks, see add_properties),
@@ -83,7 +93,7 @@ class FeatureProxy:
             # recompute(True): in FreeCAD 0.20 obj.recompute() leaves the new object Touched
             obj.recompute(True)
             if not obj.isValid():
-                raise error(f"{what} failed: {obj.getStatusString()}")
+                raise error(f"{what} failed: {status_line(obj)}")
         except Exception:  # undo the half-made object whatever went wrong, then re-raise
             doc.removeObject(obj.Name)
             raise
