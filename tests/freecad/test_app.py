@@ -902,6 +902,38 @@ class PackagingTests(unittest.TestCase):
         self.assertTrue(os.path.isfile(os.path.normpath(os.path.join(sub, wb.Icon))))
         with open(os.path.join(sub, "InitGui.py"), encoding="utf-8") as f:
             self.assertIn(f"class {wb.Classname}(", f.read())
+        # supported from 0.20 on, with no upper bound (a freecadmax would hide the add-on
+        # from every newer FreeCAD); the description and tags name every feature
+        self.assertEqual(meta.FreeCADMin, "0.20.0")
+        self.assertIn(meta.FreeCADMax, ("0.0.0", ""))   # none: 0.20 says 0.0.0, 1.0 ""
+        for word in ("point classification", "parting", "NC", "draft", "ray check",
+                     "rotational sweep", "clearance", "medial surface", "mid-surface",
+                     "medial axis"):
+            self.assertIn(word.lower(), meta.Description.lower(), word)
+        for tag in ("point classification", "parting", "rotational sweep", "medial surface",
+                    "medial axis"):
+            self.assertIn(tag, meta.Tag)
+
+    def test_package_xml_as_the_addon_manager_reads_it(self):
+        # FreeCAD 1.0's Addon Manager has its own reader (Mod/AddonManager, on the path in
+        # freecadcmd); 0.20's has none (its App.Metadata is checked above).
+        try:
+            import addonmanager_metadata as am
+            from Addon import Addon
+        except ImportError as exc:
+            self.skipTest(f"no Addon Manager metadata reader in this FreeCAD: {exc}")
+        meta = am.MetadataReader.from_file(os.path.join(REPO, "package.xml"))
+        self.assertEqual(meta.name, "Manufacturing Geometry")
+        self.assertEqual(meta.freecadmin.version_as_list[:3], [0, 20, 0])
+        self.assertIsNone(meta.freecadmax)
+        self.assertEqual(meta.pythonmin.version_as_list[:2], [3, 8])
+        self.assertTrue(Addon.version_is_ok(meta))
+        self.assertLessEqual(tuple(meta.pythonmin.version_as_list[:2]), sys.version_info[:2])
+        self.assertIn("numpy", [d.package for d in meta.depend])
+        self.assertTrue(os.path.isfile(os.path.join(REPO, meta.icon)))
+        wb = meta.content["workbench"][0]
+        self.assertEqual((wb.classname, wb.subdirectory), ("MfgeomWorkbench", "workbench"))
+        self.assertTrue(Addon.version_is_ok(wb))
 
     def test_icons_and_resources_exist(self):
         from mfgeom import paths
