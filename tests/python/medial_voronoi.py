@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""The peer of mfgeom's 2-D medial axis: FreeCAD's Path.Voronoi (Boost.Polygon's segment
-Voronoi diagram), as FreeCAD's V-carve uses it -- no code shared with
+"""The peer of mfgeom's 2-D medial axis: FreeCAD's Path.Voronoi (PathApp.Voronoi in 1.0;
+Boost.Polygon's segment Voronoi diagram), as FreeCAD's V-carve uses it -- no code shared with
 libcore/src/medial_axis.c.  From the issue 9 research notes (ma2d/pv_medial.py).
 
 Facts that shape its use (measured, see the notes): the input is multiplied by `scale`
@@ -30,7 +30,10 @@ def _path():
     if paths.add_freecad_to_path() is None:
         raise ImportError("FreeCAD's Python modules not found (set MFGEOM_FREECAD_LIB)")
     import FreeCAD  # noqa: F401  (Path needs it loaded)
-    import Path
+    try:  # FreeCAD 1.0 renamed the C++ module (Path is now CAM's Python package)
+        import PathApp as Path
+    except ImportError:  # FreeCAD 0.20, 0.21
+        import Path
     return Path
 
 
