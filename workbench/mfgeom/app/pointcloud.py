@@ -7,7 +7,9 @@ double precision.  Only the kernel's public, version-stable API is used (``addPo
 ``.Points``, ``.Placement``): the serialised form (``dumpContent``) changed between FreeCAD
 0.20 and 1.0.  Local (stored) coordinates are read from a copy whose placement is the
 identity, so the float32 values come back exactly and the placement is applied here in
-double precision.  About 1.5 s for 10^6 points each way (one Python object per point).
+double precision.  The results are bit for bit those of the former reader of the
+serialised form; 10^6 points take ~1.4 s in and ~0.6 s out (one Python object per point;
+the serialised form took ~0.6 s and ~0.3 s).
 """
 
 import itertools
