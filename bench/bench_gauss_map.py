@@ -4,7 +4,7 @@ part's faces and the edge adjacency, from OCCT) on generated parts with many B-s
 faces (issue 17, item 3: the 305-face fan under 2 s end to end, a 5 000-face mixed part
 under 5 s).
 
-Run with the system interpreter (FreeCAD is imported from /usr/lib/freecad/lib):
+Run with the system interpreter (FreeCAD is found by mfgeom.paths):
     MFGEOM_LIBRARY=build/libmfgeom.so /usr/bin/python3 bench/bench_gauss_map.py [--profile]
 The parts are built once and cached as BREP files under build/bench_gauss_map/ (building
 the 5 000-face part takes a few minutes of OCCT booleans).  Prints a Markdown table: per
@@ -26,11 +26,12 @@ import os
 import sys
 import time
 
-sys.path.append("/usr/lib/freecad/lib")
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
 sys.path.append(os.path.join(REPO, "workbench"))
 sys.path.append(HERE)
+from mfgeom import paths  # noqa: E402
+paths.add_freecad_to_path()  # FreeCAD's lib and Mod/Part
 
 import FreeCAD as App  # noqa: E402
 import Part  # noqa: E402

@@ -131,9 +131,12 @@ def _run_as_script():
         traceback.print_exc()
         rc = 1
     if App.GuiUp:
-        sys.stdout.flush()
-        sys.stderr.flush()
-        os._exit(rc)
+        workbench = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                                 "workbench")
+        if workbench not in sys.path:
+            sys.path.append(workbench)
+        from mfgeom import compat
+        compat.exit_now(rc)  # output flushed first (FreeCAD 1.0 buffers C stdio in a pipe)
     sys.exit(rc)
 
 

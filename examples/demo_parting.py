@@ -27,7 +27,7 @@ for path in (HERE, os.path.join(HERE, "parts"), os.path.join(REPO, "workbench"))
 
 import cup_hole  # noqa: E402  (needs the path above)
 import mfgeom  # noqa: E402
-from mfgeom import parting  # noqa: E402
+from mfgeom import compat, parting  # noqa: E402
 from mfgeom.app.parting_feature import feature_report  # noqa: E402
 
 # The part's placement: a rotation about an oblique axis, so the directions are not axes.
@@ -105,5 +105,4 @@ try:
 except Exception:
     traceback.print_exc()
     rc = 1
-sys.stdout.flush()
-os._exit(rc)
+compat.exit_now(rc)  # output flushed first (FreeCAD 1.0 buffers C stdio in a pipe)

@@ -17,6 +17,10 @@ import FreeCADGui as Gui
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
+if os.path.join(REPO, "workbench") not in sys.path:  # FreeCAD has it when installed
+    sys.path.append(os.path.join(REPO, "workbench"))
+
+from mfgeom import compat  # noqa: E402
 
 
 def render():
@@ -64,6 +68,4 @@ try:
 except Exception:  # report, then leave with a failing code: the GUI must not stay up
     traceback.print_exc()
     rc = 1
-sys.stdout.flush()
-sys.stderr.flush()
-os._exit(rc)
+compat.exit_now(rc)  # output flushed first (FreeCAD 1.0 buffers C stdio in a pipe)

@@ -19,6 +19,10 @@ import FreeCADGui as Gui
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
+if os.path.join(REPO, "workbench") not in sys.path:  # FreeCAD has it when installed
+    sys.path.append(os.path.join(REPO, "workbench"))
+
+from mfgeom import compat  # noqa: E402
 WIDTH, HEIGHT = 1200, 800
 
 
@@ -71,5 +75,4 @@ try:
 except Exception:
     traceback.print_exc()
     rc = 1
-sys.stdout.flush()
-os._exit(rc)
+compat.exit_now(rc)  # output flushed first (FreeCAD 1.0 buffers C stdio in a pipe)

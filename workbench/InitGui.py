@@ -14,7 +14,10 @@ class MfgeomWorkbench(FreeCADGui.Workbench):
     """Manufacturing Geometry: tolerance-aware geometry for CAD/CAM (libmfgeom)."""
 
     MenuText = "Manufacturing Geometry"
-    ToolTip = "Tolerance-aware manufacturing geometry: point classification against faces"
+    ToolTip = ("Tolerance-aware manufacturing geometry: point classification against faces, "
+               "parting analysis (mould core / cavity / undercut, NC set-ups, draft and ray "
+               "checks), rotational sweep with clearance check, medial surface, mid-surface "
+               "for FEM and medial axis")
 
     def __init__(self):
         from mfgeom import paths

@@ -369,10 +369,9 @@ def _list():
 
 
 if __name__ == "__main__":
-    for _d in ("/usr/lib/freecad/lib", "/usr/lib/freecad-python3/lib"):
-        if os.path.isdir(_d) and _d not in sys.path:
-            sys.path.append(_d)
     sys.path.insert(0, os.path.join(REPO, "workbench"))
+    from mfgeom import paths  # noqa: E402
+    paths.add_freecad_to_path()  # FreeCAD's lib and Mod/Part
     import FreeCAD  # noqa: F401,E402
     arg = sys.argv[1] if len(sys.argv) > 1 else "--list"
     {"--copy": _copy, "--licenses": _licences, "--list": _list}[arg]()

@@ -413,6 +413,9 @@ class Feature(unittest.TestCase):
             self.assertIn(text, case["status"], prop)
             self.assertNotIn("\n", case["status"])
             self.assertTrue(case["status"].startswith(case["label"]), case["status"])
+            # the label once: FreeCAD 1.0 adds it to the report itself, not to the status
+            self.assertEqual(case["status"].count(case["label"]), 1, case["status"])
+            self.assertIn(case["raw"], case["status"])
             self.assertTrue(case["others_valid"], prop)
             self.assertTrue(case["back_valid"] and not case["back_touched"], prop)
             self.assertEqual(case["back_volume"], out["volume"], prop)
@@ -433,6 +436,7 @@ print("=== result " + json.dumps(result), flush=True)
 """
 
 BAD_EDITS_SCRIPT = """
+from mfgeom.app.feature_base import status_line
 doc = App.newDocument("BadEdits")
 box = doc.addObject("Part::Box", "Box")
 face = doc.addObject("Part::Feature", "Face")
@@ -447,7 +451,7 @@ for prop, value, want in (("Angle", 0.0, "(0, 360]"), ("Angle", -30.0, "(0, 360]
     setattr(obj, prop, value)
     doc.recompute()
     case = {"prop": prop, "want": want, "valid": obj.isValid(),
-            "status": obj.getStatusString(), "label": obj.Label,
+            "status": status_line(obj), "raw": obj.getStatusString(), "label": obj.Label,
             "others_valid": box.isValid() and face.isValid()}
     setattr(obj, prop, old)
     doc.recompute()

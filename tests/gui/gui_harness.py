@@ -3,7 +3,6 @@
 and its results, GUI event pumping, the modal-dialog closer, and the summary line and
 exit code that tests/gui/run_gui_tests.sh reads."""
 
-import os
 import sys
 import time
 import traceback
@@ -81,6 +80,5 @@ def finish(label):
     if "image" in state:
         sys.stdout.write(f"screenshot: {state['image']}\n")
     sys.stdout.write(f"{label}: {len(results) - len(failed)} passed, {len(failed)} failed\n")
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(1 if failed or not results else 0)
+    from mfgeom import compat  # flushes C stdio too: FreeCAD 1.0 buffers it in a pipe
+    compat.exit_now(1 if failed or not results else 0)

@@ -92,8 +92,13 @@ report freecad-gui-medial "$medial_log" $rc
 # checks the offer to build, that the document stays valid, then builds and loads.
 lib_copy=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-nolib.XXXXXX")
 lib_home=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-nolib-home.XXXXXX")
-git ls-files -z --cached --others --exclude-standard |
-  while IFS= read -r -d '' f; do [ -e "$f" ] && cp --parents -P "$f" "$lib_copy/"; done
+if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
+  git ls-files -z --cached --others --exclude-standard |
+    while IFS= read -r -d '' f; do [ -e "$f" ] && cp --parents -P "$f" "$lib_copy/"; done
+else  # no git here (e.g. the FreeCAD 1.0 root, or a worktree whose .git is elsewhere)
+  tar -c --exclude='./build*' --exclude=./out --exclude=.git --exclude=__pycache__ \
+      --exclude='*.so' . | tar -x -C "$lib_copy"
+fi
 mkdir -p "$lib_home/Mod"
 ln -s "$lib_copy" "$lib_home/Mod/mfgeom"
 lib_log="$MFGEOM_GUI_OUT/gui-library.log"

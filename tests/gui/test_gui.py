@@ -19,7 +19,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.append(os.path.join(REPO, "examples"))
 sys.path.insert(0, HERE)
-from gui_harness import DialogCloser, check, finish, press, qt, state  # noqa: E402
+from gui_harness import DialogCloser, check, finish, press, pump, qt, state  # noqa: E402
 
 OUT = os.environ.get("MFGEOM_GUI_OUT") or tempfile.mkdtemp(prefix="mfgeom-gui-")
 os.makedirs(OUT, exist_ok=True)
@@ -131,8 +131,10 @@ def _():
     panel = task_panel()
     assert panel is not None, "the command opened no task panel"
     assert len(doc.Objects) == before, "the panel created something before OK"
-    # The panel's defaults: the preferences, Strict on
-    assert panel["tolerance_text"].text() == "0.3 mm", panel["tolerance_text"].text()
+    # The panel's defaults: the preferences, Strict on (the panel puts the text back in mm
+    # just after the box is shown, a zero timer: wait for it, FreeCAD 1.0 is slower)
+    assert pump(lambda: panel["tolerance_text"].text() == "0.3 mm", 5), \
+        panel["tolerance_text"].text()
     assert panel["strict"].isChecked()
     panel["pointSize"].setValue(7)
     press(panel["ok"])
@@ -245,7 +247,9 @@ def _():
     assert obj.ViewObject.Proxy.doubleClicked(obj.ViewObject)
     panel = task_panel()
     assert panel is not None, "no panel on double click"
-    assert panel["tolerance_text"].text() == "0.3 mm" and panel["strict"].isChecked()
+    assert pump(lambda: panel["tolerance_text"].text() == "0.3 mm", 5), \
+        panel["tolerance_text"].text()
+    assert panel["strict"].isChecked()
     panel["tolerance_text"].setText("0.1 mm")
     press(panel["cancel"])
     assert task_panel() is None and abs(obj.Tolerance.Value - 0.3) < 1e-12

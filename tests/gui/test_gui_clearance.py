@@ -45,6 +45,43 @@ def rgb(c):
     return tuple(round(x, 3) for x in c[:3])
 
 
+def saved_colours(path, name):
+    """(ShapeColor, per-face colours) of view provider ``name`` as the FCStd ``path``
+    holds them, whichever the FreeCAD version wrote (None for what it did not): 0.20's
+    ShapeColor (packed 0xRRGGBBTT) and DiffuseColor (a file: uint32 count, then packed
+    colours), or 1.0's ShapeAppearance (a file: uint32 count, then per material the
+    packed ambient, diffuse, specular and emissive colours and two floats, then more).
+    The face colours as (r, g, b) tuples of 8-bit values / 255."""
+    import re
+    import struct
+    with zipfile.ZipFile(path) as z:
+        gui_xml = z.read("GuiDocument.xml").decode()
+        block = gui_xml[gui_xml.index(f'<ViewProvider name="{name}"'):]
+        block = block[:block.index("</ViewProvider>")]
+
+        def prop(pname):
+            m = re.search(rf'<Property name="{pname}" [^>]*>\s*<(\w+) ([^>]*)/>', block)
+            return dict(re.findall(r'(\w+)="([^"]*)"', m.group(2))) if m else None
+
+        def unpack(packed):
+            return tuple(((packed >> shift) & 255) / 255 for shift in (24, 16, 8))
+
+        shape = prop("ShapeColor")
+        shape = int(shape["value"]) if shape else None
+        faces = None
+        diffuse, appearance = prop("DiffuseColor"), prop("ShapeAppearance")
+        if diffuse and diffuse.get("file"):
+            data = z.read(diffuse["file"])
+            count = struct.unpack_from("<I", data)[0]
+            faces = [unpack(v) for v in struct.unpack_from(f"<{count}I", data, 4)]
+        elif appearance and appearance.get("file"):
+            data = z.read(appearance["file"])
+            count = struct.unpack_from("<I", data)[0]
+            faces = [unpack(struct.unpack_from("<I", data, 4 + 24 * i + 4)[0])
+                     for i in range(count)]
+    return shape, faces
+
+
 def swept_box_solid():
     import Part
     box0 = Part.makeBox(A, B, C)
@@ -218,15 +255,18 @@ def _():
     doc = state["doc"]
     path = os.path.join(OUT, "clearance.FCStd")
     doc.saveAs(path)
-    with zipfile.ZipFile(path) as z:
-        gui_xml = z.read("GuiDocument.xml").decode()
-    # the Hit box's ShapeColor as saved: packed RGBA, 0.8 0.6 0.2 -> 0xcc993300
-    block = gui_xml[gui_xml.index('<ViewProvider name="Hit"'):]
-    block = block[:block.index("</ViewProvider>")]
-    shape_colour = block[block.index('name="ShapeColor"'):]
-    value = int(shape_colour[shape_colour.index('value="') + 7:].split('"')[0])
-    assert value == 0xcc993300, hex(value)
+    shape, faces = saved_colours(path, "Hit")
+    # FreeCAD 0.20 saves ShapeColor (packed RGBA, 0.8 0.6 0.2 -> 0xcc993300) and the
+    # per-face DiffuseColor; 1.0 one ShapeAppearance material per face
+    assert shape is not None or faces is not None, "no colours saved for Hit"
+    if shape is not None:
+        assert shape == 0xcc993300, hex(shape)
+    if faces is not None:  # 8 bits a channel in the file
+        assert len(faces) == len(state["hit_faces"]) and all(
+            abs(a - b) <= 0.5 / 255 + 1e-3 for f, g in zip(faces, state["hit_faces"])
+            for a, b in zip(f, g)), (faces, state["hit_faces"])
     assert rgb(state["hit"].ViewObject.ShapeColor) == rgb(palette.INTERFERENCE)
+
 
 
 @check("Restore colours puts back ShapeColor and per-face DiffuseColor")

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""The peer of mfgeom's 2-D medial axis: FreeCAD's Path.Voronoi (Boost.Polygon's segment
-Voronoi diagram), as FreeCAD's V-carve uses it -- no code shared with
+"""The peer of mfgeom's 2-D medial axis: FreeCAD's Path.Voronoi (PathApp.Voronoi in 1.0;
+Boost.Polygon's segment Voronoi diagram), as FreeCAD's V-carve uses it -- no code shared with
 libcore/src/medial_axis.c.  From the issue 9 research notes (ma2d/pv_medial.py).
 
 Facts that shape its use (measured, see the notes): the input is multiplied by `scale`
@@ -9,14 +9,12 @@ diagram is silently empty); secondary edges (a segment and its own endpoint) and
 outside the face or inside holes are not medial axis and are filtered here; curved edges
 are parabolas (sampled here to the tolerance).
 
-available() tells whether FreeCAD's Path module can be imported (/usr/lib/freecad-python3/lib)."""
+available() tells whether FreeCAD's Path module can be imported (mfgeom.paths finds FreeCAD)."""
 import math
-import sys
 import time
 
 import numpy as np
 
-_FC = '/usr/lib/freecad-python3/lib'
 
 
 def available():
@@ -28,10 +26,14 @@ def available():
 
 
 def _path():
-    if _FC not in sys.path:
-        sys.path.append(_FC)
+    from mfgeom import paths
+    if paths.add_freecad_to_path() is None:
+        raise ImportError("FreeCAD's Python modules not found (set MFGEOM_FREECAD_LIB)")
     import FreeCAD  # noqa: F401  (Path needs it loaded)
-    import Path
+    try:  # FreeCAD 1.0 renamed the C++ module (Path is now CAM's Python package)
+        import PathApp as Path
+    except ImportError:  # FreeCAD 0.20, 0.21
+        import Path
     return Path
 
 

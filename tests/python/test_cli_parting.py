@@ -15,20 +15,19 @@ import sys
 import numpy as np
 import pytest
 
-from mfgeom import cli, core
+from mfgeom import core, paths
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 _REPO = os.path.dirname(os.path.dirname(_HERE))
 PYTHON = "/usr/bin/python3"
 LAUNCHER = os.path.join(_REPO, "tools", "mfgeom")
 
-_LIB = cli._freecad_lib()
+_LIB = paths.add_freecad_to_path()  # FreeCAD's lib and Mod/Part (Part needs it on 1.0)
 if _LIB is None:
     pytest.skip("FreeCAD's Python modules not found (set MFGEOM_FREECAD_LIB)",
                 allow_module_level=True)
-for _p in (_LIB, os.path.join(_REPO, "examples", "parts")):
-    if _p not in sys.path:
-        sys.path.append(_p)
+if os.path.join(_REPO, "examples", "parts") not in sys.path:
+    sys.path.append(os.path.join(_REPO, "examples", "parts"))
 try:
     import FreeCAD as App  # noqa: E402
     import Part  # noqa: E402

@@ -71,9 +71,10 @@ def test_stl_welds_exact_coordinates_only(tmp_path):
     soup = np.array([[[0, 0, 0], [1, 0, 0], [0, 1, 0]],
                      [[1, 0, 0], [0, 1, 0], [1, 1, 1e-12]]], dtype=np.float64)
     path = tmp_path / "s.stl"
+    # float(): numpy 2 prints a numpy scalar as np.float64(...)
     text = "solid s\n" + "".join(
-        "facet normal 0 0 1\nouter loop\n" + "".join(f"vertex {x!r} {y!r} {z!r}\n"
-                                                      for x, y, z in tri)
+        "facet normal 0 0 1\nouter loop\n"
+        + "".join(f"vertex {float(x)!r} {float(y)!r} {float(z)!r}\n" for x, y, z in tri)
         + "endloop\nendfacet\n" for tri in soup) + "endsolid s\n"
     path.write_text(text)
     v, t = meshio.read_mesh(path)

@@ -83,6 +83,8 @@ import math
 import os
 import sys
 
+from mfgeom import paths
+
 EXIT_ERROR = 2
 CODE_NAMES = {0: "OUT", 1: "IN", 2: "ON"}
 
@@ -332,20 +334,10 @@ def cmd_medial_axis(args):
 # --------------------------------------------------------------------------- #
 
 PART_SUFFIXES = (".step", ".stp", ".brep", ".brp", ".fcstd")
-# Where FreeCAD's Python modules are (Debian/Ubuntu's package first); MFGEOM_FREECAD_LIB
-# overrides.  Without them the workers run in freecadcmd.
-FREECAD_LIB_DIRS = ("/usr/lib/freecad-python3/lib", "/usr/lib/freecad/lib",
-                    "/usr/local/lib/freecad/lib", "/opt/freecad/lib")
-
-
-def _freecad_lib():
-    env = os.environ.get("MFGEOM_FREECAD_LIB")
-    cands = [env] if env else list(FREECAD_LIB_DIRS)
-    for d in cands:
-        if d and os.path.isdir(d) and any(n.startswith("FreeCAD.") and n.endswith(".so")
-                                          for n in os.listdir(d)):
-            return d
-    return None
+# Where FreeCAD's Python modules are: mfgeom.paths (MFGEOM_FREECAD_LIB overrides).  Without
+# them the workers run in freecadcmd.
+FREECAD_LIB_DIRS = paths.FREECAD_LIB_DIRS
+_freecad_lib = paths.freecad_lib
 
 
 def _worker_command(request, result):
@@ -355,10 +347,11 @@ def _worker_command(request, result):
     workbench = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     env = dict(os.environ)
     lib = _freecad_lib()
-    paths = [workbench] + ([lib] if lib else [])
+    # FreeCAD's lib and Mod/Part (FreeCAD 1.0's Part needs its PartEnums module)
+    dirs = [workbench] + paths.freecad_python_paths(lib)
     if env.get("PYTHONPATH"):
-        paths.append(env["PYTHONPATH"])
-    env["PYTHONPATH"] = os.pathsep.join(paths)
+        dirs.append(env["PYTHONPATH"])
+    env["PYTHONPATH"] = os.pathsep.join(dirs)
     if lib:
         return [sys.executable, "-m", "mfgeom.app.parting_batch", request, result], env
     freecadcmd = shutil.which("freecadcmd") or shutil.which("FreeCADCmd")

@@ -8,7 +8,7 @@ import traceback
 
 import FreeCAD
 
-from mfgeom import progress
+from mfgeom import compat, progress
 from mfgeom.errors import InputError, MfgeomError
 
 
@@ -46,9 +46,10 @@ def attach_view(obj, view_provider):
 def one_line_error(obj, exc):
     """The exception a failed recompute raises: an InputError stays one (so callers can
     catch it), anything else becomes an MfgeomError naming the original class; the
-    message is prefixed with the object's label, on one line."""
+    message is on one line and names the object once: prefixed with its label where
+    FreeCAD does not do so itself (0.20; 1.0 reports "<Label>: <message>")."""
     text = " ".join(str(exc).split()) or type(exc).__name__
-    message = f"{obj.Label}: {text}"
+    message = text if compat.freecad_names_failed_objects() else f"{obj.Label}: {text}"
     if isinstance(exc, InputError):
         return type(exc)(message)
     return MfgeomError(f"{message} ({type(exc).__name__})")
@@ -62,6 +63,16 @@ def progress_sink():
         return None
     from mfgeom.gui.progress_dialog import ProgressDialog
     return ProgressDialog()
+
+
+def status_line(obj):
+    """Why ``obj``'s recompute failed, naming it: "<Label>: <message>" on every FreeCAD
+    version (the status string carries the label only where our message does, see
+    one_line_error)."""
+    status = obj.getStatusString()
+    if compat.freecad_names_failed_objects() and not status.startswith(f"{obj.Label}: "):
+        return f"{obj.Label}: {status}"
+    return status
 
 
 class FeatureProxy:
@@ -92,7 +103,7 @@ class FeatureProxy:
             # recompute(True): in FreeCAD 0.20 obj.recompute() leaves the new object Touched
             obj.recompute(True)
             if not obj.isValid():
-                raise error(f"{what} failed: {obj.getStatusString()}")
+                raise error(f"{what} failed: {status_line(obj)}")
         except Exception:  # undo the half-made object whatever went wrong, then re-raise
             doc.removeObject(obj.Name)
             raise

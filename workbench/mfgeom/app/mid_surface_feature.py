@@ -23,7 +23,7 @@ import numpy as np
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, add_properties
+from mfgeom.app.feature_base import FeatureProxy, add_properties, status_line
 from mfgeom.app.medial_surface_feature import (MedialInputError, is_medial_surface,
                                                sheet_mesh_of)
 from mfgeom.errors import MfgeomError
@@ -328,7 +328,7 @@ class MidSurface(FeatureProxy):
         if source is None or not is_medial_surface(source):
             raise MedialInputError("the source must be a medial surface feature")
         if not source.isValid():
-            raise MfgeomError(f"its medial surface failed: {source.getStatusString()}")
+            raise MfgeomError(f"its medial surface failed: {status_line(source)}")
         if obj.Bins < 1:
             raise MedialInputError(f"Bins must be at least 1, got {obj.Bins}")
         sheets = sheet_mesh_of(source)

@@ -182,7 +182,8 @@ class TaskPanel:
             FreeCADGui.doCommand(line)
         macro.recompute(obj)
         if not obj.isValid():
-            raise InputError(obj.getStatusString())
+            from mfgeom.app.feature_base import status_line
+            raise InputError(status_line(obj))
 
     def _edit_lines(self, lines):
         """``lines`` (property assignments of ``self.obj``) and the recompute in one
