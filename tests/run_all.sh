@@ -53,6 +53,7 @@ if [ "${MFGEOM_SKIP_FREECAD1:-0}" != 1 ]; then
   suite "FreeCAD 1.0: build" bash tests/freecad1/run.sh build
   suite "FreeCAD 1.0: App + GUI tests" bash tests/freecad1/run.sh tests
   suite "FreeCAD 1.0: README demo" bash tests/freecad1/run.sh demo
+  suite "FreeCAD 0.20 <-> 1.0: document round trip" bash tests/freecad1/run.sh roundtrip
 fi
 
 echo

@@ -30,7 +30,7 @@ echo "--- FreeCAD App tests (freecadcmd)"
 app_log="$FREECAD_USER_HOME/app.log"
 freecadcmd tests/freecad/test_app.py > "$app_log" 2>&1
 app_rc=$?
-grep -E "^(FAIL|ERROR): |^freecad-app: " "$app_log"
+grep -aE "^(FAIL|ERROR): |^freecad-app: " "$app_log"
 if [ $app_rc -ne 0 ] || ! grep -qE "^freecad-app: [0-9]+ passed, 0 failed$" "$app_log"; then
   echo "app tests: FAILED (exit $app_rc)"
   sed -n '/^=\{20,\}/,/^-\{20,\}$/p' "$app_log" | head -120
@@ -48,7 +48,7 @@ app_suite() {
   log="$FREECAD_USER_HOME/${file%.py}.log"
   freecadcmd "tests/freecad/$file" > "$log" 2>&1
   rc=$?
-  grep -E "^(FAIL|ERROR): |^corpus-(failure|known): |^corpus: |^[a-z]+ library: |^$label: " "$log"
+  grep -aE "^(FAIL|ERROR): |^corpus-(failure|known): |^corpus: |^[a-z]+ library: |^$label: " "$log"
   if [ $rc -ne 0 ] || ! grep -qE "^$label: [0-9]+ passed, 0 failed$" "$log" ||
      { [ "$extra" != "tracebacks-ok" ] && grep -q "Traceback" "$log"; }; then
     echo "$title: FAILED (exit $rc)"; grep -n -A12 "Traceback" "$log" | head -120
@@ -65,7 +65,7 @@ echo "--- FreeCAD rotational sweep tests (freecadcmd)"
 sweep_log="$FREECAD_USER_HOME/sweep.log"
 freecadcmd tests/freecad/test_sweep_app.py > "$sweep_log" 2>&1
 sweep_rc=$?
-grep -E "^(FAIL|ERROR): |^sweep library: |^freecad-sweep: " "$sweep_log"
+grep -aE "^(FAIL|ERROR): |^sweep library: |^freecad-sweep: " "$sweep_log"
 # FreeCAD prints a traceback for every failed recompute; the ones of the issue-8 known gaps
 # (the library's refusal, zero-area triangles: the tests skip them, naming the gap) are
 # expected, any other is a failure

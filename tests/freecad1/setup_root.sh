@@ -10,9 +10,9 @@ ROOTFS=${MFGEOM_FREECAD1_ROOT:-/var/cache/mfgeom/freecad1-trixie}
 # what the FreeCAD 1.0 suites need inside the root: FreeCAD, the build of the library,
 # the binding's Python modules, and Xvfb for the GUI tests
 PACKAGES="freecad python3-numpy python3-pytest cmake gcc make libc6-dev xvfb xauth
-  xfonts-base procps"
+  xfonts-base procps git python3-shapely"
 PACKAGES=$(echo $PACKAGES)   # one line: it goes into a command line
-STAMP_TEXT="mfgeom freecad1 root v1: $PACKAGES"
+STAMP_TEXT="mfgeom freecad1 root: $PACKAGES"
 
 if [ -f "$ROOTFS/.mfgeom-stamp" ] && [ "$(cat "$ROOTFS/.mfgeom-stamp")" = "$STAMP_TEXT" ]; then
   echo "freecad1 root: reusing $ROOTFS"
@@ -21,6 +21,23 @@ fi
 if [ "$(id -u)" -ne 0 ]; then
   echo "freecad1 root: $ROOTFS is missing; making it needs root (debootstrap, chroot)" >&2
   exit 1
+fi
+
+# A root made from an older package list: add what the list gained (minutes, not the
+# debootstrap and FreeCAD of a new root).
+in_root() {  # in_root DIR COMMAND: COMMAND in DIR with /proc and /dev bound, in its own mount namespace
+  unshare --mount --propagation private /bin/sh -c 'mount --bind /proc "$0/proc" &&
+    mount --rbind /dev "$0/dev" && exec chroot "$0" /bin/sh -c "$1"' "$1" "$2"
+}
+if [ -f "$ROOTFS/.mfgeom-stamp" ]; then
+  echo "freecad1 root: updating $ROOTFS to the package list"
+  if in_root "$ROOTFS" "apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
+       apt-get install -y -qq --no-install-recommends $PACKAGES && apt-get clean" >>"$ROOTFS.log" 2>&1; then
+    echo "$STAMP_TEXT" > "$ROOTFS/.mfgeom-stamp"
+    echo "freecad1 root: ready ($(du -sh "$ROOTFS" | cut -f1))"
+    exit 0
+  fi
+  echo "freecad1 root: updating failed; making it anew"
 fi
 
 # the mirror of the first deb822 source (or one-line source) apt uses
