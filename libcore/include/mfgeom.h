@@ -502,6 +502,14 @@ MFG_API mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices,
                                         const double axis_direction[3], double angle,
                                         double tolerance, mfg_mesh **out_mesh,
                                         mfg_sweep_stats *out_stats);
+/* mfg_rotational_sweep with progress and cancel (mfg_progress; NULL: none). */
+MFG_API mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
+                                          const int64_t *triangles, int64_t ntriangles,
+                                          const double axis_point[3],
+                                          const double axis_direction[3], double angle,
+                                          double tolerance, mfg_mesh **out_mesh,
+                                          mfg_sweep_stats *out_stats,
+                                          const mfg_progress *progress);
 
 /* ------------------------------------------------------------------------- */
 /* Medial axis of a planar face (issue 9, section 2)                         */
@@ -682,6 +690,12 @@ MFG_API mfg_status mfg_medial_surface(const double *xyz, int64_t nvertices,
                                       const int64_t *triangles, int64_t ntriangles,
                                       double tolerance, uint32_t flags, int32_t nthreads,
                                       mfg_medial **out);
+/* mfg_medial_surface with progress and cancel (mfg_progress; NULL: none).  Only the
+ * calling thread calls the callback; the worker threads stop at their next unit. */
+MFG_API mfg_status mfg_medial_surface_p(const double *xyz, int64_t nvertices,
+                                        const int64_t *triangles, int64_t ntriangles,
+                                        double tolerance, uint32_t flags, int32_t nthreads,
+                                        mfg_medial **out, const mfg_progress *progress);
 /* Releases a result of mfg_medial_surface.  NULL is allowed. */
 MFG_API void mfg_medial_free(mfg_medial *medial);
 

@@ -61,6 +61,14 @@ static inline int mfg_prog_poll(mfg_prog *p, double done, double total)
         return !atomic_load_explicit(&p->stop, memory_order_relaxed);
     return mfg_prog_report(p, done, total);
 }
+/* For the workers of a parallel stage (p may be NULL): the caller's own thread
+ * (is_caller) polls as mfg_prog_poll; the other threads only see whether to stop. */
+static inline int mfg_prog_poll_mt(mfg_prog *p, int is_caller, double done, double total)
+{
+    if (!p || !p->fn)
+        return 1;
+    return is_caller ? mfg_prog_poll(p, done, total) : !mfg_prog_stopped(p);
+}
 /* Records the detail "<call>: cancelled in stage \"<stage>\"" and returns MFG_ERR_CANCELLED. */
 mfg_status mfg_prog_fail(const mfg_prog *p);
 
