@@ -249,7 +249,7 @@ mfg_status mfg_ray_blocked_p(const double *xyz, int64_t nvertices, const int64_t
     int64_t *stack = malloc(((size_t)64 + 1) * sizeof *stack);
     /* With progress the flags go to a buffer first: a cancel leaves blocked_out as it was. */
     uint8_t *flags = prog.fn ? malloc((size_t)npoints + 1) : blocked_out;
-    if (!node || !stack || !flags) {
+    if (!node || !stack || (prog.fn && !flags)) {
         free(dn);
         free(box);
         free(order);

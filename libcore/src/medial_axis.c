@@ -1494,9 +1494,9 @@ mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets, int64_
 }
 
 /* Work units between progress reports: an edge checked against its neighbours in the
- * index (~1 us), a branch traced (~10-100 us). */
+ * index (~1 us), a branch traced (~0.1-1 ms). */
 #define AXIS_EVERY_EDGES 16384
-#define AXIS_EVERY_BRANCHES 256
+#define AXIS_EVERY_BRANCHES 32
 
 mfg_status mfg_medial_axis_p(const double *xy, const int64_t *ring_offsets, int64_t nrings,
                              double tol, struct mfg_medial_axis **out,
