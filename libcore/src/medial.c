@@ -454,7 +454,7 @@ static void asm_free(asm_state *s)
 }
 
 static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double h, double tol,
-                               int full, mfg_medial *m, asm_state *s)
+                               int full, mfg_medial *m, asm_state *s, mfg_prog *prog)
 {
     int64_t nv = sp->nverts, nt = sp->ntris;
     s->vsheet = malloc((size_t)(nv ? nv : 1) * sizeof(int64_t));
@@ -629,6 +629,11 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
      * down over the room the sheets before it freed. */
     int64_t wv = 0, wt = 0, v0 = 0, t0 = 0;
     for (int64_t r = 0; r < nref; r++) {
+        /* a report per sheet: the first fifth of the assembly */
+        if (!mfg_prog_poll(prog, (double)r, 5.0 * (double)nref)) {
+            free(vlabel);
+            return mfg_prog_fail(prog);
+        }
         int64_t v1 = m->sheet_vertex_offsets[r + 1], t1 = m->sheet_triangle_offsets[r + 1];
         int64_t nvr = v1 - v0, ntr = t1 - t0;
         mfg_status st = md_sheet_simplify(el, m->sheet_elements[2 * r], m->sheet_elements[2 * r + 1],
@@ -2248,7 +2253,7 @@ mfg_status mfg_medial_surface_p(const double *xyz, int64_t nvertices, const int6
     int64_t n3 = merge_junctions(&el, J3, nJ - n2, tolerance, full);
     Jall = J3;
     nall = n3;
-    if ((st = elements_to_public(&el, m)) != MFG_OK || (st = build_sheets(&el, &sp, h, tolerance, full, m, &as)) != MFG_OK)
+    if ((st = elements_to_public(&el, m)) != MFG_OK || (st = build_sheets(&el, &sp, h, tolerance, full, m, &as, &prog)) != MFG_OK)
         goto fail;
     MEDIAL_STEP(1, 5);
     /* Degenerate seams first: the soup's seams along them are dropped.  The soup's seams

@@ -301,6 +301,17 @@ static int sw_stage(sw_ctx *c, const char *stage, double lo, double hi, int64_t 
     return 0;
 }
 
+/* A report inside a stage at its fraction q (0 .. 1), between steps that are not split
+ * further. */
+static int sw_report(sw_ctx *c, double q)
+{
+    if (mfg_prog_report(c->prog, q, 1.0))
+        return 1;
+    if (c->st == MFG_OK)
+        c->st = mfg_prog_fail(c->prog);
+    return 0;
+}
+
 /* Work units between progress reports: a quadtree cell analysed (~5-50 us), a leaf cut
  * into polygons (~2-20 us), a polygon's walls built (~2-20 us). */
 #define SWEEP_EVERY_CELLS 512
@@ -4369,7 +4380,17 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
         }
     for (int64_t i = 0; i < ne; i++)
         parent[i] = i;
+    if (!sw_report(c, 0.84)) {
+        free(he);
+        free(parent);
+        return 0;
+    }
     qsort(he, (size_t)ne, sizeof *he, cmp_he);
+    if (!sw_report(c, 0.88)) {
+        free(he);
+        free(parent);
+        return 0;
+    }
     int64_t *stack = NULL, capstack = 0;
     /* corners: 3t + k is the corner at otri[3t + k] */
     for (int64_t i = 0; i < ne;) {
@@ -4392,6 +4413,12 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
         }
         i = j;
     }
+    if (!sw_report(c, 0.92)) {
+        free(he);
+        free(parent);
+        free(stack);
+        return 0;
+    }
     /* one vertex per class of corners */
     hmap seen;
     if (!hmap_init(&seen, ne + 16)) {
@@ -4401,6 +4428,10 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
     }
     int ok = 1;
     for (int64_t cr = 0; cr < ne && ok; cr++) {
+        if ((cr & 63) == 0 && !sw_poll(c, 0.92 * ne + 0.08 * cr, ne)) {
+            ok = 0;
+            break;
+        }
         int64_t root = mfg_uf_find(parent, cr);
         int64_t v = c->otri[cr];
         hkey k = mkkey(root, 0, 0, 0);
@@ -4426,7 +4457,7 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
         c->otri[cr] = nv;
     }
     if (!ok)
-        ctx_nomem(c);
+        ctx_nomem(c); /* keeps a cancel's status: ctx_nomem sets only an empty one */
     hmap_free(&seen);
     free(he);
     free(parent);
@@ -4929,7 +4960,8 @@ static int build_walls(sw_ctx *c, sw_out *o)
     }
     hmap_free(&edges);
     if (ok)
-        ok = emit_strips(c, o, &W) && emit_faces(c, o, &W);
+        ok = sw_report(c, 0.4) && emit_strips(c, o, &W) && sw_report(c, 0.55) &&
+             emit_faces(c, o, &W);
     free(W.strips);
     free(W.rv2);
     free(W.rvid);
@@ -5173,9 +5205,12 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
         }
         if (ok)
             ok = hmap_init(&c.outmap, 1024) && hmap_init(&o.lifts, 1024) ? 1 : ctx_nomem(&c);
+        /* the walls: one unit per polygon, then the strips and faces (build_walls), the
+         * twins and the pinches, each reported when done */
         if (ok)
             ok = sw_stage(&c, "sweep: walls", 0.6, 0.85, SWEEP_EVERY_POLYS) &&
-                 build_walls(&c, &o) && cancel_twins(&c) && resolve_pinches(&c, &o);
+                 build_walls(&c, &o) && sw_report(&c, 0.7) && cancel_twins(&c) &&
+                 sw_report(&c, 0.8) && resolve_pinches(&c, &o);
         ok = ok && sw_stage(&c, "sweep: check", 0.85, 0.95, 1);
         if (ok) {
             mfg_status cs = mfg_mesh_check_closed(c.ox, c.nout, c.otri, c.notri, &rep);
