@@ -273,10 +273,10 @@ static void make_maps(void)
         mi_closed[s] = vm->closed;
         mfg_spoly_free(vm);
     }
-    /* the level: one below the maximum (the runner-up local maxima too) */
+    /* the level: three below the maximum (the runner-up local maxima too: a longer search) */
     mfg_regions *r = NULL;
     if (mfg_max_intersection(mi_v, mi_off, mi_kind, mi_closed, MI_SETS, NULL, &r) == MFG_OK) {
-        mi_level = r->weight - 1;
+        mi_level = r->weight - 3;
         mfg_regions_free(r);
     }
 }
