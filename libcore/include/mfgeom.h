@@ -72,7 +72,10 @@ MFG_API const char *mfg_version(void);
  *   - after every bounded amount of work inside the stage (a fixed number of work units
  *     chosen so that calls come every few milliseconds to a few tens of milliseconds of
  *     work on a 2020s desktop core; the units do not depend on time, so two runs on the
- *     same input make the same calls), and
+ *     same input with one thread make the same calls).  A few sequential steps are not
+ *     split (a sort, the sweep's closed-mesh check, the merge of the medial sheets, the
+ *     medial axis' output): their interval grows with the result, about 0.1-0.2 s for a
+ *     sweep of 1 s (test_progress_cancel interval prints the largest gap), and
  *   - once at the end with fraction 1 and stage "<family>: done".
  * fraction is in [0, 1] and never decreases within one call; it is an estimate (stages
  * are weighted by their typical share of the time).  stage is a static string from the
