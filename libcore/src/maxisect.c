@@ -6,6 +6,11 @@
 
 #include "maxisect.h"
 
+/* Work units between progress reports: cells taken from the search queue, candidates
+ * turned into regions. */
+#define MAXISECT_EVERY_CELLS 256
+#define MAXISECT_EVERY_CANDIDATES 16
+
 /*
  * Edge-based partition, as in the paper: every boundary edge of every set is split by
  * the other sets and each piece gets its ownership (the weight of the sets containing
@@ -42,21 +47,47 @@ mfg_status mfg_maxisect_run(int mode, const double *vertices, const int64_t *off
                             const double *weights, double level, mfg_regions **out,
                             int64_t *ncells)
 {
+    return mfg_maxisect_run_p(mode, vertices, offsets, kinds, closed, npolys, weights, level,
+                              out, ncells, NULL, "mfg_maxisect_run");
+}
+
+mfg_status mfg_maxisect_run_p(int mode, const double *vertices, const int64_t *offsets,
+                              const int32_t *kinds, const int32_t *closed, int64_t npolys,
+                              const double *weights, double level, mfg_regions **out,
+                              int64_t *ncells, const mfg_progress *progress, const char *call)
+{
     if (ncells)
         *ncells = 0;
     if (!out)
         return mfg_fail(MFG_ERR_NULL, "out is NULL");
+    mfg_prog prog;
+    mfg_prog_init(&prog, progress, call);
+    if (!mfg_prog_stage(&prog, "maxisect: sets", 0, 0.05, 1))
+        return mfg_prog_fail(&prog);
     work W;
     mfg_status st = mfg_sets_prepare(vertices, offsets, kinds, closed, npolys, weights, &W);
+    W.prog = &prog;
     double eps = W.eps, lev = mode == MODE_LEVEL ? ldexp(level, -W.scale_exp) : 0.0;
+    if (st == MFG_OK && !mfg_prog_stage(&prog, "maxisect: search", 0.05, 0.8, MAXISECT_EVERY_CELLS))
+        st = mfg_prog_fail(&prog);
     if (st == MFG_OK)
         st = mfg_cell_search(&W, mode, lev, eps);
+    if (st == MFG_OK &&
+        !mfg_prog_stage(&prog, "maxisect: regions", 0.8, 1.0, MAXISECT_EVERY_CANDIDATES))
+        st = mfg_prog_fail(&prog);
+    mfg_regions *res = NULL;
     if (st == MFG_OK)
-        st = mfg_regions_of(&W, mode == MODE_LEVEL, mode == MODE_LEVEL ? lev : W.best, eps, out);
+        st = mfg_regions_of(&W, mode == MODE_LEVEL, mode == MODE_LEVEL ? lev : W.best, eps, &res);
+    if (st == MFG_OK && !mfg_prog_stage(&prog, "maxisect: done", 1.0, 1.0, 1)) {
+        mfg_regions_free(res);
+        st = mfg_prog_fail(&prog);
+    }
     /* A level is reported as asked for: scaled to a subnormal (or scaled back) it would
      * lose bits, and only the comparisons, which have the tolerance, use the scaled one. */
     if (st == MFG_OK && mode == MODE_LEVEL)
-        (*out)->weight = level;
+        res->weight = level;
+    if (st == MFG_OK)
+        *out = res;
     if (ncells)
         *ncells = W.ncells;
     mfg_sets_free(&W);
@@ -69,26 +100,51 @@ mfg_status mfg_max_intersection(const double *vertices, const int64_t *offsets,
                                 const int32_t *kinds, const int32_t *closed, int64_t npolys,
                                 const double *weights, mfg_regions **out)
 {
-    return mfg_maxisect_run(MODE_MAX, vertices, offsets, kinds, closed, npolys, weights, 0.0, out,
-                            NULL);
+    return mfg_max_intersection_p(vertices, offsets, kinds, closed, npolys, weights, out, NULL);
+}
+
+mfg_status mfg_max_intersection_p(const double *vertices, const int64_t *offsets,
+                                  const int32_t *kinds, const int32_t *closed, int64_t npolys,
+                                  const double *weights, mfg_regions **out,
+                                  const mfg_progress *progress)
+{
+    return mfg_maxisect_run_p(MODE_MAX, vertices, offsets, kinds, closed, npolys, weights, 0.0,
+                              out, NULL, progress, "mfg_max_intersection");
 }
 
 mfg_status mfg_level_regions(const double *vertices, const int64_t *offsets,
                              const int32_t *kinds, const int32_t *closed, int64_t npolys,
                              const double *weights, double level, mfg_regions **out)
 {
+    return mfg_level_regions_p(vertices, offsets, kinds, closed, npolys, weights, level, out,
+                               NULL);
+}
+
+mfg_status mfg_level_regions_p(const double *vertices, const int64_t *offsets,
+                               const int32_t *kinds, const int32_t *closed, int64_t npolys,
+                               const double *weights, double level, mfg_regions **out,
+                               const mfg_progress *progress)
+{
     if (!(level > -1e300 && level < 1e300))
         return mfg_fail(MFG_ERR_INVALID, "level must be finite (got %g)", level);
-    return mfg_maxisect_run(MODE_LEVEL, vertices, offsets, kinds, closed, npolys, weights, level,
-                            out, NULL);
+    return mfg_maxisect_run_p(MODE_LEVEL, vertices, offsets, kinds, closed, npolys, weights,
+                              level, out, NULL, progress, "mfg_level_regions");
 }
 
 mfg_status mfg_min_intersection(const double *vertices, const int64_t *offsets,
                                 const int32_t *kinds, const int32_t *closed, int64_t npolys,
                                 const double *weights, mfg_regions **out)
 {
-    return mfg_maxisect_run(MODE_MIN, vertices, offsets, kinds, closed, npolys, weights, 0.0, out,
-                            NULL);
+    return mfg_min_intersection_p(vertices, offsets, kinds, closed, npolys, weights, out, NULL);
+}
+
+mfg_status mfg_min_intersection_p(const double *vertices, const int64_t *offsets,
+                                  const int32_t *kinds, const int32_t *closed, int64_t npolys,
+                                  const double *weights, mfg_regions **out,
+                                  const mfg_progress *progress)
+{
+    return mfg_maxisect_run_p(MODE_MIN, vertices, offsets, kinds, closed, npolys, weights, 0.0,
+                              out, NULL, progress, "mfg_min_intersection");
 }
 
 void mfg_regions_free(mfg_regions *r)

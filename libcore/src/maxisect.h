@@ -86,6 +86,7 @@ typedef struct work {
     int scale_exp; /* weights are the caller's times 2^-scale_exp (scale_weights) */
     double eps;    /* weights closer than this are equal */
     int64_t ncells; /* cells the search took from its queue (its work, for the tests) */
+    mfg_prog *prog; /* progress of the call (never NULL after mfg_maxisect_run set it) */
 } work;
 
 /* What a call looks for: the maximum, every local maximum >= a level, the minimum. */
@@ -113,6 +114,11 @@ mfg_status mfg_maxisect_run(int mode, const double *vertices, const int64_t *off
                             const int32_t *kinds, const int32_t *closed, int64_t npolys,
                             const double *weights, double level, mfg_regions **out,
                             int64_t *ncells);
+/* The same with progress (mfg_progress, may be NULL); call names the entry point. */
+mfg_status mfg_maxisect_run_p(int mode, const double *vertices, const int64_t *offsets,
+                              const int32_t *kinds, const int32_t *closed, int64_t npolys,
+                              const double *weights, double level, mfg_regions **out,
+                              int64_t *ncells, const mfg_progress *progress, const char *call);
 
 /* ---- maxisect_sets.c -------------------------------------------------------------- */
 

@@ -543,6 +543,10 @@ mfg_status mfg_regions_of(work *W, int maximal_only, double level, double eps,
         for (int64_t i = 0; i < n; i++)
             bottom = fmin(bottom, cover_weight(W, &W->cands[i]));
         for (int64_t t = n - 1; t >= 0; t--) { /* lightest first */
+            if (!mfg_prog_poll(W->prog, (double)(n - t), (double)n)) {
+                st = mfg_prog_fail(W->prog);
+                break;
+            }
             const cand *c = &W->cands[idx[t]];
             if (cover_weight(W, c) > bottom + eps)
                 continue;
@@ -560,6 +564,10 @@ mfg_status mfg_regions_of(work *W, int maximal_only, double level, double eps,
     } else {
         double top = -INFINITY;
         for (int64_t t = 0; t < n && st == MFG_OK; t++) {
+            if (!mfg_prog_poll(W->prog, (double)t, (double)n)) {
+                st = mfg_prog_fail(W->prog);
+                break;
+            }
             cand *c = &W->cands[idx[t]];
             if (c->weight < (maximal_only ? level : top) - eps)
                 break;

@@ -416,6 +416,12 @@ mfg_status mfg_cell_search(work *W, int mode, double threshold, double eps)
     free(root.eoff);
     free(root.eidx);
     while (st == MFG_OK && h.n > 0) {
+        /* no total is known: the fraction is the share of cells taken so far among those
+         * taken and queued (it is kept from going back) */
+        if (!mfg_prog_poll(W->prog, (double)W->ncells, (double)(W->ncells + h.n))) {
+            st = mfg_prog_fail(W->prog);
+            break;
+        }
         cell *c = heap_pop(&h);
         W->ncells++;
         double lim = keep_best ? W->best : threshold;

@@ -154,6 +154,8 @@ typedef struct jjob {
     atomic_llong next;
     jres *res;        /* per block */
     int *failed;      /* per block: 1 out of memory */
+    mfg_prog *prog;   /* progress (never NULL here); only the caller's thread reports */
+    pthread_t caller;
 } jjob;
 
 /* T for a leaf: the elements whose closure comes within D + 2 rho of the centre c, D the
@@ -193,7 +195,11 @@ static void *junction_worker(void *arg)
     jjob *job = arg;
     const md_leaves *lv = job->lv;
     md_junction out[LEAF_JMAX];
+    int is_caller = pthread_equal(pthread_self(), job->caller) != 0;
     for (;;) {
+        if (!mfg_prog_poll_mt(job->prog, is_caller, (double)atomic_load(&job->next),
+                              (double)job->nblocks))
+            break;
         int64_t b = atomic_fetch_add(&job->next, 1);
         if (b >= job->nblocks)
             break;
@@ -237,10 +243,13 @@ static void *junction_worker(void *arg)
 
 /* All junction and degenerate-seam points of the leaves, in leaf order. */
 static mfg_status find_junctions(const md_elements *el, const md_bvh *bvh, const md_leaves *lv,
-                                 double tol, int nthreads, md_junction **out, int64_t *nout)
+                                 double tol, int nthreads, md_junction **out, int64_t *nout,
+                                 mfg_prog *prog)
 {
     jjob job;
     memset(&job, 0, sizeof job);
+    job.prog = prog;
+    job.caller = pthread_self();
     job.el = el;
     job.bvh = bvh;
     job.lv = lv;
@@ -274,6 +283,8 @@ static mfg_status find_junctions(const md_elements *el, const md_bvh *bvh, const
             st = MFG_ERR_NOMEM;
         total += job.res[b].n;
     }
+    if (st == MFG_OK && mfg_prog_stopped(prog))
+        st = mfg_prog_fail(prog);
     if (st != MFG_OK)
         goto done;
     md_junction *all = malloc((size_t)(total ? total : 1) * sizeof *all);
@@ -443,7 +454,7 @@ static void asm_free(asm_state *s)
 }
 
 static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double h, double tol,
-                               int full, mfg_medial *m, asm_state *s)
+                               int full, mfg_medial *m, asm_state *s, mfg_prog *prog)
 {
     int64_t nv = sp->nverts, nt = sp->ntris;
     s->vsheet = malloc((size_t)(nv ? nv : 1) * sizeof(int64_t));
@@ -618,6 +629,11 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
      * down over the room the sheets before it freed. */
     int64_t wv = 0, wt = 0, v0 = 0, t0 = 0;
     for (int64_t r = 0; r < nref; r++) {
+        /* a report per sheet: the first fifth of the assembly */
+        if (!mfg_prog_poll(prog, (double)r, 5.0 * (double)nref)) {
+            free(vlabel);
+            return mfg_prog_fail(prog);
+        }
         int64_t v1 = m->sheet_vertex_offsets[r + 1], t1 = m->sheet_triangle_offsets[r + 1];
         int64_t nvr = v1 - v0, ntr = t1 - t0;
         mfg_status st = md_sheet_simplify(el, m->sheet_elements[2 * r], m->sheet_elements[2 * r + 1],
@@ -2140,6 +2156,22 @@ mfg_status mfg_medial_surface(const double *xyz, int64_t nvertices, const int64_
                               int64_t ntriangles, double tolerance, uint32_t flags,
                               int32_t nthreads, mfg_medial **out)
 {
+    return mfg_medial_surface_p(xyz, nvertices, triangles, ntriangles, tolerance, flags,
+                                nthreads, out, NULL);
+}
+
+/* Work units between progress reports (counted on the caller's thread only): an octree
+ * unit (a cell at the work depth, ~0.1-1 ms), a unit of 16 leaves (~0.2-2 ms), a block of
+ * 64 leaves searched for junctions (~0.1-1 ms). */
+#define MEDIAL_EVERY_OCTREE 16
+#define MEDIAL_EVERY_SHEETS 16
+#define MEDIAL_EVERY_JUNCTIONS 16
+
+mfg_status mfg_medial_surface_p(const double *xyz, int64_t nvertices, const int64_t *triangles,
+                                int64_t ntriangles, double tolerance, uint32_t flags,
+                                int32_t nthreads, mfg_medial **out,
+                                const mfg_progress *progress)
+{
     if (!out)
         return mfg_fail(MFG_ERR_NULL, "mfg_medial_surface: out is NULL");
     if (flags & ~MFG_MEDIAL_FULL)
@@ -2148,6 +2180,10 @@ mfg_status mfg_medial_surface(const double *xyz, int64_t nvertices, const int64_
     if (nthreads < 0)
         return mfg_fail(MFG_ERR_INVALID, "mfg_medial_surface: nthreads %d < 0", (int)nthreads);
     int full = (flags & MFG_MEDIAL_FULL) != 0, nth = thread_count(nthreads);
+    mfg_prog prog;
+    mfg_prog_init(&prog, progress, "mfg_medial_surface");
+    if (!mfg_prog_stage(&prog, "medial: elements", 0, 0.05, 1))
+        return mfg_prog_fail(&prog);
     md_elements el;
     mfg_status st = md_elements_build(xyz, nvertices, triangles, ntriangles, tolerance, &el);
     if (st != MFG_OK)
@@ -2175,16 +2211,35 @@ mfg_status mfg_medial_surface(const double *xyz, int64_t nvertices, const int64_
     stage = "the BVH";
     if ((st = md_bvh_build(&el, &bvh)) != MFG_OK)
         goto fail;
+#define MEDIAL_STAGE(name, lo, hi, every)                                                  \
+    do {                                                                                   \
+        if (!mfg_prog_stage(&prog, name, lo, hi, every)) {                                 \
+            st = mfg_prog_fail(&prog);                                                     \
+            goto fail;                                                                     \
+        }                                                                                  \
+    } while (0)
+/* A report inside the assembly (its steps are sequential and not split further). */
+#define MEDIAL_STEP(done, total)                                                           \
+    do {                                                                                   \
+        if (!mfg_prog_report(&prog, done, total)) {                                        \
+            st = mfg_prog_fail(&prog);                                                     \
+            goto fail;                                                                     \
+        }                                                                                  \
+    } while (0)
     stage = "the octree";
-    if ((st = md_octree_build(&el, bvh, tolerance, full, nth, &lv)) != MFG_OK)
+    MEDIAL_STAGE("medial: octree", 0.05, 0.25, MEDIAL_EVERY_OCTREE);
+    if ((st = md_octree_build_p(&el, bvh, tolerance, full, nth, &lv, &prog)) != MFG_OK)
         goto fail;
     stage = "the sheets";
-    if ((st = md_sheets_extract(&el, bvh, &lv, tolerance, nth, &sp)) != MFG_OK)
+    MEDIAL_STAGE("medial: sheets", 0.25, 0.6, MEDIAL_EVERY_SHEETS);
+    if ((st = md_sheets_extract_p(&el, bvh, &lv, tolerance, nth, &sp, &prog)) != MFG_OK)
         goto fail;
     stage = "the junctions";
-    if ((st = find_junctions(&el, bvh, &lv, tolerance, nth, &J, &nJ)) != MFG_OK)
+    MEDIAL_STAGE("medial: junctions", 0.6, 0.75, MEDIAL_EVERY_JUNCTIONS);
+    if ((st = find_junctions(&el, bvh, &lv, tolerance, nth, &J, &nJ, &prog)) != MFG_OK)
         goto fail;
     stage = "the assembly";
+    MEDIAL_STAGE("medial: assembly", 0.75, 1.0, 1);
     double h = lv.lat.h;
     /* rank-2 points (degenerate seams) first, rank-3 after */
     int64_t n2 = 0;
@@ -2198,8 +2253,9 @@ mfg_status mfg_medial_surface(const double *xyz, int64_t nvertices, const int64_
     int64_t n3 = merge_junctions(&el, J3, nJ - n2, tolerance, full);
     Jall = J3;
     nall = n3;
-    if ((st = elements_to_public(&el, m)) != MFG_OK || (st = build_sheets(&el, &sp, h, tolerance, full, m, &as)) != MFG_OK)
+    if ((st = elements_to_public(&el, m)) != MFG_OK || (st = build_sheets(&el, &sp, h, tolerance, full, m, &as, &prog)) != MFG_OK)
         goto fail;
+    MEDIAL_STEP(1, 5);
     /* Degenerate seams first: the soup's seams along them are dropped.  The soup's seams
      * are chained, the junctions the leaves missed are found where they end
      * (recover_junctions), and only then is every seam emitted with its ends snapped; the
@@ -2210,12 +2266,14 @@ mfg_status mfg_medial_surface(const double *xyz, int64_t nvertices, const int64_
         st = MFG_ERR_NOMEM;
         goto fail;
     }
+    MEDIAL_STEP(2, 5);
     int rec = recover_junctions(&el, bvh, &pend, &Jall, &nall, h, 2 * h, tolerance, full);
     own_jall = Jall != J3;
     if (!rec) {
         st = MFG_ERR_NOMEM;
         goto fail;
     }
+    MEDIAL_STEP(3, 5);
     seam_out_free(&so);
     memset(&so, 0, sizeof so);
     if (!degenerate_seams(&el, J, n2, &so, Jall, nall, h, tolerance, full)) {
@@ -2228,9 +2286,13 @@ mfg_status mfg_medial_surface(const double *xyz, int64_t nvertices, const int64_
             st = MFG_ERR_NOMEM;
             goto fail;
         }
+    MEDIAL_STEP(4, 5);
     if ((st = drop_narrow_sheets(&so, tolerance, m)) != MFG_OK || (st = close_pinholes(m, tolerance)) != MFG_OK ||
         (st = seams_to_public(&so, m)) != MFG_OK || (st = junctions_to_public(Jall, nall, m)) != MFG_OK)
         goto fail;
+    MEDIAL_STAGE("medial: done", 1.0, 1.0, 1);
+#undef MEDIAL_STAGE
+#undef MEDIAL_STEP
     m->cells_visited = lv.cells_visited;
     m->leaves = lv.nleaves;
     m->leaf_size = h;

@@ -13,6 +13,7 @@
 #include <stdint.h>
 
 #include "mfgeom.h"
+#include "mfg_internal.h"
 
 /* Small vector helpers shared by the medial modules (one place: they were copied in four
  * files).  Plain double arithmetic in a fixed order, so results are the same bits
@@ -240,6 +241,9 @@ typedef struct md_leaves {
  * non-incident pairs.  nthreads >= 1.  MFG_OK, MFG_ERR_NOMEM (out zeroed). */
 mfg_status md_octree_build(const md_elements *el, const md_bvh *bvh, double tolerance,
                            int full, int nthreads, md_leaves *out);
+/* The same with progress (mfg_prog, NULL: none; the caller has entered the stage). */
+mfg_status md_octree_build_p(const md_elements *el, const md_bvh *bvh, double tolerance,
+                             int full, int nthreads, md_leaves *out, mfg_prog *prog);
 void md_leaves_free(md_leaves *leaves);
 
 /* ---- medial_sheets.c (work package C2): sheets on the analytic bisectors ------------------ */
@@ -272,6 +276,9 @@ typedef struct md_soup {
 
 mfg_status md_sheets_extract(const md_elements *el, const md_bvh *bvh, const md_leaves *leaves,
                              double tolerance, int nthreads, md_soup *out);
+/* The same with progress (mfg_prog, NULL: none; the caller has entered the stage). */
+mfg_status md_sheets_extract_p(const md_elements *el, const md_bvh *bvh, const md_leaves *leaves,
+                               double tolerance, int nthreads, md_soup *out, mfg_prog *prog);
 void md_soup_free(md_soup *soup);
 
 /* ---- medial_simplify.c: a sheet made coarse within the tolerance -------------------------- */

@@ -1490,6 +1490,18 @@ fail:
 mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets, int64_t nrings,
                            double tol, struct mfg_medial_axis **out)
 {
+    return mfg_medial_axis_p(xy, ring_offsets, nrings, tol, out, NULL);
+}
+
+/* Work units between progress reports: an edge checked against its neighbours in the
+ * index (~1 us), a branch traced (~0.1-1 ms). */
+#define AXIS_EVERY_EDGES 16384
+#define AXIS_EVERY_BRANCHES 32
+
+mfg_status mfg_medial_axis_p(const double *xy, const int64_t *ring_offsets, int64_t nrings,
+                             double tol, struct mfg_medial_axis **out,
+                             const mfg_progress *progress)
+{
     if (!out)
         return mfg_fail(MFG_ERR_NULL, "out is NULL");
     if (!ring_offsets)
@@ -1525,6 +1537,9 @@ mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets, int64_
     mfg_status st = MFG_OK;
     ma_ctx C;
     memset(&C, 0, sizeof C);
+    mfg_prog prog;
+    mfg_prog_init(&prog, progress, "mfg_medial_axis");
+    struct mfg_medial_axis *res = NULL;
     ma_elems *E = &C.E;
     size_t n1 = (size_t)(nin > 0 ? nin : 1);
     double *vx = malloc(n1 * sizeof *vx), *vy = malloc(n1 * sizeof *vy);
@@ -1545,6 +1560,10 @@ mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets, int64_
         goto done;
     }
 
+    if (!mfg_prog_stage(&prog, "axis: setup", 0, 0.1, AXIS_EVERY_EDGES)) {
+        st = mfg_prog_fail(&prog);
+        goto done;
+    }
     /* (1) Clean each ring: drop consecutive equal vertices (and a repeated closing one),
      * then vertices where the boundary goes straight on (orient2d = 0, dot > 0); a
      * vertex where it turns back (a spike) is a self-touching ring. */
@@ -1607,6 +1626,10 @@ mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets, int64_
     for (int64_t k = 0; k < nv; k++)
         diag0 = fmax(diag0, fmax(fabs(vx[k] - vx[0]), fabs(vy[k] - vy[0])));
     for (int64_t i = 0; i < nv; i++) {
+        if (!mfg_prog_poll(&prog, (double)i, (double)nv)) {
+            st = mfg_prog_fail(&prog);
+            goto done;
+        }
         int64_t i2 = E->next[i], jbest = -1;
         C.cand.n = 0;
         if (!bvh_collect(&C.T, vx[i], vy[i], vx[i2], vy[i2], 1e-9 * diag0, i + 1, &C.cand)) {
@@ -1704,10 +1727,20 @@ mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets, int64_
         }
     }
 
-    /* (4) Trace from every convex corner not yet reached, then every open port. */
+    /* (4) Trace from every convex corner not yet reached, then every open port.  A
+     * branch is a unit of progress; there are about as many as vertices. */
+    if (!mfg_prog_stage(&prog, "axis: branches", 0.1, 0.95, AXIS_EVERY_BRANCHES)) {
+        st = mfg_prog_fail(&prog);
+        goto done;
+    }
+    int64_t nrun = 0;
     for (int64_t k = 0; k < nv; k++) {
         if (!E->convex[k] || C.reached[k])
             continue;
+        if (!mfg_prog_poll(&prog, (double)nrun++, (double)(2 * nv))) {
+            st = mfg_prog_fail(&prog);
+            goto done;
+        }
         C.reached[k] = 1;
         int64_t p = E->prev[k];
         double dx = E->nx[p] + E->nx[k], dy = E->ny[p] + E->ny[k], l = hypot(dx, dy);
@@ -1719,6 +1752,10 @@ mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets, int64_
             if (C.P[q].used)
                 continue;
             C.P[q].used = 1;
+            if (!mfg_prog_poll(&prog, (double)nrun++, (double)(2 * nv))) {
+                st = mfg_prog_fail(&prog);
+                goto done;
+            }
             ma_junction *J = &C.J[C.P[q].j];
             st = run_branch(&C, J->x, J->y, J->r, C.P[q].e1, C.P[q].e2, cos(C.P[q].angle),
                             sin(C.P[q].angle), C.P[q].j);
@@ -1728,9 +1765,19 @@ mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets, int64_
     }
 
     /* (5) The flat result. */
-    st = assemble(&C, out);
-    if (st == MFG_OK)
+    if (!mfg_prog_stage(&prog, "axis: output", 0.95, 1.0, 1)) {
+        st = mfg_prog_fail(&prog);
+        goto done;
+    }
+    st = assemble(&C, &res);
+    if (st == MFG_OK && !mfg_prog_stage(&prog, "axis: done", 1.0, 1.0, 1)) {
+        mfg_medial_axis_free(res);
+        st = mfg_prog_fail(&prog);
+    }
+    if (st == MFG_OK) {
+        *out = res;
         mfg_clear_error();
+    }
 done:
     free(vx), free(vy), free(vo), free(roff);
     elems_free(E);

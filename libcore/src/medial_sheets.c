@@ -1060,6 +1060,8 @@ typedef struct job {
     unit_buf *units;
     atomic_llong next;
     atomic_int failed;
+    mfg_prog *prog;   /* progress (NULL: none); only the caller's thread reports */
+    pthread_t caller;
 } job;
 
 static void *worker(void *arg)
@@ -1070,7 +1072,11 @@ static void *worker(void *arg)
         c->cb = NULL;
         c->capC = 0;
     }
+    int is_caller = pthread_equal(pthread_self(), j->caller) != 0;
     for (;;) {
+        if (!mfg_prog_poll_mt(j->prog, is_caller, (double)atomic_load(&j->next),
+                              (double)j->nunits))
+            break;
         long long u = atomic_fetch_add(&j->next, 1);
         if (u >= j->nunits || atomic_load(&j->failed))
             break;
@@ -1296,6 +1302,12 @@ done:
 mfg_status md_sheets_extract(const md_elements *el, const md_bvh *bvh, const md_leaves *leaves,
                              double tolerance, int nthreads, md_soup *out)
 {
+    return md_sheets_extract_p(el, bvh, leaves, tolerance, nthreads, out, NULL);
+}
+
+mfg_status md_sheets_extract_p(const md_elements *el, const md_bvh *bvh, const md_leaves *leaves,
+                               double tolerance, int nthreads, md_soup *out, mfg_prog *prog)
+{
     (void)tolerance; /* the leaf side h sets every threshold here */
     if (!out)
         return mfg_fail(MFG_ERR_NULL, "md_sheets_extract: out is NULL");
@@ -1308,6 +1320,8 @@ mfg_status md_sheets_extract(const md_elements *el, const md_bvh *bvh, const md_
     j.bvh = bvh;
     j.lv = leaves;
     j.nunits = nunits;
+    j.prog = prog;
+    j.caller = pthread_self();
     j.units = calloc((size_t)(nunits ? nunits : 1), sizeof *j.units);
     if (!j.units)
         return mfg_fail(MFG_ERR_NOMEM, "md_sheets_extract: out of memory");
@@ -1333,6 +1347,9 @@ mfg_status md_sheets_extract(const md_elements *el, const md_bvh *bvh, const md_
         st = j.units[u].st;
     if (st == MFG_OK && atomic_load(&j.failed))
         st = MFG_ERR_NOMEM; /* a worker without its context stopped before any unit */
+    int cancelled = st == MFG_OK && prog && mfg_prog_stopped(prog);
+    if (cancelled)
+        st = MFG_ERR_CANCELLED;
     if (st == MFG_OK)
         st = merge(j.units, nunits, leaves->lat.h, out);
     for (int64_t u = 0; u < nunits; u++)
@@ -1340,6 +1357,8 @@ mfg_status md_sheets_extract(const md_elements *el, const md_bvh *bvh, const md_
     free(j.units);
     if (st != MFG_OK) {
         memset(out, 0, sizeof *out);
+        if (cancelled)
+            return mfg_prog_fail(prog);
         return mfg_fail(st, "md_sheets_extract: out of memory");
     }
     return MFG_OK;

@@ -135,6 +135,8 @@ struct job {
     int64_t npar, cap_par;
     atomic_llong next;
     atomic_int stop;
+    mfg_prog *prog; /* progress (NULL: none); only the caller's thread reports */
+    pthread_t caller;
 };
 
 /* ---- the cell test ------------------------------------------------------------------- */
@@ -503,8 +505,12 @@ static void *work(void *arg)
 {
     worker *w = arg;
     job *J = w->J;
+    int is_caller = pthread_equal(pthread_self(), J->caller) != 0;
     for (;;) {
         if (atomic_load(&J->stop))
+            break;
+        if (!mfg_prog_poll_mt(J->prog, is_caller, (double)atomic_load(&J->next),
+                              (double)(8 * J->npar)))
             break;
         long long unit = atomic_fetch_add(&J->next, 1);
         if (unit >= 8 * J->npar)
@@ -776,9 +782,18 @@ void md_leaves_free(md_leaves *leaves)
 mfg_status md_octree_build(const md_elements *el, const md_bvh *bvh, double tolerance,
                            int full, int nthreads, md_leaves *out)
 {
+    return md_octree_build_p(el, bvh, tolerance, full, nthreads, out, NULL);
+}
+
+mfg_status md_octree_build_p(const md_elements *el, const md_bvh *bvh, double tolerance,
+                             int full, int nthreads, md_leaves *out, mfg_prog *prog)
+{
     memset(out, 0, sizeof *out);
     job J;
     memset(&J, 0, sizeof J);
+    J.prog = prog;
+    J.caller = pthread_self();
+    int cancelled = 0;
     J.el = el;
     J.bvh = bvh;
     J.full = full != 0;
@@ -853,6 +868,10 @@ mfg_status md_octree_build(const md_elements *el, const md_bvh *bvh, double tole
     for (int t = 0; t < nw; t++)
         if (W[t].nomem)
             goto done;
+    if (prog && mfg_prog_stopped(prog)) {
+        cancelled = 1;
+        goto done;
+    }
 
     if (!merge(&J, W, nw, out))
         goto done;
@@ -874,6 +893,8 @@ done:
     free(J.half_l1);
     free(J.hs_off);
     free(J.hs);
+    if (cancelled)
+        return mfg_prog_fail(prog);
     if (st != MFG_OK)
         return mfg_fail(MFG_ERR_NOMEM, "medial octree: out of memory");
     return MFG_OK;

@@ -4,6 +4,7 @@
 #define MFG_INTERNAL_H
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -19,6 +20,57 @@ mfg_status mfg_fail(mfg_status status, const char *fmt, ...)
 
 /* Clears the thread's detail text (called on success paths of public entry points). */
 void mfg_clear_error(void);
+
+/* Progress of one call of a long entry point (mfg_progress in mfgeom.h): lives on the
+ * caller's stack, so the library keeps no state between calls.  Only the calling thread
+ * reports (mfg_prog_stage, mfg_prog_poll, mfg_prog_report); worker threads only read
+ * mfg_prog_stopped.  The fraction of a stage runs from lo to lo + span; every is the
+ * number of work units (mfg_prog_poll calls) between two reports in that stage. */
+typedef struct mfg_prog {
+    mfg_progress_fn fn;   /* NULL: inactive (every function below is then a no-op) */
+    void *user;
+    const char *call;     /* the entry point, for the detail message */
+    const char *stage;    /* the current stage (static string) */
+    double lo, span;      /* the stage's part of [0, 1] */
+    double last;          /* the last fraction reported: reports never go back */
+    int64_t left, every;  /* units until the next report; units between reports */
+    int64_t reports;      /* callbacks made (for the tests of the interval) */
+    atomic_int stop;      /* set once the callback returned nonzero */
+} mfg_prog;
+
+/* Starts the progress of a call named call (e.g. "mfg_rotational_sweep"); progress may be
+ * NULL. */
+void mfg_prog_init(mfg_prog *p, const mfg_progress *progress, const char *call);
+/* Enters stage (a static string) spanning fractions lo .. hi, reporting every `every` work
+ * units, and reports its start.  Returns 1 to go on, 0 when the call must stop. */
+int mfg_prog_stage(mfg_prog *p, const char *stage, double lo, double hi, int64_t every);
+/* Reports the fraction done / total of the current stage now.  Returns 1 / 0 as above. */
+int mfg_prog_report(mfg_prog *p, double done, double total);
+/* True once the callback has asked to stop (any thread may ask). */
+static inline int mfg_prog_stopped(const mfg_prog *p)
+{
+    return p->fn && atomic_load_explicit(&p->stop, memory_order_relaxed);
+}
+/* One work unit of the current stage, done of total done: reports every p->every units.
+ * Returns 1 to go on, 0 when the call must stop.  Calling thread only. */
+static inline int mfg_prog_poll(mfg_prog *p, double done, double total)
+{
+    if (!p->fn)
+        return 1;
+    if (--p->left > 0)
+        return !atomic_load_explicit(&p->stop, memory_order_relaxed);
+    return mfg_prog_report(p, done, total);
+}
+/* For the workers of a parallel stage (p may be NULL): the caller's own thread
+ * (is_caller) polls as mfg_prog_poll; the other threads only see whether to stop. */
+static inline int mfg_prog_poll_mt(mfg_prog *p, int is_caller, double done, double total)
+{
+    if (!p || !p->fn)
+        return 1;
+    return is_caller ? mfg_prog_poll(p, done, total) : !mfg_prog_stopped(p);
+}
+/* Records the detail "<call>: cancelled in stage \"<stage>\"" and returns MFG_ERR_CANCELLED. */
+mfg_status mfg_prog_fail(const mfg_prog *p);
 
 /* Largest count (of vertices, points, rings, polygons, normals) any entry point accepts:
  * 2^40, far beyond real inputs, yet every size derived from it (times 3 doubles, plus a

@@ -194,6 +194,7 @@ enum { LEAF_CLEAN = 0, LEAF_SPLIT = 1, LEAF_STAR = 2, LEAF_FAN = 3, LEAF_REFINE 
 
 struct sw_ctx {
     mfg_status st;
+    mfg_prog *prog;        /* progress of the call (mfg_progress) */
     /* input in the axis frame */
     int64_t nv, nt;
     double *lx;            /* 3 * nv local coordinates */
@@ -279,6 +280,43 @@ static int ctx_nomem(sw_ctx *c)
         c->st = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
     return 0;
 }
+
+/* Progress: one work unit (done of total) of the current stage; 0 (with c->st set to
+ * MFG_ERR_CANCELLED) when the callback asked to stop. */
+static int sw_poll(sw_ctx *c, double done, double total)
+{
+    if (mfg_prog_poll(c->prog, done, total))
+        return 1;
+    if (c->st == MFG_OK)
+        c->st = mfg_prog_fail(c->prog);
+    return 0;
+}
+
+static int sw_stage(sw_ctx *c, const char *stage, double lo, double hi, int64_t every)
+{
+    if (mfg_prog_stage(c->prog, stage, lo, hi, every))
+        return 1;
+    if (c->st == MFG_OK)
+        c->st = mfg_prog_fail(c->prog);
+    return 0;
+}
+
+/* A report inside a stage at its fraction q (0 .. 1), between steps that are not split
+ * further. */
+static int sw_report(sw_ctx *c, double q)
+{
+    if (mfg_prog_report(c->prog, q, 1.0))
+        return 1;
+    if (c->st == MFG_OK)
+        c->st = mfg_prog_fail(c->prog);
+    return 0;
+}
+
+/* Work units between progress reports: a quadtree cell analysed (~5-50 us), a leaf cut
+ * into polygons (~2-20 us), a polygon's walls built (~2-20 us). */
+#define SWEEP_EVERY_CELLS 512
+#define SWEEP_EVERY_LEAVES 2048
+#define SWEEP_EVERY_POLYS 2048
 
 static double v_r(double x, double y)
 {
@@ -2565,6 +2603,10 @@ static int build_quadtree(sw_ctx *c)
             c->capped = 1;
             break;
         }
+        if (!sw_poll(c, (double)c->nleaves, (double)(c->nleaves + 4 * nstack))) {
+            ok = 0;
+            break;
+        }
         sw_leaf L = stack[--nstack];
         /* arcs of the centre sample are scratch: keep the pool from growing without end */
         int64_t mark = c->narcs;
@@ -3120,6 +3162,10 @@ static int build_polygons(sw_ctx *c)
     int64_t *loop = NULL, nloop = 0, caploop = 0;
     int ok = 1;
     for (int64_t li = 0; li < c->nleaves && ok; li++) {
+        if (!sw_poll(c, (double)li, (double)c->nleaves)) {
+            ok = 0;
+            break;
+        }
         const sw_leaf *L = &c->leaves[li];
         if (L->empty)
             continue;
@@ -4334,7 +4380,17 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
         }
     for (int64_t i = 0; i < ne; i++)
         parent[i] = i;
+    if (!sw_report(c, 0.84)) {
+        free(he);
+        free(parent);
+        return 0;
+    }
     qsort(he, (size_t)ne, sizeof *he, cmp_he);
+    if (!sw_report(c, 0.88)) {
+        free(he);
+        free(parent);
+        return 0;
+    }
     int64_t *stack = NULL, capstack = 0;
     /* corners: 3t + k is the corner at otri[3t + k] */
     for (int64_t i = 0; i < ne;) {
@@ -4357,6 +4413,12 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
         }
         i = j;
     }
+    if (!sw_report(c, 0.92)) {
+        free(he);
+        free(parent);
+        free(stack);
+        return 0;
+    }
     /* one vertex per class of corners */
     hmap seen;
     if (!hmap_init(&seen, ne + 16)) {
@@ -4366,6 +4428,10 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
     }
     int ok = 1;
     for (int64_t cr = 0; cr < ne && ok; cr++) {
+        if ((cr & 63) == 0 && !sw_poll(c, 0.92 * ne + 0.08 * cr, ne)) {
+            ok = 0;
+            break;
+        }
         int64_t root = mfg_uf_find(parent, cr);
         int64_t v = c->otri[cr];
         hkey k = mkkey(root, 0, 0, 0);
@@ -4391,7 +4457,7 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
         c->otri[cr] = nv;
     }
     if (!ok)
-        ctx_nomem(c);
+        ctx_nomem(c); /* keeps a cancel's status: ctx_nomem sets only an empty one */
     hmap_free(&seen);
     free(he);
     free(parent);
@@ -4875,6 +4941,10 @@ static int build_walls(sw_ctx *c, sw_out *o)
         }
     }
     for (int64_t pi = 0; pi < c->npolys && ok; pi++) {
+        if (!sw_poll(c, (double)pi, (double)c->npolys)) {
+            ok = 0;
+            break;
+        }
         const sw_poly *P = &c->polys[pi];
         for (int64_t i = 0; i < P->n && ok; i++) {
             int64_t a = c->poly_verts[P->first + i], b = c->poly_verts[P->first + (i + 1) % P->n];
@@ -4890,7 +4960,8 @@ static int build_walls(sw_ctx *c, sw_out *o)
     }
     hmap_free(&edges);
     if (ok)
-        ok = emit_strips(c, o, &W) && emit_faces(c, o, &W);
+        ok = sw_report(c, 0.4) && emit_strips(c, o, &W) && sw_report(c, 0.55) &&
+             emit_faces(c, o, &W);
     free(W.strips);
     free(W.rv2);
     free(W.rvid);
@@ -5006,9 +5077,23 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
                                 const double axis_direction[3], double angle, double tolerance,
                                 mfg_mesh **out_mesh, mfg_sweep_stats *out_stats)
 {
+    return mfg_rotational_sweep_p(xyz, nvertices, triangles, ntriangles, axis_point,
+                                  axis_direction, angle, tolerance, out_mesh, out_stats, NULL);
+}
+
+mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
+                                  const int64_t *triangles, int64_t ntriangles,
+                                  const double axis_point[3], const double axis_direction[3],
+                                  double angle, double tolerance, mfg_mesh **out_mesh,
+                                  mfg_sweep_stats *out_stats, const mfg_progress *progress)
+{
     mfg_status st = check_sweep_args(axis_point, axis_direction, angle, tolerance, out_mesh);
     if (st != MFG_OK)
         return st;
+    mfg_prog prog;
+    mfg_prog_init(&prog, progress, "mfg_rotational_sweep");
+    if (!mfg_prog_stage(&prog, "sweep: setup", 0, 0.05, 1))
+        return mfg_prog_fail(&prog);
     int64_t *nb = NULL;
     st = mfg_mesh_require_closed(xyz, nvertices, triangles, ntriangles, NULL, &nb);
     if (st != MFG_OK)
@@ -5016,6 +5101,7 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
     sw_ctx c;
     memset(&c, 0, sizeof c);
     c.st = MFG_OK;
+    c.prog = &prog;
     c.nv = nvertices;
     c.nt = ntriangles;
     c.full_turn = angle >= MFG_TWO_PI - 1e-12;
@@ -5073,7 +5159,7 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
          * failing the check anyway (a refusal took 9 s and 1.5 GB). */
         c.capped = 0;
         c.leaf_cap = attempt > 0 ? 4 * leaves0 + 4096 : 0;
-        ok = build_quadtree(&c);
+        ok = sw_stage(&c, "sweep: cells", 0.05, 0.35, SWEEP_EVERY_CELLS) && build_quadtree(&c);
         if (attempt == 0)
             leaves0 = c.nleaves;
         if (ok && c.capped) {
@@ -5095,11 +5181,13 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
         int rounds = 0;
         for (;;) {
             c.coarse_blocks = 0;
-            ok = ok && build_polygons(&c);
+            ok = ok && sw_stage(&c, "sweep: polygons", 0.35, 0.6, SWEEP_EVERY_LEAVES) &&
+                 build_polygons(&c);
             if (!ok || !c.coarse_blocks || ++rounds > 8)
                 break;
             reset_attempt(&c, &o);
-            ok = build_quadtree(&c);
+            ok = sw_stage(&c, "sweep: cells", 0.05, 0.35, SWEEP_EVERY_CELLS) &&
+                 build_quadtree(&c);
             if (ok && c.capped)
                 break;
         }
@@ -5117,8 +5205,13 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
         }
         if (ok)
             ok = hmap_init(&c.outmap, 1024) && hmap_init(&o.lifts, 1024) ? 1 : ctx_nomem(&c);
+        /* the walls: one unit per polygon, then the strips and faces (build_walls), the
+         * twins and the pinches, each reported when done */
         if (ok)
-            ok = build_walls(&c, &o) && cancel_twins(&c) && resolve_pinches(&c, &o);
+            ok = sw_stage(&c, "sweep: walls", 0.6, 0.85, SWEEP_EVERY_POLYS) &&
+                 build_walls(&c, &o) && sw_report(&c, 0.7) && cancel_twins(&c) &&
+                 sw_report(&c, 0.8) && resolve_pinches(&c, &o);
+        ok = ok && sw_stage(&c, "sweep: check", 0.85, 0.95, 1);
         if (ok) {
             mfg_status cs = mfg_mesh_check_closed(c.ox, c.nout, c.otri, c.notri, &rep);
             if (cs == MFG_OK) {
@@ -5158,7 +5251,7 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
                         "report this input", why);
     }
     if (ok)
-        ok = flip_out_slivers(&c);
+        ok = sw_stage(&c, "sweep: output", 0.95, 1.0, 1) && flip_out_slivers(&c);
     mfg_mesh *m = NULL;
     if (ok) {
         m = calloc(1, sizeof *m);
@@ -5208,6 +5301,11 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
             m->nvertices = nused;
             m->ntriangles = c.notri;
         }
+    }
+    if (ok && !sw_stage(&c, "sweep: done", 1.0, 1.0, 1)) {
+        mfg_mesh_free(m);
+        m = NULL;
+        ok = 0;
     }
     if (ok) {
         if (out_stats) {

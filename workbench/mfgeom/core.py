@@ -24,6 +24,17 @@ class MfgError(MfgeomError, RuntimeError):
         self.detail = message
 
 
+class Cancelled(MfgError):
+    """A long computation stopped by its ``progress`` callable (C status
+    MFG_ERR_CANCELLED, ``status`` "cancelled"); ``stage`` is the stage it stopped in
+    (e.g. "sweep: walls").  Nothing was computed: the call has no result.  A progress
+    callable that raises does not give Cancelled: its own exception propagates."""
+
+    def __init__(self, status, message, stage=None):
+        super().__init__(status, message)
+        self.stage = stage
+
+
 # --------------------------------------------------------------------------- #
 # Loading the library: lazily (importing this module never needs it), once,   #
 # under a lock, and never a sanitizer build unless asked for by name.         #
@@ -297,6 +308,100 @@ class _Regions(ctypes.Structure):
                 ("centres", _c_double_p), ("margins", _c_double_p)]
 
 
+# --------------------------------------------------------------------------- #
+# Progress and cancel (mfg_progress): one helper for every long entry point    #
+# --------------------------------------------------------------------------- #
+
+_PROGRESS_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double,
+                                ctypes.c_char_p)
+
+
+class _Progress(ctypes.Structure):
+    """struct mfg_progress (mfgeom.h)."""
+    _fields_ = [("callback", _PROGRESS_FN), ("user", ctypes.c_void_p)]
+
+
+_c_progress_p = ctypes.POINTER(_Progress)
+
+
+class _ProgressCall:
+    """The progress of one call of a ``*_p`` entry point.
+
+    ``progress`` is None or a callable ``progress(fraction, stage)``: fraction a float in
+    [0, 1] that never decreases, stage a str such as "sweep: cells" (the stage names of
+    mfgeom.h).  It is called on the calling thread, every few to few tens of
+    milliseconds of work.  A truthy return value cancels the call (Cancelled is raised);
+    None / False go on.  An exception raised by the callable (KeyboardInterrupt too)
+    cancels the call and is raised again, unchanged, once the C call has returned (ctypes
+    would otherwise print and swallow it).  With progress None a callback is installed
+    anyway: it lets Python deliver a pending signal, so Ctrl-C (KeyboardInterrupt)
+    cancels a long call in a script.  The ctypes callback object lives as long as this
+    object, which the caller keeps until the C call returns."""
+
+    __slots__ = ("_user", "_error", "_stage", "_cfunc", "_struct", "_old_hook")
+
+    def __init__(self, progress):
+        if progress is not None and not callable(progress):
+            raise TypeError(f"progress must be callable or None, got {type(progress).__name__}")
+        self._user = progress
+        self._error = None
+        self._stage = None
+        self._cfunc = _PROGRESS_FN(self._callback)
+        self._struct = _Progress(self._cfunc, None)
+        self._old_hook = None
+
+    def _callback(self, _user, fraction, stage):
+        if self._error is not None:  # a signal raised on entry (see _hook): stop
+            return 1
+        try:
+            self._stage = stage.decode() if stage else ""
+            if self._user is not None and self._user(float(fraction), self._stage):
+                return 1
+            return 0
+        except BaseException as exc:  # noqa: B902 - KeyboardInterrupt must cancel too
+            if self._error is None:
+                self._error = exc
+            return 1
+
+    def _hook(self, unraisable):
+        """sys.unraisablehook during the call: an exception raised before _callback's
+        try (a pending SIGINT is delivered on entry to Python code) is recorded, not
+        printed; the next report then cancels, and call() raises it."""
+        if getattr(unraisable.object, "__self__", None) is self:
+            if self._error is None:
+                self._error = unraisable.exc_value
+            return
+        self._old_hook(unraisable)
+
+    def call(self, fn, *args):
+        """Calls the C function fn(*args) (its last argument self.arg) and checks its
+        status as check() does."""
+        self._old_hook = sys.unraisablehook
+        sys.unraisablehook = self._hook
+        try:
+            status = fn(*args)
+        finally:
+            if sys.unraisablehook == self._hook:
+                sys.unraisablehook = self._old_hook
+            self._old_hook = None
+        self.check(status)
+
+    @property
+    def arg(self):
+        """The const mfg_progress * argument."""
+        return ctypes.byref(self._struct)
+
+    def check(self, status):
+        """As _check, after the call: re-raises the callable's exception, raises
+        Cancelled for a cancel by its return value."""
+        if self._error is not None:
+            err, self._error = self._error, None
+            raise err
+        if status != 0 and _lib.mfg_status_str(status).decode() == "cancelled":
+            raise Cancelled("cancelled", _lib.mfg_last_error().decode(), self._stage)
+        _check(status)
+
+
 _REGION_ARGS = [_c_double_p, _c_int64_p, ctypes.POINTER(ctypes.c_int32),
                 ctypes.POINTER(ctypes.c_int32), ctypes.c_int64, _c_double_p]
 _lib.mfg_max_intersection.restype = ctypes.c_int
@@ -306,6 +411,12 @@ _lib.mfg_level_regions.argtypes = _REGION_ARGS + [ctypes.c_double,
                                                   ctypes.POINTER(ctypes.POINTER(_Regions))]
 _lib.mfg_min_intersection.restype = ctypes.c_int
 _lib.mfg_min_intersection.argtypes = _REGION_ARGS + [ctypes.POINTER(ctypes.POINTER(_Regions))]
+for _name, _extra in (("mfg_max_intersection_p", []),
+                      ("mfg_level_regions_p", [ctypes.c_double]),
+                      ("mfg_min_intersection_p", [])):
+    getattr(_lib, _name).restype = ctypes.c_int
+    getattr(_lib, _name).argtypes = (_REGION_ARGS + _extra +
+                                     [ctypes.POINTER(ctypes.POINTER(_Regions)), _c_progress_p])
 _lib.mfg_regions_free.restype = None
 _lib.mfg_regions_free.argtypes = [ctypes.POINTER(_Regions)]
 
@@ -593,13 +704,14 @@ def _flatten_maps(maps, weights):
             np.asarray(closed, dtype=np.int32), w)
 
 
-def _call_regions(fn, maps, weights, *extra):
+def _call_regions(fn, maps, weights, *extra, progress=None):
     xyz, off, kinds, closed, w = _flatten_maps(maps, weights)
     res = ctypes.POINTER(_Regions)()
-    _check(fn(_ptr(xyz, ctypes.c_double), _ptr(off, ctypes.c_int64),
-              _ptr(kinds, ctypes.c_int32), _ptr(closed, ctypes.c_int32), len(kinds),
-              _ptr(w, ctypes.c_double) if w is not None else None, *extra,
-              ctypes.byref(res)))
+    prog = _ProgressCall(progress)
+    prog.call(fn, _ptr(xyz, ctypes.c_double), _ptr(off, ctypes.c_int64),
+                  _ptr(kinds, ctypes.c_int32), _ptr(closed, ctypes.c_int32), len(kinds),
+                  _ptr(w, ctypes.c_double) if w is not None else None, *extra,
+                  ctypes.byref(res), prog.arg)
     try:
         r = res.contents
         n = r.nregions
@@ -623,23 +735,26 @@ def _call_regions(fn, maps, weights, *extra):
     return Intersection(count, regions, kinds_out, covers, centres, margins, closed_out)
 
 
-def max_intersection(maps, weights=None):
+def max_intersection(maps, weights=None, progress=None):
     """All regions of the sphere covered by the greatest total weight of ``maps``
-    (VisibilityMap objects or (k, 3) arrays of counter-clockwise convex polygons)."""
-    return _call_regions(_lib.mfg_max_intersection, maps, weights)
+    (VisibilityMap objects or (k, 3) arrays of counter-clockwise convex polygons).
+    ``progress``: see :class:`_ProgressCall` (stages "maxisect: sets", "maxisect: search",
+    "maxisect: regions", "maxisect: done"; a cancel raises Cancelled)."""
+    return _call_regions(_lib.mfg_max_intersection_p, maps, weights, progress=progress)
 
 
-def level_regions(maps, level, weights=None):
-    """Every locally maximal region whose covered weight is at least ``level``."""
-    return _call_regions(_lib.mfg_level_regions, maps, weights,
-                         ctypes.c_double(_as_float(level, "level")))
+def level_regions(maps, level, weights=None, progress=None):
+    """Every locally maximal region whose covered weight is at least ``level``
+    (``progress`` as for :func:`max_intersection`)."""
+    return _call_regions(_lib.mfg_level_regions_p, maps, weights,
+                         ctypes.c_double(_as_float(level, "level")), progress=progress)
 
 
-def min_intersection(maps, weights=None):
+def min_intersection(maps, weights=None, progress=None):
     """The least covered weight over the sphere; per least-covered face its cover set
     and a direction inside it (kind "face"; ``regions`` are empty arrays: faces are not
-    convex, their shape is not computed)."""
-    return _call_regions(_lib.mfg_min_intersection, maps, weights)
+    convex, their shape is not computed).  ``progress`` as for :func:`max_intersection`."""
+    return _call_regions(_lib.mfg_min_intersection_p, maps, weights, progress=progress)
 
 
 # --------------------------------------------------------------------------- #
@@ -800,6 +915,8 @@ _lib.mfg_rotational_sweep.argtypes = [_c_double_p, ctypes.c_int64, _c_int64_p, c
                                       _c_double_p, _c_double_p, ctypes.c_double,
                                       ctypes.c_double, ctypes.POINTER(ctypes.POINTER(_Mesh)),
                                       ctypes.POINTER(_SweepStats)]
+_lib.mfg_rotational_sweep_p.restype = ctypes.c_int
+_lib.mfg_rotational_sweep_p.argtypes = _lib.mfg_rotational_sweep.argtypes + [_c_progress_p]
 
 
 class SweepResult:
@@ -827,7 +944,8 @@ def _as_vector3(value, what):
     return np.ascontiguousarray(arr)
 
 
-def rotational_sweep(vertices, triangles, axis_point, axis_direction, angle, tolerance):
+def rotational_sweep(vertices, triangles, axis_point, axis_direction, angle, tolerance,
+                     progress=None):
     """The volume swept by the closed solid (``vertices`` (n, 3), ``triangles`` (t, 3),
     counter-clockwise seen from outside) turning about the axis through ``axis_point``
     along ``axis_direction`` (right-handed) by 0 .. ``angle`` radians (0 < angle <= 2 pi;
@@ -836,20 +954,24 @@ def rotational_sweep(vertices, triangles, axis_point, axis_direction, angle, tol
 
     An open, non-manifold or flipped mesh, a zero axis direction, an angle or tolerance
     out of range and NaN raise MfgError with the library's detail (e.g. "mesh is not
-    closed: 3 boundary edges (first: vertices 1-5)")."""
+    closed: 3 boundary edges (first: vertices 1-5)").  ``progress``: None or
+    ``progress(fraction, stage)`` (see :class:`_ProgressCall`; stages "sweep: setup",
+    "sweep: cells", "sweep: polygons", "sweep: walls", "sweep: check", "sweep: output",
+    "sweep: done"); a truthy return raises Cancelled, an exception it raises propagates."""
     xyz = _as_vertices(vertices)
     tri = _as_triangles(triangles)
     point = _as_vector3(axis_point, "axis_point")
     direction = _as_vector3(axis_direction, "axis_direction")
     res = ctypes.POINTER(_Mesh)()
     stats = _SweepStats()
-    _check(_lib.mfg_rotational_sweep(_ptr(xyz, ctypes.c_double), len(xyz),
-                                     _ptr(tri, ctypes.c_int64), len(tri),
-                                     _ptr(point, ctypes.c_double),
-                                     _ptr(direction, ctypes.c_double),
-                                     _as_float(angle, "angle"),
-                                     _as_float(tolerance, "tolerance"),
-                                     ctypes.byref(res), ctypes.byref(stats)))
+    angle = _as_float(angle, "angle")
+    tolerance = _as_float(tolerance, "tolerance")
+    prog = _ProgressCall(progress)
+    prog.call(_lib.mfg_rotational_sweep_p, _ptr(xyz, ctypes.c_double), len(xyz),
+                                           _ptr(tri, ctypes.c_int64), len(tri),
+                                           _ptr(point, ctypes.c_double),
+                                           _ptr(direction, ctypes.c_double), angle, tolerance,
+                                           ctypes.byref(res), ctypes.byref(stats), prog.arg)
     try:
         m = res.contents
         nv, nt = int(m.nvertices), int(m.ntriangles)
@@ -875,6 +997,8 @@ _lib.mfg_ray_blocked.restype = ctypes.c_int
 _lib.mfg_ray_blocked.argtypes = [_c_double_p, ctypes.c_int64, _c_int64_p, ctypes.c_int64,
                                  _c_double_p, _c_int64_p, ctypes.c_int64, _c_double_p,
                                  _c_uint8_p]
+_lib.mfg_ray_blocked_p.restype = ctypes.c_int
+_lib.mfg_ray_blocked_p.argtypes = _lib.mfg_ray_blocked.argtypes + [_c_progress_p]
 
 
 def _as_indices(value, what):
@@ -895,7 +1019,7 @@ def _as_indices(value, what):
     return np.ascontiguousarray(arr, dtype=np.int64)
 
 
-def ray_blocked(vertices, triangles, points, own_triangle, direction):
+def ray_blocked(vertices, triangles, points, own_triangle, direction, progress=None):
     """For each point (``points`` (m, 3)), whether the open rays p + s d and p - s d
     (s > 0, ``direction`` d non-zero) cross the triangle mesh (``vertices`` (n, 3),
     ``triangles`` (t, 3); any mesh, closed or not), decided exactly (mfg_ray_blocked):
@@ -904,7 +1028,9 @@ def ray_blocked(vertices, triangles, points, own_triangle, direction):
     an edge or vertex only: not counted as blocked).  Triangles parallel to d (walls the
     ray slides along) and crossings at s = 0 do not count.  ``own_triangle`` (m,) gives
     the triangle each point was sampled on (ignored for that point; -1 for none), or
-    None.  Bad counts, indices, coordinates or a zero direction raise MfgError."""
+    None.  Bad counts, indices, coordinates or a zero direction raise MfgError.
+    ``progress`` as for :func:`rotational_sweep` (stages "rays: index", "rays: queries",
+    "rays: done")."""
     xyz = _as_vertices(vertices)
     tri = _as_triangles(triangles)
     pts = _as_vertices(points, "points")
@@ -915,11 +1041,13 @@ def ray_blocked(vertices, triangles, points, own_triangle, direction):
         if len(own) != len(pts):
             raise ValueError(f"own_triangle has {len(own)} entries for {len(pts)} points")
     out = np.zeros(len(pts), dtype=np.uint8)
-    _check(_lib.mfg_ray_blocked(_ptr(xyz, ctypes.c_double), len(xyz),
-                                _ptr(tri, ctypes.c_int64), len(tri),
-                                _ptr(pts, ctypes.c_double),
-                                None if own is None else _ptr(own, ctypes.c_int64),
-                                len(pts), _ptr(d, ctypes.c_double), _ptr(out, ctypes.c_uint8)))
+    prog = _ProgressCall(progress)
+    prog.call(_lib.mfg_ray_blocked_p, _ptr(xyz, ctypes.c_double), len(xyz),
+                                      _ptr(tri, ctypes.c_int64), len(tri),
+                                      _ptr(pts, ctypes.c_double),
+                                      None if own is None else _ptr(own, ctypes.c_int64),
+                                      len(pts), _ptr(d, ctypes.c_double),
+                                      _ptr(out, ctypes.c_uint8), prog.arg)
     return out
 
 
@@ -937,6 +1065,8 @@ class _MedialAxis(ctypes.Structure):
 _lib.mfg_medial_axis.restype = ctypes.c_int
 _lib.mfg_medial_axis.argtypes = [_c_double_p, _c_int64_p, ctypes.c_int64, ctypes.c_double,
                                  ctypes.POINTER(ctypes.POINTER(_MedialAxis))]
+_lib.mfg_medial_axis_p.restype = ctypes.c_int
+_lib.mfg_medial_axis_p.argtypes = _lib.mfg_medial_axis.argtypes + [_c_progress_p]
 _lib.mfg_medial_axis_free.restype = None
 _lib.mfg_medial_axis_free.argtypes = [ctypes.POINTER(_MedialAxis)]
 
@@ -977,7 +1107,7 @@ class MedialAxis:
         return f"MedialAxis({len(self.branches)} branches, {len(self.junctions)} junctions)"
 
 
-def medial_axis(rings, tolerance):
+def medial_axis(rings, tolerance, progress=None):
     """The medial axis of the face bounded by ``rings`` (outer boundary and holes, as
     :func:`classify_points`; a single (k, 2) array is one ring), sampled so that samples
     and linearly interpolated radii are within ``tolerance`` (absolute, > 0) of the true
@@ -986,12 +1116,14 @@ def medial_axis(rings, tolerance):
     (x, y), a branch from its lower junction, leaves last), independent of the rings'
     start vertices, orientation and order.  Crossing or touching rings, NaN, rings of
     fewer than 3 distinct vertices and a tolerance <= 0 raise MfgError with the library's
-    detail."""
+    detail.  ``progress`` as for :func:`rotational_sweep` (stages "axis: setup",
+    "axis: branches", "axis: output", "axis: done")."""
     xy, offsets = _flatten_rings(rings)
     res = ctypes.POINTER(_MedialAxis)()
-    _check(_lib.mfg_medial_axis(_ptr(xy, ctypes.c_double), _ptr(offsets, ctypes.c_int64),
-                                len(offsets) - 1, _as_float(tolerance, "tolerance"),
-                                ctypes.byref(res)))
+    tolerance = _as_float(tolerance, "tolerance")
+    prog = _ProgressCall(progress)
+    prog.call(_lib.mfg_medial_axis_p, _ptr(xy, ctypes.c_double), _ptr(offsets, ctypes.c_int64),
+                                      len(offsets) - 1, tolerance, ctypes.byref(res), prog.arg)
     try:
         a = res.contents
         nb, npt, nj = int(a.nbranches), int(a.npoints), int(a.njunctions)
@@ -1049,6 +1181,8 @@ _lib.mfg_medial_surface.restype = ctypes.c_int
 _lib.mfg_medial_surface.argtypes = [_c_double_p, ctypes.c_int64, _c_int64_p, ctypes.c_int64,
                                     ctypes.c_double, ctypes.c_uint32, ctypes.c_int32,
                                     ctypes.POINTER(ctypes.POINTER(_Medial))]
+_lib.mfg_medial_surface_p.restype = ctypes.c_int
+_lib.mfg_medial_surface_p.argtypes = _lib.mfg_medial_surface.argtypes + [_c_progress_p]
 _lib.mfg_medial_free.restype = None
 _lib.mfg_medial_free.argtypes = [ctypes.POINTER(_Medial)]
 
@@ -1206,7 +1340,7 @@ def _convert_medial(m):
                          m.cells_visited, m.leaves, m.leaf_size)
 
 
-def medial_surface(vertices, triangles, tolerance, major_only=True, threads=0):
+def medial_surface(vertices, triangles, tolerance, major_only=True, threads=0, progress=None):
     """The medial surface (locus of centres of maximal inscribed balls) of the solid
     bounded by the closed triangle mesh (``vertices`` (n, 3), ``triangles`` (t, 3),
     counter-clockwise seen from outside; adjacent coplanar triangles form one face), as a
@@ -1220,7 +1354,9 @@ def medial_surface(vertices, triangles, tolerance, major_only=True, threads=0):
     An open, non-manifold or flipped mesh, NaN, a tolerance not finite and > 0 or not
     below the bounding-box diagonal, and a negative thread count raise MfgError with the
     library's detail; a ``major_only`` that is not a bool and a ``threads`` that is not an
-    int raise TypeError."""
+    int raise TypeError.  ``progress`` as for :func:`rotational_sweep` (stages
+    "medial: elements", "medial: octree", "medial: sheets", "medial: junctions",
+    "medial: assembly", "medial: done"; called on this thread only)."""
     if not isinstance(major_only, (bool, np.bool_)):
         raise TypeError(f"major_only must be True or False, got {major_only!r:.40}")
     if isinstance(threads, (bool, np.bool_)) or not isinstance(threads, numbers.Integral):
@@ -1231,10 +1367,11 @@ def medial_surface(vertices, triangles, tolerance, major_only=True, threads=0):
     tri = _as_triangles(triangles)
     flags = 0 if major_only else MEDIAL_FULL
     res = ctypes.POINTER(_Medial)()
-    _check(_lib.mfg_medial_surface(_ptr(xyz, ctypes.c_double), len(xyz),
-                                   _ptr(tri, ctypes.c_int64), len(tri),
-                                   _as_float(tolerance, "tolerance"), flags, int(threads),
-                                   ctypes.byref(res)))
+    tolerance = _as_float(tolerance, "tolerance")
+    prog = _ProgressCall(progress)
+    prog.call(_lib.mfg_medial_surface_p, _ptr(xyz, ctypes.c_double), len(xyz),
+                                         _ptr(tri, ctypes.c_int64), len(tri), tolerance,
+                                         flags, int(threads), ctypes.byref(res), prog.arg)
     try:
         return _convert_medial(res.contents)
     finally:
