@@ -12,6 +12,7 @@ import threading
 import numpy as np
 
 from mfgeom import building, paths
+from mfgeom import errors
 from mfgeom.errors import LibraryError, MfgeomError
 from mfgeom.names import IN, KIND_CODES, KINDS, ON, OUT  # noqa: F401  (core.IN etc.)
 
@@ -24,7 +25,7 @@ class MfgError(MfgeomError, RuntimeError):
         self.detail = message
 
 
-class Cancelled(MfgError):
+class Cancelled(MfgError, errors.Cancelled):
     """A long computation stopped by its ``progress`` callable (C status
     MFG_ERR_CANCELLED, ``status`` "cancelled"); ``stage`` is the stage it stopped in
     (e.g. "sweep: walls").  Nothing was computed: the call has no result.  A progress

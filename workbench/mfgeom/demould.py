@@ -25,6 +25,7 @@ counted for the report.
 import numpy as np
 
 from mfgeom import core
+from mfgeom import progress
 
 VERDICTS = ("core", "cavity", "both", "blocked")
 
@@ -141,7 +142,7 @@ def face_demouldability(vertices, triangles, face_ids, direction, samples_per_fa
         raise ValueError(f"face_ids has {len(f)} entries for {len(t)} triangles")
     points, own, weight = sample_points(vertices, t, f, samples_per_face, max_subdivision,
                                         lift)
-    bits = core.ray_blocked(vertices, t, points, own, direction)
+    bits = core.ray_blocked(vertices, t, points, own, direction, progress=progress.current())
     faces, inverse = np.unique(f[own], return_inverse=True)
     n = len(faces)
     total = np.bincount(inverse, weights=weight, minlength=n)

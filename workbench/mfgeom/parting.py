@@ -50,6 +50,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mfgeom import core
+from mfgeom import progress
 
 # The angular tolerance (rad): 0.01 degree.  CAD data of walls that are vertical by design
 # carries normals 1e-6 .. 1e-4 rad off the wall's plane (B-spline fits, STEP round trips);
@@ -403,7 +404,7 @@ def _surface_vm(surf, draft, tol, negative, memo):
             for n, shrink in surf.parts]
     if len(maps) == 1 or any(m.kind == "null" for m in maps):
         return maps[0] if len(maps) == 1 else core.VisibilityMap("null", np.zeros((0, 3)))
-    res = core.max_intersection(maps)
+    res = core.max_intersection(maps, progress=progress.current())
     if res.count < len(maps):
         return core.VisibilityMap("null", np.zeros((0, 3)))
     if len(res.regions) == 1:
@@ -500,7 +501,7 @@ def _best_region(maps, owner, weights, refs=(), tie_margin=1e-9, prefer=None):
     if not any(m.kind != "null" for m in maps):
         return None
     w_maps = np.array([weights[o] for o in owner], dtype=np.float64)
-    res = core.max_intersection(maps, weights=w_maps)
+    res = core.max_intersection(maps, weights=w_maps, progress=progress.current())
 
     def true_weight(cover):
         return sum(weights[s] for s in {owner[i] for i in cover})
@@ -512,7 +513,8 @@ def _best_region(maps, owner, weights, refs=(), tie_margin=1e-9, prefer=None):
         # The library's best double-counts surfaces whose VM and -VM touch; every region
         # of true weight >= best_w has library weight >= best_w and contains a locally
         # maximal one, so search those.
-        regions = core.level_regions(maps, level=best_w * (1 - 1e-12), weights=w_maps)
+        regions = core.level_regions(maps, level=best_w * (1 - 1e-12), weights=w_maps,
+                                     progress=progress.current())
         cands = [(true_weight(c), float(m), i)
                  for i, (c, m) in enumerate(zip(regions.covers, regions.margins))]
         best_w = max(c[0] for c in cands)

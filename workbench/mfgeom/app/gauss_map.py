@@ -54,6 +54,7 @@ import numpy as np
 
 import Part
 
+from mfgeom import progress
 from mfgeom.parting import FaceGauss
 
 DEFAULT_DEFLECTION = 1e-3   # rad: largest shrink wanted from sampling
@@ -930,7 +931,8 @@ def part_gauss(source, deflection=DEFAULT_DEFLECTION, tangent_tol=DEFAULT_TANGEN
         if not chosen:
             raise ValueError("no faces given")
     faces, kept = [], []
-    for i in chosen:
+    for k, i in enumerate(chosen):
+        progress.step(k / len(chosen), "parting: Gaussian maps of the faces")
         g = face_gauss(all_faces[i], deflection, f"Face{i + 1}", warnings)
         if g is not None:
             faces.append(g)

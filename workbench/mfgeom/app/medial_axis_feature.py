@@ -25,6 +25,7 @@ import numpy as np
 import FreeCAD
 
 from mfgeom.app.feature_base import FeatureProxy, add_properties
+from mfgeom import progress
 from mfgeom.errors import InputError
 
 # 1: first release.  Bump when properties change and migrate in _upgrade().
@@ -72,7 +73,7 @@ def face_medial_axis(face, tolerance):
     try:
         rings = domain.rings
         t0 = time.perf_counter()
-        axis = core.medial_axis(rings, tolerance)
+        axis = core.medial_axis(rings, tolerance, progress=progress.current())
         seconds = time.perf_counter() - t0
         branches, radii = [], []
         for b in axis.branches:

@@ -34,6 +34,7 @@ import numpy as np
 import FreeCAD
 
 from mfgeom.app.feature_base import FeatureProxy, add_mesh_property, add_properties
+from mfgeom import progress
 from mfgeom.errors import InputError, MfgeomError
 
 # 1: first release.  Bump when properties change and migrate in _upgrade().
@@ -77,7 +78,8 @@ def medial_of_shape(shape, tolerance, deflection, major_only=True):
         raise MfgeomError("this mfgeom build has no medial surface binding "
                           "(core.medial_surface)")
     t0 = time.perf_counter()
-    result = core.medial_surface(vertices, triangles, tolerance, major_only=major_only)
+    result = core.medial_surface(vertices, triangles, tolerance, major_only=major_only,
+                                 progress=progress.current())
     return result, len(triangles), time.perf_counter() - t0
 
 

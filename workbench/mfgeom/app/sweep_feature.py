@@ -43,6 +43,7 @@ import numpy as np
 import FreeCAD
 
 from mfgeom.app.feature_base import FeatureProxy, add_mesh_property, add_properties
+from mfgeom import progress
 from mfgeom.errors import InputError, MfgeomError
 
 # 1: first release.  Bump when properties change and migrate in _upgrade().
@@ -429,7 +430,7 @@ class RotationalSweep(FeatureProxy):
         vertices, offset = conservative_offset(vertices, triangles, curved, deflection)
         t1 = time.perf_counter()
         result = core.rotational_sweep(vertices, triangles, point, direction, angle,
-                                       tolerance)
+                                       tolerance, progress=progress.current())
         t2 = time.perf_counter()
         solid = None
         if obj.Representation == "Solid":
