@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-or-later
-# Runs the GUI tests (tests/gui/test_gui.py, test_gui_parting.py, test_gui_medial.py, test_gui_library.py) in
+# Runs the GUI tests (tests/gui/test_gui*.py: point classification, parting, clearance, sweep, cancel, medial, library) in
 # FreeCAD under a virtual X server and fails on a failed test, a missing summary line or any Python traceback in the log.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
@@ -23,10 +23,10 @@ mkdir -p "$MFGEOM_GUI_OUT"
 # clean summary line "LABEL: N passed, 0 failed".
 report() {
   local label=$1 log=$2 rc=$3
-  grep -E "^(PASS|FAIL): |^screenshot: |^$label: " "$log"
+  grep -aE "^(PASS|FAIL): |^screenshot: |^$label: " "$log"
   if [ "$rc" -ne 0 ]; then echo "$label: freecad exited with $rc (log: $log)"; tail -40 "$log"; exit 1; fi
-  if grep -q "Traceback" "$log"; then echo "$label: traceback in the log:"; grep -n -A12 "Traceback" "$log"; exit 1; fi
-  grep -qE "^$label: [0-9]+ passed, 0 failed$" "$log" || { echo "$label: no clean summary (log: $log)"; exit 1; }
+  if grep -aq "Traceback" "$log"; then echo "$label: traceback in the log:"; grep -an -A12 "Traceback" "$log"; exit 1; fi
+  grep -aqE "^$label: [0-9]+ passed, 0 failed$" "$log" || { echo "$label: no clean summary (log: $log)"; exit 1; }
 }
 
 # Point classification: tests/gui/test_gui.py.
@@ -65,6 +65,25 @@ FREECAD_USER_HOME="$sweep_home" timeout 300 xvfb-run -a freecad tests/gui/test_g
 rc=$?
 rm -rf "$sweep_home"
 report freecad-gui-sweep "$sweep_log" $rc
+
+# Progress and cancel (issue 18): a long sweep cancelled from its progress dialog, one run
+# to the end, a short one without a dialog: tests/gui/test_gui_cancel.py.  FreeCAD prints
+# the cancelled recompute's one-frame traceback ("<class 'mfgeom.errors.Cancelled'>"):
+# that one is expected, any other is a failure.
+cancel_home=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-cancel-home.XXXXXX")
+mkdir -p "$cancel_home/Mod"
+ln -s "$ROOT" "$cancel_home/Mod/mfgeom"
+cancel_log="$MFGEOM_GUI_OUT/gui-cancel.log"
+FREECAD_USER_HOME="$cancel_home" timeout 300 xvfb-run -a freecad tests/gui/test_gui_cancel.py > "$cancel_log" 2>&1
+rc=$?
+rm -rf "$cancel_home"
+cancel_tb=$(grep -ac "Traceback" "$cancel_log")
+cancel_expected=$(grep -a -A4 "Traceback" "$cancel_log" | grep -ac "^<class 'mfgeom.errors.Cancelled'>: ")
+if [ "$cancel_tb" -le 1 ] && [ "$cancel_tb" -eq "$cancel_expected" ]; then
+  sed -i 's/^Traceback (most recent call last):$/(expected) traceback of the cancelled recompute:/' "$cancel_log"
+fi
+grep -a "^cancel: " "$cancel_log"
+report freecad-gui-cancel "$cancel_log" $rc
 
 # The medial axis and surface (issue 9) on the ribbed tray: tests/gui/test_gui_medial.py.
 # While the library's 3-D extraction is not built, the test checks that its "not built

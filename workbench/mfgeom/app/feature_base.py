@@ -9,7 +9,7 @@ import traceback
 import FreeCAD
 
 from mfgeom import compat, progress
-from mfgeom.errors import InputError, MfgeomError
+from mfgeom.errors import Cancelled, InputError, MfgeomError
 
 
 def add_properties(obj, spec):
@@ -45,13 +45,16 @@ def attach_view(obj, view_provider):
 
 def one_line_error(obj, exc):
     """The exception a failed recompute raises: an InputError stays one (so callers can
-    catch it), anything else becomes an MfgeomError naming the original class; the
+    catch it), so does a Cancelled (as an errors.Cancelled), anything else becomes an MfgeomError naming the original class; the
     message is on one line and names the object once: prefixed with its label where
     FreeCAD does not do so itself (0.20; 1.0 reports "<Label>: <message>")."""
     text = " ".join(str(exc).split()) or type(exc).__name__
+    if isinstance(exc, Cancelled):   # the user's own stop: say so, not the C detail
+        stage = getattr(exc, "stage", None)
+        text = f"cancelled (in {stage})" if stage else text
     message = text if compat.freecad_names_failed_objects() else f"{obj.Label}: {text}"
-    if isinstance(exc, InputError):
-        return type(exc)(message)
+    if isinstance(exc, (InputError, Cancelled)):
+        return (Cancelled if isinstance(exc, Cancelled) else type(exc))(message)
     return MfgeomError(f"{message} ({type(exc).__name__})")
 
 
