@@ -4,7 +4,8 @@ server by tests/gui/run_gui_tests.sh: ``xvfb-run -a freecad tests/gui/test_gui_c
 
 A user sweeps a finely tessellated torus (several seconds of library work) through the
 Rotational sweep task panel; the progress dialog appears, shows the library's stages and
-a moving bar; a click on its Cancel button stops the computation within a second or two;
+a moving bar; a click on its Cancel button (then, again, the Esc key) stops the computation within a
+second or two;
 the panel then says it was cancelled, the document is as before (no sweep object, the
 undo stack unchanged, the torus untouched) and the dialog is gone.  The same sweep is then
 run to the end with the dialog left alone (the dialog closes, the sweep is valid), and a
@@ -43,9 +44,10 @@ class Watcher:
     the dialog's own event processing); records what the dialog showed and, with
     ``cancel_after`` seconds, clicks its Cancel button once it has been seen that long."""
 
-    def __init__(self, cancel_after=None):
+    def __init__(self, cancel_after=None, key=False):
         QtCore, _ = qt()
         self.cancel_after = cancel_after
+        self.key = key   # cancel with the Esc key instead of the button
         self.seen_at = self.clicked_at = None
         self.labels, self.values = [], []
         self.timer = QtCore.QTimer()
@@ -64,10 +66,16 @@ class Watcher:
         self.values.append(dialog.value())
         if (self.cancel_after is not None and self.clicked_at is None
                 and now - self.seen_at >= self.cancel_after):
+            self.clicked_at = now
+            if self.key:
+                QtCore, _ = qt()
+                for kind in (QtCore.QEvent.KeyPress, QtCore.QEvent.KeyRelease):
+                    QtGui.QApplication.sendEvent(
+                        dialog, QtGui.QKeyEvent(kind, QtCore.Qt.Key_Escape, QtCore.Qt.NoModifier))
+                return
             button = [b for b in dialog.findChildren(QtGui.QPushButton)
                       if b.text().replace("&", "") == "Cancel"]
             assert button, "the progress dialog has no Cancel button"
-            self.clicked_at = now
             button[0].click()
 
     def stop(self):
@@ -140,6 +148,22 @@ def _():
     assert torus.isValid() and "Touched" not in torus.State, torus.State
     state["panel"] = left
     state["cancel_stop_s"] = returned - watcher.clicked_at
+
+
+@check("Esc in the progress dialog cancels too")
+def _():
+    doc, panel = state["doc"], state["panel"]
+    undo = doc.UndoCount
+    watcher = Watcher(cancel_after=0.3, key=True)
+    press(panel["ok"])
+    returned = time.monotonic()
+    watcher.stop()
+    assert watcher.clicked_at is not None, "the sweep ended before Esc was pressed"
+    assert returned - watcher.clicked_at < 3.0, f"{returned - watcher.clicked_at:.1f} s"
+    left = task_panel()
+    assert left is not None and "cancelled" in left["message"].text()
+    assert progress_dialog() is None and sweeps(doc) == [] and doc.UndoCount == undo
+    state["panel"] = left
 
 
 @check("the same sweep left alone runs to the end; the dialog closes, the sweep is valid")
