@@ -16,7 +16,6 @@ import json
 import os
 import sys
 import tempfile
-import traceback
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import roundtrip_common as rc  # noqa: E402
@@ -96,10 +95,4 @@ def main():
     return 1 if failed or not results else 0
 
 
-try:
-    code = main()
-except Exception:  # reported; the exit code tells the CI job
-    traceback.print_exc()
-    code = 1
-sys.stdout.flush()
-sys.exit(code)
+rc.run_main(main)

@@ -23,6 +23,19 @@ for _p in (os.path.join(REPO, "workbench"), os.path.join(REPO, "examples"),
 REL = 1e-9
 
 
+def run_main(main):
+    """Runs a round-trip script's ``main()`` and exits with its code; an exception is
+    printed and exits 1 (the exit code is what the CI job reads)."""
+    import traceback
+    try:
+        code = main()
+    except Exception:  # reported; the exit code tells the CI job
+        traceback.print_exc()
+        code = 1
+    sys.stdout.flush()
+    sys.exit(code)
+
+
 def paths():
     """(FCStd, JSON) of the round trip: $MFGEOM_ROUNDTRIP_DIR/roundtrip.{FCStd,json}."""
     directory = os.environ.get("MFGEOM_ROUNDTRIP_DIR")

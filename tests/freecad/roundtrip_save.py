@@ -12,7 +12,6 @@ traceback and exits 1."""
 import json
 import os
 import sys
-import traceback
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import roundtrip_common as rc  # noqa: E402
@@ -105,10 +104,4 @@ def main():
     return 0
 
 
-try:
-    code = main()
-except Exception:  # reported; the exit code tells the CI job
-    traceback.print_exc()
-    code = 1
-sys.stdout.flush()
-sys.exit(code)
+rc.run_main(main)

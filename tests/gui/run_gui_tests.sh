@@ -29,6 +29,19 @@ report() {
   grep -aqE "^$label: [0-9]+ passed, 0 failed$" "$log" || { echo "$label: no clean summary (log: $log)"; exit 1; }
 }
 
+# run_gui NAME: runs tests/gui/test_gui_NAME.py in FreeCAD under Xvfb with its own
+# throw-away user directory whose Mod/ links this checkout; sets gui_log and gui_rc.
+run_gui() {
+  local name=$1 home
+  home=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-$name-home.XXXXXX")
+  mkdir -p "$home/Mod"
+  ln -s "$ROOT" "$home/Mod/mfgeom"
+  gui_log="$MFGEOM_GUI_OUT/gui-$name.log"
+  FREECAD_USER_HOME="$home" timeout 300 xvfb-run -a freecad "tests/gui/test_gui_$name.py" > "$gui_log" 2>&1
+  gui_rc=$?
+  rm -rf "$home"
+}
+
 # Point classification: tests/gui/test_gui.py.
 log="$MFGEOM_GUI_OUT/gui.log"
 timeout 300 xvfb-run -a freecad tests/gui/test_gui.py > "$log" 2>&1
@@ -37,46 +50,26 @@ rc=$?
 report freecad-gui "$log" $rc
 
 # The parting analysis (issue 7) on the cup with a hole: tests/gui/test_gui_parting.py.
-parting_home=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-parting-home.XXXXXX")
-mkdir -p "$parting_home/Mod"
-ln -s "$ROOT" "$parting_home/Mod/mfgeom"
-parting_log="$MFGEOM_GUI_OUT/gui-parting.log"
-FREECAD_USER_HOME="$parting_home" timeout 300 xvfb-run -a freecad tests/gui/test_gui_parting.py > "$parting_log" 2>&1
-rc=$?
-rm -rf "$parting_home"
+run_gui parting
+parting_log=$gui_log rc=$gui_rc
 report freecad-gui-parting "$parting_log" $rc
 
 # The clearance check (issue 8) on a swept box and obstacles: tests/gui/test_gui_clearance.py.
-clearance_home=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-clearance-home.XXXXXX")
-mkdir -p "$clearance_home/Mod"
-ln -s "$ROOT" "$clearance_home/Mod/mfgeom"
-clearance_log="$MFGEOM_GUI_OUT/gui-clearance.log"
-FREECAD_USER_HOME="$clearance_home" timeout 300 xvfb-run -a freecad tests/gui/test_gui_clearance.py > "$clearance_log" 2>&1
-rc=$?
-rm -rf "$clearance_home"
+run_gui clearance
+clearance_log=$gui_log rc=$gui_rc
 report freecad-gui-clearance "$clearance_log" $rc
 
 # The rotational sweep (issue 8) of a box about its edge: tests/gui/test_gui_sweep.py.
-sweep_home=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-sweep-home.XXXXXX")
-mkdir -p "$sweep_home/Mod"
-ln -s "$ROOT" "$sweep_home/Mod/mfgeom"
-sweep_log="$MFGEOM_GUI_OUT/gui-sweep.log"
-FREECAD_USER_HOME="$sweep_home" timeout 300 xvfb-run -a freecad tests/gui/test_gui_sweep.py > "$sweep_log" 2>&1
-rc=$?
-rm -rf "$sweep_home"
+run_gui sweep
+sweep_log=$gui_log rc=$gui_rc
 report freecad-gui-sweep "$sweep_log" $rc
 
 # Progress and cancel (issue 18): a long sweep cancelled from its progress dialog, one run
 # to the end, a short one without a dialog: tests/gui/test_gui_cancel.py.  FreeCAD prints
 # each cancelled recompute's one-frame traceback (two: Cancel and Esc) ("<class 'mfgeom.errors.Cancelled'>"):
 # that one is expected, any other is a failure.
-cancel_home=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-cancel-home.XXXXXX")
-mkdir -p "$cancel_home/Mod"
-ln -s "$ROOT" "$cancel_home/Mod/mfgeom"
-cancel_log="$MFGEOM_GUI_OUT/gui-cancel.log"
-FREECAD_USER_HOME="$cancel_home" timeout 300 xvfb-run -a freecad tests/gui/test_gui_cancel.py > "$cancel_log" 2>&1
-rc=$?
-rm -rf "$cancel_home"
+run_gui cancel
+cancel_log=$gui_log rc=$gui_rc
 cancel_tb=$(grep -ac "Traceback" "$cancel_log")
 cancel_expected=$(grep -a -A4 "Traceback" "$cancel_log" | grep -ac "^<class 'mfgeom.errors.Cancelled'>: ")
 if [ "$cancel_tb" -le 2 ] && [ "$cancel_tb" -eq "$cancel_expected" ]; then
@@ -89,13 +82,8 @@ report freecad-gui-cancel "$cancel_log" $rc
 # While the library's 3-D extraction is not built, the test checks that its "not built
 # yet" reaches the panel; FreeCAD prints the failed recompute's traceback for that, the
 # only traceback allowed here (any other, or one once it extracts, is a failure).
-medial_home=$(mktemp -d "${TMPDIR:-/tmp}/mfgeom-medial-home.XXXXXX")
-mkdir -p "$medial_home/Mod"
-ln -s "$ROOT" "$medial_home/Mod/mfgeom"
-medial_log="$MFGEOM_GUI_OUT/gui-medial.log"
-FREECAD_USER_HOME="$medial_home" timeout 300 xvfb-run -a freecad tests/gui/test_gui_medial.py > "$medial_log" 2>&1
-rc=$?
-rm -rf "$medial_home"
+run_gui medial
+medial_log=$gui_log rc=$gui_rc
 medial_tb=$(grep -c "Traceback" "$medial_log")
 medial_expected=$(grep -A3 "Traceback" "$medial_log" |
   grep -cE "^<class 'mfgeom.errors.MfgeomError'>: .*(not built yet|no medial surface binding)")
