@@ -5,7 +5,7 @@
  * Build (see run_fuzz.sh):
  *   clang -g -O1 -ffp-contract=off -fsanitize=fuzzer,address,undefined \
  *         -fno-sanitize-recover=all -Ilibcore/include -Ilibcore/src \
- *         libcore/src/ *.c tests/fuzz/fuzz_pointclass.c -lm -o build-fuzz/fuzz_pointclass
+ *         $(find libcore/src -name '*.c') tests/fuzz/fuzz_pointclass.c -lm -o build-fuzz/fuzz_pointclass
  *
  * Input layout (every read past the end yields zero bytes):
  *   byte 0   : bits 0-1 number of rings - 1 (1..4); bits 2-3 coordinate mode;

@@ -35,7 +35,7 @@ for target in fuzz_pointclass fuzz_api; do
     "$CC" -g -O1 -ffp-contract=off -fno-fast-math -fno-omit-frame-pointer ${FUZZ_CFLAGS:-} \
         -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
         -I"$ROOT/libcore/include" -I"$ROOT/libcore/src" \
-        "$ROOT"/libcore/src/*.c "$ROOT/tests/fuzz/$target.c" -lm \
+        "$ROOT"/libcore/src/*/*.c "$ROOT/tests/fuzz/$target.c" -lm \
         -o "$OUT/$target"
 done
 
