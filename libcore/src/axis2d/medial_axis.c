@@ -32,11 +32,9 @@
 #include <string.h>
 
 #include "common/mfg_internal.h"
+#include "common/vec3.h"
 #include "common/predicates.h"
 
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
 
 /* ---- growable arrays ------------------------------------------------------------- */
 typedef struct { double *v; int64_t n, cap; } dvec;
@@ -558,10 +556,10 @@ static int64_t window_switch(const ma_elems *E, int64_t e, int how)
 /* ---- junctions ------------------------------------------------------------------- */
 static double wrap_pi(double a)
 {
-    a = fmod(a + M_PI, 2 * M_PI);
+    a = fmod(a + MFG_PI, 2 * MFG_PI);
     if (a < 0)
-        a += 2 * M_PI;
-    return a - M_PI;
+        a += 2 * MFG_PI;
+    return a - MFG_PI;
 }
 
 typedef struct { int64_t e; double a; } ma_ea;
@@ -630,7 +628,7 @@ static int64_t junction_make(ma_ctx *C, double x, double y, double r)
         int64_t a = ea[i].e, b = ea[(i + 1) % cnt].e;
         if (a == b || own_pair(E, a, b))
             continue;
-        double da = fmod(ea[(i + 1) % cnt].a - ea[i].a + 4 * M_PI, 2 * M_PI);
+        double da = fmod(ea[(i + 1) % cnt].a - ea[i].a + 4 * MFG_PI, 2 * MFG_PI);
         if (C->np == C->capp) {
             int64_t c = C->capp ? 2 * C->capp : 32;
             ma_port *p = realloc(C->P, (size_t)c * sizeof *p);
@@ -1308,19 +1306,6 @@ static int cmp_lkey(const void *pa, const void *pb)
     return (a->b > b->b) - (a->b < b->b);
 }
 
-static int cmp_i64(const void *pa, const void *pb)
-{
-    int64_t a = *(const int64_t *)pa, b = *(const int64_t *)pb;
-    return (a > b) - (a < b);
-}
-
-static int64_t uf_find(int64_t *par, int64_t j)
-{
-    while (par[j] != j)
-        j = par[j] = par[par[j]];
-    return j;
-}
-
 /* The flat result.  Junctions joined by a branch shorter than tol are one junction
  * (contracted in order of length, so a branch closing a cycle is kept: the cycle around a
  * tiny hole stays): the representative is the member touching the most elements (then the
@@ -1367,7 +1352,7 @@ static mfg_status assemble(const ma_ctx *C, struct mfg_medial_axis **out)
     qsort(lk, (size_t)nl, sizeof *lk, cmp_lkey);
     for (int64_t i = 0; i < nl; i++) {
         int64_t b = lk[i].b;
-        int64_t r0 = uf_find(par, C->bend.v[2 * b]), r1 = uf_find(par, C->bend.v[2 * b + 1]);
+        int64_t r0 = mfg_uf_find(par, C->bend.v[2 * b]), r1 = mfg_uf_find(par, C->bend.v[2 * b + 1]);
         if (r0 == r1)
             continue;
         par[r0 > r1 ? r0 : r1] = r0 > r1 ? r1 : r0;
@@ -1378,7 +1363,7 @@ static mfg_status assemble(const ma_ctx *C, struct mfg_medial_axis **out)
         rep[j] = mhead[j] = -1;
     for (int64_t j = nj - 1; j >= 0; j--) { /* most elements, then lowest (x, y): not the
                                                tracing order, which follows the input's */
-        int64_t r = uf_find(par, j), k = rep[r];
+        int64_t r = mfg_uf_find(par, j), k = rep[r];
         const ma_junction *A = &C->J[j], *B = k >= 0 ? &C->J[k] : NULL;
         if (!B || A->nelem > B->nelem ||
             (A->nelem == B->nelem && (A->x < B->x || (A->x == B->x && A->y < B->y))))
@@ -1401,8 +1386,8 @@ static mfg_status assemble(const ma_ctx *C, struct mfg_medial_axis **out)
             continue;
         int64_t lo = C->boff.v[b], hi = b + 1 < nb ? C->boff.v[b + 1] : ns;
         int64_t j0 = C->bend.v[2 * b], j1 = C->bend.v[2 * b + 1];
-        int64_t a = j0 >= 0 ? newid[uf_find(par, j0)] : INT64_MAX;
-        int64_t c = j1 >= 0 ? newid[uf_find(par, j1)] : INT64_MAX;
+        int64_t a = j0 >= 0 ? newid[mfg_uf_find(par, j0)] : INT64_MAX;
+        int64_t c = j1 >= 0 ? newid[mfg_uf_find(par, j1)] : INT64_MAX;
         int flip = c < a;
         if (a == c && hi - lo >= 3) { /* a self-loop, or both ends leaves */
             int64_t p = a == INT64_MAX ? lo : lo + 1, q = a == INT64_MAX ? hi - 1 : hi - 2;
@@ -1471,7 +1456,7 @@ static mfg_status assemble(const ma_ctx *C, struct mfg_medial_axis **out)
                 eids[ne++] = is_seg(E, e) ? E->orig[e] : -1 - E->orig[E->vk[e - E->ns]];
             }
         }
-        qsort(eids, (size_t)ne, sizeof *eids, cmp_i64);
+        qsort(eids, (size_t)ne, sizeof *eids, mfg_cmp_i64);
         for (int64_t i = 0; i < ne; i++)
             if (i == 0 || eids[i] != eids[i - 1])
                 A->junction_elements[oe++] = eids[i];

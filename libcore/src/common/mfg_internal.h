@@ -5,7 +5,9 @@
 
 #include <math.h>
 #include <stdatomic.h>
+#include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "mfgeom.h"
@@ -114,6 +116,33 @@ static inline void mfg_uf_union(int64_t *parent, int64_t a, int64_t b)
         parent[b] = a;
     else if (b < a)
         parent[a] = b;
+}
+
+/* Grows the array *p (items of size bytes, capacity *cap) to hold need items, doubling from
+ * 16.  Returns 1, or 0 when memory runs out or the size would not fit in a size_t (then
+ * *p and *cap are untouched and still valid).  The one growable-buffer helper. */
+static inline int mfg_grow(void **p, int64_t *cap, int64_t need, size_t size)
+{
+    if (need <= *cap)
+        return 1;
+    if (need > (int64_t)(PTRDIFF_MAX / (ptrdiff_t)size))
+        return 0;
+    int64_t c = *cap > 0 ? *cap : 16;
+    while (c < need)
+        c = c > INT64_MAX / 2 ? need : 2 * c;
+    void *q = realloc(*p, (size_t)c * size);
+    if (!q)
+        return 0;
+    *p = q;
+    *cap = c;
+    return 1;
+}
+
+/* qsort comparator of int64_t in ascending order. */
+static inline int mfg_cmp_i64(const void *pa, const void *pb)
+{
+    int64_t a = *(const int64_t *)pa, b = *(const int64_t *)pb;
+    return (a > b) - (a < b);
 }
 
 #endif

@@ -41,8 +41,8 @@ struct md_bvh {
 static double dist2(const double *a, const double *b)
 {
     double d[3];
-    md_sub3(a, b, d);
-    return md_dot3(d, d);
+    mfg_sub3(a, b, d);
+    return mfg_dot3(d, d);
 }
 
 /* ---- closest points ---------------------------------------------------------------- */
@@ -56,9 +56,9 @@ enum { FEAT_SIDE = 3, FEAT_INTERIOR = 6 };
 static int closest_on_seg(const double *p, const double *a, const double *b, double *q)
 {
     double ab[3], ap[3];
-    md_sub3(b, a, ab);
-    md_sub3(p, a, ap);
-    double t = md_dot3(ap, ab), l2 = md_dot3(ab, ab);
+    mfg_sub3(b, a, ab);
+    mfg_sub3(p, a, ap);
+    double t = mfg_dot3(ap, ab), l2 = mfg_dot3(ab, ab);
     if (t <= 0 || !(l2 > 0)) {
         memcpy(q, a, 3 * sizeof *q);
         return 0;
@@ -80,16 +80,16 @@ static int closest_on_tri(const double *p, const double *a, const double *b, con
                           double *q)
 {
     double ab[3], ac[3], ap[3], bp[3], cp[3];
-    md_sub3(b, a, ab);
-    md_sub3(c, a, ac);
-    md_sub3(p, a, ap);
-    double d1 = md_dot3(ab, ap), d2 = md_dot3(ac, ap);
+    mfg_sub3(b, a, ab);
+    mfg_sub3(c, a, ac);
+    mfg_sub3(p, a, ap);
+    double d1 = mfg_dot3(ab, ap), d2 = mfg_dot3(ac, ap);
     if (d1 <= 0 && d2 <= 0) {
         memcpy(q, a, 3 * sizeof *q);
         return 0;
     }
-    md_sub3(p, b, bp);
-    double d3 = md_dot3(ab, bp), d4 = md_dot3(ac, bp);
+    mfg_sub3(p, b, bp);
+    double d3 = mfg_dot3(ab, bp), d4 = mfg_dot3(ac, bp);
     if (d3 >= 0 && d4 <= d3) {
         memcpy(q, b, 3 * sizeof *q);
         return 1;
@@ -101,8 +101,8 @@ static int closest_on_tri(const double *p, const double *a, const double *b, con
             q[k] = a[k] + v * ab[k];
         return FEAT_SIDE + 0;
     }
-    md_sub3(p, c, cp);
-    double d5 = md_dot3(ab, cp), d6 = md_dot3(ac, cp);
+    mfg_sub3(p, c, cp);
+    double d5 = mfg_dot3(ab, cp), d6 = mfg_dot3(ac, cp);
     if (d6 >= 0 && d5 <= d6) {
         memcpy(q, c, 3 * sizeof *q);
         return 2;
@@ -318,12 +318,12 @@ mfg_status md_bvh_build(const md_elements *el, md_bvh **out)
                 continue;
             const double *p = el->xyz + 3 * el->tris[3 * t + k];
             double a[3], b[3], c[3];
-            md_sub3(el->xyz + 3 * el->tris[3 * t + (k + 1) % 3], p, a);
-            md_sub3(el->xyz + 3 * el->tris[3 * t + (k + 2) % 3], p, b);
+            mfg_sub3(el->xyz + 3 * el->tris[3 * t + (k + 1) % 3], p, a);
+            mfg_sub3(el->xyz + 3 * el->tris[3 * t + (k + 2) % 3], p, b);
             c[0] = a[1] * b[2] - a[2] * b[1];
             c[1] = a[2] * b[0] - a[0] * b[2];
             c[2] = a[0] * b[1] - a[1] * b[0];
-            double ang = atan2(sqrt(md_dot3(c, c)), md_dot3(a, b));
+            double ang = atan2(sqrt(mfg_dot3(c, c)), mfg_dot3(a, b));
             for (int j = 0; j < 3; j++)
                 h->pseudo[3 * v + j] += ang * el->face_plane[4 * f + j];
         }
@@ -392,8 +392,8 @@ double md_bvh_nearest(const md_bvh *h, const md_elements *el, const double x[3],
         /* On the boundary (x == foot) counts as inside: callers prune only what is
          * surely outside. */
         double d[3];
-        md_sub3(x, foot, d);
-        *inside = best_e >= 0 && !(md_dot3(d, h->pseudo + 3 * best_e) > 0);
+        mfg_sub3(x, foot, d);
+        *inside = best_e >= 0 && !(mfg_dot3(d, h->pseudo + 3 * best_e) > 0);
     }
     return sqrt(best2);
 }
@@ -409,18 +409,12 @@ typedef struct hit_set {
     int64_t buf[HIT_BUF];
 } hit_set;
 
-static int cmp_i64(const void *pa, const void *pb)
-{
-    int64_t a = *(const int64_t *)pa, b = *(const int64_t *)pb;
-    return (a > b) - (a < b);
-}
-
 /* Merges the buffered hits into dst (sorted, unique), keeping the smallest cap. */
 static void hits_flush(hit_set *s)
 {
     if (s->nbuf == 0)
         return;
-    qsort(s->buf, (size_t)s->nbuf, sizeof *s->buf, cmp_i64);
+    qsort(s->buf, (size_t)s->nbuf, sizeof *s->buf, mfg_cmp_i64);
     int64_t m = 0;
     for (int i = 0; i < s->nbuf; i++)
         if (m == 0 || s->buf[m - 1] != s->buf[i])

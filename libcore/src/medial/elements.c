@@ -17,7 +17,6 @@
  * vertex's region is then empty, the faces cover it).  [choice] the angle sum is in
  * floating point; a true 180 deg corner comes out within a few ulps of pi. */
 #define STRAIGHT_SLACK 1e-9
-#define PI_D 3.14159265358979323846
 
 static int cmp_xyz(const double *p, const double *q)
 {
@@ -38,8 +37,8 @@ static int cmp_vertex(const double *xyz, int64_t a, int64_t b)
 static void tri_normal(const double *xyz, const int64_t *t, double *n)
 {
     double u[3], v[3];
-    md_sub3(xyz + 3 * t[1], xyz + 3 * t[0], u);
-    md_sub3(xyz + 3 * t[2], xyz + 3 * t[0], v);
+    mfg_sub3(xyz + 3 * t[1], xyz + 3 * t[0], u);
+    mfg_sub3(xyz + 3 * t[2], xyz + 3 * t[0], v);
     mfg_cross3_accurate(u, v, n);
 }
 
@@ -216,7 +215,7 @@ static int on_seed_plane(const md_elements *el, const int64_t *seed_tri, const d
                          int64_t p)
 {
     const double *x = el->xyz + 3 * p;
-    if (fabs(md_dot3(plane, x) - plane[3]) <= el->eta)
+    if (fabs(mfg_dot3(plane, x) - plane[3]) <= el->eta)
         return 1;
     return mfg_orient3d(el->xyz + 3 * seed_tri[0], el->xyz + 3 * seed_tri[1],
                         el->xyz + 3 * seed_tri[2], x) == 0;
@@ -337,7 +336,7 @@ static mfg_status grow_faces(elements_build *mb)
             tri_normal(e->xyz, tv, n);
             mb->seeds[nseeds].xyz = e->xyz;
             mb->seeds[nseeds].tri = tv;
-            mb->seeds[nseeds].area2 = md_norm3(n);
+            mb->seeds[nseeds].area2 = mfg_norm3(n);
             mb->seeds[nseeds].t = t;
             nseeds++;
         }
@@ -350,11 +349,11 @@ static mfg_status grow_faces(elements_build *mb)
         const int64_t *sv = e->tris + 3 * s;
         double n[3];
         tri_normal(e->xyz, sv, n);
-        double len = md_norm3(n);
+        double len = mfg_norm3(n);
         double *pl = mb->plane + 4 * mb->nfaces;
         for (int c = 0; c < 3; c++)
             pl[c] = n[c] / len;
-        pl[3] = md_dot3(pl, e->xyz + 3 * sv[0]);
+        pl[3] = mfg_dot3(pl, e->xyz + 3 * sv[0]);
         mb->seed_of[mb->nfaces] = s;
         int64_t head = 0, tail = 0;
         mb->label[s] = mb->nfaces;
@@ -647,8 +646,8 @@ static mfg_status edge_geometry(elements_build *mb)
         double *A = e->edge_seg + 6 * i, *B = A + 3, *u = e->edge_dir + 3 * i;
         memcpy(A, e->xyz + 3 * mb->chain_start[c], 3 * sizeof(double));
         memcpy(B, e->xyz + 3 * mb->chain_end[c], 3 * sizeof(double));
-        md_sub3(B, A, u);
-        double len = md_norm3(u);
+        mfg_sub3(B, A, u);
+        double len = mfg_norm3(u);
         for (int k = 0; k < 3; k++)
             u[k] /= len;
         e->edge_len[i] = len;
@@ -664,8 +663,8 @@ static mfg_status edge_geometry(elements_build *mb)
         const double *A = e->edge_seg + 6 * i, *u = e->edge_dir + 3 * i;
         for (int j = 0; j < 2; j++) {
             double d[3], x = 0;
-            md_sub3(e->xyz + 3 * (j ? mb->bs[q].v1 : mb->bs[q].v0), A, d);
-            double t = md_dot3(d, u);
+            mfg_sub3(e->xyz + 3 * (j ? mb->bs[q].v1 : mb->bs[q].v0), A, d);
+            double t = mfg_dot3(d, u);
             for (int k = 0; k < 3; k++)
                 x += (d[k] - t * u[k]) * (d[k] - t * u[k]);
             if (sqrt(x) > e->eta) {
@@ -685,11 +684,11 @@ static mfg_status edge_geometry(elements_build *mb)
                 int64_t f = mb->label[s / 3];
                 int64_t a = e->tris[s], b = e->tris[3 * (s / 3) + (s % 3 + 1) % 3];
                 double sd[3], w[3];
-                md_sub3(e->xyz + 3 * b, e->xyz + 3 * a, sd);
-                double sgn = md_dot3(sd, u) >= 0 ? 1.0 : -1.0;
+                mfg_sub3(e->xyz + 3 * b, e->xyz + 3 * a, sd);
+                double sgn = mfg_dot3(sd, u) >= 0 ? 1.0 : -1.0;
                 double us[3] = {sgn * u[0], sgn * u[1], sgn * u[2]};
-                md_cross3(e->face_plane + 4 * f, us, w);
-                double wl = md_norm3(w);
+                mfg_cross3(e->face_plane + 4 * f, us, w);
+                double wl = mfg_norm3(w);
                 int slot = f == e->edge_faces[2 * i] ? 0 : 1;
                 for (int k = 0; k < 3; k++)
                     e->edge_w[6 * i + 3 * slot + k] = w[k] / wl;
@@ -711,7 +710,7 @@ static mfg_status edge_geometry(elements_build *mb)
             /* No decisive triangle pair (near-coplanar merges or slivers): the normals. */
             const double *ni = e->face_plane + 4 * e->edge_faces[2 * i];
             const double *wj = e->edge_w + 6 * i + 3;
-            e->edge_convex[i] = md_dot3(ni, wj) < 0;
+            e->edge_convex[i] = mfg_dot3(ni, wj) < 0;
         }
     return MFG_OK;
 }
@@ -836,10 +835,10 @@ static mfg_status closure_tables(elements_build *mb)
                 if (mb->vert_map[v] < 0)
                     continue;
                 double a[3], b[3], c[3];
-                md_sub3(e->xyz + 3 * e->tris[3 * t + (k + 1) % 3], e->xyz + 3 * v, a);
-                md_sub3(e->xyz + 3 * e->tris[3 * t + (k + 2) % 3], e->xyz + 3 * v, b);
-                md_cross3(a, b, c);
-                mb->pr[np++] = (pair64){mb->vert_map[v], mb->label[t], atan2(md_norm3(c), md_dot3(a, b))};
+                mfg_sub3(e->xyz + 3 * e->tris[3 * t + (k + 1) % 3], e->xyz + 3 * v, a);
+                mfg_sub3(e->xyz + 3 * e->tris[3 * t + (k + 2) % 3], e->xyz + 3 * v, b);
+                mfg_cross3(a, b, c);
+                mb->pr[np++] = (pair64){mb->vert_map[v], mb->label[t], atan2(mfg_norm3(c), mfg_dot3(a, b))};
             }
         }
         qsort(mb->pr, (size_t)np, sizeof *mb->pr, cmp_pair);
@@ -848,7 +847,7 @@ static mfg_status closure_tables(elements_build *mb)
             double sum = 0;
             while (j < np && mb->pr[j].a == mb->pr[i].a && mb->pr[j].b == mb->pr[i].b)
                 sum += mb->pr[j++].w;
-            if (sum >= PI_D - STRAIGHT_SLACK)
+            if (sum >= MFG_PI - STRAIGHT_SLACK)
                 e->vert_region_empty[mb->pr[i].a] = 1;
             i = j;
         }
@@ -874,7 +873,7 @@ mfg_status md_elements_build(const double *xyz, int64_t nv, const int64_t *trian
         return st;
     double ext[3] = {rep.bbox[3] - rep.bbox[0], rep.bbox[4] - rep.bbox[1],
                      rep.bbox[5] - rep.bbox[2]};
-    double L = md_norm3(ext);
+    double L = mfg_norm3(ext);
     if (!(tolerance < L)) {
         free(nbr0);
         return mfg_fail(MFG_ERR_INVALID,
@@ -930,21 +929,21 @@ double md_dist_car(const md_elements *el, int64_t e, const double x[3], double g
         if (grad)
             for (int k = 0; k < 3; k++)
                 grad[k] = -pl[k];
-        return pl[3] - md_dot3(pl, x);
+        return pl[3] - mfg_dot3(pl, x);
     }
     double r[3];
     if (kind == MD_EDGE) {
         int64_t i = e - el->nfaces;
         const double *A = el->edge_seg + 6 * i, *u = el->edge_dir + 3 * i;
         double d[3];
-        md_sub3(x, A, d);
-        double t = md_dot3(d, u);
+        mfg_sub3(x, A, d);
+        double t = mfg_dot3(d, u);
         for (int k = 0; k < 3; k++)
             r[k] = d[k] - t * u[k];
     } else {
-        md_sub3(x, el->vert_xyz + 3 * (e - el->nfaces - el->nedges), r);
+        mfg_sub3(x, el->vert_xyz + 3 * (e - el->nfaces - el->nedges), r);
     }
-    double d = md_norm3(r);
+    double d = mfg_norm3(r);
     if (grad)
         for (int k = 0; k < 3; k++)
             grad[k] = d > 0 ? r[k] / d : 0.0;
@@ -955,14 +954,14 @@ double md_dist_car(const md_elements *el, int64_t e, const double x[3], double g
 static double seg_dist(const double *x, const double *a, const double *b)
 {
     double ab[3], ax[3];
-    md_sub3(b, a, ab);
-    md_sub3(x, a, ax);
-    double l2 = md_dot3(ab, ab), t = l2 > 0 ? md_dot3(ax, ab) / l2 : 0.0;
+    mfg_sub3(b, a, ab);
+    mfg_sub3(x, a, ax);
+    double l2 = mfg_dot3(ab, ab), t = l2 > 0 ? mfg_dot3(ax, ab) / l2 : 0.0;
     t = t < 0 ? 0 : (t > 1 ? 1 : t);
     double r[3];
     for (int k = 0; k < 3; k++)
         r[k] = ax[k] - t * ab[k];
-    return md_norm3(r);
+    return mfg_norm3(r);
 }
 
 /* Is the projection p of a point on face f's plane inside the face?  Winding number of
@@ -994,7 +993,7 @@ double md_region_margin(const md_elements *el, int64_t e, const double x[3], int
     double m;
     if (kind == MD_FACE) {
         const double *pl = el->face_plane + 4 * e;
-        double s = pl[3] - md_dot3(pl, x), p[3];
+        double s = pl[3] - mfg_dot3(pl, x), p[3];
         for (int k = 0; k < 3; k++)
             p[k] = x[k] + s * pl[k];
         double best = INFINITY;
@@ -1017,10 +1016,10 @@ double md_region_margin(const md_elements *el, int64_t e, const double x[3], int
         int64_t i = e - el->nfaces;
         const double *A = el->edge_seg + 6 * i, *u = el->edge_dir + 3 * i;
         double d[3];
-        md_sub3(x, A, d);
-        double t = md_dot3(d, u);
-        double c[4] = {t, el->edge_len[i] - t, -md_dot3(el->edge_w + 6 * i, d),
-                       -md_dot3(el->edge_w + 6 * i + 3, d)};
+        mfg_sub3(x, A, d);
+        double t = mfg_dot3(d, u);
+        double c[4] = {t, el->edge_len[i] - t, -mfg_dot3(el->edge_w + 6 * i, d),
+                       -mfg_dot3(el->edge_w + 6 * i + 3, d)};
         int64_t ids[4] = {el->edge_ends[2 * i], el->edge_ends[2 * i + 1], el->edge_faces[2 * i],
                           el->edge_faces[2 * i + 1]};
         m = c[0];
@@ -1037,13 +1036,13 @@ double md_region_margin(const md_elements *el, int64_t e, const double x[3], int
         } else {
             const double *V = el->vert_xyz + 3 * j;
             double d[3];
-            md_sub3(x, V, d);
+            mfg_sub3(x, V, d);
             m = INFINITY;
             for (int64_t q = el->vert_edge_offsets[j]; q < el->vert_edge_offsets[j + 1]; q++) {
                 int64_t ed = el->vert_edges[q], i = ed - el->nfaces;
                 /* d_k: the edge's direction away from V. */
                 double sgn = el->edge_ends[2 * i] == e ? 1.0 : -1.0;
-                double c = -sgn * md_dot3(d, el->edge_dir + 3 * i);
+                double c = -sgn * mfg_dot3(d, el->edge_dir + 3 * i);
                 if (c < m) {
                     m = c;
                     w = ed;
@@ -1061,26 +1060,26 @@ double md_region_margin(const md_elements *el, int64_t e, const double x[3], int
 static double tri_dist(const double *p, const double *a, const double *b, const double *c)
 {
     double ab[3], ac[3], n[3], ap[3];
-    md_sub3(b, a, ab);
-    md_sub3(c, a, ac);
-    md_sub3(p, a, ap);
-    md_cross3(ab, ac, n);
-    double nn = md_dot3(n, n);
+    mfg_sub3(b, a, ab);
+    mfg_sub3(c, a, ac);
+    mfg_sub3(p, a, ap);
+    mfg_cross3(ab, ac, n);
+    double nn = mfg_dot3(n, n);
     if (nn > 0) {
         /* Barycentric signs of the foot: each side's cross product against n. */
         double bp[3], cp[3], t[3], bc[3], ca[3];
-        md_sub3(p, b, bp);
-        md_sub3(p, c, cp);
-        md_sub3(c, b, bc);
-        md_sub3(a, c, ca);
-        md_cross3(ab, ap, t);
-        int in = md_dot3(t, n) >= 0;
-        md_cross3(bc, bp, t);
-        in = in && md_dot3(t, n) >= 0;
-        md_cross3(ca, cp, t);
-        in = in && md_dot3(t, n) >= 0;
+        mfg_sub3(p, b, bp);
+        mfg_sub3(p, c, cp);
+        mfg_sub3(c, b, bc);
+        mfg_sub3(a, c, ca);
+        mfg_cross3(ab, ap, t);
+        int in = mfg_dot3(t, n) >= 0;
+        mfg_cross3(bc, bp, t);
+        in = in && mfg_dot3(t, n) >= 0;
+        mfg_cross3(ca, cp, t);
+        in = in && mfg_dot3(t, n) >= 0;
         if (in)
-            return fabs(md_dot3(ap, n)) / sqrt(nn);
+            return fabs(mfg_dot3(ap, n)) / sqrt(nn);
     }
     return fmin(seg_dist(p, a, b), fmin(seg_dist(p, b, c), seg_dist(p, c, a)));
 }
@@ -1102,8 +1101,8 @@ double md_dist_closed(const md_elements *el, int64_t e, const double x[3])
         return seg_dist(x, A, A + 3);
     }
     double d[3];
-    md_sub3(x, el->vert_xyz + 3 * (e - el->nfaces - el->nedges), d);
-    return md_norm3(d);
+    mfg_sub3(x, el->vert_xyz + 3 * (e - el->nfaces - el->nedges), d);
+    return mfg_norm3(d);
 }
 
 double md_dist(const md_elements *el, int64_t e, const double x[3])

@@ -39,7 +39,7 @@ static void carrier_foot(const md_elements *el, int64_t e, const double x[3], do
     int kind = md_kind(el, e);
     if (kind == MD_FACE) {
         const double *pl = el->face_plane + 4 * e;
-        double s = pl[3] - md_dot3(pl, x);
+        double s = pl[3] - mfg_dot3(pl, x);
         for (int i = 0; i < 3; i++) {
             foot[i] = x[i] + s * pl[i];
             for (int j = 0; j < 3; j++)
@@ -49,7 +49,7 @@ static void carrier_foot(const md_elements *el, int64_t e, const double x[3], do
         int64_t k = e - el->nfaces;
         const double *A = el->edge_seg + 6 * k, *u = el->edge_dir + 3 * k;
         double d[3] = {x[0] - A[0], x[1] - A[1], x[2] - A[2]};
-        double t = md_dot3(d, u);
+        double t = mfg_dot3(d, u);
         for (int i = 0; i < 3; i++) {
             foot[i] = A[i] + t * u[i];
             for (int j = 0; j < 3; j++)

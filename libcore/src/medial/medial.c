@@ -58,12 +58,6 @@ static int cmp_xyz_tol(const double *a, const double *b, double d)
     return 0;
 }
 
-static int cmp_i64(const void *pa, const void *pb)
-{
-    int64_t a = *(const int64_t *)pa, b = *(const int64_t *)pb;
-    return (a > b) - (a < b);
-}
-
 /* Is the sorted list a (na) a subset of the sorted list b (nb)? */
 static int subset_of(const int64_t *a, int64_t na, const int64_t *b, int64_t nb)
 {
@@ -346,7 +340,7 @@ static int64_t merge_junctions(const md_elements *el, md_junction *J, int64_t n,
         int dup = 0;
         /* equal sets are contiguous; earlier kept ones have smaller points */
         for (int64_t k = m - 1; k >= 0 && same_set(&J[k], &J[i]) && !dup; k--)
-            dup = md_dist3(J[k].x, J[i].x) <= tol;
+            dup = mfg_dist3(J[k].x, J[i].x) <= tol;
         if (!dup)
             J[m++] = J[i];
     }
@@ -354,7 +348,7 @@ static int64_t merge_junctions(const md_elements *el, md_junction *J, int64_t n,
     for (int64_t i = 0; i < m; i++) {
         int nested = 0;
         for (int64_t k = 0; k < m && !nested; k++)
-            nested = k != i && J[k].n > J[i].n && md_dist3(J[k].x, J[i].x) <= tol &&
+            nested = k != i && J[k].n > J[i].n && mfg_dist3(J[k].x, J[i].x) <= tol &&
                      subset_of(J[i].elems, J[i].n, J[k].elems, J[k].n);
         if (!nested && set_has_output_pair(el, J[i].elems, J[i].n, full))
             J[w++] = J[i];
@@ -386,7 +380,7 @@ static int64_t snap_junction(const md_junction *J, int64_t nj, const double *p, 
     int64_t best = -1;
     double bd = INFINITY;
     for (int64_t j = junction_lower_x(J, nj, p[0] - reach); j < nj && J[j].x[0] <= p[0] + reach; j++) {
-        double d = md_dist3(J[j].x, p);
+        double d = mfg_dist3(J[j].x, p);
         if (d <= reach && d < bd && subset_of(s, n, J[j].elems, J[j].n)) {
             bd = d;
             best = j;
@@ -544,7 +538,7 @@ static mfg_status build_sheets(const md_elements *el, const md_soup *sp, double 
         r.ntri = j - i;
         /* Width ~ area / extent: slivers narrower than 1e-3 tolerance are not sheets
          * (the square prism's side pairs, trimmed down to its axis). */
-        double ext = md_dist3(lo, hi);
+        double ext = mfg_dist3(lo, hi);
         if (ext > 0 && area / ext >= 1e-3 * tol)
             s->refs[nref++] = r;
         i = j;
@@ -795,7 +789,7 @@ static mfg_status close_pinholes(mfg_medial *m, double tol)
                     lo3[k] = fmin(lo3[k], V[3 * loop[i] + k]);
                     hi3[k] = fmax(hi3[k], V[3 * loop[i] + k]);
                 }
-            double d = md_dist3(lo3, hi3);
+            double d = mfg_dist3(lo3, hi3);
             if (d > best) {
                 best = d;
                 outline = l;
@@ -806,12 +800,12 @@ static mfg_status close_pinholes(mfg_medial *m, double tol)
             for (int64_t i = loop_off[l]; i < loop_off[l + 1]; i++) {
                 int64_t j = i + 1 < loop_off[l + 1] ? i + 1 : loop_off[l];
                 double c[3];
-                md_cross3(V + 3 * loop[i], V + 3 * loop[j], c);
+                mfg_cross3(V + 3 * loop[i], V + 3 * loop[j], c);
                 for (int k = 0; k < 3; k++)
                     nw[k] += c[k];
-                per += md_dist3(V + 3 * loop[i], V + 3 * loop[j]);
+                per += mfg_dist3(V + 3 * loop[i], V + 3 * loop[j]);
             }
-            diag[l] = per > 0 ? fmin(d, md_norm3(nw) / per) : d;
+            diag[l] = per > 0 ? fmin(d, mfg_norm3(nw) / per) : d;
         }
         for (int64_t l = 0; l < nl && st == MFG_OK; l++) {
             int64_t a = loop_off[l], n = loop_off[l + 1] - a;
@@ -991,7 +985,7 @@ static int emit_seam(seam_out *o, polyline *pl, const int64_t *set, int64_t ns, 
          * seam's polyline where its segments break near the junction, not a seam. */
         int stub = 1;
         for (int64_t i = 0; i < n && stub; i++)
-            stub = md_dist3(J[e0].x, pl->pts.v + 3 * i) <= reach;
+            stub = mfg_dist3(J[e0].x, pl->pts.v + 3 * i) <= reach;
         if (stub)
             return 1;
     }
@@ -999,14 +993,14 @@ static int emit_seam(seam_out *o, polyline *pl, const int64_t *set, int64_t ns, 
      * already there) - the paper's eq. 3. */
     polyline q = {{0}, {0}};
     int ok = 1;
-    if (e0 >= 0 && md_dist3(J[e0].x, pl->pts.v) > 0) {
+    if (e0 >= 0 && mfg_dist3(J[e0].x, pl->pts.v) > 0) {
         ok &= dbuf_push(&q.pts, J[e0].x[0]) && dbuf_push(&q.pts, J[e0].x[1]) &&
               dbuf_push(&q.pts, J[e0].x[2]) && dbuf_push(&q.rad, J[e0].r);
     }
     for (int64_t i = 0; i < n && ok; i++)
         ok &= dbuf_push(&q.pts, pl->pts.v[3 * i]) && dbuf_push(&q.pts, pl->pts.v[3 * i + 1]) &&
               dbuf_push(&q.pts, pl->pts.v[3 * i + 2]) && dbuf_push(&q.rad, pl->rad.v[i]);
-    if (ok && e1 >= 0 && md_dist3(J[e1].x, pl->pts.v + 3 * (n - 1)) > 0)
+    if (ok && e1 >= 0 && mfg_dist3(J[e1].x, pl->pts.v + 3 * (n - 1)) > 0)
         ok &= dbuf_push(&q.pts, J[e1].x[0]) && dbuf_push(&q.pts, J[e1].x[1]) &&
               dbuf_push(&q.pts, J[e1].x[2]) && dbuf_push(&q.rad, J[e1].r);
     if (ok && q.rad.n >= 2) {
@@ -1071,7 +1065,7 @@ static int pieces_join(pieces *pc, double gap)
                     const polyline *a = &pc->p[i], *b = &pc->p[j];
                     const double *pa = a->pts.v + ((e & 1) ? 3 * (a->rad.n - 1) : 0);
                     const double *pb = b->pts.v + ((e & 2) ? 3 * (b->rad.n - 1) : 0);
-                    double d = md_dist3(pa, pb);
+                    double d = mfg_dist3(pa, pb);
                     if (d <= gap && d < best) {
                         best = d;
                         bi = i;
@@ -1086,7 +1080,7 @@ static int pieces_join(pieces *pc, double gap)
             polyline_reverse(a); /* a now ends at the joined end */
         if (be & 2)
             polyline_reverse(b); /* b now starts there */
-        int skip = md_dist3(a->pts.v + 3 * (a->rad.n - 1), b->pts.v) == 0;
+        int skip = mfg_dist3(a->pts.v + 3 * (a->rad.n - 1), b->pts.v) == 0;
         for (int64_t i = skip; i < b->rad.n; i++)
             if (!dbuf_push(&a->pts, b->pts.v[3 * i]) || !dbuf_push(&a->pts, b->pts.v[3 * i + 1]) ||
                 !dbuf_push(&a->pts, b->pts.v[3 * i + 2]) || !dbuf_push(&a->rad, b->rad.v[i]))
@@ -1101,7 +1095,7 @@ static int pieces_join(pieces *pc, double gap)
 /* Distance from p to the polyline P (n points). */
 static double polyline_dist(const double *P, int64_t n, const double *p)
 {
-    double best = n ? md_dist3(P, p) : INFINITY;
+    double best = n ? mfg_dist3(P, p) : INFINITY;
     for (int64_t i = 0; i + 1 < n; i++) {
         const double *A = P + 3 * i, *B = A + 3;
         double ab[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]}, ap[3] = {p[0] - A[0], p[1] - A[1], p[2] - A[2]};
@@ -1109,7 +1103,7 @@ static double polyline_dist(const double *P, int64_t n, const double *p)
         double t = l2 > 0 ? (ap[0] * ab[0] + ap[1] * ab[1] + ap[2] * ab[2]) / l2 : 0;
         t = t < 0 ? 0 : (t > 1 ? 1 : t);
         double q[3] = {A[0] + t * ab[0], A[1] + t * ab[1], A[2] + t * ab[2]};
-        best = fmin(best, md_dist3(q, p));
+        best = fmin(best, mfg_dist3(q, p));
     }
     return best;
 }
@@ -1155,12 +1149,12 @@ static int chain_segments(const md_soup *sp, const seg_ref *seg, int64_t n, doub
             vs[2 * i + 1] = seg[i].v1;
         }
         if (2 * n > 1)
-            qsort(vs, (size_t)(2 * n), sizeof *vs, cmp_i64);
+            qsort(vs, (size_t)(2 * n), sizeof *vs, mfg_cmp_i64);
         for (int64_t i = 0; i < 2 * n; i++)
             if (nvs == 0 || vs[nvs - 1] != vs[i])
                 vs[nvs++] = vs[i];
     }
-#define VIDX(v) ((int64_t *)bsearch(&(v), vs, (size_t)nvs, sizeof *vs, cmp_i64) - vs)
+#define VIDX(v) ((int64_t *)bsearch(&(v), vs, (size_t)nvs, sizeof *vs, mfg_cmp_i64) - vs)
     if (ok) {
         for (int64_t i = 0; i < n; i++) {
             adj_off[VIDX(seg[i].v0) + 1]++;
@@ -1473,12 +1467,12 @@ static int degenerate_seams(const md_elements *el, md_junction *P, int64_t np, s
             double gap = 2 * sqrt(3.0) * h;
             for (int64_t a = 0; a < n && ok;) {
                 int64_t b = a + 1;
-                while (b < n && md_dist3(d[b - 1].j->x, d[b].j->x) <= gap)
+                while (b < n && mfg_dist3(d[b - 1].j->x, d[b].j->x) <= gap)
                     b++;
                 pl.pts.n = pl.rad.n = 0;
                 for (int64_t k = a; k < b && ok; k++) {
                     /* points closer than h / 4 to the last kept one add nothing */
-                    if (pl.rad.n && md_dist3(pl.pts.v + pl.pts.n - 3, d[k].j->x) < 0.25 * h)
+                    if (pl.rad.n && mfg_dist3(pl.pts.v + pl.pts.n - 3, d[k].j->x) < 0.25 * h)
                         continue;
                     ok &= dbuf_push(&pl.pts, d[k].j->x[0]) && dbuf_push(&pl.pts, d[k].j->x[1]) &&
                           dbuf_push(&pl.pts, d[k].j->x[2]) && dbuf_push(&pl.rad, d[k].j->r);
@@ -1552,7 +1546,7 @@ static int near_junction(const md_junction *J, int64_t nj, const jlist *add, con
     if (snap_junction(J, nj, p, s, ns, reach) >= 0)
         return 1;
     for (int64_t i = 0; i < add->n; i++)
-        if (md_dist3(add->v[i].x, p) <= reach && subset_of(s, ns, add->v[i].elems, add->v[i].n))
+        if (mfg_dist3(add->v[i].x, p) <= reach && subset_of(s, ns, add->v[i].elems, add->v[i].n))
             return 1;
     return 0;
 }
@@ -1599,7 +1593,7 @@ static int junctions_from_unions(const md_elements *el, const md_bvh *bvh, const
             int nT;
             if (k == i) /* a seam of >= 4 elements ends at a junction of its own set */
                 nT = a->ne >= 4 ? set_union(a->e, a->ne, a->e, a->ne, T, MD_JMAX) : 0;
-            else if (md_dist3(fe[i].x, fe[k].x) > reach)
+            else if (mfg_dist3(fe[i].x, fe[k].x) > reach)
                 continue;
             else
                 nT = set_union(a->e, a->ne, b->e, b->ne, T, MD_JMAX);
@@ -1621,7 +1615,7 @@ static int junctions_from_unions(const md_elements *el, const md_bvh *bvh, const
             /* the free ends this junction explains */
             for (int64_t q = i; q < nfe && fe[q].x[0] <= j.x[0] + reach; q++) {
                 const pend_seam *c = &pl->v[fe[q].seam];
-                if (!fe[q].resolved && md_dist3(fe[q].x, j.x) <= reach &&
+                if (!fe[q].resolved && mfg_dist3(fe[q].x, j.x) <= reach &&
                     subset_of(c->e, c->ne, j.elems, j.n))
                     fe[q].resolved = 1;
             }
@@ -1677,8 +1671,8 @@ static int trace_seam(const md_elements *el, const md_bvh *bvh, pend_list *pl, i
         if (n < 2)
             return 1;
         double *x = L->pts.v + 3 * (n - 1), t[3];
-        md_sub3(x, x - 3, t);
-        double lt = md_norm3(t);
+        mfg_sub3(x, x - 3, t);
+        double lt = mfg_norm3(t);
         if (!(lt > 0))
             return 1;
         for (int k = 0; k < 3; k++)
@@ -1688,8 +1682,8 @@ static int trace_seam(const md_elements *el, const md_bvh *bvh, pend_list *pl, i
             y0[k] = x[k] + step * t[k];
         int on = md_seam_point(el, S, ns, y0, y, dir);
         double adv[3];
-        md_sub3(y, x, adv);
-        if (!on || !(md_dot3(adv, t) > 0.1 * step)) {
+        mfg_sub3(y, x, adv);
+        if (!on || !(mfg_dot3(adv, t) > 0.1 * step)) {
             if (step < h / 64)
                 return 1;
             step *= 0.5;
@@ -1716,7 +1710,7 @@ static int trace_seam(const md_elements *el, const md_bvh *bvh, pend_list *pl, i
                 if (q == i || m < 1)
                     continue;
                 const double *p0 = o->pl.pts.v, *p1 = o->pl.pts.v + 3 * (m - 1);
-                double d0 = md_dist3(p0, y), d1 = md_dist3(p1, y);
+                double d0 = mfg_dist3(p0, y), d1 = mfg_dist3(p1, y);
                 int e = d0 <= d1 ? 0 : 1;
                 if (fmin(d0, d1) <= reach && !near_junction(J, nj, add, e ? p1 : p0, S, ns, reach)) {
                     /* join: o's near end first */
@@ -1977,7 +1971,7 @@ static mfg_status drop_narrow_sheets(const seam_out *o, double tol, mfg_medial *
             for (int c = 0; c < 3; c++)
                 P[c] = m->sheet_vertices + 3 * (v0 + m->sheet_triangles[3 * t + c]);
             for (int c = 0; c < 3; c++)
-                longest = fmax(longest, md_dist3(P[c], P[(c + 1) % 3]));
+                longest = fmax(longest, mfg_dist3(P[c], P[(c + 1) % 3]));
             /* the barycentric grid of step 1/g: every point of the triangle lies within
              * longest / (g sqrt 3) <= tol / (2 sqrt 3) of a grid point */
             double g = ceil(longest / (0.5 * tol));

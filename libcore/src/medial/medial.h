@@ -15,39 +15,7 @@
 #include "mfgeom.h"
 #include "common/mfg_internal.h"
 
-/* Small vector helpers shared by the medial modules (one place: they were copied in four
- * files).  Plain double arithmetic in a fixed order, so results are the same bits
- * wherever they are used. */
-static inline void md_sub3(const double *a, const double *b, double *o)
-{
-    o[0] = a[0] - b[0];
-    o[1] = a[1] - b[1];
-    o[2] = a[2] - b[2];
-}
-
-static inline double md_dot3(const double *a, const double *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static inline void md_cross3(const double *a, const double *b, double *o)
-{
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static inline double md_norm3(const double *a)
-{
-    return sqrt(md_dot3(a, a));
-}
-
-static inline double md_dist3(const double *a, const double *b)
-{
-    double d[3];
-    md_sub3(a, b, d);
-    return md_norm3(d);
-}
+#include "common/vec3.h"
 
 /* Element kinds, as the public mfg_element_kind will number them. */
 enum { MD_VERTEX = 0, MD_EDGE = 1, MD_FACE = 2 };

@@ -190,22 +190,6 @@ static int point_inside(const job *J, const double x[3])
     return inside_winding(J->el, x);
 }
 
-/* Grows a worker buffer to hold need items; 0 on failure (the buffer stays valid). */
-static int grow(void **buf, int64_t *cap, int64_t need, size_t item)
-{
-    if (need <= *cap)
-        return 1;
-    int64_t nc = *cap ? *cap : 256;
-    while (nc < need)
-        nc *= 2;
-    void *p = realloc(*buf, (size_t)nc * item);
-    if (!p)
-        return 0;
-    *buf = p;
-    *cap = nc;
-    return 1;
-}
-
 /* The region's half-spaces at the centre c of a cell of side s: 0 when one of them misses
  * the whole cell (its maximum over the cube, value + (s/2) |g|_1, is negative);
  * otherwise the two most violated ones go to hk / hv (-1: none) for regions_apart. */
@@ -291,13 +275,13 @@ static int cell(worker *w, int d, const int32_t ijk[3], const level *par, level 
 
     if (nc > w->lev_cap[d]) {
         int64_t cap = w->lev_cap[d];
-        if (!grow((void **)&me->C, &cap, nc, sizeof *me->C))
+        if (!mfg_grow((void **)&me->C, &cap, nc, sizeof *me->C))
             return CELL_NOMEM;
         cap = w->lev_cap[d];
-        if (!grow((void **)&me->dc, &cap, nc, sizeof *me->dc))
+        if (!mfg_grow((void **)&me->dc, &cap, nc, sizeof *me->dc))
             return CELL_NOMEM;
         cap = w->lev_cap[d];
-        if (!grow((void **)&me->inb, &cap, nc, sizeof *me->inb))
+        if (!mfg_grow((void **)&me->inb, &cap, nc, sizeof *me->inb))
             return CELL_NOMEM;
         w->lev_cap[d] = cap;
     }
@@ -390,7 +374,7 @@ static int cell(worker *w, int d, const int32_t ijk[3], const level *par, level 
                 continue;
             if (md_incident(el, a, b) || (!J->full && md_adjacent(el, a, b)))
                 continue;
-            if (!grow((void **)&w->pairs, &w->cap_pairs, 2 * np + 2, sizeof *w->pairs))
+            if (!mfg_grow((void **)&w->pairs, &w->cap_pairs, 2 * np + 2, sizeof *w->pairs))
                 return CELL_NOMEM;
             w->pairs[2 * np] = a;
             w->pairs[2 * np + 1] = b;
@@ -429,9 +413,9 @@ static int cell(worker *w, int d, const int32_t ijk[3], const level *par, level 
         for (int64_t q = 0; q < n; q++)
             nT += w->dc[q] <= Dr + 2 * rho;
 
-    if (!grow((void **)&w->leaf, &w->cap_leaf, w->nleaf + 1, sizeof *w->leaf) ||
-        !grow((void **)&w->C, &w->cap_C, w->nC + n, sizeof *w->C) ||
-        !grow((void **)&w->P, &w->cap_P, w->nP + 2 * np, sizeof *w->P))
+    if (!mfg_grow((void **)&w->leaf, &w->cap_leaf, w->nleaf + 1, sizeof *w->leaf) ||
+        !mfg_grow((void **)&w->C, &w->cap_C, w->nC + n, sizeof *w->C) ||
+        !mfg_grow((void **)&w->P, &w->cap_P, w->nP + 2 * np, sizeof *w->P))
         return CELL_NOMEM;
     md_leaf *lf = &w->leaf[w->nleaf++];
     memcpy(lf->ijk, ijk, sizeof lf->ijk);

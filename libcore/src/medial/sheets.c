@@ -479,7 +479,7 @@ static void face_root_near_chord(const ctx *c, const double *PA, const double *P
         double y[3];
         if (!md_root_on_segment(c->el, c->a, c->b, xc, P[i], y, NULL))
             continue;
-        double dd = md_dist3(xc, y);
+        double dd = mfg_dist3(xc, y);
         if (dd < best) {
             best = dd;
             memcpy(x, y, sizeof y);
@@ -526,7 +526,7 @@ static void seam_polish(const ctx *c, int k, int64_t *t, double *x)
             J[1][d] = (trim_term(c, k, *t, yp) - trim_term(c, k, *t, ym)) / (2 * step);
         }
         /* dy = -J^T (J J^T)^-1 F; a near-singular J J^T (parallel gradients) gives up. */
-        double g00 = md_dot3(J[0], J[0]), g01 = md_dot3(J[0], J[1]), g11 = md_dot3(J[1], J[1]);
+        double g00 = mfg_dot3(J[0], J[0]), g01 = mfg_dot3(J[0], J[1]), g11 = mfg_dot3(J[1], J[1]);
         double det = g00 * g11 - g01 * g01;
         if (!(det > 1e-12 * g00 * g11))
             break;
@@ -543,7 +543,7 @@ static void seam_polish(const ctx *c, int k, int64_t *t, double *x)
     int64_t arg;
     int argk;
     double D;
-    if (!(Fb <= 1e-10 * c->el->diag) || !(md_dist3(x, yb) <= c->h) ||
+    if (!(Fb <= 1e-10 * c->el->diag) || !(mfg_dist3(x, yb) <= c->h) ||
         trim_tau(c, yb, &arg, &argk, &D) < -1e-9 * c->el->diag)
         return;
     if (k == TRIM_A || k == TRIM_B)
@@ -1223,8 +1223,8 @@ static mfg_status merge(const unit_buf *units, int64_t nunits, double h, md_soup
             const double *x2 = recs[rep[g[2]]]->x;
             int roots = recs[rep[g[0]]]->k.c == -2 && recs[rep[g[1]]]->k.c == -2 &&
                         recs[rep[g[2]]]->k.c == -2;
-            if (roots && 0.5 * tri_area2(x0, x1, x2) < amin && md_dist3(x0, x1) <= lmax &&
-                md_dist3(x1, x2) <= lmax && md_dist3(x2, x0) <= lmax) {
+            if (roots && 0.5 * tri_area2(x0, x1, x2) < amin && mfg_dist3(x0, x1) <= lmax &&
+                mfg_dist3(x1, x2) <= lmax && mfg_dist3(x2, x0) <= lmax) {
                 mfg_uf_union(newid, g[0], g[1]);
                 mfg_uf_union(newid, g[0], g[2]);
             }

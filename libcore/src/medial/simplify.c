@@ -277,9 +277,9 @@ static double bis_eval(const sd_mesh *M, const double *x, double *f, double g[3]
 static void cross3(const double *p, const double *q, const double *r, double n[3])
 {
     double u[3], w[3];
-    md_sub3(q, p, u);
-    md_sub3(r, p, w);
-    md_cross3(u, w, n);
+    mfg_sub3(q, p, u);
+    mfg_sub3(r, p, w);
+    mfg_cross3(u, w, n);
 }
 
 /* Is triangle (p, q, r) a good piece of the sheet: within M->dev of the bisector at 7

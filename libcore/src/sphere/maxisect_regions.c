@@ -309,12 +309,6 @@ static mfg_status build_region(work *W, int64_t ci, region *R)
     return MFG_OK;
 }
 
-static int cmp_i64(const void *x, const void *y)
-{
-    int64_t a = *(const int64_t *)x, b = *(const int64_t *)y;
-    return (a > b) - (a < b);
-}
-
 static int same_set(const work *W, const cand *a, const cand *b)
 {
     if (a->len != b->len || a->hash != b->hash)
@@ -467,7 +461,7 @@ static mfg_status emit(work *W, region *R, int64_t nr, double weight, mfg_region
         int64_t *cv = res->cover + res->cover_offsets[r];
         for (int64_t k = 0; k < C->len; k++)
             cv[k] = W->sets[W->pool[C->off + k]].id;
-        qsort(cv, (size_t)C->len, sizeof(int64_t), cmp_i64);
+        qsort(cv, (size_t)C->len, sizeof(int64_t), mfg_cmp_i64);
         res->cover_offsets[r + 1] = res->cover_offsets[r] + C->len;
         memcpy(res->centres + 3 * r, R[r].c, 3 * sizeof(double));
         res->margins[r] = R[r].margin;

@@ -1088,28 +1088,11 @@ typedef struct batch_work {
     int64_t n_pts, n_tmp, n_chain, n_pend, n_bad, n_seen, n_units; /* capacities */
 } batch_work;
 
-/* buf with room for need elements of size bytes (capacity *cap, grown by doubling), or
- * NULL (buf untouched) when memory runs out. */
-static void *reserve(void *buf, int64_t *cap, int64_t need, size_t size)
-{
-    if (need <= *cap)
-        return buf;
-    int64_t c = *cap ? *cap : 256;
-    while (c < need)
-        c *= 2;
-    void *nb = realloc(buf, (size_t)c * size);
-    if (nb)
-        *cap = c;
-    return nb;
-}
-
 #define RESERVE(buf, cap, need)                                                          \
     do {                                                                                 \
-        void *nb_ = reserve((buf), &(cap), (need), sizeof *(buf));                       \
-        if (!nb_)                                                                        \
+        if (!mfg_grow((void **)&(buf), &(cap), (need), sizeof *(buf)))                   \
             return mfg_fail(MFG_ERR_NOMEM, "cannot allocate %lld projected normals",     \
                             (long long)(need));                                          \
-        (buf) = nb_;                                                                     \
     } while (0)
 
 static void batch_work_free(batch_work *w)
@@ -1169,10 +1152,9 @@ static int64_t drop_repeats(batch_work *w, int64_t np)
     int64_t size = 64;
     while (size < 2 * np)
         size *= 2;
-    vref *seen = reserve(w->seen, &w->n_seen, size, sizeof *seen);
-    if (!seen)
+    if (!mfg_grow((void **)&w->seen, &w->n_seen, size, sizeof *w->seen))
         return -1;
-    w->seen = seen;
+    vref *seen = w->seen;
     memset(seen, 0, (size_t)size * sizeof *seen);
     int64_t kept = 0;
     for (int64_t i = 0; i < np; i++) {
@@ -1264,12 +1246,10 @@ static mfg_status grow_in_batches(cone3 *k, const double *normals, int64_t m, in
     mfg_status st = MFG_OK;
     while (step < m && st == MFG_OK && k->state == CONE_HULL) {
         int64_t b = 3 * step < m - step ? 3 * step : m - step, np = 0;
-        vref *pend = reserve(w.pend, &w.n_pend, b, sizeof *pend);
-        if (!pend) {
+        if (!mfg_grow((void **)&w.pend, &w.n_pend, b, sizeof *w.pend)) {
             st = mfg_fail(MFG_ERR_NOMEM, "cannot allocate a batch of %lld normals", (long long)b);
             break;
         }
-        w.pend = pend;
         for (int64_t i = 0; i < b; i++) {
             vref p = normals + 3 * idx;
             idx += stride;

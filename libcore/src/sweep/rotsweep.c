@@ -56,33 +56,16 @@
 #include "common/hashmap.h"
 #include "mesh/mesh.h"
 #include "common/mfg_internal.h"
+#include "common/vec3.h"
 #include "mesh/planar_merge.h"
 
 
-#define MFG_TWO_PI 6.283185307179586476925286766559
-#define MFG_PI 3.1415926535897932384626433832795
 
 /* ----------------------------------------------------------------------------------- */
 /* Small containers                                                                     */
 /* ----------------------------------------------------------------------------------- */
 
 typedef struct sw_ctx sw_ctx;
-
-/* Grows *p (of element size sz, capacity *cap) to hold n elements; 0 on failure. */
-static int grow(void **p, int64_t *cap, int64_t n, size_t sz)
-{
-    if (n <= *cap)
-        return 1;
-    int64_t c = *cap ? *cap : 16;
-    while (c < n)
-        c *= 2;
-    void *q = realloc(*p, (size_t)c * sz);
-    if (!q)
-        return 0;
-    *p = q;
-    *cap = c;
-    return 1;
-}
 
 static int64_t dbits(double x)
 {
@@ -406,7 +389,7 @@ static void curve_bounds(sw_curve *cv)
 static int add_curve(sw_ctx *c, const double *a, const double *b, int64_t t0, int64_t t1,
                      int64_t va, int64_t vb)
 {
-    if (!grow((void **)&c->curves, &c->capcurves, c->ncurves + 1, sizeof *c->curves))
+    if (!mfg_grow((void **)&c->curves, &c->capcurves, c->ncurves + 1, sizeof *c->curves))
         return ctx_nomem(c);
     sw_curve *cv = &c->curves[c->ncurves++];
     for (int k = 0; k < 3; k++) {
@@ -750,7 +733,7 @@ static int gather(sw_ctx *c, double ra, double rb, double za, double zb)
                 const sw_tri *T = &c->tris[t];
                 if (T->rmax < ra || T->rmin > rb || T->zmax < za || T->zmin > zb)
                     continue;
-                if (!grow((void **)&c->cand, &c->capcand, c->ncand + 1, sizeof *c->cand))
+                if (!mfg_grow((void **)&c->cand, &c->capcand, c->ncand + 1, sizeof *c->cand))
                     return ctx_nomem(c);
                 c->cand[c->ncand++] = t;
             }
@@ -935,7 +918,7 @@ static int build_gap_curves(sw_ctx *c)
                 along_an_edge(x0, x1, (const double *[3]){pa[0], pa[1], pa[2]}, scale))
                 continue;
             if (!add_curve(c, x0, x1, b, -1, -1, -1) ||
-                !grow((void **)&items, &capitems, nitems + 1, sizeof *items)) {
+                !mfg_grow((void **)&items, &capitems, nitems + 1, sizeof *items)) {
                 free(items);
                 return ctx_nomem(c);
             }
@@ -981,7 +964,7 @@ static int sigma_of(const sw_tri *T, double phi)
 
 static int push_cross(sw_ctx *c, double phi, int64_t t, int entry)
 {
-    if (!grow((void **)&c->xphi, &c->capx, c->nx + 1, sizeof *c->xphi))
+    if (!mfg_grow((void **)&c->xphi, &c->capx, c->nx + 1, sizeof *c->xphi))
         return ctx_nomem(c);
     int64_t cap = c->capx;
     /* xtri and xentry follow xphi's capacity */
@@ -1070,7 +1053,7 @@ static int cmp_x(const void *pa, const void *pb)
 
 static int push_arc(sw_ctx *c, const sw_arc *a)
 {
-    if (!grow((void **)&c->arcs, &c->caparcs, c->narcs + 1, sizeof *c->arcs))
+    if (!mfg_grow((void **)&c->arcs, &c->caparcs, c->narcs + 1, sizeof *c->arcs))
         return ctx_nomem(c);
     c->arcs[c->narcs++] = *a;
     return 1;
@@ -1152,7 +1135,7 @@ static int circle_arcs_at(sw_ctx *c, double r, double z, sw_struct *out, int *in
     }
     out->xfirst = c->nxpool;
     out->xn = 0;
-    if (!grow((void **)&c->xpool, &c->capxpool, c->nxpool + c->nx + 1, sizeof *c->xpool))
+    if (!mfg_grow((void **)&c->xpool, &c->capxpool, c->nxpool + c->nx + 1, sizeof *c->xpool))
         return ctx_nomem(c);
     for (int64_t i = 0; i < c->nx; i++)
         c->xpool[c->nxpool++] = c->xtri[i];
@@ -1532,7 +1515,7 @@ static int corner_sample(sw_ctx *c, hmap *cache, int64_t ix, int64_t iz, sw_stru
     sw_struct s;
     if (!circle_arcs(c, grid_r(c, ix), grid_z(c, iz), &s))
         return 0;
-    if (!grow((void **)pool, cappool, *npool + 1, sizeof **pool))
+    if (!mfg_grow((void **)pool, cappool, *npool + 1, sizeof **pool))
         return ctx_nomem(c);
     (*pool)[*npool] = s;
     if (!hmap_put(cache, &k, *npool))
@@ -2371,7 +2354,7 @@ static int analyse_cell(sw_ctx *c, sw_samples *sp, sw_leaf *L)
              * may cross neither r side either when it ends inside: end_in covers it */
             if (ncr == 0 && !end_in)
                 continue;
-            if (!grow((void **)&c->leaf_curves, &c->capleaf_curves, c->nleaf_curves + 1,
+            if (!mfg_grow((void **)&c->leaf_curves, &c->capleaf_curves, c->nleaf_curves + 1,
                       sizeof *c->leaf_curves))
                 return ctx_nomem(c);
             c->leaf_curves[c->nleaf_curves++] = ic;
@@ -2588,7 +2571,7 @@ static int build_quadtree(sw_ctx *c)
     int64_t root = (int64_t)1 << c->lmax;
     for (int64_t j = c->nroot_z - 1; j >= 0 && ok; j--)
         for (int64_t i = c->nroot_r - 1; i >= 0; i--) {
-            if (!grow((void **)&stack, &capstack, nstack + 1, sizeof *stack)) {
+            if (!mfg_grow((void **)&stack, &capstack, nstack + 1, sizeof *stack)) {
                 ok = ctx_nomem(c);
                 break;
             }
@@ -2617,7 +2600,7 @@ static int build_quadtree(sw_ctx *c)
         (void)mark;
         if (L.kind == LEAF_REFINE) {
             int64_t h2 = (int64_t)1 << (c->lmax - L.level - 1);
-            if (!grow((void **)&stack, &capstack, nstack + 4, sizeof *stack)) {
+            if (!mfg_grow((void **)&stack, &capstack, nstack + 4, sizeof *stack)) {
                 ok = ctx_nomem(c);
                 break;
             }
@@ -2631,7 +2614,7 @@ static int build_quadtree(sw_ctx *c)
             }
             continue;
         }
-        if (!grow((void **)&c->leaves, &c->capleaves, c->nleaves + 1, sizeof *c->leaves)) {
+        if (!mfg_grow((void **)&c->leaves, &c->capleaves, c->nleaves + 1, sizeof *c->leaves)) {
             ok = ctx_nomem(c);
             break;
         }
@@ -2666,7 +2649,7 @@ static int64_t add_v2(sw_ctx *c, const hkey *k, double r, double z, int64_t curv
     int64_t id = hmap_get(&c->v2map, k);
     if (id >= 0)
         return id;
-    if (!grow((void **)&c->v2, &c->capv2, c->nv2 + 1, sizeof *c->v2))
+    if (!mfg_grow((void **)&c->v2, &c->capv2, c->nv2 + 1, sizeof *c->v2))
         return ctx_nomem(c) - 1;
     sw_vtx2 *w = &c->v2[c->nv2];
     w->r = r;
@@ -2728,7 +2711,7 @@ static int sub_side(sw_ctx *c, const sw_leaf *L, int64_t ax, int64_t az, int64_t
     int64_t a = corner_v2(c, ax, az);
     if (a < 0)
         return 0;
-    if (!grow((void **)loop, caploop, *nloop + 1, sizeof **loop))
+    if (!mfg_grow((void **)loop, caploop, *nloop + 1, sizeof **loop))
         return ctx_nomem(c);
     (*loop)[(*nloop)++] = a;
     int64_t first_x = *nloop;
@@ -2805,7 +2788,7 @@ static int sub_side(sw_ctx *c, const sw_leaf *L, int64_t ax, int64_t az, int64_t
         if (id < 0)
             return 0;
         prev_id = id;
-        if (!grow((void **)loop, caploop, *nloop + 1, sizeof **loop))
+        if (!mfg_grow((void **)loop, caploop, *nloop + 1, sizeof **loop))
             return ctx_nomem(c);
         (*loop)[(*nloop)++] = id;
     }
@@ -2839,8 +2822,8 @@ static int store_poly(sw_ctx *c, const int64_t *vs, int64_t n, const sw_struct *
 {
     if (!st->full && st->n == 0)
         return 1;
-    if (!grow((void **)&c->polys, &c->cappolys, c->npolys + 1, sizeof *c->polys) ||
-        !grow((void **)&c->poly_verts, &c->cappv, c->npv + n, sizeof *c->poly_verts))
+    if (!mfg_grow((void **)&c->polys, &c->cappolys, c->npolys + 1, sizeof *c->polys) ||
+        !mfg_grow((void **)&c->poly_verts, &c->cappv, c->npv + n, sizeof *c->poly_verts))
         return ctx_nomem(c);
     sw_poly *P = &c->polys[c->npolys++];
     P->first = c->npv;
@@ -2915,7 +2898,7 @@ static int add_block(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t n
             full = 1;
         for (int64_t a = 0; a < st.n && ok; a++) {
             const sw_arc *arc = &c->arcs[st.first + a];
-            if (!grow((void **)&iv, &capiv, niv + 1, sizeof *iv)) {
+            if (!mfg_grow((void **)&iv, &capiv, niv + 1, sizeof *iv)) {
                 ok = ctx_nomem(c);
                 break;
             }
@@ -3297,8 +3280,8 @@ static int64_t out_vertex(sw_ctx *c, sw_out *o, const double p[3], double phi)
                         return j;
                 }
             }
-    if (!grow((void **)&c->ox, &c->capout, c->nout + 1, 3 * sizeof *c->ox) ||
-        !grow((void **)&o->phi, &o->capphi, c->nout + 1, sizeof *o->phi))
+    if (!mfg_grow((void **)&c->ox, &c->capout, c->nout + 1, 3 * sizeof *c->ox) ||
+        !mfg_grow((void **)&o->phi, &o->capphi, c->nout + 1, sizeof *o->phi))
         return ctx_nomem(c) - 1;
     memcpy(c->ox + 3 * c->nout, p, 3 * sizeof *p);
     o->phi[c->nout] = phi;
@@ -3426,10 +3409,10 @@ static int emit_tri_ring(sw_ctx *c, int64_t a, int64_t b, int64_t d, int64_t rin
 {
     if (a == b || b == d || d == a)
         return 1;
-    if (!grow((void **)&c->otri, &c->capotri, c->notri + 1, 3 * sizeof *c->otri) ||
-        !grow((void **)&c->oring, &c->caporing, c->notri + 1, 2 * sizeof *c->oring) ||
-        !grow((void **)&c->odir, &c->capodir, c->notri + 1, sizeof *c->odir) ||
-        !grow((void **)&c->oface, &c->capoface, c->notri + 1, sizeof *c->oface))
+    if (!mfg_grow((void **)&c->otri, &c->capotri, c->notri + 1, 3 * sizeof *c->otri) ||
+        !mfg_grow((void **)&c->oring, &c->caporing, c->notri + 1, 2 * sizeof *c->oring) ||
+        !mfg_grow((void **)&c->odir, &c->capodir, c->notri + 1, sizeof *c->odir) ||
+        !mfg_grow((void **)&c->oface, &c->capoface, c->notri + 1, sizeof *c->oface))
         return ctx_nomem(c);
     c->otri[3 * c->notri] = a;
     c->otri[3 * c->notri + 1] = b;
@@ -3544,8 +3527,8 @@ static int covered(const wline *lines, const int64_t *starts, const double *lenu
 
 static int ring_add(sw_ctx *c, sw_walls *W, int64_t v2, int64_t vid)
 {
-    if (!grow((void **)&W->rv2, &W->capring, W->nring + 1, sizeof *W->rv2) ||
-        !grow((void **)&W->rvid, &W->capring2, W->nring + 1, sizeof *W->rvid))
+    if (!mfg_grow((void **)&W->rv2, &W->capring, W->nring + 1, sizeof *W->rv2) ||
+        !mfg_grow((void **)&W->rvid, &W->capring2, W->nring + 1, sizeof *W->rvid))
         return ctx_nomem(c);
     W->rv2[W->nring] = v2;
     W->rvid[W->nring] = vid;
@@ -3716,7 +3699,7 @@ static int edge_walls(sw_ctx *c, sw_out *o, sw_walls *W, int64_t u, int64_t v, i
                 }
             }
             evv[i * ninner + e - 1] = id;
-            if (!grow((void **)&W->evring, &W->capevring, W->nevring + 1, sizeof *W->evring)) {
+            if (!mfg_grow((void **)&W->evring, &W->capevring, W->nevring + 1, sizeof *W->evring)) {
                 ok = ctx_nomem(c);
                 break;
             }
@@ -3730,7 +3713,7 @@ static int edge_walls(sw_ctx *c, sw_out *o, sw_walls *W, int64_t u, int64_t v, i
         int sd = lines[i].side;
         int64_t pid = sd ? Q : P, eid = sd ? iq : ip;
         hkey key = mkkey(pid, eid, 2 * lines[i].arc + lines[i].isend, 0);
-        if (!grow((void **)&W->evl, &W->capevl, W->nevl + 2 * ninner + 1, sizeof *W->evl)) {
+        if (!mfg_grow((void **)&W->evl, &W->capevl, W->nevl + 2 * ninner + 1, sizeof *W->evl)) {
             ok = ctx_nomem(c);
             break;
         }
@@ -3779,7 +3762,7 @@ static int edge_walls(sw_ctx *c, sw_out *o, sw_walls *W, int64_t u, int64_t v, i
                               : 0;
             if (cl == cr)
                 continue;
-            if (!grow((void **)&W->strips, &W->capstrips, W->nstrips + 1, sizeof *W->strips)) {
+            if (!mfg_grow((void **)&W->strips, &W->capstrips, W->nstrips + 1, sizeof *W->strips)) {
                 ok = ctx_nomem(c);
                 break;
             }
@@ -3792,7 +3775,7 @@ static int edge_walls(sw_ctx *c, sw_out *o, sw_walls *W, int64_t u, int64_t v, i
                 double dz = wv->z - wu->z;
                 double nr = cl ? dz : -dz;
                 if (nr > 0) {
-                    if (!grow((void **)&W->push, &W->cappush, c->nv2, sizeof *W->push)) {
+                    if (!mfg_grow((void **)&W->push, &W->cappush, c->nv2, sizeof *W->push)) {
                         ok = ctx_nomem(c);
                         break;
                     }
@@ -3869,7 +3852,7 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
         int64_t id = ring_vertex(c, o, &w, 0);
         if (id < 0)
             return 0;
-        if (!grow((void **)out, capout, 2, sizeof **out))
+        if (!mfg_grow((void **)out, capout, 2, sizeof **out))
             return ctx_nomem(c);
         (*out)[0].vid = id;
         (*out)[0].off = 0;
@@ -3920,7 +3903,7 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
     int64_t nsteps = ring_steps(c, we->r);
     int64_t cand_n = we->v2 >= 0 ? W->ring_start[we->v2 + 1] - W->ring_start[we->v2] : we->ring_n;
     int64_t cap_need = cand_n + nsteps + 4;
-    if (!grow((void **)out, capout, cap_need, sizeof **out))
+    if (!mfg_grow((void **)out, capout, cap_need, sizeof **out))
         return ctx_nomem(c);
     sw_pl *pl = *out;
     int64_t n = 0;
@@ -3991,7 +3974,7 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
          * at a grid vertex: the polygon's side, tangent half a step away) goes in
          * between.  It depends only on the two vertices, which every strip using this
          * stretch of the circle has consecutive, so they all get it. */
-        if (!grow((void **)out, capout, 2 * m + 2, sizeof **out))
+        if (!mfg_grow((void **)out, capout, 2 * m + 2, sizeof **out))
             return ctx_nomem(c);
         pl = *out;
         int64_t mm = m;
@@ -4085,12 +4068,12 @@ static int emit_strips(sw_ctx *c, sw_out *o, sw_walls *W)
         if (S->full) {
             /* close the rings: the first vertex again at offset 1 */
             if (na > 1) {
-                if (!grow((void **)&A, &capa, na + 1, sizeof *A)) { ok = ctx_nomem(c); break; }
+                if (!mfg_grow((void **)&A, &capa, na + 1, sizeof *A)) { ok = ctx_nomem(c); break; }
                 A[na] = A[0];
                 A[na++].off = 1;
             }
             if (nb > 1) {
-                if (!grow((void **)&B, &capb, nb + 1, sizeof *B)) { ok = ctx_nomem(c); break; }
+                if (!mfg_grow((void **)&B, &capb, nb + 1, sizeof *B)) { ok = ctx_nomem(c); break; }
                 B[nb] = B[0];
                 B[nb++].off = 1;
             }
@@ -4177,7 +4160,7 @@ static int emit_faces(sw_ctx *c, sw_out *o, sw_walls *W)
                 if (ne < 0 || cnt < ne)
                     ne = cnt;
             }
-            if (!grow((void **)&loop, &caploop, w * (nloop + ne + 1), sizeof *loop)) {
+            if (!mfg_grow((void **)&loop, &caploop, w * (nloop + ne + 1), sizeof *loop)) {
                 ok = ctx_nomem(c);
                 break;
             }
@@ -4211,7 +4194,7 @@ static int emit_faces(sw_ctx *c, sw_out *o, sw_walls *W)
             }
             for (int e = 0; e < 2 && ok; e++) {
                 int64_t m = 0;
-                if (!grow((void **)&face, &capface, nloop + 1, sizeof *face)) {
+                if (!mfg_grow((void **)&face, &capface, nloop + 1, sizeof *face)) {
                     ok = ctx_nomem(c);
                     break;
                 }
@@ -4308,7 +4291,7 @@ static int pair_round_edge(sw_ctx *c, const sw_he *e, int64_t n, int64_t *parent
     }
     if (sum != 0)
         return 1;
-    if (!grow((void **)stack, capstack, n, sizeof **stack))
+    if (!mfg_grow((void **)stack, capstack, n, sizeof **stack))
         return ctx_nomem(c);
     int64_t depth = 0;
     for (int64_t k = 0; k < n; k++) {
@@ -4443,8 +4426,8 @@ static int resolve_pinches(sw_ctx *c, sw_out *o)
                 nv = v;
                 ok = hmap_put(&seen, &kv, 1);
             } else {
-                if (!grow((void **)&c->ox, &c->capout, c->nout + 1, 3 * sizeof *c->ox) ||
-                    !grow((void **)&o->phi, &o->capphi, c->nout + 1, sizeof *o->phi)) {
+                if (!mfg_grow((void **)&c->ox, &c->capout, c->nout + 1, 3 * sizeof *c->ox) ||
+                    !mfg_grow((void **)&o->phi, &o->capphi, c->nout + 1, sizeof *o->phi)) {
                     ok = ctx_nomem(c);
                     break;
                 }
@@ -4556,10 +4539,10 @@ static int drop_nested_shells(sw_ctx *c, int *overlap)
                 ncomp = 0;
                 break;
             }
-            if (!grow((void **)&roots, &capr, ncomp + 1, sizeof *roots) ||
-                !grow((void **)&vol, &capv, ncomp + 1, sizeof *vol) ||
-                !grow((void **)&count, &capn, ncomp + 1, sizeof *count) ||
-                !grow((void **)&box, &capb, 6 * (ncomp + 1), sizeof *box)) {
+            if (!mfg_grow((void **)&roots, &capr, ncomp + 1, sizeof *roots) ||
+                !mfg_grow((void **)&vol, &capv, ncomp + 1, sizeof *vol) ||
+                !mfg_grow((void **)&count, &capn, ncomp + 1, sizeof *count) ||
+                !mfg_grow((void **)&box, &capb, 6 * (ncomp + 1), sizeof *box)) {
                 ok = ctx_nomem(c);
                 break;
             }
