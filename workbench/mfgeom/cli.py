@@ -1,5 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""The ``mfgeom`` command-line tool: libmfgeom's visibility maps, maximum/level/minimum intersections and point classification on JSON, for scripting outside FreeCAD.
+"""The ``mfgeom`` command-line tool, for scripting outside FreeCAD: libmfgeom's visibility maps,
+maximum/level/minimum intersections, point classification and 2-D medial axis on JSON, the
+parting analysis of part files, and the rotational sweep and medial surface of mesh files.
 
 Every subcommand reads one JSON document from a file (or stdin when the file is omitted
 or ``-``) and prints one JSON document on stdout.  Errors are printed on stderr as
@@ -544,10 +546,11 @@ def cmd_version(args):
 
 def build_parser():
     p = _Parser(prog="mfgeom", description=(
-        "libmfgeom on JSON: visibility maps and maximum intersection of spherical convex "
-        "polygons (Ha 2001), tolerance-based point classification (Chung & Park 2001).  "
-        "Each subcommand reads JSON from FILE or stdin and prints JSON; errors go to "
-        "stderr as {\"error\": ...} with exit code 2."))
+        "libmfgeom from the shell: visibility maps and maximum intersection of spherical "
+        "convex polygons (Ha 2001), tolerance-based point classification (Chung & Park "
+        "2002), the 2-D medial axis on JSON; the parting analysis of part files; the "
+        "rotational sweep and the medial surface of mesh files.  Each subcommand prints "
+        "JSON; errors go to stderr as {\"error\": ...} with exit code 2."))
     p.add_argument("--indent", type=int, default=None, help="pretty-print with this indent")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
