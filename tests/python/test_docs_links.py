@@ -150,3 +150,36 @@ def test_medial_design_sections_the_code_cites_exist():
     assert cited, "no design citation found in the medial code"
     missing = {s: where for s, where in cited.items() if s not in heads}
     assert not missing, "sections cited but not in docs/design/medial.md: %s" % missing
+
+
+# "docs/design/axis2d.md section 2", "docs/design/medial.md, sections 3 and 5" anywhere in
+# the sources and tests: the file exists and has a numbered heading of that section.
+PATH_CITE = re.compile(r"docs/(design/[\w-]+\.md)[,:]?\s+(?:sections?\s+)?(\d+(?:\.\d+)?)\b")
+
+
+def test_cited_docs_sections_exist():
+    bad = []
+    heads_of = {}
+    for top in ("libcore", "tests", "workbench", "bench"):
+        for root, _dirs, names in os.walk(os.path.join(REPO, top)):
+            for n in sorted(names):
+                if not n.endswith((".c", ".h", ".py", ".sh", ".txt", ".cpp")):
+                    continue
+                p = os.path.join(root, n)
+                try:
+                    with open(p, encoding="utf-8") as f:
+                        text = f.read()
+                except UnicodeDecodeError:
+                    continue
+                for m in PATH_CITE.finditer(text):
+                    doc = os.path.join(DOCS, m.group(1))
+                    if doc not in heads_of:
+                        heads_of[doc] = None
+                        if os.path.exists(doc):
+                            with open(doc, encoding="utf-8") as f:
+                                heads_of[doc] = set(re.findall(
+                                    r"^#{2,4}\s+(\d+(?:\.\d+)?)\.?\s", f.read(), re.M))
+                    if heads_of[doc] is None or m.group(2) not in heads_of[doc]:
+                        bad.append("%s: docs/%s section %s"
+                                   % (os.path.relpath(p, REPO), m.group(1), m.group(2)))
+    assert not bad, "cited sections that do not exist:\n  " + "\n  ".join(bad)
