@@ -18,12 +18,13 @@ with MajorOnly) it builds what a FEM shell model needs and users otherwise model
 """
 
 import os
+from typing import Optional
 
 import numpy as np
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, add_properties, status_line
+from mfgeom.app.feature_base import FeatureProxy, Quantity, add_properties, status_line
 from mfgeom.app.medial_surface_feature import (MedialInputError, is_medial_surface,
                                                sheet_mesh_of)
 from mfgeom.errors import MfgeomError
@@ -357,8 +358,12 @@ class MidSurface(FeatureProxy):
 
 
 # ---------------------------------------------------------------------------- make
-def make_mid_surface(doc, source, csv_path=None, tolerance=None, bins=DEFAULT_BINS,
-                     deflection=None, name="MidSurface"):
+def make_mid_surface(doc: "FreeCAD.Document", source: "FreeCAD.DocumentObject",
+                     csv_path: Optional[str] = None,
+                     tolerance: Optional[Quantity] = None,
+                     bins: int = DEFAULT_BINS,
+                     deflection: Optional[Quantity] = None,
+                     name: str = "MidSurface") -> "FreeCAD.DocumentObject":
     """Create the FEM mid-surface with its thickness in ``doc``.  ``source``: a medial
     surface feature, or a solid (then its major medial surface is made first with
     ``tolerance`` / ``deflection``, see :func:`make_medial_surface`).  ``csv_path``: write

@@ -42,7 +42,7 @@ import numpy as np
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, add_mesh_property, add_properties
+from mfgeom.app.feature_base import FeatureProxy, Quantity, add_mesh_property, add_properties
 from mfgeom import progress
 from mfgeom.errors import InputError, MfgeomError
 
@@ -499,10 +499,15 @@ def _quantity(value, unit, what):
     return value
 
 
-def make_rotational_sweep(doc, source, axis_point=(0.0, 0.0, 0.0), axis_dir=(0.0, 0.0, 1.0),
-                          angle_deg=DEFAULT_ANGLE, tolerance=DEFAULT_TOLERANCE,
-                          deflection=DEFAULT_DEFLECTION, representation="Mesh", axis=None,
-                          reverse=False, name="RotationalSweep"):
+def make_rotational_sweep(doc: "FreeCAD.Document", source: "FreeCAD.DocumentObject",
+                          axis_point: object = (0.0, 0.0, 0.0),
+                          axis_dir: object = (0.0, 0.0, 1.0),
+                          angle_deg: Quantity = DEFAULT_ANGLE,
+                          tolerance: Quantity = DEFAULT_TOLERANCE,
+                          deflection: Quantity = DEFAULT_DEFLECTION,
+                          representation: str = "Mesh", axis: object = None,
+                          reverse: bool = False,
+                          name: str = "RotationalSweep") -> "FreeCAD.DocumentObject":
     """Create the rotational sweep of ``source`` (a document object with a solid Shape)
     in ``doc`` and compute it.  Axis: through ``axis_point`` along ``axis_dir`` (global;
     a vector, a 3-tuple or "X" / "Y" / "Z"), or ``axis`` = an object or ``(obj,
