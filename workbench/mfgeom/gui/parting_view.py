@@ -33,10 +33,13 @@ import numpy as np
 
 from mfgeom import palette
 from mfgeom.app.ray_check import triangles_by_face
+# The sphere's geometry lives in mfgeom.geometry.sphere (FreeCAD-free, tested by pytest);
+# its names stay importable from here.
+from mfgeom.geometry.sphere import (SPHERE_LEVEL, coverage, icosphere,  # noqa: F401
+                                    map_outlines)
 from mfgeom.gui.view_base import PanelViewProvider
 
 MODES = ("Result", "Part", "Sphere", "Surfaces")
-SPHERE_LEVEL = 4            # icosphere subdivisions: 10 * 4**4 + 2 = 2562 vertices
 # The face classes of the Result display mode: key -> (legend label, RGB).  The one
 # table of the parting colours: face_colors paints from it and the task panel's legend
 # (legend_entries) lists from it.  In the order the legend lists them.  The Mould
@@ -71,72 +74,6 @@ SURFACE_COLORS = (palette.SETUP_COLORS[0], palette.SETUP_COLORS[4], palette.CAVI
 
 
 # ------------------------------------------------------------------ pure helpers
-def icosphere(level=SPHERE_LEVEL):
-    """(vertices (n, 3) unit, triangles (m, 3) counter-clockwise seen from outside)."""
-    t = (1 + 5 ** 0.5) / 2
-    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t),
-         (0, -1, -t), (0, 1, -t), (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
-    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4),
-         (11, 10, 2), (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8),
-         (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
-    verts = [np.array(p, float) / np.linalg.norm(p) for p in v]
-    for _ in range(level):
-        mid, out = {}, []
-
-        def middle(a, b):
-            key = (min(a, b), max(a, b))
-            if key not in mid:
-                m = verts[a] + verts[b]
-                verts.append(m / np.linalg.norm(m))
-                mid[key] = len(verts) - 1
-            return mid[key]
-        for a, b, c in f:
-            ab, bc, ca = middle(a, b), middle(b, c), middle(c, a)
-            out += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
-        f = out
-    return np.array(verts), np.array(f, dtype=np.int32)
-
-
-def coverage(directions, maps, tol):
-    """Per direction, the number of distinct surfaces whose map (any of their maps; None:
-    the whole sphere) contains it within ``tol``.  ``maps``: [(surface, map or None)]."""
-    seen = {}
-    for s, m in maps:
-        inside = np.ones(len(directions), bool) if m is None else m.contains(directions, tol)
-        seen[s] = seen.get(s, np.zeros(len(directions), bool)) | inside
-    count = np.zeros(len(directions), dtype=np.int32)
-    for inside in seen.values():
-        count += inside
-    return count
-
-
-def _great_arc(a, b, pieces=24):
-    """Points on the shorter great arc from unit a to unit b (a, b not antipodal)."""
-    t = np.linspace(0.0, 1.0, pieces + 1)[:, None]
-    p = (1 - t) * a + t * b
-    return p / np.linalg.norm(p, axis=1)[:, None]
-
-
-def map_outlines(maps):
-    """(polylines, dots) drawing the maps on the unit sphere: a polygon's boundary, an
-    edge's arc (a closed one all round), a point map's directions.  ``maps`` as for
-    :func:`coverage`; the whole-sphere maps (None) draw nothing."""
-    lines, dots = [], []
-    for _, m in maps:
-        if m is None or m.kind == "null":
-            continue
-        v = m.vertices
-        if m.kind == "point":
-            dots.extend(v)
-            continue
-        loop = m.kind == "polygon" or m.closed
-        ends = list(range(len(v))) + ([0] if loop else [])
-        pts = [_great_arc(v[i], v[j]) for i, j in zip(ends[:-1], ends[1:])]
-        if pts:
-            lines.append(np.vstack(pts))
-    return lines, np.array(dots).reshape(-1, 3)
-
-
 def sphere_side(directions):
     """The global axis (+x, -x, +y, -y, in that order of preference) along which the
     sphere sits beside the part: the one the arrows point along least, so no arrow runs
