@@ -178,6 +178,35 @@ def test_make_function_raises_library_error_before_touching_anything(tmp_path):
     assert out == {"raised": "LibraryError", "import_error": True, "used": []}
 
 
+def test_every_make_function_raises_library_error_before_touching_anything(tmp_path):
+    """Every public mfgeom.make_* is @needs_library (the package's promise): without the
+    library each raises LibraryError, and neither the document nor the source is used."""
+    root = make_copy(tmp_path)
+    out = result(run_python("""
+        import json
+        import mfgeom
+        from mfgeom import errors
+        class Doc:
+            used = []
+            def __getattr__(self, name):
+                Doc.used.append(name)
+                raise AssertionError(name)
+        raised = {}
+        for name in sorted(n for n in dir(mfgeom) if n.startswith("make_")):
+            try:
+                getattr(mfgeom, name)(Doc(), Doc())
+                raised[name] = None
+            except errors.LibraryError:
+                raised[name] = "LibraryError"
+            except BaseException as exc:
+                raised[name] = type(exc).__name__
+        print(json.dumps({"raised": raised, "used": Doc.used}))
+    """, root))
+    assert "make_parting_analysis" in out["raised"] and len(out["raised"]) >= 6, out
+    assert set(out["raised"].values()) == {"LibraryError"}, out
+    assert out["used"] == []
+
+
 def test_explicit_missing_file_is_library_error(tmp_path):
     root = make_copy(tmp_path, "workbench/mfgeom/libmfgeom.so", release_library())
     missing = str(tmp_path / "nowhere" / "libmfgeom.so")

@@ -50,6 +50,7 @@ def make_point_classification(doc, face_ref, points_ref, tolerance=None,
     return _make(doc, face_ref, points_ref, tolerance=tolerance, name=name, strict=strict)
 
 
+@needs_library
 def make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting="Count",
                           all_faces=False, name="PartingAnalysis", faces=None,
                           pull_direction=None):

@@ -187,3 +187,16 @@ def ramp_colors(values, lo, hi, ramp=THICKNESS_RAMP):
     i = np.minimum(x.astype(np.int64), len(stops) - 2)
     f = (x - i)[:, None]
     return stops[i] * (1.0 - f) + stops[i + 1] * f
+
+
+# The colour scale's labelled intervals (ends and quarters): the 3-D view's bar and the
+# task panels' text of it use the same ticks.
+LEGEND_STEPS = 4
+
+
+def legend_labels(lo, hi, steps=LEGEND_STEPS):
+    """[(t in [0, 1], text)] for the legend's ticks between thickness ``lo`` and ``hi``
+    (one tick when they are one value up to rounding)."""
+    if one_value(lo, hi):
+        return [(0.5, f"{lo:.3g} mm")]
+    return [(k / steps, f"{lo + (hi - lo) * k / steps:.3g} mm") for k in range(steps + 1)]

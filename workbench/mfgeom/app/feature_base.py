@@ -5,11 +5,16 @@ headless our view provider, and persistence across FreeCAD versions."""
 
 import importlib
 import traceback
+from typing import Union
 
 import FreeCAD
 
 from mfgeom import compat, progress
 from mfgeom.errors import Cancelled, InputError, MfgeomError
+
+# What the make_* functions take for a length or an angle: a number (mm, degrees), a
+# string with its unit ("0.01 mm", "3 deg") or a FreeCAD Quantity.
+Quantity = Union[float, str, "FreeCAD.Units.Quantity"]
 
 
 def add_properties(obj, spec):

@@ -19,12 +19,13 @@ the polygon (a short branch runs to every polygon vertex of a convex arc).
 
 import math
 import time
+from typing import Tuple
 
 import numpy as np
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, add_properties
+from mfgeom.app.feature_base import FeatureProxy, Quantity, add_properties
 from mfgeom import progress
 from mfgeom.errors import InputError
 
@@ -218,7 +219,9 @@ def length_value(value, what):
     return value
 
 
-def make_medial_axis(doc, face_ref, tolerance=DEFAULT_TOLERANCE, name="MedialAxis"):
+def make_medial_axis(doc: "FreeCAD.Document", face_ref: Tuple[object, str],
+                     tolerance: Quantity = DEFAULT_TOLERANCE,
+                     name: str = "MedialAxis") -> "FreeCAD.DocumentObject":
     """Create the medial axis of the planar face ``face_ref`` = ``(obj, "FaceN")`` in
     ``doc`` within ``tolerance`` (mm, a length Quantity or "0.01 mm") and compute it.
     Inputs are checked before anything is created (a face that is not planar, not a face

@@ -28,12 +28,13 @@ legend of the colour scale, the seams and the junctions.  The FEM mid-surface
 
 import math
 import time
+from typing import Optional
 
 import numpy as np
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, add_mesh_property, add_properties
+from mfgeom.app.feature_base import FeatureProxy, Quantity, add_mesh_property, add_properties
 from mfgeom import progress
 from mfgeom.errors import InputError, MfgeomError
 
@@ -282,8 +283,11 @@ def is_medial_surface(obj):
     return getattr(getattr(obj, "Proxy", None), "Type", "") == TYPE
 
 
-def make_medial_surface(doc, source, tolerance=None, major_only=True,
-                        deflection=DEFAULT_DEFLECTION, name="MedialSurface"):
+def make_medial_surface(doc: "FreeCAD.Document", source: "FreeCAD.DocumentObject",
+                        tolerance: Optional[Quantity] = None,
+                        major_only: bool = True,
+                        deflection: Quantity = DEFAULT_DEFLECTION,
+                        name: str = "MedialSurface") -> "FreeCAD.DocumentObject":
     """Create the medial surface of ``source`` (a document object with a solid Shape) in
     ``doc`` and compute it.  ``tolerance``: mm, a length Quantity or "0.1 mm" (default
     None: 0.5 % of the source's bounding-box diagonal); ``major_only``: the major part

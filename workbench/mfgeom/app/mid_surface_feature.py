@@ -18,15 +18,18 @@ with MajorOnly) it builds what a FEM shell model needs and users otherwise model
 """
 
 import os
+from typing import Optional
 
 import numpy as np
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, add_properties, status_line
+from mfgeom.app.feature_base import FeatureProxy, Quantity, add_properties, status_line
 from mfgeom.app.medial_surface_feature import (MedialInputError, is_medial_surface,
                                                sheet_mesh_of)
 from mfgeom.errors import MfgeomError
+# boundary_loops lives in mfgeom.geometry.mesh (FreeCAD-free); it stays importable here.
+from mfgeom.geometry.mesh import boundary_loops, mesh_area, straightened  # noqa: F401
 from mfgeom.palette import one_value
 
 # 1: first release.  Bump when properties change and migrate in _upgrade().
@@ -138,67 +141,6 @@ def sheet_faces(sheets, tolerance):
     return faces, owner
 
 
-def _mesh_area(pts, tri):
-    return 0.5 * float(np.linalg.norm(np.cross(pts[tri[:, 1]] - pts[tri[:, 0]],
-                                               pts[tri[:, 2]] - pts[tri[:, 0]]), axis=1).sum())
-
-
-def boundary_loops(tri):
-    """The boundary of a triangle mesh as closed loops of vertex indices, each walked in
-    the direction its triangles give (so holes run opposite to the outer loop).  A
-    boundary edge is a directed edge whose reverse no triangle uses."""
-    tri = np.asarray(tri, dtype=np.int64).reshape(-1, 3)
-    directed = np.vstack([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
-    n = int(tri.max()) + 1 if len(tri) else 0
-    # vectorised: 1.6e5-triangle sheets have ~5e5 directed edges, few on the boundary
-    key = directed[:, 0] * n + directed[:, 1]
-    reverse = directed[:, 1] * n + directed[:, 0]
-    following = {}
-    for a, b in directed[~np.isin(reverse, key)].tolist():
-        following.setdefault(a, []).append(b)
-    loops = []
-    while following:
-        start = next(iter(following))
-        loop, v = [start], start
-        while True:
-            nxt = following[v].pop()
-            if not following[v]:
-                del following[v]
-            if nxt == start:
-                break
-            loop.append(nxt)
-            v = nxt
-            if v not in following:   # an open chain (not a manifold boundary): give up
-                return None
-        loops.append(loop)
-    return loops
-
-
-def _straightened(points, eps):
-    """The closed polygon ``points`` (k, 3) with the samples along straight runs left
-    out: greedily from a surely kept corner (the farthest from the centroid), a run is
-    extended while every sample it skips lies within ``eps`` of its chord."""
-    n = len(points)
-    start = int(np.argmax(np.linalg.norm(points - points.mean(axis=0), axis=1)))
-    ring = np.roll(points, -start, axis=0)
-    ring = np.vstack([ring, ring[:1]])   # closed: the run may end back at the start
-    kept, anchor, j = [0], 0, 1
-    while j < n:
-        nxt = j + 1
-        chord = ring[nxt] - ring[anchor]
-        length = np.linalg.norm(chord)
-        inner = ring[anchor + 1:nxt]
-        if length > 0:
-            off = np.linalg.norm(np.cross(inner - ring[anchor], chord), axis=1) / length
-        else:
-            off = np.linalg.norm(inner - ring[anchor], axis=1)
-        if off.max() > eps:   # ring[j] is a corner
-            kept.append(j)
-            anchor = j
-        j = nxt
-    return ring[kept]
-
-
 def _planar_face(pts, tri, tolerance):
     """One planar Part face of a planar sheet, or None (not planar, or its boundary is
     not a set of simple loops OCCT makes a valid face of with the mesh's area)."""
@@ -215,7 +157,7 @@ def _planar_face(pts, tri, tolerance):
     on_plane = pts - np.outer((pts - centre) @ normal, normal)
     wires = []
     for loop in loops:
-        ring = _straightened(on_plane[loop], flat)
+        ring = straightened(on_plane[loop], flat)
         if len(ring) < 3:
             return None
         vecs = [FreeCAD.Vector(*p) for p in ring.tolist()]
@@ -226,7 +168,7 @@ def _planar_face(pts, tri, tolerance):
         return None
     if face.ShapeType != "Face":
         face = face.Faces[0] if len(face.Faces) == 1 else None
-    area = _mesh_area(pts, tri)
+    area = mesh_area(pts, tri)
     if face is None or not face.isValid() or abs(face.Area - area) > 1e-6 * area + \
             flat * sum(w.Length for w in wires):
         return None
@@ -357,8 +299,12 @@ class MidSurface(FeatureProxy):
 
 
 # ---------------------------------------------------------------------------- make
-def make_mid_surface(doc, source, csv_path=None, tolerance=None, bins=DEFAULT_BINS,
-                     deflection=None, name="MidSurface"):
+def make_mid_surface(doc: "FreeCAD.Document", source: "FreeCAD.DocumentObject",
+                     csv_path: Optional[str] = None,
+                     tolerance: Optional[Quantity] = None,
+                     bins: int = DEFAULT_BINS,
+                     deflection: Optional[Quantity] = None,
+                     name: str = "MidSurface") -> "FreeCAD.DocumentObject":
     """Create the FEM mid-surface with its thickness in ``doc``.  ``source``: a medial
     surface feature, or a solid (then its major medial surface is made first with
     ``tolerance`` / ``deflection``, see :func:`make_medial_surface`).  ``csv_path``: write

@@ -15,10 +15,11 @@ the document (:func:`analysis_of`).
 import json
 import math
 import time
+from typing import Optional, Sequence
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, add_properties
+from mfgeom.app.feature_base import FeatureProxy, Quantity, add_properties
 from mfgeom.errors import InputError
 from mfgeom.parting import DEFAULT_TOL   # mfgeom.parting loads the library lazily
 
@@ -456,9 +457,12 @@ def pull_vector(pull):
     return v.normalize()
 
 
-def make_parting_analysis(doc, source, mode="Mould", draft_angle=0.0, weighting="Count",
-                          all_faces=False, name="PartingAnalysis", faces=None,
-                          pull_direction=None):
+def make_parting_analysis(doc: "FreeCAD.Document", source: "FreeCAD.DocumentObject",
+                          mode: str = "Mould",
+                          draft_angle: Quantity = 0.0,
+                          weighting: str = "Count", all_faces: bool = False,
+                          name: str = "PartingAnalysis", faces: Optional[Sequence[str]] = None,
+                          pull_direction: object = None) -> "FreeCAD.DocumentObject":
     """Create a parting analysis of ``source`` (a document object with a solid Shape) in
     ``doc`` and compute it.  ``mode``: "Mould", "NC3Axis" or "Draft" (a draft analysis
     along ``pull_direction``: see :func:`pull_vector`); ``draft_angle``: degrees (a

@@ -10,11 +10,13 @@ seconds per 10^5 points to build, colour and save.  The geometry lives in
 :mod:`mfgeom.app.face_domain`.
 """
 
+from typing import Optional, Tuple
+
 import FreeCAD
 import Part
 
 from mfgeom.app import preferences, refs
-from mfgeom.app.feature_base import FeatureProxy, add_properties
+from mfgeom.app.feature_base import FeatureProxy, Quantity, add_properties
 
 # 1: first release; 2: Strict; 3: points in the Points kernel property, Shape empty.
 # Bump when properties change and migrate in _upgrade().
@@ -156,8 +158,11 @@ def _check_tolerance(tolerance):
     return tolerance
 
 
-def make_point_classification(doc, face_ref, points_ref, tolerance=None,
-                              name="PointClassification", strict=True):
+def make_point_classification(doc: "FreeCAD.Document", face_ref: Tuple[object, str],
+                              points_ref: object,
+                              tolerance: Optional[Quantity] = None,
+                              name: str = "PointClassification",
+                              strict: bool = True) -> "FreeCAD.DocumentObject":
     """Create a point classification feature in ``doc`` and compute it.
 
     ``face_ref``: ``(obj, "FaceN")``.  ``points_ref``: a Points, Mesh, Sketch or Part

@@ -42,9 +42,12 @@ import numpy as np
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, add_mesh_property, add_properties
+from mfgeom.app.feature_base import FeatureProxy, Quantity, add_mesh_property, add_properties
 from mfgeom import progress
 from mfgeom.errors import InputError, MfgeomError
+# conservative_offset lives in mfgeom.geometry.mesh (FreeCAD-free, tested by pytest); its
+# names stay importable from here.
+from mfgeom.geometry.mesh import MAX_OFFSET_FACTOR, conservative_offset  # noqa: F401
 
 # 1: first release.  Bump when properties change and migrate in _upgrade().
 VERSION = 1
@@ -53,8 +56,6 @@ REPRESENTATIONS = ["Mesh", "Solid"]
 DEFAULT_ANGLE = 90.0          # degrees
 DEFAULT_TOLERANCE = 0.01      # mm
 DEFAULT_DEFLECTION = 0.01     # mm
-# A vertex is never pushed further than this many deflections (see conservative_offset).
-MAX_OFFSET_FACTOR = 10.0
 # Solid representation: sewing tolerance of the mesh's vertices (they are shared exactly)
 # and the largest relative difference between the solid's and the library's volume.
 _SEWING = 1e-7
@@ -66,86 +67,6 @@ class SweepInputError(InputError):
 
 
 # ---------------------------------------------------------------------------- geometry
-def conservative_offset(vertices, triangles, curved, deflection):
-    """The mesh ``vertices`` moved so the tessellation of a curved solid holds the true
-    solid: returns (new vertices (n, 3), largest displacement).
-
-    Why: OCCT's tessellation of a curved face lies within ``deflection`` of the face, and
-    on convex parts (a cylinder's side, a fillet) its chords cut *inside* the material, so
-    the swept volume of the mesh would miss up to ``deflection`` of the true one.  Every
-    vertex of a curved (``curved[t]`` true) triangle is pushed outward along its
-    angle-weighted normal N (weights: the triangle's corner angle at the vertex; curved
-    triangles only) by ``deflection / min(N . n_t)`` over its curved triangles t, so each
-    of its curved triangles' corners, hence the whole moved triangle, lies at least
-    ``deflection`` beyond that triangle's old plane: the true surface, within
-    ``deflection`` of the old triangle, is inside.  A vertex also on planar faces (a
-    cylinder's rim) keeps to their planes: N is projected onto the plane (one plane) or
-    onto the line of two planes; on three or more planes it stays.  So planar faces stay
-    exact and only curved parts grow, by at most ``MAX_OFFSET_FACTOR * deflection``
-    (when N . n_t is small, the cap applies: a very sharp curved crease is then not fully
-    covered).  On concave parts (a hole) the chords already lie outside the material;
-    pushing them further only adds up to ``deflection`` there.
-    """
-    v = np.asarray(vertices, dtype=np.float64)
-    tri = np.asarray(triangles, dtype=np.int64)
-    curved = np.asarray(curved, dtype=bool)
-    out = v.copy()
-    if deflection <= 0.0 or not curved.any() or not len(tri):
-        return out, 0.0
-    p0, p1, p2 = v[tri[:, 0]], v[tri[:, 1]], v[tri[:, 2]]
-    normals = np.cross(p1 - p0, p2 - p0)
-    lengths = np.linalg.norm(normals, axis=1)
-    good = lengths > 0.0
-    normals[good] /= lengths[good, None]
-
-    def corner_angle(a, b, c):
-        u, w = b - a, c - a
-        return np.arctan2(np.linalg.norm(np.cross(u, w), axis=1), np.einsum("ij,ij->i", u, w))
-    angles = np.stack([corner_angle(p0, p1, p2), corner_angle(p1, p2, p0),
-                       corner_angle(p2, p0, p1)], axis=1)
-    n = len(v)
-    acc = np.zeros((n, 3))
-    is_curved = curved & good
-    for k in range(3):
-        np.add.at(acc, tri[is_curved, k], normals[is_curved] * angles[is_curved, k, None])
-    moved = np.flatnonzero(np.linalg.norm(acc, axis=1) > 0.0)
-    # the planes of planar triangles at each moved vertex (distinct normals only)
-    planes = {}
-    flat = ~curved & good
-    for t in np.flatnonzero(flat):
-        for k in range(3):
-            planes.setdefault(int(tri[t, k]), []).append(normals[t])
-    # the curved triangles at each vertex, for min(N . n_t)
-    curved_at = {}
-    for t in np.flatnonzero(is_curved):
-        for k in range(3):
-            curved_at.setdefault(int(tri[t, k]), []).append(t)
-    largest = 0.0
-    for i in moved:
-        d = acc[i]
-        distinct = []
-        for m in planes.get(int(i), []):
-            if all(abs(float(m @ q)) < 1.0 - 1e-9 for q in distinct):
-                distinct.append(m)
-        if len(distinct) == 1:
-            d = d - (d @ distinct[0]) * distinct[0]
-        elif len(distinct) == 2:
-            line = np.cross(distinct[0], distinct[1])
-            line /= np.linalg.norm(line)
-            d = (d @ line) * line
-        elif len(distinct) > 2:
-            continue
-        norm = np.linalg.norm(d)
-        if norm <= 1e-12 * max(1.0, np.linalg.norm(acc[i])):
-            continue
-        d /= norm
-        worst = min(float(normals[t] @ d) for t in curved_at[int(i)])
-        step = deflection / max(worst, 1.0 / MAX_OFFSET_FACTOR)
-        out[i] = v[i] + step * d
-        largest = max(largest, step)
-    return out, largest
-
-
 def _meshed_copy(shape, deflection):
     """A copy of ``shape`` (the source's own triangulation is left alone) meshed by
     OCCT's BRepMesh at linear ``deflection`` and BRepMesh's usual angular deflection
@@ -499,10 +420,15 @@ def _quantity(value, unit, what):
     return value
 
 
-def make_rotational_sweep(doc, source, axis_point=(0.0, 0.0, 0.0), axis_dir=(0.0, 0.0, 1.0),
-                          angle_deg=DEFAULT_ANGLE, tolerance=DEFAULT_TOLERANCE,
-                          deflection=DEFAULT_DEFLECTION, representation="Mesh", axis=None,
-                          reverse=False, name="RotationalSweep"):
+def make_rotational_sweep(doc: "FreeCAD.Document", source: "FreeCAD.DocumentObject",
+                          axis_point: object = (0.0, 0.0, 0.0),
+                          axis_dir: object = (0.0, 0.0, 1.0),
+                          angle_deg: Quantity = DEFAULT_ANGLE,
+                          tolerance: Quantity = DEFAULT_TOLERANCE,
+                          deflection: Quantity = DEFAULT_DEFLECTION,
+                          representation: str = "Mesh", axis: object = None,
+                          reverse: bool = False,
+                          name: str = "RotationalSweep") -> "FreeCAD.DocumentObject":
     """Create the rotational sweep of ``source`` (a document object with a solid Shape)
     in ``doc`` and compute it.  Axis: through ``axis_point`` along ``axis_dir`` (global;
     a vector, a 3-tuple or "X" / "Y" / "Z"), or ``axis`` = an object or ``(obj,

@@ -20,6 +20,7 @@ import FreeCADGui
 from mfgeom import palette, paths
 from mfgeom.app import clearance
 from mfgeom.errors import InputError
+from mfgeom.gui.messages import warn
 
 TITLE = "Clearance check"
 
@@ -103,7 +104,6 @@ def _install_save_guard():
 
 # ------------------------------------------------------------------------- running
 def _warn(text):
-    from mfgeom.gui.commands import _warn as warn   # the workbench's one message box
     warn(TITLE, text)
 
 

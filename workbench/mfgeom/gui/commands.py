@@ -8,6 +8,7 @@ import FreeCADGui
 
 from mfgeom import paths
 from mfgeom.errors import InputError
+from mfgeom.gui.messages import warn
 
 
 class BaseCommand:
@@ -40,25 +41,19 @@ class BaseCommand:
         try:
             importlib.import_module("mfgeom.core")
         except ImportError as exc:
-            _warn(title, f"The mfgeom library could not be loaded:\n{exc}")
+            warn(title, f"The mfgeom library could not be loaded:\n{exc}")
             return
         if FreeCADGui.Control.activeDialog():
-            _warn(title, "A task panel is open: close it first (OK or Cancel).")
+            warn(title, "A task panel is open: close it first (OK or Cancel).")
             return
         selection = [(s.Object, list(s.SubElementNames))
                      for s in FreeCADGui.Selection.getSelectionEx()]
         try:
             panel = self.panel_for(selection)
         except InputError as exc:
-            _warn(title, str(exc))
+            warn(title, str(exc))
             return
         FreeCADGui.Control.showDialog(panel)
-
-
-def _warn(title, text):
-    from PySide import QtGui
-    FreeCAD.Console.PrintWarning(f"mfgeom: {text}\n")
-    QtGui.QMessageBox.warning(FreeCADGui.getMainWindow(), title, text)
 
 
 class ClassifyPointsCommand(BaseCommand):

@@ -20,6 +20,7 @@ from mfgeom.app import medial_surface_feature as msf
 from mfgeom.app import mid_surface_feature as mid
 from mfgeom.errors import InputError
 from mfgeom.gui.panel_base import TaskPanel, spin
+from mfgeom.palette import legend_labels
 
 
 def _label(name, text=""):
@@ -179,7 +180,6 @@ class MedialAxisPanel(MedialPanel):
 
 def legend_text(lo, hi):
     """The colour scale in words, for the panels (the 3-D view draws the bar)."""
-    from mfgeom.gui.medial_view import legend_labels
     ticks = legend_labels(lo, hi)
     names = ["dark wine", "magenta", "pale", "light blue", "dark blue"]
     if len(ticks) == 1:

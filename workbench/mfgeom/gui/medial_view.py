@@ -29,11 +29,12 @@ import math
 import numpy as np
 
 from mfgeom import palette
+# The tick texts are the panels' too: they live in palette (FreeCAD-free).
+from mfgeom.palette import LEGEND_STEPS, legend_labels  # noqa: F401
 from mfgeom.gui.view_base import PanelViewProvider
 
 THICKNESS_MODE = "Thickness"
 WIDTH_MODE = "Width"
-LEGEND_STEPS = 4            # labelled intervals of the bar (ends and quarters)
 # The bar in the overlay camera's unit square (x, y in [-1, 1] across the whole view).
 LEGEND_X = (-0.96, -0.91)
 LEGEND_Y = (-0.6, 0.6)      # the lone legend's bar; stacked bars share this band
@@ -48,14 +49,6 @@ def legend_span(slot, count):
     height = (y1 - y0 - (count - 1) * LEGEND_GAP) / count
     top = y1 - slot * (height + LEGEND_GAP)
     return top - height, top
-
-
-def legend_labels(lo, hi, steps=LEGEND_STEPS):
-    """[(t in [0, 1], text)] for the legend's ticks between thickness ``lo`` and ``hi``
-    (one tick when they are one value up to rounding)."""
-    if palette.one_value(lo, hi):
-        return [(0.5, f"{lo:.3g} mm")]
-    return [(k / steps, f"{lo + (hi - lo) * k / steps:.3g} mm") for k in range(steps + 1)]
 
 
 class Legend:

@@ -190,7 +190,7 @@ class PartingPanel(TaskPanel):
 
     def _add_legend(self, layout):
         """The colour legend of the view: one swatch and label per face class present
-        in the result (mfgeom.gui.parting_view.legend_entries, the view's own table)."""
+        in the result (mfgeom.parting_legend.legend_entries, the view's own table)."""
         self.legend = QtGui.QGroupBox("Colours")
         self.legend.setObjectName("legend")
         self._legend_grid = QtGui.QGridLayout(self.legend)
@@ -199,7 +199,7 @@ class PartingPanel(TaskPanel):
         layout.addRow(self.legend)
 
     def _fill_legend(self):
-        from mfgeom.gui.parting_view import legend_entries
+        from mfgeom.parting_legend import legend_entries
         grid = self._legend_grid
         while grid.count():
             w = grid.takeAt(0).widget()

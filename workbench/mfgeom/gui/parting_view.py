@@ -33,37 +33,17 @@ import numpy as np
 
 from mfgeom import palette
 from mfgeom.app.ray_check import triangles_by_face
+# The sphere's geometry lives in mfgeom.geometry.sphere (FreeCAD-free, tested by pytest);
+# its names stay importable from here.
+from mfgeom.geometry.sphere import (SPHERE_LEVEL, coverage, icosphere,  # noqa: F401
+                                    map_outlines)
 from mfgeom.gui.view_base import PanelViewProvider
+# The face classes are the task panel's too: they live in mfgeom.parting_legend
+# (FreeCAD-free); their names stay importable from here.
+from mfgeom.parting_legend import (FACE_CLASSES, class_color, class_label,  # noqa: F401
+                                   face_classes, face_colors, legend_entries)
 
 MODES = ("Result", "Part", "Sphere", "Surfaces")
-SPHERE_LEVEL = 4            # icosphere subdivisions: 10 * 4**4 + 2 = 2562 vertices
-# The face classes of the Result display mode: key -> (legend label, RGB).  The one
-# table of the parting colours: face_colors paints from it and the task panel's legend
-# (legend_entries) lists from it.  In the order the legend lists them.  The Mould
-# colours differ by >= 10 CIELAB units under normal, protan and deutan vision (the
-# least: core blue against zero-draft pink under protanopia, 10.3).
-FACE_CLASSES = {
-    # Mould
-    "core": ("Core side (+d)", palette.CORE_SIDE),
-    "cavity": ("Cavity side (-d)", palette.CAVITY_SIDE),
-    "zero_draft": ("Zero draft (wall within the angular tolerance of d)",
-                   palette.SETUP_COLORS[5]),                              # pink
-    "insufficient_draft": ("Insufficient draft (below the draft angle)",
-                           palette.SETUP_COLORS[2]),                      # sand
-    "undercut": ("Undercut (not demouldable along +-d)", palette.UNDERCUT),  # indigo
-    "shadowed": ("Shadowed (ray check: blocked by the part)",
-                 palette.SETUP_COLORS[1]),                                # brown
-    "no_direction": ("Undercut with no side-core direction", (0.0, 0.0, 0.0)),
-    # Draft
-    "positive": ("Positive draft (along +pull)", palette.CORE_SIDE),
-    "negative": ("Negative draft (along -pull)", palette.CAVITY_SIDE),
-    "insufficient": ("Insufficient draft", palette.SETUP_COLORS[5]),      # pink
-    "straddle": ("Straddle (normals on both sides)", palette.SETUP_COLORS[2]),  # sand
-    # NC3Axis (set-up k: "setup<k>", see class_color)
-    "unresolved": ("Pocket no set-up reaches", palette.CAVITY_SIDE),
-    # every mode
-    "other": ("Not classified (parallel to d, or not analysed)", palette.SHAPE_GREY),
-}
 # Surfaces mode: a qualitative cycle (the set-up colours, light ones first)
 SURFACE_COLORS = (palette.SETUP_COLORS[0], palette.SETUP_COLORS[4], palette.CAVITY_SIDE,
                   palette.SETUP_COLORS[5], palette.SETUP_COLORS[2], palette.SETUP_COLORS[7],
@@ -71,72 +51,6 @@ SURFACE_COLORS = (palette.SETUP_COLORS[0], palette.SETUP_COLORS[4], palette.CAVI
 
 
 # ------------------------------------------------------------------ pure helpers
-def icosphere(level=SPHERE_LEVEL):
-    """(vertices (n, 3) unit, triangles (m, 3) counter-clockwise seen from outside)."""
-    t = (1 + 5 ** 0.5) / 2
-    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t),
-         (0, -1, -t), (0, 1, -t), (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
-    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4),
-         (11, 10, 2), (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8),
-         (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
-    verts = [np.array(p, float) / np.linalg.norm(p) for p in v]
-    for _ in range(level):
-        mid, out = {}, []
-
-        def middle(a, b):
-            key = (min(a, b), max(a, b))
-            if key not in mid:
-                m = verts[a] + verts[b]
-                verts.append(m / np.linalg.norm(m))
-                mid[key] = len(verts) - 1
-            return mid[key]
-        for a, b, c in f:
-            ab, bc, ca = middle(a, b), middle(b, c), middle(c, a)
-            out += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
-        f = out
-    return np.array(verts), np.array(f, dtype=np.int32)
-
-
-def coverage(directions, maps, tol):
-    """Per direction, the number of distinct surfaces whose map (any of their maps; None:
-    the whole sphere) contains it within ``tol``.  ``maps``: [(surface, map or None)]."""
-    seen = {}
-    for s, m in maps:
-        inside = np.ones(len(directions), bool) if m is None else m.contains(directions, tol)
-        seen[s] = seen.get(s, np.zeros(len(directions), bool)) | inside
-    count = np.zeros(len(directions), dtype=np.int32)
-    for inside in seen.values():
-        count += inside
-    return count
-
-
-def _great_arc(a, b, pieces=24):
-    """Points on the shorter great arc from unit a to unit b (a, b not antipodal)."""
-    t = np.linspace(0.0, 1.0, pieces + 1)[:, None]
-    p = (1 - t) * a + t * b
-    return p / np.linalg.norm(p, axis=1)[:, None]
-
-
-def map_outlines(maps):
-    """(polylines, dots) drawing the maps on the unit sphere: a polygon's boundary, an
-    edge's arc (a closed one all round), a point map's directions.  ``maps`` as for
-    :func:`coverage`; the whole-sphere maps (None) draw nothing."""
-    lines, dots = [], []
-    for _, m in maps:
-        if m is None or m.kind == "null":
-            continue
-        v = m.vertices
-        if m.kind == "point":
-            dots.extend(v)
-            continue
-        loop = m.kind == "polygon" or m.closed
-        ends = list(range(len(v))) + ([0] if loop else [])
-        pts = [_great_arc(v[i], v[j]) for i, j in zip(ends[:-1], ends[1:])]
-        if pts:
-            lines.append(np.vstack(pts))
-    return lines, np.array(dots).reshape(-1, 3)
-
-
 def sphere_side(directions):
     """The global axis (+x, -x, +y, -y, in that order of preference) along which the
     sphere sits beside the part: the one the arrows point along least, so no arrow runs
@@ -163,67 +77,6 @@ def coverage_colors(count):
     return col
 
 
-def class_label(key):
-    """The legend text of a face class key (FACE_CLASSES, or "setup<k>")."""
-    if key.startswith("setup"):
-        return f"Set-up {key[5:]}"
-    return FACE_CLASSES[key][0]
-
-
-def class_color(key):
-    """The RGB of a face class key (FACE_CLASSES, or "setup<k>": palette.setup_color(k))."""
-    if key.startswith("setup"):
-        return palette.setup_color(int(key[5:]))
-    return FACE_CLASSES[key][1]
-
-
-def face_classes(obj, nfaces):
-    """One class key per face of the source's shape (Face1 first) from the result
-    properties; later assignments win (a shadowed core face is "shadowed")."""
-    keys = ["other"] * nfaces
-
-    def mark(names, key):
-        for name in names:
-            if name.startswith("Face") and name[4:].isdigit() and 0 < int(name[4:]) <= nfaces:
-                keys[int(name[4:]) - 1] = key
-    if obj.Mode == "Draft":
-        mark(getattr(obj, "PositiveDraftFaces", []), "positive")
-        mark(getattr(obj, "NegativeDraftFaces", []), "negative")
-        mark(obj.InsufficientDraftFaces, "insufficient")
-        mark(getattr(obj, "StraddleFaces", []), "straddle")
-    elif obj.Mode == "Mould":
-        mark(obj.CoreFaces, "core")
-        mark(obj.CavityFaces, "cavity")
-        mark(obj.UncoveredFaces, "undercut")
-        mark(obj.InsufficientDraftFaces, "insufficient_draft")
-        mark(getattr(obj, "ZeroDraftFaces", []), "zero_draft")
-        # the ray check found them blocked: undercuts the normals cannot see
-        mark(getattr(obj, "ShadowedFaces", []), "shadowed")
-        mark(obj.UnresolvedFaces, "no_direction")
-    else:
-        for k, entry in enumerate(obj.Setups, 1):
-            mark(json.loads(entry)["faces"], f"setup{k}")
-        mark(obj.UnresolvedFaces, "unresolved")
-    return keys
-
-
-def face_colors(obj, nfaces):
-    """One RGB per face of the source's shape (Face1 first) from the result properties."""
-    return [class_color(k) for k in face_classes(obj, nfaces)]
-
-
-def legend_entries(obj, nfaces=None):
-    """[(key, label, RGB)] of the face classes present in ``obj``'s result, in the
-    table's order (set-ups in their order): what the task panel's legend shows."""
-    if nfaces is None:
-        source = getattr(obj, "Source", None)
-        nfaces = len(source.Shape.Faces) if source is not None else 0
-    present = set(face_classes(obj, nfaces))
-    order = [k for k in FACE_CLASSES if k in present and k != "other"]
-    order += sorted((k for k in present if k.startswith("setup")), key=lambda k: int(k[5:]))
-    if "other" in present:
-        order.append("other")
-    return [(k, class_label(k), class_color(k)) for k in order]
 
 
 def surface_colors(obj, nfaces):
