@@ -32,6 +32,9 @@ from mfgeom import names, palette  # noqa: E402
 from mfgeom.app import face_domain, pointcloud, refs  # noqa: E402
 from mfgeom.app.pointclass import VERSION  # noqa: E402
 
+sys.path.insert(0, HERE)
+from fc_testsupport import DocumentTestCase, run_file  # noqa: E402
+
 RNG = np.random.default_rng(12345)
 
 
@@ -94,13 +97,7 @@ def occt_compare(test, face, pts, classes, tol):
     return far
 
 
-class DocTestCase(unittest.TestCase):
-    def setUp(self):
-        self.doc = App.newDocument(f"mfgeom_{self.id().split('.')[-1]}")
-
-    def tearDown(self):
-        App.closeDocument(self.doc.Name)
-
+class DocTestCase(DocumentTestCase):
     def assertDocClean(self, names_before):
         self.assertEqual([o.Name for o in self.doc.Objects], names_before,
                          "a failed make left objects behind")
@@ -958,19 +955,4 @@ class PackagingTests(unittest.TestCase):
             face_domain.FaceDomain(Part.makeBox(1, 1, 1).Faces[0], -1.0)
 
 
-def main():
-    # freecadcmd runs this file with exec(): it is not in sys.modules, so collect by hand
-    loader = unittest.defaultTestLoader
-    suite = unittest.TestSuite(
-        loader.loadTestsFromTestCase(cls) for cls in list(globals().values())
-        if isinstance(cls, type) and issubclass(cls, unittest.TestCase)
-        and cls is not DocTestCase)
-    result = unittest.TextTestRunner(stream=sys.stdout, verbosity=2).run(suite)
-    failed = len(result.failures) + len(result.errors)
-    passed = result.testsRun - failed - len(result.skipped)
-    sys.stdout.write(f"freecad-app: {passed} passed, {failed} failed\n")
-    sys.stdout.flush()
-    return 0 if failed == 0 and result.testsRun > 0 else 1
-
-
-sys.exit(main())
+sys.exit(run_file(globals(), "freecad-app"))

@@ -692,10 +692,7 @@ class Palette(unittest.TestCase):
         self.assertGreater(worst([palette.SHAPE_GREY, *palette.BACKGROUND]), 40)
 
 
-def main():
-    sys.path.insert(0, HERE)
-    from app_runner import run_tests
-    return run_tests(globals(), "freecad-clearance")
+sys.path.insert(0, HERE)
+from fc_testsupport import run_file  # noqa: E402
 
-
-sys.exit(main())
+sys.exit(run_file(globals(), "freecad-clearance"))
