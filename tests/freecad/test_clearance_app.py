@@ -502,14 +502,11 @@ class RealSweep(Base):
         sweep = self.add_mesh("LibrarySweep", mesh_of(result.vertices, result.triangles))
         self.check(sweep, triangles=(result.vertices, result.triangles))
 
-    @unittest.expectedFailure
     def test_sweep_is_conservative_at_the_obstacle(self):
         # The sweep's contract, not the clearance check's: the true swept volume lies
         # inside the result, whose boundary is within the tolerance of the true one, and
-        # the planar faces from the input are exact.  Expected to fail with the first
-        # version of the algorithm (8c9ac72): at 2 mm its volume is 2877.3 < 2963.5, its
-        # arc vertices lie on the true circle (chords inside), its bottom dips to
-        # z = -0.066; remove the decorator when it holds.
+        # the planar faces from the input are exact.  (It failed with the first version of
+        # the algorithm, 8c9ac72, and was marked an expected failure; it holds now.)
         result = library_sweep(self.box_v, self.box_t)
         self.assertGreaterEqual(result.volume, C * (A * B + (A * A + B * B) * THETA / 2))
         d = sphere_mesh_distance(self.beyond, result.vertices, result.triangles)
