@@ -939,6 +939,31 @@ class PackagingTests(unittest.TestCase):
             self.assertTrue(os.path.isfile(paths.icon(name)), name)
         self.assertTrue(os.path.isfile(paths.resource("preferences.ui")))
 
+    def test_every_icon_is_a_drawable_svg(self):
+        """Every file in icons/ parses as SVG with a positive size and draws something.
+        (That each is used, by a registered command, the workbench or the preferences
+        page, and loads in Qt is checked by tests/gui/test_gui.py: commands need the GUI.)"""
+        import xml.etree.ElementTree as ET
+        from mfgeom import paths
+        names = sorted(os.listdir(paths.icons_dir()))
+        self.assertTrue(names)
+        svg = "{http://www.w3.org/2000/svg}"
+        drawing = {svg + t for t in ("path", "rect", "circle", "ellipse", "polygon",
+                                     "polyline", "line", "text", "use")}
+        for name in names:
+            with self.subTest(icon=name):
+                self.assertTrue(name.endswith(".svg"), name)
+                root = ET.parse(paths.icon(name)).getroot()
+                self.assertEqual(root.tag, svg + "svg")
+                if root.get("viewBox"):
+                    box = [float(x) for x in root.get("viewBox").replace(",", " ").split()]
+                    self.assertEqual(len(box), 4)
+                    self.assertTrue(box[2] > 0 and box[3] > 0, box)
+                else:
+                    self.assertGreater(float(root.get("width", "0").rstrip("px")), 0)
+                    self.assertGreater(float(root.get("height", "0").rstrip("px")), 0)
+                self.assertTrue(any(e.tag in drawing for e in root.iter()), name)
+
     def test_package_imports_without_freecad(self):
         code = ("import sys; import mfgeom, mfgeom.core as c; "
                 "assert 'FreeCAD' not in sys.modules, 'mfgeom imported FreeCAD'; "
