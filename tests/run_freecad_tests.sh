@@ -49,7 +49,7 @@ app_suite() {
   log="$FREECAD_USER_HOME/${file%.py}.log"
   freecadcmd "tests/freecad/$file" > "$log" 2>&1
   rc=$?
-  grep -aE "^(FAIL|ERROR|SKIP): |^corpus-(failure|known): |^corpus: |^$label: " "$log"
+  grep -aE "^(FAIL|ERROR|SKIP): |^corpus-(failure|known|known-gaps): |^corpus: |^$label: " "$log"
   if [ $rc -ne 0 ] || ! grep -qE "^$label: [0-9]+ passed, 0 failed$" "$log" ||
      { [ "$extra" != "tracebacks-ok" ] && grep -q "Traceback" "$log"; }; then
     echo "$title: FAILED (exit $rc)"; grep -n -A12 "Traceback" "$log" | head -120
