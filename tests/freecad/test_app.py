@@ -32,6 +32,9 @@ from mfgeom import names, palette  # noqa: E402
 from mfgeom.app import face_domain, pointcloud, refs  # noqa: E402
 from mfgeom.app.pointclass import VERSION  # noqa: E402
 
+sys.path.insert(0, HERE)
+from fc_testsupport import DocumentTestCase, run_file  # noqa: E402
+
 RNG = np.random.default_rng(12345)
 
 
@@ -94,13 +97,7 @@ def occt_compare(test, face, pts, classes, tol):
     return far
 
 
-class DocTestCase(unittest.TestCase):
-    def setUp(self):
-        self.doc = App.newDocument(f"mfgeom_{self.id().split('.')[-1]}")
-
-    def tearDown(self):
-        App.closeDocument(self.doc.Name)
-
+class DocTestCase(DocumentTestCase):
     def assertDocClean(self, names_before):
         self.assertEqual([o.Name for o in self.doc.Objects], names_before,
                          "a failed make left objects behind")
@@ -942,6 +939,31 @@ class PackagingTests(unittest.TestCase):
             self.assertTrue(os.path.isfile(paths.icon(name)), name)
         self.assertTrue(os.path.isfile(paths.resource("preferences.ui")))
 
+    def test_every_icon_is_a_drawable_svg(self):
+        """Every file in icons/ parses as SVG with a positive size and draws something.
+        (That each is used, by a registered command, the workbench or the preferences
+        page, and loads in Qt is checked by tests/gui/test_gui.py: commands need the GUI.)"""
+        import xml.etree.ElementTree as ET
+        from mfgeom import paths
+        names = sorted(os.listdir(paths.icons_dir()))
+        self.assertTrue(names)
+        svg = "{http://www.w3.org/2000/svg}"
+        drawing = {svg + t for t in ("path", "rect", "circle", "ellipse", "polygon",
+                                     "polyline", "line", "text", "use")}
+        for name in names:
+            with self.subTest(icon=name):
+                self.assertTrue(name.endswith(".svg"), name)
+                root = ET.parse(paths.icon(name)).getroot()
+                self.assertEqual(root.tag, svg + "svg")
+                if root.get("viewBox"):
+                    box = [float(x) for x in root.get("viewBox").replace(",", " ").split()]
+                    self.assertEqual(len(box), 4)
+                    self.assertTrue(box[2] > 0 and box[3] > 0, box)
+                else:
+                    self.assertGreater(float(root.get("width", "0").rstrip("px")), 0)
+                    self.assertGreater(float(root.get("height", "0").rstrip("px")), 0)
+                self.assertTrue(any(e.tag in drawing for e in root.iter()), name)
+
     def test_package_imports_without_freecad(self):
         code = ("import sys; import mfgeom, mfgeom.core as c; "
                 "assert 'FreeCAD' not in sys.modules, 'mfgeom imported FreeCAD'; "
@@ -958,19 +980,4 @@ class PackagingTests(unittest.TestCase):
             face_domain.FaceDomain(Part.makeBox(1, 1, 1).Faces[0], -1.0)
 
 
-def main():
-    # freecadcmd runs this file with exec(): it is not in sys.modules, so collect by hand
-    loader = unittest.defaultTestLoader
-    suite = unittest.TestSuite(
-        loader.loadTestsFromTestCase(cls) for cls in list(globals().values())
-        if isinstance(cls, type) and issubclass(cls, unittest.TestCase)
-        and cls is not DocTestCase)
-    result = unittest.TextTestRunner(stream=sys.stdout, verbosity=2).run(suite)
-    failed = len(result.failures) + len(result.errors)
-    passed = result.testsRun - failed - len(result.skipped)
-    sys.stdout.write(f"freecad-app: {passed} passed, {failed} failed\n")
-    sys.stdout.flush()
-    return 0 if failed == 0 and result.testsRun > 0 else 1
-
-
-sys.exit(main())
+sys.exit(run_file(globals(), "freecad-app"))

@@ -36,6 +36,9 @@ import mfgeom  # noqa: E402
 from mfgeom.app import clearance  # noqa: E402
 from mfgeom.errors import InputError  # noqa: E402
 
+sys.path.insert(0, HERE)
+from fc_testsupport import DocumentTestCase, run_file  # noqa: E402
+
 A, B, C = 20.0, 10.0, 5.0           # the box swept about its edge on the z axis
 R = math.hypot(A, B)                 # outer radius of the swept quarter annulus
 THETA = math.pi / 2
@@ -80,12 +83,8 @@ def by_label(results):
     return {r.label: r for r in results}
 
 
-class Base(unittest.TestCase):
-    def setUp(self):
-        self.doc = App.newDocument("Clearance")
-
-    def tearDown(self):
-        App.closeDocument(self.doc.Name)
+class Base(DocumentTestCase):
+    DOC_NAME = "Clearance"
 
     def add(self, name, shape, placement=None):
         obj = self.doc.addObject("Part::Feature", name)
@@ -404,16 +403,10 @@ class MacroApi(Base):
 SWEEP_TOL = 2.0
 
 
-def library_sweep(test, vertices, triangles, angle=THETA, tolerance=SWEEP_TOL):
-    """The library's sweep about the z axis, or skip the test until the algorithm lands."""
+def library_sweep(vertices, triangles, angle=THETA, tolerance=SWEEP_TOL):
+    """The library's sweep about the z axis."""
     from mfgeom import core
-    try:
-        return core.rotational_sweep(vertices, triangles, (0, 0, 0), (0, 0, 1), angle,
-                                     tolerance)
-    except core.MfgError as exc:
-        if "not implemented" in str(exc):
-            test.skipTest("the rotational sweep algorithm has not landed yet")
-        raise
+    return core.rotational_sweep(vertices, triangles, (0, 0, 0), (0, 0, 1), angle, tolerance)
 
 
 def point_mesh_distance(p, vertices, triangles):
@@ -505,19 +498,16 @@ class RealSweep(Base):
         self.check(self.add("Exact", swept_box_solid()))
 
     def test_library_mesh_as_the_sweep(self):
-        result = library_sweep(self, self.box_v, self.box_t)
+        result = library_sweep(self.box_v, self.box_t)
         sweep = self.add_mesh("LibrarySweep", mesh_of(result.vertices, result.triangles))
         self.check(sweep, triangles=(result.vertices, result.triangles))
 
-    @unittest.expectedFailure
     def test_sweep_is_conservative_at_the_obstacle(self):
         # The sweep's contract, not the clearance check's: the true swept volume lies
         # inside the result, whose boundary is within the tolerance of the true one, and
-        # the planar faces from the input are exact.  Expected to fail with the first
-        # version of the algorithm (8c9ac72): at 2 mm its volume is 2877.3 < 2963.5, its
-        # arc vertices lie on the true circle (chords inside), its bottom dips to
-        # z = -0.066; remove the decorator when it holds.
-        result = library_sweep(self, self.box_v, self.box_t)
+        # the planar faces from the input are exact.  (It failed with the first version of
+        # the algorithm, 8c9ac72, and was marked an expected failure; it holds now.)
+        result = library_sweep(self.box_v, self.box_t)
         self.assertGreaterEqual(result.volume, C * (A * B + (A * A + B * B) * THETA / 2))
         d = sphere_mesh_distance(self.beyond, result.vertices, result.triangles)
         self.assertLessEqual(d, self.GAP + 1e-9)
@@ -526,7 +516,6 @@ class RealSweep(Base):
         self.assertAlmostEqual(d, 0.25, delta=1e-9)
 
     def test_sweep_feature(self):
-        library_sweep(self, self.box_v, self.box_t)   # skips until the algorithm lands
         source = self.add("Block", Part.makeBox(A, B, C))
         self.doc.recompute()
         sweep = mfgeom.make_rotational_sweep(self.doc, source, (0, 0, 0), (0, 0, 1), 90.0,
@@ -692,10 +681,5 @@ class Palette(unittest.TestCase):
         self.assertGreater(worst([palette.SHAPE_GREY, *palette.BACKGROUND]), 40)
 
 
-def main():
-    sys.path.insert(0, HERE)
-    from app_runner import run_tests
-    return run_tests(globals(), "freecad-clearance")
 
-
-sys.exit(main())
+sys.exit(run_file(globals(), "freecad-clearance"))

@@ -578,13 +578,23 @@ def _add_tests():
 
 _add_tests()
 
+# The ratchet on the known gaps: the corpus meets 3 today (one per KNOWN_GAPS entry).
+# This number may only go down: lower it when a gap is closed, never raise it.
+MAX_KNOWN_SEEN = 3
 
-def main():
-    # freecadcmd runs this file with exec(): it is not in sys.modules, so collect by hand
-    suite = unittest.defaultTestLoader.loadTestsFromTestCase(Corpus)
-    t0 = time.perf_counter()
-    result = unittest.TextTestRunner(stream=sys.stdout, verbosity=2).run(suite)
-    total_wall = time.perf_counter() - t0
+
+class KnownGapRatchet(unittest.TestCase):
+    """Runs after Corpus (run_file takes the classes in the file's order): at most
+    MAX_KNOWN_SEEN known-gap problems met, however many parts match an entry."""
+
+    def test_known_gaps_do_not_grow(self):
+        sys.stdout.write(f"\ncorpus-known-gaps: {len(KNOWN_SEEN)} (at most {MAX_KNOWN_SEEN})\n")
+        self.assertLessEqual(len(KNOWN_SEEN), MAX_KNOWN_SEEN, KNOWN_SEEN)
+
+
+def _report(_result):
+    """The corpus's own lines: failures, known gaps seen, timings, reference statistics."""
+    total_wall = time.perf_counter() - T0
     for line in FAILURES:
         sys.stdout.write(f"corpus-failure: {line}\n")
     for line in KNOWN_SEEN:
@@ -598,9 +608,6 @@ def main():
         else:
             what = "unfinished"
         sys.stdout.write(f"corpus-timing: {name}: {what}; wall {wall:.1f} s; {status}\n")
-    # a subtest's failure is reported per subtest: count failed tests (parts)
-    failed = len({getattr(t, "test_case", t).id() for t, _ in result.failures + result.errors})
-    passed = result.testsRun - failed - len(result.skipped)
     if ANGLE_STATS:
         sys.stdout.write(f"corpus-reference: worst angles of {len(ANGLE_STATS)} faces "
                          f"against OCCT samples: largest |reported - sampled| "
@@ -611,9 +618,10 @@ def main():
                          f"exact OCCT rays: largest |fraction difference| "
                          f"{max(RAY_STATS):.3f}, {sum(x > 0 for x in RAY_STATS)} differ\n")
     sys.stdout.write(f"corpus: {len(TIMES)} parts in {total_wall:.1f} s wall\n")
-    sys.stdout.write(f"freecad-corpus: {passed} passed, {failed} failed\n")
-    sys.stdout.flush()
-    return 0 if failed == 0 and result.testsRun > 0 else 1
 
 
-sys.exit(main())
+sys.path.insert(0, HERE)
+from fc_testsupport import run_file  # noqa: E402
+
+T0 = time.perf_counter()
+sys.exit(run_file(globals(), "freecad-corpus", before_summary=_report))

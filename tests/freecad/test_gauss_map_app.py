@@ -366,10 +366,7 @@ class Adjacency(unittest.TestCase):
         self.assertIn("convex", kinds)
 
 
-def main():
-    sys.path.insert(0, HERE)
-    from app_runner import run_tests
-    return run_tests(globals(), "freecad-gauss-map")
+sys.path.insert(0, HERE)
+from fc_testsupport import run_file  # noqa: E402
 
-
-sys.exit(main())
+sys.exit(run_file(globals(), "freecad-gauss-map"))

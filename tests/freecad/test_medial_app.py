@@ -12,11 +12,8 @@ rectangle (branches to the corners, a centre line, radius half the width) and of
 / (1 + sqrt 2) for a 3 mm wide frame), distances from the wires' points to the face's
 boundary measured by OCCT, FreeCAD's own Placement; the analytic major medial surface of
 a cuboid a > b > c (one sheet at mid-height inset by c/2, radius c/2, four seams, four
-junctions).  While the library's 3-D extraction is not built (it answers "not built
-yet"), the feature's plumbing (properties, recompute, persistence, mid-surface, CSV) runs
-on that analytic surface through tests/freecad/medial_standin.py, and the error path runs
-on the real library; once it extracts, the real library is tested against the same
-analytic values and the bundled thin-walled tray."""
+junctions), which the library's extraction is tested against, and the bundled
+thin-walled tray."""
 
 import csv
 import math
@@ -38,10 +35,10 @@ sys.path.append(HERE)
 sys.path.append(os.path.join(REPO, "examples", "parts"))
 
 import mfgeom  # noqa: E402
-import medial_standin  # noqa: E402
 import thin_wall  # noqa: E402
+from fc_testsupport import DocumentTestCase, run_file  # noqa: E402
 from isolated_run import isolated  # noqa: E402
-from mfgeom import core, palette  # noqa: E402
+from mfgeom import palette  # noqa: E402
 from mfgeom.app import medial_axis_feature as maf  # noqa: E402
 from mfgeom.app import medial_surface_feature as msf  # noqa: E402
 from mfgeom.app import mid_surface_feature as mid  # noqa: E402
@@ -53,47 +50,6 @@ PLACEMENT = App.Placement(App.Vector(5, -7, 11), App.Rotation(App.Vector(1, 2, 3
 
 def _np(v):
     return np.array([v.x, v.y, v.z])
-
-
-def library_state():
-    """"extracts" when core.medial_surface gives a result, "stub" while the library
-    answers "not built yet", "no binding" while core has no medial_surface."""
-    if not hasattr(core, "medial_surface"):
-        return "no binding"
-    v = np.array([[0, 0, 0], [A, 0, 0], [A, B, 0], [0, B, 0],
-                  [0, 0, C], [A, 0, C], [A, B, C], [0, B, C]], dtype=float)
-    t = np.array([[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
-                  [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]])
-    try:
-        core.medial_surface(v, t, 0.1)
-    except core.MfgError as exc:
-        if "not built yet" in str(exc):
-            return "stub"
-        raise
-    return "extracts"
-
-
-STATE = library_state()
-EXTRACTS = STATE == "extracts"
-needs_extraction = unittest.skipUnless(EXTRACTS, f"medial surface extraction: {STATE}")
-
-
-class StandIn:
-    """Context manager: core.medial_surface replaced by the analytic cuboid stand-in
-    while the library does not extract (with the real library once it does)."""
-
-    def __enter__(self):
-        self.saved = getattr(core, "medial_surface", None)
-        if not EXTRACTS:
-            core.medial_surface = medial_standin.cuboid_medial_surface
-        return self
-
-    def __exit__(self, *exc):
-        if self.saved is None:
-            del core.medial_surface
-        else:
-            core.medial_surface = self.saved
-        return False
 
 
 def clean(test, obj):
@@ -328,19 +284,16 @@ class ThicknessFunctions(unittest.TestCase):
         self.assertFalse(palette.one_value(2.0, 2.0 + 1e-6))
 
 
-class MedialSurfaceFeature(unittest.TestCase):
-    """The feature on a cuboid: the analytic major medial surface (stand-in or real)."""
+class MedialSurfaceFeature(DocumentTestCase):
+    """The feature on a cuboid: the analytic major medial surface."""
+
+    DOC_NAME = "MedialSurface"
 
     def setUp(self):
-        self.doc = App.newDocument("MedialSurface")
+        super().setUp()
         self.box = self.doc.addObject("Part::Box", "Box")
         self.box.Length, self.box.Width, self.box.Height = A, B, C
         self.doc.recompute()
-        self.standin = StandIn().__enter__()
-
-    def tearDown(self):
-        self.standin.__exit__()
-        App.closeDocument(self.doc.Name)
 
     def assert_cuboid(self, obj, a, b, c, placement=None):
         tol = obj.Tolerance.Value
@@ -375,10 +328,7 @@ class MedialSurfaceFeature(unittest.TestCase):
         self.box.Placement = PLACEMENT
         self.doc.recompute()
         clean(self, obj)
-        if EXTRACTS:
-            self.assert_cuboid(obj, A, B, 3.0, PLACEMENT)
-        else:   # the stand-in reads the box's global bounding box, not its frame
-            self.assertGreater(np.linalg.norm(_np(obj.SheetPoints[0])), 5.0)
+        self.assert_cuboid(obj, A, B, 3.0, PLACEMENT)
 
     def test_save_and_reload(self):
         obj = mfgeom.make_medial_surface(self.doc, self.box, 0.1)
@@ -408,20 +358,17 @@ class MedialSurfaceFeature(unittest.TestCase):
         self.assertEqual([o.Name for o in self.doc.Objects], before)
 
 
-class MidSurfaceFeature(unittest.TestCase):
+class MidSurfaceFeature(DocumentTestCase):
     """The FEM mid-surface of the cuboid: shell, thickness data, report, CSV."""
 
+    DOC_NAME = "MidSurface"
+
     def setUp(self):
-        self.doc = App.newDocument("MidSurface")
+        super().setUp()
         self.box = self.doc.addObject("Part::Box", "Box")
         self.box.Length, self.box.Width, self.box.Height = A, B, C
         self.doc.recompute()
-        self.standin = StandIn().__enter__()
         self.csv = os.path.join(tempfile.mkdtemp(), "thickness.csv")
-
-    def tearDown(self):
-        self.standin.__exit__()
-        App.closeDocument(self.doc.Name)
 
     def read_csv(self):
         with open(self.csv, encoding="utf-8") as f:
@@ -482,25 +429,17 @@ class LibraryErrors(unittest.TestCase):
     """The real library's refusals reach the user as one line and leave the document as
     it was (in their own freecadcmd: a failed recompute prints a traceback)."""
 
-    def test_refused_and_not_built(self):
+    def test_refused(self):
         out = isolated("medial_library_errors", LIBRARY_ERRORS_SCRIPT)
         for case in out["cases"]:
             self.assertNotIn("\n", case["error"])
             self.assertEqual(case["objects"], ["Two", "Box"], case)
             self.assertTrue(case["valid"], case)
         two, box = out["cases"]
-        if STATE == "no binding":
-            self.assertIn("no medial surface binding", two["error"])
-            self.assertIn("no medial surface binding", box["error"])
-            return
         # open / non-manifold input: the library's input check names it
         self.assertIn("non-manifold", two["error"])
         self.assertEqual(two["error_class"], "MfgeomError")
-        if STATE == "stub":
-            self.assertIn("not built yet", box["error"])
-            self.assertEqual(box["error_class"], "MfgeomError")
-        else:
-            self.assertEqual(box["error"], "")
+        self.assertEqual(box["error"], "")
 
 
 LIBRARY_ERRORS_SCRIPT = """
@@ -534,44 +473,43 @@ class OlderDocuments(unittest.TestCase):
         from mfgeom.app import sweep_feature
         doc = App.newDocument("Older")
         try:
-            with StandIn():
-                box = doc.addObject("Part::Box", "Box")
-                box.Length, box.Width, box.Height = A, B, C
-                doc.recompute()
-                bottom = next(f"Face{i + 1}" for i, f in enumerate(box.Shape.Faces)
-                              if abs(f.BoundBox.ZMax) < 1e-9)
-                axis = mfgeom.make_medial_axis(doc, (box, bottom), 0.01)
-                surface = mfgeom.make_medial_surface(doc, box, 0.1)
-                mid_surface = mfgeom.make_mid_surface(doc, surface)
-                sweep = mfgeom.make_rotational_sweep(doc, box, (0, 0, 0), "Z", 30)
-                # (object, its module, the property an older version lacked, its result)
-                cases = [(axis, maf, "JunctionRadii", lambda o: list(o.JunctionRadii)),
-                         (surface, msf, "Mesh", lambda o: o.Mesh.CountFacets),
-                         (mid_surface, mid, "FaceThickness", lambda o: list(o.FaceThickness)),
-                         (sweep, sweep_feature, "Mesh", lambda o: o.Mesh.CountFacets)]
-                before = [(obj.Name, module, prop, result, result(obj))
-                          for obj, module, prop, result in cases]
-                for obj, _module, prop, _result in cases:
-                    obj.removeProperty(prop)
-                    obj.Version = 0
-                path = os.path.join(tempfile.mkdtemp(), "older.FCStd")
-                doc.saveAs(path)
-                App.closeDocument(doc.Name)
-                doc = App.openDocument(path)
-                for name, module, prop, result, value in before:
-                    obj = doc.getObject(name)
-                    self.assertIn(prop, obj.PropertiesList, name)
-                    self.assertEqual(obj.Version, module.VERSION, name)
-                    mode = obj.getEditorMode(prop)   # outputs: read-only
-                    self.assertIn("ReadOnly", mode, name)
-                    self.assertEqual("Hidden" in mode, prop == "Mesh", name)
-                    self.assertNotEqual(result(obj), value, name)   # empty until recomputed
-                    obj.touch()
-                doc.recompute()
-                for name, _module, prop, result, value in before:
-                    obj = doc.getObject(name)
-                    clean(self, obj)
-                    self.assertEqual(result(obj), value, name)
+            box = doc.addObject("Part::Box", "Box")
+            box.Length, box.Width, box.Height = A, B, C
+            doc.recompute()
+            bottom = next(f"Face{i + 1}" for i, f in enumerate(box.Shape.Faces)
+                          if abs(f.BoundBox.ZMax) < 1e-9)
+            axis = mfgeom.make_medial_axis(doc, (box, bottom), 0.01)
+            surface = mfgeom.make_medial_surface(doc, box, 0.1)
+            mid_surface = mfgeom.make_mid_surface(doc, surface)
+            sweep = mfgeom.make_rotational_sweep(doc, box, (0, 0, 0), "Z", 30)
+            # (object, its module, the property an older version lacked, its result)
+            cases = [(axis, maf, "JunctionRadii", lambda o: list(o.JunctionRadii)),
+                     (surface, msf, "Mesh", lambda o: o.Mesh.CountFacets),
+                     (mid_surface, mid, "FaceThickness", lambda o: list(o.FaceThickness)),
+                     (sweep, sweep_feature, "Mesh", lambda o: o.Mesh.CountFacets)]
+            before = [(obj.Name, module, prop, result, result(obj))
+                      for obj, module, prop, result in cases]
+            for obj, _module, prop, _result in cases:
+                obj.removeProperty(prop)
+                obj.Version = 0
+            path = os.path.join(tempfile.mkdtemp(), "older.FCStd")
+            doc.saveAs(path)
+            App.closeDocument(doc.Name)
+            doc = App.openDocument(path)
+            for name, module, prop, result, value in before:
+                obj = doc.getObject(name)
+                self.assertIn(prop, obj.PropertiesList, name)
+                self.assertEqual(obj.Version, module.VERSION, name)
+                mode = obj.getEditorMode(prop)   # outputs: read-only
+                self.assertIn("ReadOnly", mode, name)
+                self.assertEqual("Hidden" in mode, prop == "Mesh", name)
+                self.assertNotEqual(result(obj), value, name)   # empty until recomputed
+                obj.touch()
+            doc.recompute()
+            for name, _module, prop, result, value in before:
+                obj = doc.getObject(name)
+                clean(self, obj)
+                self.assertEqual(result(obj), value, name)
         finally:
             App.closeDocument(doc.Name)
 
@@ -586,7 +524,6 @@ class ThinWallPart(unittest.TestCase):
         self.assertTrue(all(f.Surface.TypeId == "Part::GeomPlane" for f in tray.Faces))
         self.assertAlmostEqual(tray.Volume, thin_wall.exact_volume(), delta=1e-6)
 
-    @needs_extraction
     def test_mid_surface_thickness(self):
         doc = App.newDocument("Tray")
         try:
@@ -606,19 +543,4 @@ class ThinWallPart(unittest.TestCase):
             App.closeDocument(doc.Name)
 
 
-def main():
-    # freecadcmd runs this file with exec(): it is not in sys.modules, so collect by hand
-    loader = unittest.defaultTestLoader
-    suite = unittest.TestSuite(
-        loader.loadTestsFromTestCase(cls) for cls in list(globals().values())
-        if isinstance(cls, type) and issubclass(cls, unittest.TestCase))
-    result = unittest.TextTestRunner(stream=sys.stdout, verbosity=2).run(suite)
-    failed = len(result.failures) + len(result.errors)
-    passed = result.testsRun - failed - len(result.skipped)
-    sys.stdout.write(f"medial library: {STATE}; skipped {len(result.skipped)}\n")
-    sys.stdout.write(f"freecad-medial: {passed} passed, {failed} failed\n")
-    sys.stdout.flush()
-    return 0 if failed == 0 and result.testsRun > 0 else 1
-
-
-sys.exit(main())
+sys.exit(run_file(globals(), "freecad-medial"))

@@ -656,21 +656,13 @@ def _np(v):
     return np.array([v.x, v.y, v.z])
 
 
-def main():
-    # freecadcmd runs this file with exec(): it is not in sys.modules, so collect by hand
-    loader = unittest.defaultTestLoader
-    suite = unittest.TestSuite(
-        loader.loadTestsFromTestCase(cls) for cls in list(globals().values())
-        if isinstance(cls, type) and issubclass(cls, unittest.TestCase))
-    result = unittest.TextTestRunner(stream=sys.stdout, verbosity=2).run(suite)
+def _timings(_result):
     for nfaces, mode, draft, t_gauss, t_part in TIMES:
         sys.stdout.write(f"timing: {nfaces} faces {mode} draft {draft}: "
                          f"gauss {t_gauss * 1e3:.1f} ms, parting {t_part * 1e3:.1f} ms\n")
-    failed = len(result.failures) + len(result.errors)
-    passed = result.testsRun - failed - len(result.skipped)
-    sys.stdout.write(f"freecad-parting: {passed} passed, {failed} failed\n")
-    sys.stdout.flush()
-    return 0 if failed == 0 and result.testsRun > 0 else 1
 
 
-sys.exit(main())
+sys.path.insert(0, HERE)
+from fc_testsupport import run_file  # noqa: E402
+
+sys.exit(run_file(globals(), "freecad-parting", before_summary=_timings))

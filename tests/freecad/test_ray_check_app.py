@@ -142,10 +142,7 @@ class Shadowed(unittest.TestCase):
         self.assertIn("both", got)
 
 
-def main():
-    sys.path.insert(0, HERE)
-    from app_runner import run_tests
-    return run_tests(globals(), "freecad-ray-check")
+sys.path.insert(0, HERE)
+from fc_testsupport import run_file  # noqa: E402
 
-
-sys.exit(main())
+sys.exit(run_file(globals(), "freecad-ray-check"))

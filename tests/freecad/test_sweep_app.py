@@ -31,10 +31,8 @@ sys.path.append(os.path.join(REPO, "tests", "python"))
 sys.path.append(HERE)  # isolated_run
 
 import mfgeom  # noqa: E402
-from mfgeom.errors import MfgeomError  # noqa: E402
-
-STRICT = os.environ.get("MFG_SWEEP_STRICT", "") not in ("", "0")
 import sweep_oracle  # noqa: E402  (independent of libmfgeom: numpy only)
+from fc_testsupport import DocumentTestCase, run_file  # noqa: E402
 from isolated_run import isolated  # noqa: E402
 from mfgeom.app import sweep_feature as sf  # noqa: E402
 from mfgeom.errors import InputError  # noqa: E402
@@ -75,24 +73,6 @@ def result_mesh(obj):
     points, facets = obj.Mesh.Topology
     return (np.array([(p.x, p.y, p.z) for p in points]).reshape(-1, 3),
             np.asarray(facets, dtype=np.int64).reshape(-1, 3))
-
-
-def _library_sweeps():
-    """False while mfg_rotational_sweep is a stub (before the algorithm lands)."""
-    from mfgeom import core
-    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]])
-    t = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
-    try:
-        core.rotational_sweep(v, t, (5, 0, 0), (0, 0, 1), 0.5, 0.01)
-    except core.MfgError as exc:
-        if "not implemented" in str(exc):
-            return False
-        raise
-    return True
-
-
-SWEEPS = _library_sweeps()
-needs_sweep = unittest.skipUnless(SWEEPS, "mfg_rotational_sweep not implemented yet")
 
 
 class ConservativeMesh(unittest.TestCase):
@@ -189,28 +169,19 @@ class Axes(unittest.TestCase):
             sf.axis_of(box)
 
 
-class Feature(unittest.TestCase):
+class Feature(DocumentTestCase):
     """The RotationalSweep feature: analytic volumes, recompute, Solid, placement, errors."""
 
+    DOC_NAME = "SweepFeature"
+
     def setUp(self):
-        self.doc = App.newDocument("SweepFeature")
+        super().setUp()
         self.box = self.doc.addObject("Part::Box", "Box")
         self.box.Length, self.box.Width, self.box.Height = A, B, C
         self.doc.recompute()
 
-    def tearDown(self):
-        App.closeDocument(self.doc.Name)
-
     def assert_clean(self, obj):
         status = obj.getStatusString()
-        # Issue 8 requirements the algorithm does not meet yet (README, "Rotational sweep:
-        # known gaps"): its explicit refusal on some inputs (a moved box, a tessellated
-        # cylinder about a parallel axis) and zero-area triangles that keep the Solid
-        # representation from being valid.  Reported as skips naming the gap unless
-        # MFG_SWEEP_STRICT=1 (the switch of the C and pytest suites).
-        if not obj.isValid() and not STRICT and (
-                "could not be made a closed 2-manifold" in status or "zero-area" in status):
-            self.skipTest("known gap of issue 8: " + status)
         self.assertTrue(obj.isValid(), status)
         self.assertNotIn("Touched", obj.State)
         self.assertNotIn("Invalid", obj.State)
@@ -221,7 +192,6 @@ class Feature(unittest.TestCase):
         self.assertLessEqual(abs(obj.Volume - exact), bound,
                              f"volume {obj.Volume!r}, exact {exact!r}, bound {bound:.3g}")
 
-    @needs_sweep
     def test_box_about_its_edge(self):
         obj = mfgeom.make_rotational_sweep(self.doc, self.box, None, None, 90, 0.01,
                                            axis=(self.box, "Edge1"))
@@ -247,16 +217,10 @@ class Feature(unittest.TestCase):
         self.assert_volume(obj, box_about_edge(math.pi / 4))
         self.assertLess(result_mesh(obj)[0][:, 1].min(), -1.0)
 
-    @needs_sweep
     def test_solid_representation(self):
         # 0.1 mm: OCCT takes ~0.4 ms per triangle to make a shape of a mesh
-        try:
-            obj = mfgeom.make_rotational_sweep(self.doc, self.box, (0, 0, 0), "Z", 90, 0.1,
-                                               representation="Solid")
-        except MfgeomError as exc:
-            if STRICT or "zero-area" not in str(exc):
-                raise
-            self.skipTest(f"known gap of issue 8: {exc}")
+        obj = mfgeom.make_rotational_sweep(self.doc, self.box, (0, 0, 0), "Z", 90, 0.1,
+                                           representation="Solid")
         self.assert_clean(obj)
         shape = obj.Shape
         self.assertTrue(shape.isValid())
@@ -271,7 +235,6 @@ class Feature(unittest.TestCase):
         self.assert_clean(obj)
         self.assertTrue(obj.Shape.isNull())
 
-    @needs_sweep
     def test_arm_solid_representation(self):
         """The bench's 9-face arm (examples/parts/sweep_arm.py) about its hub axis at
         0.01 mm as a Solid: OCCT refused the shell while the mesh had zero-area triangles
@@ -295,7 +258,6 @@ class Feature(unittest.TestCase):
         self.assertLessEqual(obj.Volume - reference, obj.Tolerance.Value * obj.Area)
         self.assertLess(len(shape.Faces), obj.TriangleCount)
 
-    @needs_sweep
     def test_placement_is_respected(self):
         obj = mfgeom.make_rotational_sweep(self.doc, self.box, None, None, 90, 0.01,
                                            axis=(self.box, "Edge1"))
@@ -313,7 +275,6 @@ class Feature(unittest.TestCase):
         np.testing.assert_allclose(v1.max(axis=0), moved.max(axis=0), atol=0.02)
         self.assertGreater(np.linalg.norm(mesh_centroid(v1, t1) - c0), 5.0)
 
-    @needs_sweep
     def test_cylinder_is_conservative(self):
         r, h, R, theta = 5.0, 10.0, 20.0, math.pi / 2
         cyl = self.doc.addObject("Part::Cylinder", "Cyl")
@@ -322,13 +283,8 @@ class Feature(unittest.TestCase):
         self.doc.recompute()
         # coarse: the library's first version gives ~10^6 triangles here already
         tol, defl = 0.2, 0.3
-        try:
-            obj = mfgeom.make_rotational_sweep(self.doc, cyl, (0, 0, 0), (0, 0, 1), 90, tol,
-                                               deflection=defl)
-        except MfgeomError as exc:
-            if STRICT or "could not be made a closed 2-manifold" not in str(exc):
-                raise
-            self.skipTest(f"known gap of issue 8: {exc}")
+        obj = mfgeom.make_rotational_sweep(self.doc, cyl, (0, 0, 0), (0, 0, 1), 90, tol,
+                                           deflection=defl)
         self.assert_clean(obj)
         exact = cylinder_about_parallel_axis(r, h, R, theta)
         self.assertGreaterEqual(obj.SourceOffset, defl)
@@ -347,7 +303,6 @@ class Feature(unittest.TestCase):
         self.assertTrue(inside.all(), f"{(~inside).sum()} true points outside, e.g. "
                                       f"{pts[~inside][:3]}")
 
-    @needs_sweep
     def test_save_and_reload(self):
         obj = mfgeom.make_rotational_sweep(self.doc, self.box, (0, 0, 0), "Z", 60, 0.01)
         volume, facets, name = obj.Volume, obj.Mesh.CountFacets, obj.Name
@@ -403,7 +358,6 @@ class Feature(unittest.TestCase):
         self.assertEqual(out["objects"], ["Two"])
         self.assertTrue(out["valid"])
 
-    @needs_sweep
     def test_bad_edits_give_one_line_errors(self):
         out = isolated("sweep_bad_edits", BAD_EDITS_SCRIPT)
         self.assertEqual(len(out["cases"]), 5)
@@ -461,20 +415,4 @@ for prop, value, want in (("Angle", 0.0, "(0, 360]"), ("Angle", -30.0, "(0, 360]
 print("=== result " + json.dumps(result), flush=True)
 """
 
-def main():
-    # freecadcmd runs this file with exec(): it is not in sys.modules, so collect by hand
-    loader = unittest.defaultTestLoader
-    suite = unittest.TestSuite(
-        loader.loadTestsFromTestCase(cls) for cls in list(globals().values())
-        if isinstance(cls, type) and issubclass(cls, unittest.TestCase))
-    result = unittest.TextTestRunner(stream=sys.stdout, verbosity=2).run(suite)
-    failed = len(result.failures) + len(result.errors)
-    passed = result.testsRun - failed - len(result.skipped)
-    sys.stdout.write(f"sweep library: {'sweeps' if SWEEPS else 'stub (not implemented yet)'}; "
-                     f"skipped {len(result.skipped)}\n")
-    sys.stdout.write(f"freecad-sweep: {passed} passed, {failed} failed\n")
-    sys.stdout.flush()
-    return 0 if failed == 0 and result.testsRun > 0 else 1
-
-
-sys.exit(main())
+sys.exit(run_file(globals(), "freecad-sweep"))

@@ -1,21 +1,32 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """What the GUI test scripts (run inside FreeCAD under Xvfb) share: the check decorator
 and its results, GUI event pumping, the modal-dialog closer, and the summary line and
-exit code that tests/gui/run_gui_tests.sh reads."""
+exit code that tests/gui/run_gui_tests.sh reads (printed by tests/freecad/fc_testsupport.py,
+the runner of the App tests too: a run where nothing passed fails, skips are listed)."""
 
+import os
 import sys
 import time
 import traceback
+import unittest
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                                "freecad"))
+import fc_testsupport  # noqa: E402
 
 results = []  # (name, ok, detail)
+skips = []    # (name, reason): a check that raised unittest.SkipTest (environment only)
 state = {}    # "image": the screenshot's path, printed by finish()
 
 
 def check(name):
-    """Decorator: run a test function now, record pass/fail with the reason."""
+    """Decorator: run a test function now, record pass/fail with the reason (a
+    unittest.SkipTest is recorded as a skip with its reason)."""
     def run(fn):
         try:
             fn()
+        except unittest.SkipTest as exc:
+            skips.append((name, str(exc)))
         except Exception:  # any failure of a test is reported, then the next one runs
             results.append((name, False, traceback.format_exc()))
         else:
@@ -81,6 +92,6 @@ def finish(label):
             sys.stdout.write(detail + "\n")
     if "image" in state:
         sys.stdout.write(f"screenshot: {state['image']}\n")
-    sys.stdout.write(f"{label}: {len(results) - len(failed)} passed, {len(failed)} failed\n")
+    rc = fc_testsupport.summarize(label, len(results) - len(failed), len(failed), skips)
     from mfgeom import compat  # flushes C stdio too: FreeCAD 1.0 buffers it in a pipe
-    compat.exit_now(1 if failed or not results else 0)
+    compat.exit_now(rc)

@@ -94,6 +94,48 @@ def _():
     assert os.path.isfile(res["pixmap"]), res
 
 
+@check("every registered command: its icon exists and loads, MenuText and ToolTip set; the "
+       "toolbar and the menu list exactly the registered commands; every icon in icons/ is used")
+def _():
+    _QtCore, QtGui = qt()
+    from mfgeom import paths
+    from mfgeom.gui import commands
+    names = commands.COMMAND_NAMES
+    registered = sorted(c for c in Gui.listCommands() if c.startswith("Mfgeom_"))
+    assert registered == sorted(names) and len(set(names)) == len(names), (registered, names)
+    used = set()
+    for name in names:
+        res = commands.COMMANDS[name].GetResources()
+        pixmap = res["Pixmap"]
+        assert os.path.isfile(pixmap), (name, pixmap)
+        assert not QtGui.QIcon(pixmap).isNull(), (name, pixmap)
+        image = QtGui.QPixmap(pixmap)
+        assert not image.isNull() and image.width() > 0, (name, pixmap)
+        assert res["MenuText"].strip() and res["ToolTip"].strip(), (name, res)
+        info = Gui.Command.get(name).getInfo()
+        assert info["menuText"] == res["MenuText"], (name, info)
+        used.add(os.path.basename(pixmap))
+    menu_texts = [commands.COMMANDS[n].GetResources()["MenuText"] for n in names]
+    mw = Gui.getMainWindow()
+    bars = [b for b in mw.findChildren(QtGui.QToolBar)
+            if b.windowTitle() == "Manufacturing Geometry"]
+    assert len(bars) == 1, [b.windowTitle() for b in bars]
+    in_bar = [a.text() for a in bars[0].actions() if not a.isSeparator()]
+    assert in_bar == menu_texts, (in_bar, menu_texts)
+    menus = [m for m in mw.menuBar().findChildren(QtGui.QMenu)
+             if m.title() == "&Manufacturing Geometry"]
+    assert len(menus) == 1, [m.title() for m in menus]
+    in_menu = [a.text() for a in menus[0].actions() if not a.isSeparator()]
+    assert in_menu == menu_texts, (in_menu, menu_texts)
+    # the rest of icons/: the workbench's and the preferences page's (found by its name)
+    wb = Gui.getWorkbench(WORKBENCH)
+    used |= {os.path.basename(wb.Icon), "preferences-manufacturing_geometry.svg"}
+    for icon in sorted(used):
+        assert not QtGui.QPixmap(paths.icon(icon)).isNull(), icon
+    assert sorted(os.listdir(paths.icons_dir())) == sorted(used), (
+        sorted(os.listdir(paths.icons_dir())), sorted(used))
+
+
 @check("preferences page loads and is bound to the parameter")
 def _():
     from mfgeom import paths

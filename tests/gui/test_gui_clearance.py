@@ -4,7 +4,7 @@ virtual X server by tests/gui/run_gui_tests.sh:
 ``xvfb-run -a freecad tests/gui/test_gui_clearance.py``.
 
 A swept volume (the exact swept box of tests/freecad/test_clearance_app.py, a Part solid;
-the library's sweep feature when it is there) and obstacles: two that interfere (a box,
+and the library's sweep feature) and obstacles: two that interfere (a box,
 a Mesh), one that touches, one clear at a known distance, a sketch.  Selecting the sweep
 first and the obstacles, the command prints the table in the Report view (values
 checked), echoes ``mfgeom.check_clearance(...)`` in the Python console, colours exactly
@@ -310,92 +310,63 @@ def _():
     App.closeDocument(doc.Name)
 
 
-def sweep_available():
-    """Whether the library's rotational sweep runs (False until its algorithm lands)."""
-    from mfgeom import core
-    try:
-        core.rotational_sweep([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]],
-                              [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
-                              (0, 0, 0), (0, 0, 1), 1.0, 0.01)
-    except core.MfgError as exc:
-        if "not implemented" in str(exc):
-            return False
-        if "could not be made a closed 2-manifold" in str(exc):
-            return True   # the algorithm runs; this probe meets an issue-8 known gap
-        raise
-    return True
-
-
 SWEEP_TOL = 2.0   # the algorithm's first version: 4.7e3 triangles here, 4e6 at 0.01 mm
 
-if sweep_available():
-    @check("the sweep feature: a block across the swept arc interferes, a sphere beyond is clear")
-    def _():
-        import Part
-        import mfgeom
-        from mfgeom import palette
-        doc = App.newDocument("ClearanceSweep")
-        Gui.ActiveDocument = Gui.getDocument(doc.Name)
-        block = doc.addObject("Part::Feature", "Block")
-        block.Shape = Part.makeBox(A, B, C)
-        doc.recompute()
-        try:
-            sweep = mfgeom.make_rotational_sweep(doc, block, (0, 0, 0), (0, 0, 1), 90.0,
-                                                 SWEEP_TOL)
-        except Exception as exc:
-            # issue 8 known gap (README): the library refuses some inputs rather than
-            # return an open surface; MFG_SWEEP_STRICT=1 makes this a failure
-            if ("could not be made a closed 2-manifold" not in str(exc) or
-                    os.environ.get("MFG_SWEEP_STRICT", "") not in ("", "0")):
-                raise
-            sys.stdout.write(f"NOTE: skipped, known gap of issue 8: {exc}\n")
-            App.closeDocument(doc.Name)
-            return
-        assert sweep.isValid(), sweep.getStatusString()
-        a = math.radians(60)
-        # radially from 10 to 26 mm at 60 deg, 10 wide, the sweep's height, across the
-        # arc: a common of about 10 x 12.4 x 5, thicker than the sweep's 2 mm floor
-        across = doc.addObject("Part::Feature", "Across")
-        box = Part.makeBox(16, 10, C, V(10, -5, 0))
-        box.rotate(V(0, 0, 0), V(0, 0, 1), 60)
-        across.Shape = box
-        beyond = doc.addObject("Part::Feature", "Beyond")
-        gap = 3.0
-        d = R + gap + 2
-        beyond.Shape = Part.makeSphere(2, V(d * math.cos(a), d * math.sin(a), C / 2))
-        doc.recompute()
-        select([sweep, across, beyond])
-        run_command()
-        assert pump(lambda: panel() is not None, 120), f"no panel; {dialogs.take()}"
-        Gui.Control.closeDialog()
-        assert rgb(beyond.ViewObject.ShapeColor) != rgb(palette.INTERFERENCE)
-        text = report_text()
-        table = text[text.rindex(f"Clearance check against '{sweep.Label}'"):]
-        assert "(tolerance 2 mm)" in table.splitlines()[0], table.splitlines()[0]
-        rows = {ln.split()[0]: ln.split() for ln in table.splitlines()[2:] if ln.strip()}
-        from mfgeom.app import clearance
-        assert rgb(across.ViewObject.ShapeColor) == rgb(palette.INTERFERENCE)
-        assert rows["Across"][1] == "interference", rows["Across"]
-        # the true common: 10 x 5 x (R - 10) less the corners past the arc, ~600 mm^3
-        # (sampled with a standard error ~11 mm^3 when OCCT finds the solid invalid)
-        assert 550 < float(rows["Across"][2]) < 650, rows["Across"]
-        if not clearance.solid_of(sweep).isValid():   # then each row says so
-            assert table.count(clearance.SWEEP_NOT_VALID) == 2, table
-            assert "estimated from 4000 samples" in table, table
-            sys.stdout.write("NOTE: the sweep feature's solid is not valid for OCCT; "
-                             "'Across' was sampled\n")
-        assert rows["Beyond"][1] == "clear", rows["Beyond"]
-        assert gap - SWEEP_TOL <= float(rows["Beyond"][3]) <= gap + SWEEP_TOL, rows["Beyond"]
-        Gui.Selection.clearSelection()
-        view = Gui.ActiveDocument.ActiveView
-        view.viewIsometric()
-        view.fitAll()
-        Gui.updateGui()
-        path = os.path.join(OUT, "clearance-sweep.png")
-        view.saveImage(path, 1000, 700, "White")
-        assert os.path.getsize(path) > 10000
-        state["image"] = path
-else:
-    sys.stdout.write("SKIP: the sweep feature check (the sweep algorithm has not landed)\n")
+
+@check("the sweep feature: a block across the swept arc interferes, a sphere beyond is clear")
+def _():
+    import Part
+    import mfgeom
+    from mfgeom import palette
+    doc = App.newDocument("ClearanceSweep")
+    Gui.ActiveDocument = Gui.getDocument(doc.Name)
+    block = doc.addObject("Part::Feature", "Block")
+    block.Shape = Part.makeBox(A, B, C)
+    doc.recompute()
+    sweep = mfgeom.make_rotational_sweep(doc, block, (0, 0, 0), (0, 0, 1), 90.0, SWEEP_TOL)
+    assert sweep.isValid(), sweep.getStatusString()
+    a = math.radians(60)
+    # radially from 10 to 26 mm at 60 deg, 10 wide, the sweep's height, across the
+    # arc: a common of about 10 x 12.4 x 5, thicker than the sweep's 2 mm floor
+    across = doc.addObject("Part::Feature", "Across")
+    box = Part.makeBox(16, 10, C, V(10, -5, 0))
+    box.rotate(V(0, 0, 0), V(0, 0, 1), 60)
+    across.Shape = box
+    beyond = doc.addObject("Part::Feature", "Beyond")
+    gap = 3.0
+    d = R + gap + 2
+    beyond.Shape = Part.makeSphere(2, V(d * math.cos(a), d * math.sin(a), C / 2))
+    doc.recompute()
+    select([sweep, across, beyond])
+    run_command()
+    assert pump(lambda: panel() is not None, 120), f"no panel; {dialogs.take()}"
+    Gui.Control.closeDialog()
+    assert rgb(beyond.ViewObject.ShapeColor) != rgb(palette.INTERFERENCE)
+    text = report_text()
+    table = text[text.rindex(f"Clearance check against '{sweep.Label}'"):]
+    assert "(tolerance 2 mm)" in table.splitlines()[0], table.splitlines()[0]
+    rows = {ln.split()[0]: ln.split() for ln in table.splitlines()[2:] if ln.strip()}
+    from mfgeom.app import clearance
+    assert rgb(across.ViewObject.ShapeColor) == rgb(palette.INTERFERENCE)
+    assert rows["Across"][1] == "interference", rows["Across"]
+    # the true common: 10 x 5 x (R - 10) less the corners past the arc, ~600 mm^3
+    # (sampled with a standard error ~11 mm^3 when OCCT finds the solid invalid)
+    assert 550 < float(rows["Across"][2]) < 650, rows["Across"]
+    if not clearance.solid_of(sweep).isValid():   # then each row says so
+        assert table.count(clearance.SWEEP_NOT_VALID) == 2, table
+        assert "estimated from 4000 samples" in table, table
+        sys.stdout.write("NOTE: the sweep feature's solid is not valid for OCCT; "
+                         "'Across' was sampled\n")
+    assert rows["Beyond"][1] == "clear", rows["Beyond"]
+    assert gap - SWEEP_TOL <= float(rows["Beyond"][3]) <= gap + SWEEP_TOL, rows["Beyond"]
+    Gui.Selection.clearSelection()
+    view = Gui.ActiveDocument.ActiveView
+    view.viewIsometric()
+    view.fitAll()
+    Gui.updateGui()
+    path = os.path.join(OUT, "clearance-sweep.png")
+    view.saveImage(path, 1000, 700, "White")
+    assert os.path.getsize(path) > 10000
+    state["image"] = path
 
 finish("freecad-gui-clearance")

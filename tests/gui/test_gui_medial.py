@@ -8,10 +8,8 @@ the face command; nothing, a sheet, two solids for the solid commands) show a me
 create nothing; "Medial axis of face" on the tray's bottom face: the task panel, OK
 creates a valid axis (analytic: 5 branches, largest radius half the tray's width) in one
 undo step, echoed in the Python console; "Medial surface" on the tray: the panel offers
-0.5 % of the bounding-box diagonal; while the library's extraction is not built, OK shows
-its "not built yet" in the panel and creates nothing (the document unchanged); once it
-extracts, OK creates the coloured medial surface (display mode "Thickness", per-vertex
-colours on the ramp, the legend's labels span the thickness range); the axis' and the
+0.5 % of the bounding-box diagonal; OK creates the coloured medial surface (display
+mode "Thickness", per-vertex colours on the ramp, the legend's labels span the thickness range); the axis' and the
 surface's legends, both shown, stack one below the other (found in the screenshot's
 pixels: two bars, the second at least the first's height lower; saved as
 medial-legends.png), hiding the axis gives the surface's legend the whole band, a third
@@ -49,29 +47,6 @@ AXIS, SURFACE, MID = "Mfgeom_MedialAxis", "Mfgeom_MedialSurface", "Mfgeom_MidSur
 OUT = os.environ.get("MFGEOM_GUI_OUT") or os.path.join(ROOT, "out", "gui-tests")
 
 dialogs = DialogCloser()
-
-
-def _library_state():
-    """As tests/freecad/test_medial_app.py: "extracts", "stub" or "no binding"."""
-    import numpy as np
-    from mfgeom import core
-    if not hasattr(core, "medial_surface"):
-        return "no binding"
-    box = np.array([[x, y, z] for z in (0, 1) for y in (0, 2) for x in (0, 3)], dtype=float)
-    tri = np.array([[0, 2, 3], [0, 3, 1], [4, 5, 7], [4, 7, 6], [0, 1, 5], [0, 5, 4],
-                    [1, 3, 7], [1, 7, 5], [3, 2, 6], [3, 6, 7], [2, 0, 4], [2, 4, 6]])
-    try:
-        core.medial_surface(box, tri, 0.05)
-    except core.MfgError as exc:
-        if "not built yet" in str(exc):
-            return "stub"
-        raise
-    return "extracts"
-
-
-STATE = _library_state()
-EXTRACTS = STATE == "extracts"
-print(f"medial library: {STATE}")
 
 
 def task_panel():
@@ -210,13 +185,11 @@ def _():
     state["axis"] = obj
 
 
-@check("Medial surface: the panel's default tolerance; OK " +
-       ("creates the coloured medial surface" if EXTRACTS
-        else "shows the library's error and changes nothing"))
+@check("Medial surface: the panel's default tolerance; OK creates the coloured medial surface")
 def _():
     doc, tray = state["doc"], state["tray"]
     select([(tray, "")])
-    names, undo = [o.Name for o in doc.Objects], doc.UndoCount
+    undo = doc.UndoCount
     Gui.runCommand(SURFACE)
     panel = task_panel()
     assert panel is not None, "no task panel"
@@ -224,18 +197,6 @@ def _():
     assert abs(panel["tolerance"].value() - want) < 1e-6, (panel["tolerance"].value(), want)
     assert panel["major"].isChecked()
     press(panel["ok"])
-    if not EXTRACTS:
-        left = task_panel()
-        assert left is not None, "the panel closed on a failure"
-        text = left["message"].text()
-        assert ("not built yet" in text if STATE == "stub"
-                else "no medial surface binding" in text), text
-        assert "\n" not in text, text
-        assert [o.Name for o in doc.Objects] == names and doc.UndoCount == undo
-        assert all(o.isValid() for o in doc.Objects)
-        press(left["cancel"])
-        assert task_panel() is None
-        return
     assert task_panel() is None, "OK left the panel open"
     new = of_type(doc, "Mfgeom::MedialSurface")
     assert len(new) == 1 and new[0].isValid(), new
@@ -314,94 +275,92 @@ def assert_stacked(path, count):
     return bars
 
 
-if EXTRACTS:
-    @check("Legends stack: the medial axis' width legend and the medial surface's thickness "
-           "legend both shown take two slots one below the other; hiding one moves the "
-           "other up, a deleted feature frees its slot")
-    def _():
-        from mfgeom.gui.medial_view import LEGEND_Y, arrange_legends
-        doc, tray = state["doc"], state["tray"]
-        axis, medial = state["axis"], state["medial"]
-        legend = {name: state[name].ViewObject.Proxy.legend for name in ("axis", "medial")}
-        assert axis.ViewObject.Visibility and medial.ViewObject.Visibility
-        # shown in this order: the axis on top, the medial surface below it
-        assert (legend["axis"].slot, legend["medial"].slot) == (0, 1), \
-            (legend["axis"].slot, legend["medial"].slot)
-        assert legend["axis"].count == legend["medial"].count == 2
-        lower, upper = legend["medial"].span, legend["axis"].span
-        assert upper[0] - lower[1] >= 0.15, (upper, lower)   # room for the lower title
-        full = LEGEND_Y[1] - LEGEND_Y[0]
-        bars = assert_stacked(legend_screenshot("medial-legends.png"), 2)
-        # the lone legend fills the band; two share it
-        axis.ViewObject.Visibility = False
-        assert (legend["medial"].slot, legend["medial"].count) == (0, 1)
-        assert legend["medial"].span == LEGEND_Y
-        (top, bottom), = assert_stacked(legend_screenshot("medial-legend-alone.png"), 1)
-        assert bottom - top > 1.9 * (bars[0][1] - bars[0][0]), ((top, bottom), bars)
-        assert abs((bottom - top) - full / 2 * 700) < 4, (top, bottom)
-        # shown again: the next free slot, below the medial surface's
-        axis.ViewObject.Visibility = True
-        assert (legend["medial"].slot, legend["axis"].slot) == (0, 1)
-        # a third legend (another axis, on a wall) takes the third slot; deleting it in
-        # the GUI frees it
-        wall = next(f"Face{i + 1}" for i, f in enumerate(tray.Shape.Faces)
-                    if abs(f.BoundBox.XMin) < 1e-9 and abs(f.BoundBox.XMax) < 1e-9)
-        import mfgeom
-        doc.openTransaction("third axis")
-        extra = mfgeom.make_medial_axis(doc, (tray, wall), 0.05)
-        doc.commitTransaction()
-        third = extra.ViewObject.Proxy.legend
-        assert [lg.slot for lg in (legend["medial"], legend["axis"], third)] == [0, 1, 2]
-        assert_stacked(legend_screenshot("medial-legends-3.png"), 3)
-        extra_name = extra.Name
-        select([(extra, "")])
-        dialogs.take()
-        Gui.runCommand("Std_Delete")
-        Gui.updateGui()
-        assert doc.getObject(extra_name) is None, [o.Name for o in doc.Objects]
-        assert not dialogs.take()
-        assert [(lg.slot, lg.count) for lg in (legend["medial"], legend["axis"])] \
-            == [(0, 2), (1, 2)]
-        # undo the deletion: it is back in the third slot; undo its creation (no view
-        # provider hook runs): its slot is freed all the same
-        doc.undo()
-        extra = doc.getObject(extra_name)
-        assert extra is not None and extra.ViewObject.Visibility
-        assert (extra.ViewObject.Proxy.legend.slot, legend["medial"].count) == (2, 3)
-        doc.undo()
-        assert doc.getObject(extra_name) is None
-        assert [(lg.slot, lg.count) for lg in (legend["medial"], legend["axis"])] \
-            == [(0, 2), (1, 2)]
-        assert len(arrange_legends(doc)) == 2
-        assert_stacked(legend_screenshot("medial-legends-after-delete.png"), 2)
+@check("Legends stack: the medial axis' width legend and the medial surface's thickness "
+       "legend both shown take two slots one below the other; hiding one moves the "
+       "other up, a deleted feature frees its slot")
+def _():
+    from mfgeom.gui.medial_view import LEGEND_Y, arrange_legends
+    doc, tray = state["doc"], state["tray"]
+    axis, medial = state["axis"], state["medial"]
+    legend = {name: state[name].ViewObject.Proxy.legend for name in ("axis", "medial")}
+    assert axis.ViewObject.Visibility and medial.ViewObject.Visibility
+    # shown in this order: the axis on top, the medial surface below it
+    assert (legend["axis"].slot, legend["medial"].slot) == (0, 1), \
+        (legend["axis"].slot, legend["medial"].slot)
+    assert legend["axis"].count == legend["medial"].count == 2
+    lower, upper = legend["medial"].span, legend["axis"].span
+    assert upper[0] - lower[1] >= 0.15, (upper, lower)   # room for the lower title
+    full = LEGEND_Y[1] - LEGEND_Y[0]
+    bars = assert_stacked(legend_screenshot("medial-legends.png"), 2)
+    # the lone legend fills the band; two share it
+    axis.ViewObject.Visibility = False
+    assert (legend["medial"].slot, legend["medial"].count) == (0, 1)
+    assert legend["medial"].span == LEGEND_Y
+    (top, bottom), = assert_stacked(legend_screenshot("medial-legend-alone.png"), 1)
+    assert bottom - top > 1.9 * (bars[0][1] - bars[0][0]), ((top, bottom), bars)
+    assert abs((bottom - top) - full / 2 * 700) < 4, (top, bottom)
+    # shown again: the next free slot, below the medial surface's
+    axis.ViewObject.Visibility = True
+    assert (legend["medial"].slot, legend["axis"].slot) == (0, 1)
+    # a third legend (another axis, on a wall) takes the third slot; deleting it in
+    # the GUI frees it
+    wall = next(f"Face{i + 1}" for i, f in enumerate(tray.Shape.Faces)
+                if abs(f.BoundBox.XMin) < 1e-9 and abs(f.BoundBox.XMax) < 1e-9)
+    import mfgeom
+    doc.openTransaction("third axis")
+    extra = mfgeom.make_medial_axis(doc, (tray, wall), 0.05)
+    doc.commitTransaction()
+    third = extra.ViewObject.Proxy.legend
+    assert [lg.slot for lg in (legend["medial"], legend["axis"], third)] == [0, 1, 2]
+    assert_stacked(legend_screenshot("medial-legends-3.png"), 3)
+    extra_name = extra.Name
+    select([(extra, "")])
+    dialogs.take()
+    Gui.runCommand("Std_Delete")
+    Gui.updateGui()
+    assert doc.getObject(extra_name) is None, [o.Name for o in doc.Objects]
+    assert not dialogs.take()
+    assert [(lg.slot, lg.count) for lg in (legend["medial"], legend["axis"])] \
+        == [(0, 2), (1, 2)]
+    # undo the deletion: it is back in the third slot; undo its creation (no view
+    # provider hook runs): its slot is freed all the same
+    doc.undo()
+    extra = doc.getObject(extra_name)
+    assert extra is not None and extra.ViewObject.Visibility
+    assert (extra.ViewObject.Proxy.legend.slot, legend["medial"].count) == (2, 3)
+    doc.undo()
+    assert doc.getObject(extra_name) is None
+    assert [(lg.slot, lg.count) for lg in (legend["medial"], legend["axis"])] \
+        == [(0, 2), (1, 2)]
+    assert len(arrange_legends(doc)) == 2
+    assert_stacked(legend_screenshot("medial-legends-after-delete.png"), 2)
 
 
-if EXTRACTS:
-    @check("Mid-surface for FEM: the medial surface selected, a CSV path, OK")
-    def _():
-        doc = state["doc"]
-        medial = state["medial"]
-        select([(medial, "")])
-        path = os.path.join(tempfile.mkdtemp(), "tray-thickness.csv")
-        Gui.runCommand(MID)
-        panel = task_panel()
-        assert panel is not None, "no task panel"
-        assert not panel["tolerance"].isEnabled()
-        panel["csv"].setText(path)
-        press(panel["ok"])
-        assert task_panel() is None, "OK left the panel open"
-        new = of_type(doc, "Mfgeom::MidSurface")
-        assert len(new) == 1 and new[0].isValid(), new
-        obj = new[0]
-        assert os.path.isfile(path)
-        with open(path, encoding="utf-8") as f:
-            assert sum(1 for _line in f) == len(obj.Thickness) + 1
-        assert obj.Shape.Faces and obj.MinThickness > 0
-        assert abs(obj.MinThickness - thin_wall.RIB) < 2 * medial.Tolerance.Value, \
-            obj.MinThickness
-        assert obj.ViewObject.DisplayMode == "Thickness"
-        assert obj.ViewObject.Proxy.sheets.triangle_count > 0
-        state["mid"] = obj
+@check("Mid-surface for FEM: the medial surface selected, a CSV path, OK")
+def _():
+    doc = state["doc"]
+    medial = state["medial"]
+    select([(medial, "")])
+    path = os.path.join(tempfile.mkdtemp(), "tray-thickness.csv")
+    Gui.runCommand(MID)
+    panel = task_panel()
+    assert panel is not None, "no task panel"
+    assert not panel["tolerance"].isEnabled()
+    panel["csv"].setText(path)
+    press(panel["ok"])
+    assert task_panel() is None, "OK left the panel open"
+    new = of_type(doc, "Mfgeom::MidSurface")
+    assert len(new) == 1 and new[0].isValid(), new
+    obj = new[0]
+    assert os.path.isfile(path)
+    with open(path, encoding="utf-8") as f:
+        assert sum(1 for _line in f) == len(obj.Thickness) + 1
+    assert obj.Shape.Faces and obj.MinThickness > 0
+    assert abs(obj.MinThickness - thin_wall.RIB) < 2 * medial.Tolerance.Value, \
+        obj.MinThickness
+    assert obj.ViewObject.DisplayMode == "Thickness"
+    assert obj.ViewObject.Proxy.sheets.triangle_count > 0
+    state["mid"] = obj
 
 
 @check("screenshot")
@@ -437,115 +396,114 @@ def _():
     assert len(doc.Objects) == count and all(o.isValid() for o in doc.Objects)
 
 
-if EXTRACTS:
-    @check("Mid-surface for FEM from a solid: a 40 x 30 x 2 plate selected, the panel, OK: "
-           "the shell at mid-thickness (z = 1), thickness 2, the document valid, one undo "
-           "step")
-    def _():
-        import numpy as np
-        A, B, C = 40.0, 30.0, 2.0
-        doc = App.newDocument("MidFromSolid")
-        Gui.ActiveDocument = Gui.getDocument(doc.Name)
-        plate = doc.addObject("Part::Box", "Plate")
-        plate.Length, plate.Width, plate.Height = A, B, C
-        doc.recompute()
-        select([(plate, "")])
-        undo = doc.UndoCount
-        Gui.runCommand(MID)
-        panel = task_panel()
-        assert panel is not None, "no task panel"
-        assert panel["what"].text() == "Solid: Plate", panel["what"].text()
-        assert panel["tolerance"].isEnabled() and panel["deflection"].isEnabled()
-        tol = 0.005 * plate.Shape.BoundBox.DiagonalLength   # the offered default
-        assert abs(panel["tolerance"].value() - tol) < 1e-6, (panel["tolerance"].value(), tol)
-        tol = panel["tolerance"].value()
-        press(panel["ok"])
-        assert task_panel() is None, "OK left the panel open: " + panel["message"].text()
-        mids, medials = of_type(doc, "Mfgeom::MidSurface"), of_type(doc, "Mfgeom::MedialSurface")
-        assert len(mids) == 1 and len(medials) == 1, (mids, medials)
-        obj, medial = mids[0], medials[0]
-        assert obj.Source == medial and medial.Source == plate and medial.MajorOnly
-        assert abs(medial.Tolerance.Value - tol) < 1e-9, medial.Tolerance.Value
-        for o in doc.Objects:   # the document valid: no error objects, nothing left to do
-            assert o.isValid() and "Touched" not in o.State, (o.Name, o.State,
-                                                              o.getStatusString())
-        assert doc.UndoCount == undo + 1, (undo, doc.UndoCount)
-        assert "mfgeom.make_mid_surface(App.getDocument('MidFromSolid'), " \
-               "App.getDocument('MidFromSolid').getObject('Plate'), None, " in console_text()
-        # the shell: the plate's mid-plane z = C / 2 where the top and bottom faces are
-        # the nearest, the rectangle [C/2, A - C/2] x [C/2, B - C/2] (the major part)
-        shape = obj.Shape
-        assert shape.ShapeType in ("Shell", "Face") and shape.isValid(), shape.ShapeType
-        assert shape.Faces and not shape.Solids
-        for face in shape.Faces:
-            assert face.Surface.TypeId == "Part::GeomPlane", face.Surface.TypeId
-            for v in face.Vertexes:
-                assert abs(v.Point.z - C / 2) < 1e-6, v.Point
-        box = shape.BoundBox
-        for got, want in ((box.XMin, C / 2), (box.XMax, A - C / 2), (box.YMin, C / 2),
-                          (box.YMax, B - C / 2)):
-            assert abs(got - want) <= tol, (box, tol)
-        assert abs(shape.Area - (A - C) * (B - C)) <= 2 * tol * (A + B), shape.Area
-        # the thickness data: 2 everywhere
-        thick = np.array(obj.Thickness)
-        assert len(thick) == len(obj.ThicknessPoints) > 0
-        assert np.abs(thick - C).max() <= 2 * tol, (thick.min(), thick.max())
-        assert len(obj.FaceThickness) == len(shape.Faces)
-        for value in list(obj.FaceThickness) + [obj.MinThickness, obj.MaxThickness,
-                                                obj.MeanThickness]:
-            assert abs(value - C) <= 2 * tol, value
-        # the medial surface it was made from is hidden: one legend, the mid-surface's
-        assert not medial.ViewObject.Visibility and obj.ViewObject.Visibility
-        assert obj.ViewObject.DisplayMode == "Thickness"
-        assert obj.ViewObject.Proxy.sheets.triangle_count > 0
-        # one thickness (the radii differ by rounding only): one histogram bin, one colour
-        # (the ramp's middle) and one label on the legend and in the panel's words
-        assert len(obj.Histogram) == 2 and "100.0 %" in obj.Histogram[1], obj.Histogram
-        from mfgeom import palette
-        from mfgeom.gui.medial_panel import legend_text
-        colours = obj.ViewObject.Proxy.sheets.colours
-        assert np.abs(colours - palette.ramp_color(0.5)).max() < 1e-12, colours
-        assert obj.ViewObject.Proxy.legend.labels == ["2 mm"], \
-            obj.ViewObject.Proxy.legend.labels
-        assert legend_text(obj.MinThickness, obj.MaxThickness) == \
-            "Colour scale: one thickness, 2 mm"
-        # edited (double click): the tolerance and deflection shown are its medial
-        # surface's, read-only here
-        Gui.ActiveDocument.setEdit(obj.Name, 0)
-        panel = task_panel()
-        assert panel is not None, "no edit panel"
-        assert not panel["tolerance"].isEnabled() and not panel["deflection"].isEnabled()
-        shown = (panel["tolerance"].value(), panel["deflection"].value())
-        want = (medial.Tolerance.Value, medial.Deflection.Value)
-        assert max(abs(a - b) for a, b in zip(shown, want)) < 1e-6, (shown, want)
-        press(panel["cancel"])
-        assert task_panel() is None
-        plate.ViewObject.Transparency = 80
-        view = Gui.getDocument(doc.Name).ActiveView
-        view.viewIsometric()
-        view.fitAll()
-        Gui.updateGui()
-        view.saveImage(os.path.join(OUT, "mid-surface-plate.png"), 1000, 700, "White")
-        # one undo step takes both away, redo brings both back
-        doc.undo()
-        assert [o.Name for o in doc.Objects] == ["Plate"], [o.Name for o in doc.Objects]
-        doc.redo()
-        assert len(doc.Objects) == 3 and all(o.isValid() for o in doc.Objects)
-        # its medial surface shown too, saved and opened again: two legends, stacked
-        medial.ViewObject.Visibility = True
-        path = os.path.join(tempfile.mkdtemp(), "plate.FCStd")
-        doc.saveAs(path)
-        App.closeDocument(doc.Name)   # with its legends: quietly (no traceback in the log)
-        Gui.updateGui()
-        doc = App.openDocument(path)
-        Gui.updateGui()
-        legends = [o.ViewObject.Proxy.legend for o in doc.Objects
-                   if o.Name.startswith(("MidSurface", "MedialSurface"))]
-        assert len(legends) == 2, legends
-        assert sorted((lg.slot, lg.count) for lg in legends) == [(0, 2), (1, 2)], \
-            [(lg.slot, lg.count) for lg in legends]
-        App.closeDocument(doc.Name)
-        Gui.updateGui()
+@check("Mid-surface for FEM from a solid: a 40 x 30 x 2 plate selected, the panel, OK: "
+       "the shell at mid-thickness (z = 1), thickness 2, the document valid, one undo "
+       "step")
+def _():
+    import numpy as np
+    A, B, C = 40.0, 30.0, 2.0
+    doc = App.newDocument("MidFromSolid")
+    Gui.ActiveDocument = Gui.getDocument(doc.Name)
+    plate = doc.addObject("Part::Box", "Plate")
+    plate.Length, plate.Width, plate.Height = A, B, C
+    doc.recompute()
+    select([(plate, "")])
+    undo = doc.UndoCount
+    Gui.runCommand(MID)
+    panel = task_panel()
+    assert panel is not None, "no task panel"
+    assert panel["what"].text() == "Solid: Plate", panel["what"].text()
+    assert panel["tolerance"].isEnabled() and panel["deflection"].isEnabled()
+    tol = 0.005 * plate.Shape.BoundBox.DiagonalLength   # the offered default
+    assert abs(panel["tolerance"].value() - tol) < 1e-6, (panel["tolerance"].value(), tol)
+    tol = panel["tolerance"].value()
+    press(panel["ok"])
+    assert task_panel() is None, "OK left the panel open: " + panel["message"].text()
+    mids, medials = of_type(doc, "Mfgeom::MidSurface"), of_type(doc, "Mfgeom::MedialSurface")
+    assert len(mids) == 1 and len(medials) == 1, (mids, medials)
+    obj, medial = mids[0], medials[0]
+    assert obj.Source == medial and medial.Source == plate and medial.MajorOnly
+    assert abs(medial.Tolerance.Value - tol) < 1e-9, medial.Tolerance.Value
+    for o in doc.Objects:   # the document valid: no error objects, nothing left to do
+        assert o.isValid() and "Touched" not in o.State, (o.Name, o.State,
+                                                          o.getStatusString())
+    assert doc.UndoCount == undo + 1, (undo, doc.UndoCount)
+    assert "mfgeom.make_mid_surface(App.getDocument('MidFromSolid'), " \
+           "App.getDocument('MidFromSolid').getObject('Plate'), None, " in console_text()
+    # the shell: the plate's mid-plane z = C / 2 where the top and bottom faces are
+    # the nearest, the rectangle [C/2, A - C/2] x [C/2, B - C/2] (the major part)
+    shape = obj.Shape
+    assert shape.ShapeType in ("Shell", "Face") and shape.isValid(), shape.ShapeType
+    assert shape.Faces and not shape.Solids
+    for face in shape.Faces:
+        assert face.Surface.TypeId == "Part::GeomPlane", face.Surface.TypeId
+        for v in face.Vertexes:
+            assert abs(v.Point.z - C / 2) < 1e-6, v.Point
+    box = shape.BoundBox
+    for got, want in ((box.XMin, C / 2), (box.XMax, A - C / 2), (box.YMin, C / 2),
+                      (box.YMax, B - C / 2)):
+        assert abs(got - want) <= tol, (box, tol)
+    assert abs(shape.Area - (A - C) * (B - C)) <= 2 * tol * (A + B), shape.Area
+    # the thickness data: 2 everywhere
+    thick = np.array(obj.Thickness)
+    assert len(thick) == len(obj.ThicknessPoints) > 0
+    assert np.abs(thick - C).max() <= 2 * tol, (thick.min(), thick.max())
+    assert len(obj.FaceThickness) == len(shape.Faces)
+    for value in list(obj.FaceThickness) + [obj.MinThickness, obj.MaxThickness,
+                                            obj.MeanThickness]:
+        assert abs(value - C) <= 2 * tol, value
+    # the medial surface it was made from is hidden: one legend, the mid-surface's
+    assert not medial.ViewObject.Visibility and obj.ViewObject.Visibility
+    assert obj.ViewObject.DisplayMode == "Thickness"
+    assert obj.ViewObject.Proxy.sheets.triangle_count > 0
+    # one thickness (the radii differ by rounding only): one histogram bin, one colour
+    # (the ramp's middle) and one label on the legend and in the panel's words
+    assert len(obj.Histogram) == 2 and "100.0 %" in obj.Histogram[1], obj.Histogram
+    from mfgeom import palette
+    from mfgeom.gui.medial_panel import legend_text
+    colours = obj.ViewObject.Proxy.sheets.colours
+    assert np.abs(colours - palette.ramp_color(0.5)).max() < 1e-12, colours
+    assert obj.ViewObject.Proxy.legend.labels == ["2 mm"], \
+        obj.ViewObject.Proxy.legend.labels
+    assert legend_text(obj.MinThickness, obj.MaxThickness) == \
+        "Colour scale: one thickness, 2 mm"
+    # edited (double click): the tolerance and deflection shown are its medial
+    # surface's, read-only here
+    Gui.ActiveDocument.setEdit(obj.Name, 0)
+    panel = task_panel()
+    assert panel is not None, "no edit panel"
+    assert not panel["tolerance"].isEnabled() and not panel["deflection"].isEnabled()
+    shown = (panel["tolerance"].value(), panel["deflection"].value())
+    want = (medial.Tolerance.Value, medial.Deflection.Value)
+    assert max(abs(a - b) for a, b in zip(shown, want)) < 1e-6, (shown, want)
+    press(panel["cancel"])
+    assert task_panel() is None
+    plate.ViewObject.Transparency = 80
+    view = Gui.getDocument(doc.Name).ActiveView
+    view.viewIsometric()
+    view.fitAll()
+    Gui.updateGui()
+    view.saveImage(os.path.join(OUT, "mid-surface-plate.png"), 1000, 700, "White")
+    # one undo step takes both away, redo brings both back
+    doc.undo()
+    assert [o.Name for o in doc.Objects] == ["Plate"], [o.Name for o in doc.Objects]
+    doc.redo()
+    assert len(doc.Objects) == 3 and all(o.isValid() for o in doc.Objects)
+    # its medial surface shown too, saved and opened again: two legends, stacked
+    medial.ViewObject.Visibility = True
+    path = os.path.join(tempfile.mkdtemp(), "plate.FCStd")
+    doc.saveAs(path)
+    App.closeDocument(doc.Name)   # with its legends: quietly (no traceback in the log)
+    Gui.updateGui()
+    doc = App.openDocument(path)
+    Gui.updateGui()
+    legends = [o.ViewObject.Proxy.legend for o in doc.Objects
+               if o.Name.startswith(("MidSurface", "MedialSurface"))]
+    assert len(legends) == 2, legends
+    assert sorted((lg.slot, lg.count) for lg in legends) == [(0, 2), (1, 2)], \
+        [(lg.slot, lg.count) for lg in legends]
+    App.closeDocument(doc.Name)
+    Gui.updateGui()
 
 
 finish("freecad-gui-medial")

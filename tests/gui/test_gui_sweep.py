@@ -33,26 +33,6 @@ A, B, C = 2.0, 3.0, 4.0
 dialogs = DialogCloser()
 
 
-def _library_sweeps():
-    """False while mfg_rotational_sweep is a stub (before the algorithm lands): then the
-    create step checks the panel's error path and the result checks are left out."""
-    import numpy as np
-    from mfgeom import core
-    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]])
-    t = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
-    try:
-        core.rotational_sweep(v, t, (5, 0, 0), (0, 0, 1), 0.5, 0.01)
-    except core.MfgError as exc:
-        if "not implemented" in str(exc):
-            return False
-        raise
-    return True
-
-
-SWEEPS = _library_sweeps()
-print(f"sweep library: {'sweeps' if SWEEPS else 'stub (not implemented yet)'}")
-
-
 def task_panel():
     """The open sweep panel's widgets by object name, and the task view's buttons."""
     _, QtGui = qt()
@@ -139,10 +119,6 @@ def _():
     assert d == [0.0, 0.0, 1.0] and not panel["dz"].isEnabled(), d
     panel["angle"].setValue(90.0)
     panel["tolerance"].setValue(0.1)   # Solid below: OCCT takes ~0.4 ms per triangle
-    if not SWEEPS:   # the stub's recompute error would print a traceback: cancel
-        press(panel["cancel"])
-        assert task_panel() is None and sweeps(doc) == [] and doc.UndoCount == undo
-        return
     press(panel["ok"])
     left = task_panel()
     assert left is None, "OK left the panel open: " + (left["message"].text() if left else "")
@@ -163,119 +139,114 @@ def _():
     state["obj"] = obj
 
 
-if SWEEPS:
-    @check("double click edits: Solid on Apply, a zero direction is refused")
-    def _():
-        obj = state["obj"]
-        vobj = obj.ViewObject
-        vobj.Proxy.doubleClicked(vobj)
-        panel = task_panel()
-        assert panel is not None, "double click opened no panel"
-        assert "Volume" in panel["result"].text(), panel["result"].text()
-        undo = obj.Document.UndoCount
-        from mfgeom import core
-        flat = core.mesh_check(*obj.Proxy.last_mesh).degenerate_triangles
-        if flat:
-            # The library's first version leaves zero-area triangles, which OCCT takes for
-            # self-intersecting wires: Solid is refused with a recompute error (and its
-            # traceback in the log), so it is not tried here (test_sweep_app.py is).
-            print(f"NOTE: Solid not tried: the swept mesh has {flat} zero-area triangles")
-            undo -= 1   # nothing to undo below
-        else:
-            panel["representation"].setCurrentIndex(1)
-            press(panel["apply"])
-            assert obj.Representation == "Solid" and obj.isValid(), obj.getStatusString()
-            assert obj.Shape.isValid() and len(obj.Shape.Solids) == 1
-            assert abs(obj.Shape.Volume / obj.Volume - 1) < 1e-6
-            assert vobj.DisplayMode == "Flat Lines", vobj.DisplayMode
-            assert obj.Document.UndoCount == undo + 1
-        # a custom axis with a zero direction: the message, the sweep unchanged
-        volume = obj.Volume
-        panel["axis"].setCurrentIndex(panel["axis"].findData("custom"))
-        for c in "xyz":
-            panel[f"d{c}"].setValue(0.0)
+@check("double click edits: Solid on Apply, a zero direction is refused")
+def _():
+    obj = state["obj"]
+    vobj = obj.ViewObject
+    vobj.Proxy.doubleClicked(vobj)
+    panel = task_panel()
+    assert panel is not None, "double click opened no panel"
+    assert "Volume" in panel["result"].text(), panel["result"].text()
+    undo = obj.Document.UndoCount
+    from mfgeom import core
+    flat = core.mesh_check(*obj.Proxy.last_mesh).degenerate_triangles
+    if flat:
+        # The library's first version leaves zero-area triangles, which OCCT takes for
+        # self-intersecting wires: Solid is refused with a recompute error (and its
+        # traceback in the log), so it is not tried here (test_sweep_app.py is).
+        print(f"NOTE: Solid not tried: the swept mesh has {flat} zero-area triangles")
+        undo -= 1   # nothing to undo below
+    else:
+        panel["representation"].setCurrentIndex(1)
         press(panel["apply"])
-        assert "direction is zero" in panel["message"].text(), panel["message"].text()
-        assert obj.isValid() and obj.Volume == volume and obj.AxisObject is not None
+        assert obj.Representation == "Solid" and obj.isValid(), obj.getStatusString()
+        assert obj.Shape.isValid() and len(obj.Shape.Solids) == 1
+        assert abs(obj.Shape.Volume / obj.Volume - 1) < 1e-6
+        assert vobj.DisplayMode == "Flat Lines", vobj.DisplayMode
         assert obj.Document.UndoCount == undo + 1
-        press(panel["cancel"])
-        assert task_panel() is None
-        if obj.Representation == "Solid":
-            obj.Document.undo()   # back to Mesh
-            obj.Document.recompute()
-        assert obj.Representation == "Mesh" and obj.isValid()
-        Gui.updateGui()
-        assert vobj.DisplayMode == "Mesh", vobj.DisplayMode
+    # a custom axis with a zero direction: the message, the sweep unchanged
+    volume = obj.Volume
+    panel["axis"].setCurrentIndex(panel["axis"].findData("custom"))
+    for c in "xyz":
+        panel[f"d{c}"].setValue(0.0)
+    press(panel["apply"])
+    assert "direction is zero" in panel["message"].text(), panel["message"].text()
+    assert obj.isValid() and obj.Volume == volume and obj.AxisObject is not None
+    assert obj.Document.UndoCount == undo + 1
+    press(panel["cancel"])
+    assert task_panel() is None
+    if obj.Representation == "Solid":
+        obj.Document.undo()   # back to Mesh
+        obj.Document.recompute()
+    assert obj.Representation == "Mesh" and obj.isValid()
+    Gui.updateGui()
+    assert vobj.DisplayMode == "Mesh", vobj.DisplayMode
 
 
-if SWEEPS:
-    @check("screenshot")
-    def _():
-        os.makedirs(OUT, exist_ok=True)
-        view = Gui.ActiveDocument.ActiveView
-        view.viewIsometric()
-        view.fitAll()
-        Gui.updateGui()
-        path = os.path.join(OUT, "sweep.png")
-        view.saveImage(path, 1000, 700, "White")
-        assert os.path.getsize(path) > 5000
-        state["image"] = path
+@check("screenshot")
+def _():
+    os.makedirs(OUT, exist_ok=True)
+    view = Gui.ActiveDocument.ActiveView
+    view.viewIsometric()
+    view.fitAll()
+    Gui.updateGui()
+    path = os.path.join(OUT, "sweep.png")
+    view.saveImage(path, 1000, 700, "White")
+    assert os.path.getsize(path) > 5000
+    state["image"] = path
 
 
-if SWEEPS:
-    @check("make function echoed in the Python console")
-    def _():
-        _, QtGui = qt()
-        mw = Gui.getMainWindow()
-        texts = [w.toPlainText() for w in mw.findChildren(QtGui.QPlainTextEdit)
-                 + mw.findChildren(QtGui.QTextEdit) if w.objectName() == "Python console"]
-        call = ("mfgeom.make_rotational_sweep(App.getDocument('SweepGui'), "
-                "App.getDocument('SweepGui').getObject('Box'), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), "
-                "90.0, 0.1, deflection=0.01, axis=(App.getDocument('SweepGui').getObject('Box'), "
-                "'Edge1'))")
-        assert texts and call in texts[0], texts[0][-600:] if texts else "no console"
+@check("make function echoed in the Python console")
+def _():
+    _, QtGui = qt()
+    mw = Gui.getMainWindow()
+    texts = [w.toPlainText() for w in mw.findChildren(QtGui.QPlainTextEdit)
+             + mw.findChildren(QtGui.QTextEdit) if w.objectName() == "Python console"]
+    call = ("mfgeom.make_rotational_sweep(App.getDocument('SweepGui'), "
+            "App.getDocument('SweepGui').getObject('Box'), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), "
+            "90.0, 0.1, deflection=0.01, axis=(App.getDocument('SweepGui').getObject('Box'), "
+            "'Edge1'))")
+    assert texts and call in texts[0], texts[0][-600:] if texts else "no console"
 
 
-if SWEEPS:
-    @check("undo removes the sweep, redo brings it back")
-    def _():
-        doc = state["doc"]
-        doc.undo()
-        assert sweeps(doc) == [], sweeps(doc)
-        doc.redo()
-        assert len(sweeps(doc)) == 1 and sweeps(doc)[0].isValid()
+@check("undo removes the sweep, redo brings it back")
+def _():
+    doc = state["doc"]
+    doc.undo()
+    assert sweeps(doc) == [], sweeps(doc)
+    doc.redo()
+    assert len(sweeps(doc)) == 1 and sweeps(doc)[0].isValid()
 
 
 
-if SWEEPS:
-    @check("only the solid selected: a global axis through an edited point")
-    def _():
-        doc, box = state["doc"], state["box"]
-        Gui.Selection.clearSelection()
-        Gui.Selection.addSelection(box)
-        before = sweeps(doc)
-        Gui.runCommand(COMMAND)
-        panel = task_panel()
-        assert panel is not None, "no task panel"
-        assert panel["axis"].currentData() == "Z" and panel["axis"].findData("object") < 0
-        panel["axis"].setCurrentIndex(panel["axis"].findData("X"))
-        assert [panel[f"d{c}"].value() for c in "xyz"] == [1.0, 0.0, 0.0]
-        assert panel["py"].isEnabled() and not panel["dx"].isEnabled()
-        # the box's top back edge along x (y = B, z = C); the library's first version
-        # leaves the swept surface open about the bottom one (y = B, z = 0)
-        panel["py"].setValue(B)
-        panel["pz"].setValue(C)
-        panel["angle"].setValue(90.0)
-        press(panel["ok"])
-        assert task_panel() is None, "OK left the panel open"
-        new = [o for o in sweeps(doc) if o not in before]
-        assert len(new) == 1 and new[0].isValid(), new
-        obj = new[0]
-        assert obj.AxisObject is None
-        assert (obj.AxisPoint.y, obj.AxisPoint.z, obj.AxisDirection.x) == (B, C, 1.0)
-        # about the box's A edge: the B x C section turns about its corner
-        exact = A * (B * C + (B * B + C * C) * math.pi / 4)
-        assert abs(obj.Volume - exact) <= 0.01 * obj.Area, (obj.Volume, exact)
+@check("only the solid selected: a global axis through an edited point")
+def _():
+    doc, box = state["doc"], state["box"]
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(box)
+    before = sweeps(doc)
+    Gui.runCommand(COMMAND)
+    panel = task_panel()
+    assert panel is not None, "no task panel"
+    assert panel["axis"].currentData() == "Z" and panel["axis"].findData("object") < 0
+    panel["axis"].setCurrentIndex(panel["axis"].findData("X"))
+    assert [panel[f"d{c}"].value() for c in "xyz"] == [1.0, 0.0, 0.0]
+    assert panel["py"].isEnabled() and not panel["dx"].isEnabled()
+    # the box's top back edge along x (y = B, z = C); the library's first version
+    # leaves the swept surface open about the bottom one (y = B, z = 0)
+    panel["py"].setValue(B)
+    panel["pz"].setValue(C)
+    panel["angle"].setValue(90.0)
+    press(panel["ok"])
+    assert task_panel() is None, "OK left the panel open"
+    new = [o for o in sweeps(doc) if o not in before]
+    assert len(new) == 1 and new[0].isValid(), new
+    obj = new[0]
+    assert obj.AxisObject is None
+    assert (obj.AxisPoint.y, obj.AxisPoint.z, obj.AxisDirection.x) == (B, C, 1.0)
+    # about the box's A edge: the B x C section turns about its corner
+    exact = A * (B * C + (B * B + C * C) * math.pi / 4)
+    assert abs(obj.Volume - exact) <= 0.01 * obj.Area, (obj.Volume, exact)
 
 
 finish("freecad-gui-sweep")

@@ -3,8 +3,8 @@
 (mfgeom.medialio).  Bad input must give exit code 2, one line {"error": ...} on stderr
 naming the problem, nothing on stdout and no output file.  The formats are checked on a
 hand-made MedialSurface (no library needed): the JSON document, the PLY header and rows
-(per-vertex radius, per-face sheet) and the OBJ groups; once the library's extraction is
-built, a run on a cuboid must print / write exactly what core.medial_surface returns."""
+(per-vertex radius, per-face sheet) and the OBJ groups; a run on a cuboid must print /
+write exactly what core.medial_surface returns."""
 
 import json
 import math
@@ -47,20 +47,6 @@ def failed(args, *words):
     for w in words:
         assert w in message, message
     return message
-
-
-def built():
-    try:
-        core.medial_surface(*box_mesh(*BOX), 1.0)
-    except core.MfgError as exc:
-        if "not built yet" in exc.detail:
-            return False
-        raise
-    return True
-
-
-needs_extraction = pytest.mark.skipif("not built()", reason="the library's medial surface "
-                                      "extraction is not built yet")
 
 
 @pytest.fixture
@@ -130,12 +116,6 @@ def test_unwritable_output_fails_before_the_work(tmp_path, box_stl, opt, name):
     target = tmp_path / "no_dir" / name
     failed(["medial-surface", box_stl, "--tolerance", 1, opt, target], "cannot write",
            name, opt, "no directory")
-
-
-def test_not_built_yet_is_an_error(box_stl):
-    if built():
-        pytest.skip("the extraction is built")
-    failed(["medial-surface", box_stl, "--tolerance", 1], str(box_stl), "not built yet")
 
 
 # ---- formats on a hand-made result ---------------------------------------------------------
@@ -249,9 +229,8 @@ def test_unwritable_ply(tmp_path):
         medialio.write_ply(tmp_path / "no_dir" / "m.ply", fake_medial())
 
 
-# ---- a real run (needs the extraction) -------------------------------------------------------
+# ---- a real run ------------------------------------------------------------------------------
 
-@needs_extraction
 def test_cuboid_run(tmp_path, box_stl):
     ply, report = tmp_path / "m.ply", tmp_path / "m.json"
     rc, summary, err = run(["medial-surface", box_stl, "--tolerance", 1, "--threads", 1,
@@ -274,7 +253,6 @@ def test_cuboid_run(tmp_path, box_stl):
     assert np.allclose(verts[:, 2], 10.0) and np.allclose(verts[:, 3], 10.0)
 
 
-@needs_extraction
 def test_full_to_stdout(box_stl):
     rc, doc, err = run(["medial-surface", box_stl, "--tolerance", 1, "--full"])
     assert rc == 0, err

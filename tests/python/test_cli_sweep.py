@@ -35,20 +35,6 @@ def run(args):
     return proc.returncode, out, proc.stderr
 
 
-def algorithm_landed():
-    v, t = box_mesh()
-    try:
-        core.rotational_sweep(v, t, (0, 0, 0), (0, 0, 1), 1.0, 0.1)
-    except core.MfgError as exc:
-        if "not implemented" in str(exc):
-            return False
-        raise
-    return True
-
-
-needs_algorithm = pytest.mark.skipif(not algorithm_landed(),
-                                     reason="the sweep algorithm has not landed yet")
-
 A, B, C = 2.0, 1.0, 1.5          # box about its edge on the z axis
 
 
@@ -111,7 +97,6 @@ def test_bad_files(tmp_path, box_stl):
     assert not out.exists()
 
 
-@needs_algorithm
 def test_unwritable_output(tmp_path, box_stl):
     failed(sweep_args(box_stl, tmp_path / "no_dir" / "out.stl"), "no_dir", "cannot write")
     failed(sweep_args(box_stl, tmp_path / "out.stl") + ["--json", tmp_path / "no_dir" / "r.json"],
@@ -124,7 +109,6 @@ def test_usage_errors(box_stl):
             "--angle", "90", "--tolerance", "1e-3", "-o", "x.stl"], "--axis-point")
 
 
-@needs_algorithm
 @pytest.mark.parametrize("out_name, extra", [("out.stl", []), ("out.obj", []),
                                               ("out.stl", ["--ascii"])])
 def test_box_about_an_edge(tmp_path, box_stl, out_name, extra):
@@ -160,7 +144,6 @@ def test_box_about_an_edge(tmp_path, box_stl, out_name, extra):
     assert np.allclose(np.array(doc["bbox"]), rep.bbox, atol=1e-6)
 
 
-@needs_algorithm
 def test_360_degrees_is_the_full_turn(tmp_path):
     v, t = box_mesh((1.0, -0.5, 0.0), (2.0, 0.5, 1.0))
     src = tmp_path / "box.obj"
@@ -173,7 +156,6 @@ def test_360_degrees_is_the_full_turn(tmp_path):
     assert abs(doc["volume"] - annulus) <= 1.05 * 1e-2 * doc["area"]
 
 
-@needs_algorithm
 def test_binary_stl_of_a_finer_result_is_still_closed(tmp_path, box_stl):
     """Binary STL keeps float32 coordinates: vertices of the result closer than float32
     resolution (~1e-7 relative) collapse on reading and leave triangles with a repeated
@@ -189,8 +171,4 @@ def test_binary_stl_of_a_finer_result_is_still_closed(tmp_path, box_stl):
     what = (f"after float32 rounding: {rep.boundary_edges} boundary and {rep.nonmanifold_edges} "
             f"non-manifold edges, {collapsed} of {rep.ntriangles} triangles with a repeated "
             "vertex")
-    # a known gap of issue 8 (README): vertices closer than float32's step merge
-    if ok or os.environ.get("MFG_SWEEP_STRICT", "") not in ("", "0"):
-        assert ok, what
-    else:
-        pytest.xfail("known gap of issue 8: " + what)
+    assert ok, what

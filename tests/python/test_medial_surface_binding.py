@@ -1,8 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """core.medial_surface (issue 9): the binding's argument handling and the library's
 refusals, which come through MfgError with their detail; the conversion of a result into
-MedialSurface on the L-bracket and a cuboid once the extraction is built (skipped while the
-library still reports "not built yet").  The geometry itself is test_medial_surface.py's
+MedialSurface on the L-bracket and a cuboid.  The geometry itself is test_medial_surface.py's
 (against the oracle)."""
 
 import ctypes
@@ -37,17 +36,6 @@ def medial_error(v=V, t=T, tol=TOL, **kw):
     with pytest.raises(MfgError) as info:
         core.medial_surface(v, t, tol, **kw)
     return info.value
-
-
-def built():
-    """True once the library's extraction exists (it reports "not built yet" before)."""
-    try:
-        core.medial_surface(V, T, TOL)
-    except MfgError as exc:
-        if "not built yet" in exc.detail:
-            return False
-        raise
-    return True
 
 
 # ---- refusals: the library checks its input before anything else ------------------------
@@ -147,10 +135,7 @@ def test_argument_types():
         core.medial_surface(V, T[:, :2], TOL)
 
 
-# ---- conversion of a result (needs the extraction) ---------------------------------------
-
-needs_extraction = pytest.mark.skipif("not built()", reason="the library's medial surface "
-                                      "extraction is not built yet")
+# ---- conversion of a result ---------------------------------------------------------------
 
 
 def check_result(m, v, t):
@@ -191,7 +176,6 @@ def check_result(m, v, t):
     assert m.cells_visited >= m.leaves >= 0 and m.leaf_size > 0
 
 
-@needs_extraction
 def test_cuboid_result():
     m = core.medial_surface(V, T, TOL)
     check_result(m, V, T)
@@ -204,7 +188,6 @@ def test_cuboid_result():
     assert len(m.junctions) == 4 and np.allclose(m.junctions.radii, 10.0)
 
 
-@needs_extraction
 def test_l_bracket_result_and_full():
     v, t = l_bracket()
     major = core.medial_surface(v, t, 0.5, threads=1)

@@ -47,28 +47,30 @@ SLACK = 1.05
 # gaps"): the explicit refusal (MFG_ERR_INTERNAL, never an open surface) on some skew
 # axes, planar faces of the result a cell's size off the input's planes, self-intersecting
 # slivers, zero-area triangles, a dependence on triangle order within the tolerance, float32
-# STL.  By default a test that meets one is reported XFAIL with the gap named;
-# MFG_SWEEP_STRICT=1 makes them failures (the same switch as test_rotsweep.c).
+# STL.  A test that meets one records it in GAPS (named) and ends; the ratchet
+# test_known_gaps_do_not_grow (the last of this file) fails when more than MAX_GAPS were
+# met.  MFG_SWEEP_STRICT=1 makes every gap a failure (the same switch as test_rotsweep.c).
 STRICT = os.environ.get("MFG_SWEEP_STRICT", "") not in ("", "0")
+# The ratchet: the known gaps this file meets today (self-intersecting slivers of three
+# cases of test_no_self_intersection).  This number may only go down: lower it when a gap
+# is closed, never raise it.
+MAX_GAPS = 3
+GAPS = []   # (test, what) of every gap met in this run
 
 
 def gap_check(ok, what):
-    """Asserts ok; a known gap of issue 8 is an xfail unless MFG_SWEEP_STRICT=1."""
+    """Asserts ok; a known gap of issue 8 is recorded for the ratchet (a failure with
+    MFG_SWEEP_STRICT=1)."""
     if ok:
         return
     if STRICT:
         raise AssertionError(what)
-    pytest.xfail("known gap of issue 8: " + what)
+    GAPS.append((os.environ.get("PYTEST_CURRENT_TEST", "?").split(" ")[0], what))
 
 
 def sweep(v, t, point, direction, angle, tol):
-    """core.rotational_sweep; the library's explicit refusal is a known gap."""
-    try:
-        return core.rotational_sweep(v, t, point, direction, angle, tol)
-    except MfgError as exc:
-        if "could not be made a closed 2-manifold" in str(exc):
-            gap_check(False, str(exc))
-        raise
+    """core.rotational_sweep (its refusal, MfgError, fails the test)."""
+    return core.rotational_sweep(v, t, point, direction, angle, tol)
 
 
 # --------------------------------------------------------------------------- #
@@ -1090,3 +1092,14 @@ def test_tessellated_torus(nu, nv, deg, most):
     p, got, want = membership(res, (v, t), point, direction, theta, tol, n=1500)
     assert len(p) > 1000 and 0 < want.sum() < len(p)
     assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
+
+
+def test_known_gaps_do_not_grow(capsys):
+    """The ratchet on the known gaps met above (gap_check): at most MAX_GAPS, a number
+    that may only go down.  Prints the current count and the gaps."""
+    with capsys.disabled():
+        print(f"\nknown gaps of issue 8 in test_sweep.py: {len(GAPS)} (at most {MAX_GAPS})")
+        for test, what in GAPS:
+            print(f"  known gap: {test}: {what}")
+    assert len(GAPS) <= MAX_GAPS, (
+        f"{len(GAPS)} known gaps met, more than the {MAX_GAPS} allowed: {GAPS}")
