@@ -64,7 +64,7 @@ ANGLE_STATS, RAY_STATS = [], []   # |reported - sampled| per face checked (rad; 
 # ANGLE_FACES_PER_PART faces, a lattice of ANGLE_GRID^2 (u, v) and ANGLE_EDGE_POINTS per
 # edge.  ANGLE_SLACK: how far below the sampled worst the reported one may lie besides
 # the face's shrink and the lattice's resolution: the Gaussian map's bound of a B-spline
-# face is wider than its true normals by up to 3.4e-3 rad (README, tested on 15 face
+# face is wider than its true normals by up to 3.4e-3 rad (docs/parting.md; tested on 15 face
 # kinds), rounded up to 4e-3.
 ANGLE_FACES_PER_PART = 16
 ANALYTIC = ("Plane", "Cylinder", "Cone", "Sphere", "Toroid")
@@ -248,7 +248,7 @@ class PartRun:
             rep = float(r.face_angle[f])
             slack = ANGLE_SLACK + faces[f].shrink + step
             # a control-net bound (B-spline etc., shrink 0) is tight only for the
-            # directions that see the face (it is refined for those: README); from
+            # directions that see the face (it is refined for those: docs/parting.md); from
             # where the face is an undercut it is only conservative
             net = faces[f].shrink == 0 and type(face.Surface).__name__ not in ANALYTIC
             fits = []

@@ -43,8 +43,8 @@ SLACK = 1.05
 # Calling the sweep                                                          #
 # --------------------------------------------------------------------------- #
 
-# Issue 8 requirements the algorithm does not meet yet (README, "Rotational sweep: known
-# gaps"): the explicit refusal (MFG_ERR_INTERNAL, never an open surface) on some skew
+# Issue 8 requirements the algorithm does not meet yet (docs/known-gaps.md, "Rotational
+# sweep"): the explicit refusal (MFG_ERR_INTERNAL, never an open surface) on some skew
 # axes, planar faces of the result a cell's size off the input's planes, self-intersecting
 # slivers, zero-area triangles, a dependence on triangle order within the tolerance, float32
 # STL.  A test that meets one records it in GAPS (named) and ends; the ratchet

@@ -12,11 +12,12 @@
 #include "mfg_test.h"
 
 /*
- * Issue 8 requirements the algorithm does not meet yet (README, "Rotational sweep: known
- * gaps"): an explicit MFG_ERR_INTERNAL refusal on some skew axes, input points up to the
+ * Issue 8 requirements the algorithm does not meet yet (docs/known-gaps.md, "Rotational
+ * sweep"): an explicit MFG_ERR_INTERNAL refusal on some skew axes, input points up to the
  * tolerance outside the result, self-intersecting slivers, caps not exactly at the input's
- * heights.  By default each is counted and reported as a KNOWN GAP line instead of failing
- * the suite; MFG_SWEEP_STRICT=1 makes them failures again.  Everything else (closed
+ * heights.  By default each is counted and reported as a KNOWN GAP line; the count may not
+ * exceed the family's ratchet (gap_ratchet, above main) and MFG_SWEEP_STRICT=1 makes every
+ * one a failure.  Everything else (closed
  * results, stats, volumes, membership, invariance) always fails the suite.
  */
 static long known_gaps;
@@ -1256,7 +1257,7 @@ static void check_oracle(const sweep_case *c, const mfg_mesh *m, const double bo
     CHECK(bad_in == 0);
     CHECK(bad_out == 0);
     /* points of SV less than 2 tol deep outside the result: the known gap that
-     * check_conservative reports for the input's own surface (README, "Conservative") */
+     * check_conservative reports for the input's own surface (docs/design/sweep.md) */
     GAP_CHECK(nonconservative == 0);
     CHECK(n_in > 0 && n_out > 0);
     if (bad_in || bad_out || nonconservative)
@@ -2096,10 +2097,21 @@ static void test_merged_faces(void)
     tmesh_free(&lin);
 }
 
+/* The known gaps are a ratchet: the most each family may meet today (docs/known-gaps.md,
+ * "Rotational sweep").  These numbers may only go down: a new gap fails the family, and
+ * when a fix removes gaps, lower the number to what the run prints. */
+static const struct { const char *family; long max_gaps; } gap_ratchet[] = {
+    {"references", 0}, {"analytic", 8}, {"oracle", 24}, {"invariance", 16}, {"faces", 0},
+};
+
 int main(int argc, char **argv)
 {
     /* "references", "analytic", "oracle", "invariance" or "faces" runs one family (one ctest each); none: all */
     const char *only = argc > 1 ? argv[1] : "";
+    long max_gaps = 0;
+    for (size_t i = 0; i < sizeof gap_ratchet / sizeof gap_ratchet[0]; i++)
+        if (!only[0] || !strcmp(only, gap_ratchet[i].family))
+            max_gaps += gap_ratchet[i].max_gaps;
     if (!only[0] || !strcmp(only, "references"))
         test_references();
     if (!only[0] || !strcmp(only, "analytic"))
@@ -2111,7 +2123,8 @@ int main(int argc, char **argv)
     if (!only[0] || !strcmp(only, "faces"))
         test_merged_faces();
     printf("exact orient3d fallbacks: %ld\n", n_exact);
-    if (known_gaps)
-        printf("known gaps of issue 8 (reported, not failed; MFG_SWEEP_STRICT=1 fails them): %ld\n", known_gaps);
+    printf("known gaps: %ld (at most %ld; MFG_SWEEP_STRICT=1 fails every one)\n", known_gaps,
+           max_gaps);
+    CHECK(known_gaps <= max_gaps);
     return mfg_test_report("test_rotsweep");
 }
