@@ -12,6 +12,7 @@ import FreeCADGui
 
 from mfgeom import building, core
 from mfgeom.errors import LibraryError
+from mfgeom.gui import messages
 
 TITLE = "Manufacturing Geometry"
 AUTO_CLOSE = False                 # tests: close the build dialog as soon as the build ends
@@ -24,10 +25,9 @@ def _qt():
 
 
 def show_message(title, text):
-    """A warning box (and the same text in the Report view)."""
-    _QtCore, QtGui = _qt()
-    FreeCAD.Console.PrintWarning(f"mfgeom: {text}\n")
-    QtGui.QMessageBox.warning(FreeCADGui.getMainWindow(), title, text)
+    """A warning box (and the same text in the Report view): :func:`messages.warn`, under
+    a name of its own here so that tests can answer this module's dialogs."""
+    messages.warn(title, text)
 
 
 def ask_build(text):
