@@ -51,33 +51,15 @@
 typedef struct { double *v; int64_t n, cap; } dvec;
 typedef struct { int64_t *v; int64_t n, cap; } ivec;
 
-static inline int dvec_push(dvec *a, double x)
-{
-    if (a->n == a->cap) {
-        int64_t c = a->cap ? 2 * a->cap : 64;
-        double *p = realloc(a->v, (size_t)c * sizeof *p);
-        if (!p)
-            return 0;
-        a->v = p;
-        a->cap = c;
-    }
-    a->v[a->n++] = x;
-    return 1;
-}
+/* Appends x to the growable array a (dvec or ivec) through mfg_grow: 1, or 0 when memory runs
+ * out (a unchanged). */
+#define MA_VEC_PUSH(a, x)                                                                  \
+    (mfg_grow((void **)&(a)->v, &(a)->cap, (a)->n + 1, sizeof *(a)->v)                     \
+         ? ((a)->v[(a)->n++] = (x), 1)                                                     \
+         : 0)
 
-static inline int ivec_push(ivec *a, int64_t x)
-{
-    if (a->n == a->cap) {
-        int64_t c = a->cap ? 2 * a->cap : 64;
-        int64_t *p = realloc(a->v, (size_t)c * sizeof *p);
-        if (!p)
-            return 0;
-        a->v = p;
-        a->cap = c;
-    }
-    a->v[a->n++] = x;
-    return 1;
-}
+static inline int dvec_push(dvec *a, double x) { return MA_VEC_PUSH(a, x); }
+static inline int ivec_push(ivec *a, int64_t x) { return MA_VEC_PUSH(a, x); }
 
 /* ---- the boundary elements ------------------------------------------------------- */
 typedef struct {
@@ -160,6 +142,29 @@ typedef struct {
      * reflex vertex (MA_PL, MA_PP), for which r = |p - f|. */
     double p0x, p0y, p1x, p1y, p2x, p2y, r0c, r1c, r2c, fpx, fpy;
 } ma_bis;
+
+/* Named tolerances (the values of the single-file medial_axis.c); those with "diag" are
+ * relative to the boundary's bounding-box diagonal (ma_elems.diag). */
+/* The BVH's bounds are padded by this (diag): rounding of boxes and capsules. */
+#define MA_EPS_PAD 1e-10
+/* A junction gathers the elements within this (diag) of its disc: they touch it to
+ * rounding (~1e-15 diag); wider picks up near elements that do not touch. */
+#define MA_EPS_GATHER 1e-11
+/* An arriving trace finds its junction within this (diag), a grazing element's near-double
+ * root being less precise; also the radius above which a corner's end is not a leaf. */
+#define MA_EPS_ARRIVE 1e-6
+/* The crossing check: two boundary segments nearer than this (diag) touch. */
+#define MA_EPS_TOUCH 1e-9
+/* The step (diag) a trace takes past a window transition to see which side it is on. */
+#define MA_EPS_STEP 1e-9
+/* Two unit normals: their difference's squared length below this is no difference. */
+#define MA_EPS_NORMAL2 1e-24
+/* Two edges are parallel when the cross product of their unit normals is below this. */
+#define MA_EPS_PARALLEL 1e-12
+/* Relative rounding of a capsule radius (a sum of a few products). */
+#define MA_EPS_ROUND 1e-12
+/* A positive floor for a length that is divided by or must not be zero. */
+#define MA_TINY 1e-300
 
 enum { TR_LEAF, TR_EVENT, TR_NOMEM, TR_STUCK, TR_BADPAIR, TR_MISSED };
 

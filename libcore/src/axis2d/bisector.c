@@ -84,11 +84,11 @@ void ma_bis_make(const ma_elems *E, ma_bis *b, int64_t e1, int64_t e2, double Px
         double f = (Px - E->ax[e1]) * n1x + (Py - E->ay[e1]) * n1y -
                    (Px - E->ax[e2]) * n2x - (Py - E->ay[e2]) * n2y;
         double gx = n1x - n2x, gy = n1y - n2y, g2 = gx * gx + gy * gy;
-        if (g2 > 1e-24)
+        if (g2 > MA_EPS_NORMAL2)
             Px -= f * gx / g2, Py -= f * gy / g2;
         b->Px = Px, b->Py = Py;
         b->r0 = (Px - E->ax[e1]) * n1x + (Py - E->ay[e1]) * n1y;
-        if (fabs(det) < 1e-12) { /* parallel edges: the midline, r constant */
+        if (fabs(det) < MA_EPS_PARALLEL) { /* parallel edges: the midline, r constant */
             double ux = -n1y, uy = n1x;
             if (ux * dx + uy * dy < 0)
                 ux = -ux, uy = -uy;
@@ -167,8 +167,8 @@ double ma_bis_max_step(const ma_bis *b, double t, double tol)
     double x, y, r;
     ma_bis_at(b, t, &x, &y, &r);
     double hh = fabs((x - b->v1x) * -b->dy + (y - b->v1y) * b->dx);
-    if (hh < 1e-300)
-        hh = 1e-300;
+    if (hh < MA_TINY)
+        hh = MA_TINY;
     return sqrt(2 * tol * hh);
 }
 

@@ -27,7 +27,7 @@ static void cap_fit(const double *P, const double *R, int k, double *cap)
     }
     cap[0] = cx + smin * ux, cap[1] = cy + smin * uy;
     cap[2] = cx + smax * ux, cap[3] = cy + smax * uy;
-    cap[4] = rho * (1 + 1e-12) + 1e-300;
+    cap[4] = rho * (1 + MA_EPS_ROUND) + MA_TINY;
 }
 
 static int64_t bvh_node(ma_bvh *T, int64_t lo, int64_t hi)

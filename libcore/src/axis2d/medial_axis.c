@@ -78,9 +78,17 @@ mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets, int64_
 #define AXIS_EVERY_EDGES 16384
 #define AXIS_EVERY_BRANCHES 32
 
-mfg_status mfg_medial_axis_p(const double *xy, const int64_t *ring_offsets, int64_t nrings,
-                             double tol, struct mfg_medial_axis **out,
-                             const mfg_progress *progress)
+/* The cleaned rings: vertices (vx, vy), each one's index in the caller's xy (vo), ring r
+ * at [roff[r], roff[r + 1]), nv vertices in nrings rings. */
+typedef struct {
+    double *vx, *vy;
+    int64_t *vo, *roff;
+    int64_t nv, nrings;
+} ma_rings;
+
+/* The argument checks of mfg_medial_axis_p, in its order of messages. */
+static mfg_status check_axis_args(const double *xy, const int64_t *ring_offsets, int64_t nrings,
+                                  double tol, struct mfg_medial_axis **out)
 {
     if (!out)
         return mfg_fail(MFG_ERR_NULL, "out is NULL");
@@ -113,17 +121,17 @@ mfg_status mfg_medial_axis_p(const double *xy, const int64_t *ring_offsets, int6
             return mfg_fail(MFG_ERR_INVALID,
                             "vertex %lld is NaN, infinite or out of range: (%g, %g)",
                             (long long)k, xy[2 * k], xy[2 * k + 1]);
+    return MFG_OK;
+}
 
-    mfg_status st = MFG_OK;
-    ma_ctx C;
-    memset(&C, 0, sizeof C);
-    mfg_prog prog;
-    mfg_prog_init(&prog, progress, "mfg_medial_axis");
-    struct mfg_medial_axis *res = NULL;
-    ma_elems *E = &C.E;
+/* The arrays of the rings and of the elements, for nin input vertices. */
+static mfg_status alloc_input(ma_ctx *C, ma_rings *R, int64_t nin)
+{
+    ma_elems *E = &C->E;
     size_t n1 = (size_t)(nin > 0 ? nin : 1);
-    double *vx = malloc(n1 * sizeof *vx), *vy = malloc(n1 * sizeof *vy);
-    int64_t *vo = malloc(n1 * sizeof *vo), *roff = malloc((size_t)(nrings + 1) * sizeof *roff);
+    R->vx = malloc(n1 * sizeof *R->vx), R->vy = malloc(n1 * sizeof *R->vy);
+    R->vo = malloc(n1 * sizeof *R->vo);
+    R->roff = malloc((size_t)(R->nrings + 1) * sizeof *R->roff);
     E->ax = malloc(n1 * sizeof(double)), E->ay = malloc(n1 * sizeof(double));
     E->ux = malloc(n1 * sizeof(double)), E->uy = malloc(n1 * sizeof(double));
     E->nx = malloc(n1 * sizeof(double)), E->ny = malloc(n1 * sizeof(double));
@@ -132,18 +140,19 @@ mfg_status mfg_medial_axis_p(const double *xy, const int64_t *ring_offsets, int6
     E->orig = malloc(n1 * sizeof(int64_t)), E->velem = malloc(n1 * sizeof(int64_t));
     E->vk = malloc(n1 * sizeof(int64_t));
     E->reflex = malloc(n1), E->convex = malloc(n1);
-    C.reached = calloc(n1, 1);
-    if (!vx || !vy || !vo || !roff || !E->ax || !E->ay || !E->ux || !E->uy || !E->nx ||
-        !E->ny || !E->len || !E->prev || !E->next || !E->orig || !E->velem || !E->vk ||
-        !E->reflex || !E->convex || !C.reached) {
-        st = mfg_fail(MFG_ERR_NOMEM, "cannot allocate %lld ring vertices", (long long)nin);
-        goto done;
-    }
+    C->reached = calloc(n1, 1);
+    if (!R->vx || !R->vy || !R->vo || !R->roff || !E->ax || !E->ay || !E->ux || !E->uy ||
+        !E->nx || !E->ny || !E->len || !E->prev || !E->next || !E->orig || !E->velem ||
+        !E->vk || !E->reflex || !E->convex || !C->reached)
+        return mfg_fail(MFG_ERR_NOMEM, "cannot allocate %lld ring vertices", (long long)nin);
+    return MFG_OK;
+}
 
-    if (!mfg_prog_stage(&prog, "axis: setup", 0, 0.1, AXIS_EVERY_EDGES)) {
-        st = mfg_prog_fail(&prog);
-        goto done;
-    }
+static mfg_status clean_rings(ma_rings *R, const double *xy, const int64_t *ring_offsets)
+{
+    mfg_status st = MFG_OK;
+    double *vx = R->vx, *vy = R->vy;
+    int64_t *vo = R->vo, *roff = R->roff, nrings = R->nrings;
     /* (1) Clean each ring: drop consecutive equal vertices (and a repeated closing one),
      * then vertices where the boundary goes straight on (orient2d = 0, dot > 0); a
      * vertex where it turns back (a spike) is a self-touching ring. */
@@ -171,7 +180,7 @@ mfg_status mfg_medial_axis_p(const double *xy, const int64_t *ring_offsets, int6
                                   "ring %lld turns back on itself at vertex %lld (a spike: the "
                                   "ring touches itself)",
                                   (long long)r, (long long)vo[b]);
-                    goto done;
+                    return st;
                 }
                 memmove(vx + b, vx + b + 1, (size_t)(nv - b - 1) * sizeof *vx);
                 memmove(vy + b, vy + b + 1, (size_t)(nv - b - 1) * sizeof *vy);
@@ -185,11 +194,21 @@ mfg_status mfg_medial_axis_p(const double *xy, const int64_t *ring_offsets, int6
                           "ring %lld has fewer than 3 distinct, non-collinear vertices (%lld "
                           "given)",
                           (long long)r, (long long)(ring_offsets[r + 1] - ring_offsets[r]));
-            goto done;
+            return st;
         }
         roff[r + 1] = nv;
     }
+    R->nv = nv;
+    return st;
+}
 
+static mfg_status check_crossings(ma_ctx *C, const ma_rings *R, mfg_prog *prog)
+{
+    mfg_status st = MFG_OK;
+    ma_elems *E = &C->E;
+    const double *vx = R->vx, *vy = R->vy;
+    const int64_t *vo = R->vo, *roff = R->roff;
+    int64_t nv = R->nv, nrings = R->nrings;
     /* (2) The index over the cleaned segments; no two edges may share a point other than
      * the common vertex of neighbours (exact tests on the pairs whose boxes touch; the
      * lowest pair (i, j) is reported). */
@@ -198,26 +217,26 @@ mfg_status mfg_medial_axis_p(const double *xy, const int64_t *ring_offsets, int6
             int64_t k2 = k + 1 < roff[r + 1] ? k + 1 : roff[r];
             E->next[k] = k2, E->prev[k2] = k, E->orig[k] = r; /* orig: the ring, for now */
         }
-    if (!ma_bvh_build(&C.T, vx, vy, E->next, nv)) {
+    if (!ma_bvh_build(&C->T, vx, vy, E->next, nv)) {
         st = mfg_fail(MFG_ERR_NOMEM, "cannot allocate the index of %lld edges", (long long)nv);
-        goto done;
+        return st;
     }
     double diag0 = 0; /* the boxes' padding: a touch may round to a tiny distance */
     for (int64_t k = 0; k < nv; k++)
         diag0 = fmax(diag0, fmax(fabs(vx[k] - vx[0]), fabs(vy[k] - vy[0])));
     for (int64_t i = 0; i < nv; i++) {
-        if (!mfg_prog_poll(&prog, (double)i, (double)nv)) {
-            st = mfg_prog_fail(&prog);
-            goto done;
+        if (!mfg_prog_poll(prog, (double)i, (double)nv)) {
+            st = mfg_prog_fail(prog);
+            return st;
         }
         int64_t i2 = E->next[i], jbest = -1;
-        C.cand.n = 0;
-        if (!ma_bvh_collect(&C.T, vx[i], vy[i], vx[i2], vy[i2], 1e-9 * diag0, i + 1, &C.cand)) {
+        C->cand.n = 0;
+        if (!ma_bvh_collect(&C->T, vx[i], vy[i], vx[i2], vy[i2], MA_EPS_TOUCH * diag0, i + 1, &C->cand)) {
             st = mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (index query)");
-            goto done;
+            return st;
         }
-        for (int64_t c = 0; c < C.cand.n; c++) {
-            int64_t jj = C.cand.v[c], j2 = E->next[jj];
+        for (int64_t c = 0; c < C->cand.n; c++) {
+            int64_t jj = C->cand.v[c], j2 = E->next[jj];
             if (jj <= i || (jbest >= 0 && jj >= jbest) || jj == i2 || j2 == i)
                 continue; /* neighbours share their common vertex only, unless they
                              overlap (excluded by the spike check) */
@@ -230,10 +249,19 @@ mfg_status mfg_medial_axis_p(const double *xy, const int64_t *ring_offsets, int6
                           "edge %lld (ring %lld); the medial axis needs disjoint simple rings",
                           (long long)vo[i], (long long)E->orig[i], (long long)vo[jbest],
                           (long long)E->orig[jbest]);
-            goto done;
+            return st;
         }
     }
+    return st;
+}
 
+static mfg_status build_elements(ma_ctx *C, const ma_rings *R, double tol)
+{
+    mfg_status st = MFG_OK;
+    ma_elems *E = &C->E;
+    const double *vx = R->vx, *vy = R->vy;
+    const int64_t *vo = R->vo, *roff = R->roff;
+    int64_t nv = R->nv, nrings = R->nrings;
     /* (3) Segments with inward normals: the interior is on the left of a ring iff its
      * orientation (signed area) and its nesting parity agree. */
     double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
@@ -277,72 +305,112 @@ mfg_status mfg_medial_axis_p(const double *xy, const int64_t *ring_offsets, int6
         if (E->reflex[k])
             E->vk[E->nv++] = k;
     }
-    C.tol = tol;
-    C.eps = 1e-10 * E->diag; /* padding of the index's bounds */
+    C->tol = tol;
+    C->eps = MA_EPS_PAD * E->diag; /* padding of the index's bounds */
     /* Events are exact roots, so a junction's elements touch its disc to rounding
      * (~1e-15 diag): gather them with 1e-11 diag.  Wider picks up elements of a thin
      * spike that do not touch (7.6e-8 diag away on a 100k-segment star with 1e-9), whose
      * foot angles then misorder the ports (a port between two segments adjacent at a
      * reflex vertex: no bisector inside).  An arriving trace locates its junction less
      * precisely (a grazing third element: a near-double root): 1e-6 diag. */
-    C.gather = 1e-11 * E->diag;
-    C.arrive = 1e-6 * E->diag;
+    C->gather = MA_EPS_GATHER * E->diag;
+    C->arrive = MA_EPS_ARRIVE * E->diag;
     {
         int64_t nb = 64;
         while (nb < 4 * (E->ns + E->nv))
             nb *= 2;
-        C.hhead = malloc((size_t)nb * sizeof *C.hhead);
-        if (!C.hhead) {
+        C->hhead = malloc((size_t)nb * sizeof *C->hhead);
+        if (!C->hhead) {
             st = mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (junction registry)");
-            goto done;
+            return st;
         }
         for (int64_t b = 0; b < nb; b++)
-            C.hhead[b] = -1;
-        C.hmask = nb - 1, C.hx0 = xmin, C.hy0 = ymin;
-        C.heapk = malloc((size_t)(C.T.nn + 1) * sizeof *C.heapk);
-        C.heapn = malloc((size_t)(C.T.nn + 1) * sizeof *C.heapn);
-        if (!C.heapk || !C.heapn) {
+            C->hhead[b] = -1;
+        C->hmask = nb - 1, C->hx0 = xmin, C->hy0 = ymin;
+        C->heapk = malloc((size_t)(C->T.nn + 1) * sizeof *C->heapk);
+        C->heapn = malloc((size_t)(C->T.nn + 1) * sizeof *C->heapn);
+        if (!C->heapk || !C->heapn) {
             st = mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (search heap)");
-            goto done;
+            return st;
         }
     }
+    return st;
+}
 
+static mfg_status trace_all(ma_ctx *C, const ma_rings *R, mfg_prog *prog)
+{
+    mfg_status st = MFG_OK;
+    ma_elems *E = &C->E;
+    const double *vx = R->vx, *vy = R->vy;
+    int64_t nv = R->nv;
     /* (4) Trace from every convex corner not yet reached, then every open port.  A
      * branch is a unit of progress; there are about as many as vertices. */
-    if (!mfg_prog_stage(&prog, "axis: branches", 0.1, 0.95, AXIS_EVERY_BRANCHES)) {
-        st = mfg_prog_fail(&prog);
-        goto done;
+    if (!mfg_prog_stage(prog, "axis: branches", 0.1, 0.95, AXIS_EVERY_BRANCHES)) {
+        st = mfg_prog_fail(prog);
+        return st;
     }
     int64_t nrun = 0;
     for (int64_t k = 0; k < nv; k++) {
-        if (!E->convex[k] || C.reached[k])
+        if (!E->convex[k] || C->reached[k])
             continue;
-        if (!mfg_prog_poll(&prog, (double)nrun++, (double)(2 * nv))) {
-            st = mfg_prog_fail(&prog);
-            goto done;
+        if (!mfg_prog_poll(prog, (double)nrun++, (double)(2 * nv))) {
+            st = mfg_prog_fail(prog);
+            return st;
         }
-        C.reached[k] = 1;
+        C->reached[k] = 1;
         int64_t p = E->prev[k];
         double dx = E->nx[p] + E->nx[k], dy = E->ny[p] + E->ny[k], l = hypot(dx, dy);
-        st = ma_run_branch(&C, vx[k], vy[k], 0.0, p, k, dx / l, dy / l, -1);
+        st = ma_run_branch(C, vx[k], vy[k], 0.0, p, k, dx / l, dy / l, -1);
         if (st != MFG_OK)
-            goto done;
-        while (C.stack.n > 0) {
-            int64_t q = C.stack.v[--C.stack.n];
-            if (C.P[q].used)
+            return st;
+        while (C->stack.n > 0) {
+            int64_t q = C->stack.v[--C->stack.n];
+            if (C->P[q].used)
                 continue;
-            C.P[q].used = 1;
-            if (!mfg_prog_poll(&prog, (double)nrun++, (double)(2 * nv))) {
-                st = mfg_prog_fail(&prog);
-                goto done;
+            C->P[q].used = 1;
+            if (!mfg_prog_poll(prog, (double)nrun++, (double)(2 * nv))) {
+                st = mfg_prog_fail(prog);
+                return st;
             }
-            ma_junction *J = &C.J[C.P[q].j];
-            st = ma_run_branch(&C, J->x, J->y, J->r, C.P[q].e1, C.P[q].e2, cos(C.P[q].angle),
-                            sin(C.P[q].angle), C.P[q].j);
+            ma_junction *J = &C->J[C->P[q].j];
+            st = ma_run_branch(C, J->x, J->y, J->r, C->P[q].e1, C->P[q].e2, cos(C->P[q].angle),
+                            sin(C->P[q].angle), C->P[q].j);
             if (st != MFG_OK)
-                goto done;
+                return st;
         }
     }
+    return st;
+}
+
+mfg_status mfg_medial_axis_p(const double *xy, const int64_t *ring_offsets, int64_t nrings,
+                             double tol, struct mfg_medial_axis **out,
+                             const mfg_progress *progress)
+{
+    mfg_status st = check_axis_args(xy, ring_offsets, nrings, tol, out);
+    if (st != MFG_OK)
+        return st;
+    int64_t nin = ring_offsets[nrings];
+    ma_ctx C;
+    memset(&C, 0, sizeof C);
+    mfg_prog prog;
+    mfg_prog_init(&prog, progress, "mfg_medial_axis");
+    struct mfg_medial_axis *res = NULL;
+    ma_elems *E = &C.E;
+    ma_rings R = {NULL, NULL, NULL, NULL, 0, nrings};
+    st = alloc_input(&C, &R, nin);
+    if (st == MFG_OK && !mfg_prog_stage(&prog, "axis: setup", 0, 0.1, AXIS_EVERY_EDGES))
+        st = mfg_prog_fail(&prog);
+    /* (1) clean rings, (2) no crossings, (3) the elements, (4) the traces */
+    if (st == MFG_OK)
+        st = clean_rings(&R, xy, ring_offsets);
+    if (st == MFG_OK)
+        st = check_crossings(&C, &R, &prog);
+    if (st == MFG_OK)
+        st = build_elements(&C, &R, tol);
+    if (st == MFG_OK)
+        st = trace_all(&C, &R, &prog);
+    if (st != MFG_OK)
+        goto done;
 
     /* (5) The flat result. */
     if (!mfg_prog_stage(&prog, "axis: output", 0.95, 1.0, 1)) {
@@ -359,7 +427,7 @@ mfg_status mfg_medial_axis_p(const double *xy, const int64_t *ring_offsets, int6
         mfg_clear_error();
     }
 done:
-    free(vx), free(vy), free(vo), free(roff);
+    free(R.vx), free(R.vy), free(R.vo), free(R.roff);
     elems_free(E);
     free(C.reached), free(C.hhead), free(C.cand.v), free(C.heapk), free(C.heapn);
     ma_bvh_free(&C.T);

@@ -314,7 +314,7 @@ static int corner_leaf(ma_ctx *C, int64_t who, int how, double px, double py, do
                        double ev[5], int64_t *leafv)
 {
     *leafv = how == 1 ? who : C->E.next[who];
-    if (pr > 1e-6 * C->E.diag) {
+    if (pr > MA_EPS_ARRIVE * C->E.diag) {
         ev[0] = px, ev[1] = py, ev[2] = pr;
         return TR_MISSED;
     }
@@ -382,7 +382,7 @@ int ma_trace(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2, do
         ma_bis_make(E, &b, ea, eb, phx, phy, tx, ty);
         for (int k = 0; k < 3; k++) { /* lesson 2: a double transition */
             double x1, y1, r1;
-            ma_bis_at(&b, 1e-9 * E->diag, &x1, &y1, &r1);
+            ma_bis_at(&b, MA_EPS_STEP * E->diag, &x1, &y1, &r1);
             how = ma_bis_window(E, &b, x1, y1, &who);
             if (!how)
                 break;
