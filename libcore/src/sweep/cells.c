@@ -170,7 +170,7 @@ double sw_curve_r(const sw_curve *cv, double u)
 /* The parameter in [lo, hi] (widened by rounding) at which curve cv has radius r, or NAN. */
 double sw_curve_u_at_r(const sw_curve *cv, double r, double lo, double hi)
 {
-    double roots[2], best = NAN, slack = 1e-9;
+    double roots[2], best = NAN, slack = SW_EPS_PARAM;
     int nr = sw_solve_quadratic(cv->qa, cv->qb, cv->qc - r * r, 1, roots);
     for (int k = 0; k < nr; k++)
         if (roots[k] >= lo - slack && roots[k] <= hi + slack)
@@ -240,7 +240,7 @@ int sw_crossing_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, double 
     double cr = sw_curve_r(A, u), cz = A->p0[2] + u * A->dir[2];
     /* not within rounding of a side: a crossing on the axis (a plane and its half turn
      * meet there) computed at r = 1e-9 left a ring of that radius open */
-    double eps = 1e-9 * (rb + fabs(zb)) + 1e-6 * c->tol;
+    double eps = sw_point_eps(c, rb, zb);
     if (!(cr - ra > eps && rb - cr > eps && cz - za > eps && zb - cz > eps))
         return 0;
     double lim = 0.25 * c->tol;
@@ -289,7 +289,7 @@ static double curve_u_at(const sw_curve *cv, double r, double z, double eps)
             return NAN;
         u = sw_curve_u_at_r(cv, r, 0, 1);
     }
-    if (!(u >= -1e-9 && u <= 1 + 1e-9) || fabs(sw_curve_r(cv, u) - r) > eps)
+    if (!(u >= -SW_EPS_PARAM && u <= 1 + SW_EPS_PARAM) || fabs(sw_curve_r(cv, u) - r) > eps)
         return NAN;
     return u;
 }
@@ -305,7 +305,7 @@ static double curve_u_at(const sw_curve *cv, double r, double z, double eps)
 int sw_junction_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, double ra,
                      double rb, double za, double zb, const sw_jcurve *jc, int njc)
 {
-    double eps = 1e-9 * (rb + fabs(zb)) + 1e-6 * c->tol;
+    double eps = sw_point_eps(c, rb, zb);
     double J[2] = {NAN, NAN};
     /* the junction: an end of a gap-closing curve strictly inside the cell */
     for (int i = 0; i < njc && !(J[0] == J[0]); i++) {
@@ -349,7 +349,7 @@ int sw_junction_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, double 
         double u = curve_u_at(cv, J[0], J[1], eps);
         if (!(u == u))
             return 0;
-        int at_end = u <= 1e-9 || u >= 1 - 1e-9;
+        int at_end = u <= SW_EPS_PARAM || u >= 1 - SW_EPS_PARAM;
         /* ends at J: one crossing; passes through J: two; a horizontal curve at J's
          * height lies on the line through it, folded or not: one or two */
         int along = cv->dir[2] == 0 && fabs(cv->p0[2] - J[1]) <= eps;
@@ -420,7 +420,7 @@ int sw_chords_cell(sw_ctx *c, sw_leaf *L, const sw_struct *const *all, double ra
         if (dup)
             continue;
         const sw_curve *cv = &c->curves[jc[i].curve];
-        double eps = 1e-9 * (rb + fabs(zb)) + 1e-6 * c->tol;
+        double eps = sw_point_eps(c, rb, zb);
         double u0 = curve_u_at(cv, q[0][0], q[0][1], eps), u1 = curve_u_at(cv, q[1][0], q[1][1], eps);
         if (!(u0 == u0) || !(u1 == u1) || sw_curve_sag(cv, fmin(u0, u1), fmax(u0, u1)) > 0.25 * c->tol)
             return 0;

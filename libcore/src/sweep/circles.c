@@ -127,24 +127,10 @@ int sw_push_arc(sw_ctx *c, const sw_arc *a)
     return 1;
 }
 
-/* The SV arcs on the circle (r, z), appended to the arc pool. */
-static int circle_arcs_at(sw_ctx *c, double r, double z, sw_struct *out, int *inconsistent)
+/* The crossings of the circle (r, z) with the slices of the gathered triangles, pushed
+ * with push_cross (angle, triangle, entry or exit). */
+static int slice_crossings(sw_ctx *c, double r, double z)
 {
-    *inconsistent = 0;
-    out->full = 0;
-    out->n = 0;
-    out->first = c->narcs;
-    out->xfirst = c->nxpool;
-    out->xn = 0;
-    if (r <= 0) {
-        int in = circle_inside(c, 0, z);
-        if (in < 0)
-            return 0;
-        out->full = in;
-        return 1;
-    }
-    if (!sw_gather(c, r, r, z, z))
-        return 0;
     c->nx = 0;
     double r2 = r * r;
     for (int64_t k = 0; k < c->ncand; k++) {
@@ -201,28 +187,15 @@ static int circle_arcs_at(sw_ctx *c, double r, double z, sw_struct *out, int *in
                 return 0;
         }
     }
-    out->xfirst = c->nxpool;
-    out->xn = 0;
-    if (!mfg_grow((void **)&c->xpool, &c->capxpool, c->nxpool + c->nx + 1, sizeof *c->xpool))
-        return ctx_nomem(c);
-    for (int64_t i = 0; i < c->nx; i++)
-        c->xpool[c->nxpool++] = c->xtri[i];
-    out->xn = c->nx;
-    if (c->nx == 0) {
-        /* no crossing: the whole circle is in or out; two opposite points must agree */
-        int in = circle_inside(c, r, z);
-        if (in < 0)
-            return 0;
-        int in2 = circle_inside_side(c, r, z, -1);
-        if (in2 < 0)
-            return 0;
-        if (in != in2) {
-            *inconsistent = 1;
-            return 1;
-        }
-        out->full = in;
-        return 1;
-    }
+    return 1;
+}
+
+/* O's arcs on the circle from its crossings in c->xphi / xtri / xentry: sorted by angle, a
+ * depth count relative to its minimum.  1 with *oarcs_out (malloc'd, *nO_out arcs), or 1
+ * with *oarcs_out untouched and *inconsistent = 1 when entries and exits do not pair up or
+ * no arc closes; 0 when memory runs out. */
+static int solid_arcs(sw_ctx *c, sw_arc **oarcs_out, int64_t *nO_out, int *inconsistent)
+{
     /* sort by angle; depth count (relative to its minimum) gives O's arcs */
     xsort *xs = malloc((size_t)c->nx * sizeof *xs);
     if (!xs)
@@ -291,6 +264,16 @@ static int circle_arcs_at(sw_ctx *c, double r, double z, sw_struct *out, int *in
         *inconsistent = 1;
         return 1;
     }
+    *oarcs_out = oarcs;
+    *nO_out = nO;
+    return 1;
+}
+
+/* SV's arcs from O's (the directed-circle rule): each end extended by theta and the
+ * overlapping arcs merged, pushed to the arc pool (out->n of them), or out->full.  Frees
+ * oarcs. */
+static int swept_arcs(sw_ctx *c, sw_arc *oarcs, int64_t nO, sw_struct *out)
+{
     if (c->full_turn) {
         free(oarcs);
         out->full = 1;
@@ -348,6 +331,57 @@ static int circle_arcs_at(sw_ctx *c, double r, double z, sw_struct *out, int *in
     }
     free(oarcs);
     return 1;
+}
+
+/* The SV arcs on the circle (r, z), appended to the arc pool. */
+static int circle_arcs_at(sw_ctx *c, double r, double z, sw_struct *out, int *inconsistent)
+{
+    *inconsistent = 0;
+    out->full = 0;
+    out->n = 0;
+    out->first = c->narcs;
+    out->xfirst = c->nxpool;
+    out->xn = 0;
+    if (r <= 0) {
+        int in = circle_inside(c, 0, z);
+        if (in < 0)
+            return 0;
+        out->full = in;
+        return 1;
+    }
+    if (!sw_gather(c, r, r, z, z))
+        return 0;
+    if (!slice_crossings(c, r, z))
+        return 0;
+    out->xfirst = c->nxpool;
+    out->xn = 0;
+    if (!mfg_grow((void **)&c->xpool, &c->capxpool, c->nxpool + c->nx + 1, sizeof *c->xpool))
+        return ctx_nomem(c);
+    for (int64_t i = 0; i < c->nx; i++)
+        c->xpool[c->nxpool++] = c->xtri[i];
+    out->xn = c->nx;
+    if (c->nx == 0) {
+        /* no crossing: the whole circle is in or out; two opposite points must agree */
+        int in = circle_inside(c, r, z);
+        if (in < 0)
+            return 0;
+        int in2 = circle_inside_side(c, r, z, -1);
+        if (in2 < 0)
+            return 0;
+        if (in != in2) {
+            *inconsistent = 1;
+            return 1;
+        }
+        out->full = in;
+        return 1;
+    }
+    sw_arc *oarcs = NULL;
+    int64_t nO = 0;
+    if (!solid_arcs(c, &oarcs, &nO, inconsistent))
+        return 0;
+    if (!oarcs)
+        return 1; /* *inconsistent: the caller moves the circle */
+    return swept_arcs(c, oarcs, nO, out);
 }
 
 /* The SV arcs on the circle (r, z).  A circle through a vertex or along an edge within

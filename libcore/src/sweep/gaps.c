@@ -130,7 +130,7 @@ int sw_build_gap_curves(sw_ctx *c)
                            B->n[0] * na[1] - B->n[1] * na[0]};
             double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
             double nan_ = sqrt(na[0] * na[0] + na[1] * na[1] + na[2] * na[2]);
-            if (!(dd > 1e-16 * nbn * nbn * nan_ * nan_))
+            if (!(dd > SW_EPS_SIN2 * nbn * nbn * nan_ * nan_))
                 continue; /* parallel planes: no crossing line */
             /* a point on both planes: p = (dB (na x d) + dA (d x nB)) / |d|^2 */
             double dA = A->d; /* turning keeps the plane's offset from the axis origin */
@@ -155,12 +155,12 @@ int sw_build_gap_curves(sw_ctx *c)
                 x1[q] = p[q] + s1 * d[q];
                 len += (x1[q] - x0[q]) * (x1[q] - x0[q]);
             }
-            if (!(sqrt(len) > 1e-6 * c->tol))
+            if (!(sqrt(len) > SW_TOL_FRAC * c->tol))
                 continue;
             /* A segment stopped by the axis (where the motion changes sign, e.g. a plane and
              * its half turn) ends on it: exactly, and at u = 0, so that its image has r = 0
              * there (r(u) from the quadratic loses half the digits near the axis). */
-            double scale = 1e-9 * (B->rmax + fabs(B->zmin) + fabs(B->zmax));
+            double scale = SW_EPS_REL * (B->rmax + fabs(B->zmin) + fabs(B->zmax));
             if (v_r(x1[0], x1[1]) <= scale) {
                 double t[3];
                 memcpy(t, x0, sizeof t);

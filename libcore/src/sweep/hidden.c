@@ -57,7 +57,7 @@ static int tri_cell_angles(const sw_ctx *c, int64_t t, double ra, double rb, dou
                            double zb, double *lo, double *hi)
 {
     const sw_tri *T = &c->tris[t];
-    double m = 1e-9 * c->ext; /* the cell widened by far more than rounding */
+    double m = SW_EPS_REL * c->ext; /* the cell widened by far more than rounding */
     ra = fmax(0, ra - m);
     rb += m;
     za -= m;
@@ -101,7 +101,7 @@ static int tri_cell_angles(const sw_ctx *c, int64_t t, double ra, double rb, dou
         double s = l2 > 0 ? fmin(1, fmax(0, -(u[0] * dx + u[1] * dy) / l2)) : 0;
         dist = fmin(dist, v_r(u[0] + s * dx, u[1] + s * dy));
     }
-    if ((pos && !neg) || (neg && !pos) || !(dist > 1e-7 * c->ext))
+    if ((pos && !neg) || (neg && !pos) || !(dist > SW_EPS_AXIS_DIST * c->ext))
         return 2;
     /* a convex set away from the axis spans less than half a turn: its angles over the
      * annulus are those of its corners in the annulus and of its sides' crossings with the
@@ -144,7 +144,7 @@ static int tri_cell_angles(const sw_ctx *c, int64_t t, double ra, double rb, dou
     }
     if (!any)
         return 0;
-    double marg = 1e-9 + 1e-13 * c->ext / dist;
+    double marg = SW_EPS_ANGLE + SW_EPS_ANGLE_EXT * c->ext / dist;
     *lo = wrap_angle(a0 + dlo - marg);
     *hi = *lo + (dhi - dlo) + 2 * marg;
     return 1;
@@ -234,9 +234,9 @@ int sw_mark_hidden(sw_ctx *c, const sw_struct *centre, double ra, double rb, dou
         if (kind[k] == 1) {
             /* widened by 5e-10 for the blocks: gaps narrower than 1e-9 close, and each
              * Phi_t lies well inside its own block, in no other */
-            double w = wrap_angle(phi[k].a - 5e-10);
+            double w = wrap_angle(phi[k].a - SW_EPS_ANGLE_HALF);
             cv[nphi].a = w;
-            cv[nphi++].b = w + (phi[k].b - phi[k].a) + 1e-9;
+            cv[nphi++].b = w + (phi[k].b - phi[k].a) + SW_EPS_ANGLE;
         }
     }
     int64_t nb = merge_on_circle(cv, nphi, 0, blk);

@@ -98,7 +98,7 @@ int64_t sw_lift(sw_ctx *c, sw_out *o, int64_t iw, const sw_end *en, int isexit)
         int64_t v = T->v[q];
         if (c->vr[v] == w->r && c->lx[3 * v + 2] == w->z) {
             double dphi = fabs(angle_diff(atan2(c->lx[3 * v + 1], c->lx[3 * v]), phi_root));
-            if (dphi * w->r <= 1e-6 * (w->r + c->tol) + 0.01 * c->tol) {
+            if (dphi * w->r <= SW_TOL_FRAC * (w->r + c->tol) + SW_TOL_SNAP * c->tol) {
                 memcpy(p, c->lx + 3 * v, sizeof p);
                 done = 1;
             }
@@ -108,7 +108,7 @@ int64_t sw_lift(sw_ctx *c, sw_out *o, int64_t iw, const sw_end *en, int isexit)
      * it, so that every piece meeting there shares the vertex; curves of the triangle
      * first */
     if (!done && w->ncurves > 0) {
-        double snap = 1e-9 * (w->r + fabs(w->z)) + 1e-6 * c->tol;
+        double snap = sw_point_eps(c, w->r, w->z);
         double pr[3] = {w->r * cos(phi_root), w->r * sin(phi_root), w->z};
         for (int pass = 0; pass < 2 && !done; pass++)
             for (int j = 0; j < w->ncurves && !done; j++) {
@@ -132,7 +132,7 @@ int64_t sw_lift(sw_ctx *c, sw_out *o, int64_t iw, const sw_end *en, int isexit)
                         memcpy(q, qb, sizeof q);
                 }
                 double dx = q[0] - pr[0], dy = q[1] - pr[1];
-                double lim = own ? 1e-6 * (w->r + c->tol) + 0.01 * c->tol : snap;
+                double lim = own ? SW_TOL_FRAC * (w->r + c->tol) + SW_TOL_SNAP * c->tol : snap;
                 if (sqrt(dx * dx + dy * dy) <= lim) {
                     memcpy(p, q, sizeof p);
                     done = 1;

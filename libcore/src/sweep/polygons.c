@@ -57,9 +57,7 @@ typedef struct sw_ipt {
 static int cmp_ipt(const void *pa, const void *pb)
 {
     const sw_ipt *a = pa, *b = pb;
-    if (a->key != b->key)
-        return (a->key > b->key) - (a->key < b->key);
-    return (a->curve > b->curve) - (a->curve < b->curve);
+    return sw_cmp_key(a->key, b->key, a->curve, b->curve);
 }
 
 /* Appends to *loop the vertices of the sub-side from integer point (ax, az) to (bx, bz)
@@ -119,7 +117,7 @@ static int sub_side(sw_ctx *c, const sw_leaf *L, int64_t ax, int64_t az, int64_t
      * beside the side gave two vertices a rounding apart, one per leaf, and a crack. */
     qsort(pts, (size_t)np, sizeof *pts, cmp_ipt);
     /* the same merge distance as analyse_cell's chord test */
-    double eps = 1e-9 * (hi - lo) + 1e-12 * (fabs(hi) + fabs(lo) + fabs(val));
+    double eps = SW_EPS_REL * (hi - lo) + SW_EPS_ROUND * (fabs(hi) + fabs(lo) + fabs(val));
     double last = dirn > 0 ? lo : -hi;
     (void)last;
     double prev = -INFINITY;
@@ -340,7 +338,7 @@ static int add_block(sw_ctx *c, const sw_leaf *L, const int64_t *loop, int64_t n
  * land on the edges, so that the pieces meeting there share the vertex. */
 static void centre_curves(const sw_ctx *c, const sw_leaf *L, sw_vtx2 *w)
 {
-    double eps = 1e-9 * (w->r + fabs(w->z)) + 1e-6 * c->tol;
+    double eps = sw_point_eps(c, w->r, w->z);
     for (int64_t k = 0; k < L->cn && w->ncurves < SW_MAXCURVES; k++) {
         int64_t ic = c->leaf_curves[L->cfirst + k];
         const sw_curve *cv = &c->curves[ic];
@@ -353,9 +351,9 @@ static void centre_curves(const sw_ctx *c, const sw_leaf *L, sw_vtx2 *w)
             u = sw_curve_u_at_r(cv, w->r, 0, 1);
         }
         /* an end of a gap-closing curve at a junction: u = 0 or 1 up to rounding */
-        if (u < 0 && u >= -1e-9)
+        if (u < 0 && u >= -SW_EPS_PARAM)
             u = 0;
-        if (u > 1 && u <= 1 + 1e-9)
+        if (u > 1 && u <= 1 + SW_EPS_PARAM)
             u = 1;
         if (!(u >= 0 && u <= 1) || fabs(sw_curve_r(cv, u) - w->r) > eps)
             continue;

@@ -89,7 +89,7 @@ static mfg_status check_sweep_args(const double *axis_point, const double *axis_
     }
     if (axis_dir[0] == 0 && axis_dir[1] == 0 && axis_dir[2] == 0)
         return mfg_fail(MFG_ERR_INVALID, "rotational sweep: the axis direction is the zero vector");
-    if (!(angle > 0) || !(angle <= MFG_TWO_PI + 1e-12))
+    if (!(angle > 0) || !(angle <= MFG_TWO_PI + SW_FULL_TURN_EPS))
         return mfg_fail(MFG_ERR_INVALID, "rotational sweep: angle %g rad is outside (0, 2*pi]",
                         angle);
     if (!(tolerance > 0) || !mfg_coord_ok(tolerance))
@@ -105,6 +105,162 @@ mfg_status mfg_rotational_sweep(const double *xyz, int64_t nvertices, const int6
 {
     return mfg_rotational_sweep_p(xyz, nvertices, triangles, ntriangles, axis_point,
                                   axis_direction, angle, tolerance, out_mesh, out_stats, NULL);
+}
+
+/* The grid of placement `attempt` (0 .. 3) of the decomposition over the part's (r, z)
+ * range: finest cell size, depth, origin and roots; leaves0: the first placement's leaves. */
+static void place_grid(sw_ctx *c, int attempt, double rmax, double zmin, double zmax,
+                       double tolerance, int64_t leaves0)
+{
+    static const double grid_scale[4] = {1.0123456789, 1.0371093751, 0.9812988281, 1.0557861328};
+    static const double grid_shift[4] = {0.0371, 0.0629, 0.0147, 0.0853};
+    double ext = fmax(rmax, zmax - zmin);
+    c->ext = ext;
+    c->quantum = ldexp(ext, -40);
+    c->bounding_only = attempt >= 2;
+    double S0 = 0.5 * ext * grid_scale[attempt];
+    double hmin = 0.25 * tolerance;
+    int lmax = 0;
+    while (lmax < 40 && ldexp(S0, -lmax) > hmin)
+        lmax++;
+    c->lmax = lmax;
+    c->h = ldexp(S0, -lmax);
+    c->hmin = c->h;
+    c->r0 = 0;
+    c->z0 = zmin - grid_shift[attempt] * S0;
+    c->nroot_r = (int64_t)floor(rmax / S0) + 1;
+    c->nroot_z = (int64_t)floor((zmax - c->z0) / S0) + 1;
+    /* A placement whose tree grows far past the first one's is given up at once: the
+     * fallback placements on the 9-face arm grew to 1.4 M and 2.5 M triangles before
+     * failing the check anyway (a refusal took 9 s and 1.5 GB). */
+    c->capped = 0;
+    c->leaf_cap = attempt > 0 ? 4 * leaves0 + 4096 : 0;
+}
+
+/* Appends to why (size bytes) the reason a placement was given up: fmt takes the
+ * separator, the placement and a count. */
+static void why_append(char *why, size_t size, const char *fmt, int attempt, long long n)
+{
+    size_t lw = strlen(why);
+    snprintf(why + lw, size - lw, fmt, lw ? "; " : "", attempt, n);
+}
+
+/* The check of a placement's surface: a closed 2-manifold (*valid), whose shells do not
+ * cross and which holds the input's volume, then its planar pieces merged.  1 (go on), 0
+ * (a failure in the merge), -1 (out of memory: stop); why (nwhy bytes) says why not valid. */
+static int check_surface(sw_ctx *c, double in_volume, char *why, size_t nwhy, int *valid)
+{
+    mfg_mesh_report rep;
+    mfg_status cs = mfg_mesh_check_closed(c->ox, c->nout, c->otri, c->notri, &rep);
+    if (cs != MFG_OK) {
+        if (cs == MFG_ERR_NOMEM) {
+            ctx_nomem(c);
+            return -1;
+        }
+        snprintf(why, nwhy, "%s", mfg_last_error());
+        return 1;
+    }
+    *valid = 1;
+    int overlap = 0;
+    if (!sw_drop_nested_shells(c, &overlap))
+        return -1;
+    if (overlap) {
+        /* treated like an open surface: another placement, or a refusal */
+        *valid = 0;
+        snprintf(why, nwhy, "two of its shells cross each other");
+    } else if (!(sw_mesh_volume(c->ox, c->otri, c->notri) >= in_volume * (1 - SW_EPS_VOLUME))) {
+        /* SV holds O (t = 0): a closed surface holding less is wrong somewhere, like an
+         * open one (found by fuzz_api) */
+        *valid = 0;
+        snprintf(why, nwhy, "it holds less volume than the input");
+    }
+    /* the merge of planar pieces last, on the shells that are kept (it reads oface, which
+     * drop_nested_shells keeps aligned with the triangles) */
+    if (*valid)
+        return sw_merge_faces(c);
+    return 1;
+}
+
+/* The result mesh in the caller's frame: only the vertices the triangles use (lifts and
+ * ring points left over by cancelled twins are dropped), numbered in order of first use. */
+static int output_mesh(sw_ctx *c, mfg_mesh **out)
+{
+    mfg_mesh *m = calloc(1, sizeof *m);
+    if (m) {
+        m->vertices = malloc((size_t)(3 * c->nout + 1) * sizeof *m->vertices);
+        m->triangles = malloc((size_t)(3 * c->notri + 1) * sizeof *m->triangles);
+    }
+    if (!m || !m->vertices || !m->triangles) {
+        if (m) {
+            free(m->vertices);
+            free(m->triangles);
+            free(m);
+        }
+        return ctx_nomem(c);
+    }
+    int ok = 1;
+    /* only the vertices the triangles use (lifts and ring points left over by
+     * cancelled twins are dropped), numbered in order of first use */
+    int64_t *map = malloc((size_t)(c->nout + 1) * sizeof *map);
+    if (!map) {
+        free(m->vertices);
+        free(m->triangles);
+        free(m);
+        m = NULL;
+        ok = ctx_nomem(c);
+    } else {
+        for (int64_t i = 0; i < c->nout; i++)
+            map[i] = -1;
+        int64_t nused = 0;
+        for (int64_t i = 0; i < 3 * c->notri; i++) {
+            int64_t w = c->otri[i];
+            if (map[w] < 0) {
+                map[w] = nused;
+                const double *p = c->ox + 3 * w;
+                for (int k = 0; k < 3; k++) {
+                    double x = c->origin[k] + p[0] * c->frame[0][k] + p[1] * c->frame[1][k] +
+                               p[2] * c->frame[2][k];
+                    m->vertices[3 * nused + k] = fabs(x) < 0x1p-200 ? 0 : x;
+                }
+                nused++;
+            }
+            m->triangles[i] = map[w];
+        }
+        free(map);
+        m->nvertices = nused;
+        m->ntriangles = c->notri;
+    }
+    *out = ok ? m : NULL;
+    return ok;
+}
+
+/* The result's bounding box, volume and area. */
+static void sweep_stats(const sw_ctx *c, const mfg_mesh *m, mfg_sweep_stats *out)
+{
+    mfg_sweep_stats S;
+    memset(&S, 0, sizeof S);
+    for (int k = 0; k < 3; k++) {
+        S.bbox[k] = INFINITY;
+        S.bbox[3 + k] = -INFINITY;
+    }
+    for (int64_t i = 0; i < m->nvertices; i++)
+        for (int k = 0; k < 3; k++) {
+            S.bbox[k] = fmin(S.bbox[k], m->vertices[3 * i + k]);
+            S.bbox[3 + k] = fmax(S.bbox[3 + k], m->vertices[3 * i + k]);
+        }
+    double area = 0;
+    for (int64_t t = 0; t < c->notri; t++) {
+        const double *a = c->ox + 3 * c->otri[3 * t], *b = c->ox + 3 * c->otri[3 * t + 1],
+                     *d = c->ox + 3 * c->otri[3 * t + 2];
+        double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        double e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+        double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+               cz = e1[0] * e2[1] - e1[1] * e2[0];
+        area += 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
+    }
+    S.volume = sw_mesh_volume(c->ox, c->otri, c->notri); /* about the axis point */
+    S.area = area;
+    *out = S;
 }
 
 mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
@@ -130,7 +286,7 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     c.prog = &prog;
     c.nv = nvertices;
     c.nt = ntriangles;
-    c.full_turn = angle >= MFG_TWO_PI - 1e-12;
+    c.full_turn = angle >= MFG_TWO_PI - SW_FULL_TURN_EPS;
     c.theta = c.full_turn ? MFG_TWO_PI : angle;
     c.tol = tolerance;
     sw_make_frame(&c, axis_point, axis_direction);
@@ -155,43 +311,19 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
      * built again on a grid placed differently; after the last placement the call fails
      * with MFG_ERR_INTERNAL rather than return an open surface. */
     double in_volume = ok ? sw_mesh_volume(c.lx, triangles, ntriangles) : 0;
-    static const double grid_scale[4] = {1.0123456789, 1.0371093751, 0.9812988281, 1.0557861328};
-    static const double grid_shift[4] = {0.0371, 0.0629, 0.0147, 0.0853};
-    mfg_mesh_report rep;
     int attempt = 0, valid = 0;
     int64_t leaves0 = 0;
     char why[256] = "";
     for (attempt = 0; ok && attempt < 4 && !valid; attempt++) {
         if (attempt > 0)
             reset_attempt(&c, &o);
-        double ext = fmax(rmax, zmax - zmin);
-        c.ext = ext;
-        c.quantum = ldexp(ext, -40);
-        c.bounding_only = attempt >= 2;
-        double S0 = 0.5 * ext * grid_scale[attempt];
-        double hmin = 0.25 * tolerance;
-        int lmax = 0;
-        while (lmax < 40 && ldexp(S0, -lmax) > hmin)
-            lmax++;
-        c.lmax = lmax;
-        c.h = ldexp(S0, -lmax);
-        c.hmin = c.h;
-        c.r0 = 0;
-        c.z0 = zmin - grid_shift[attempt] * S0;
-        c.nroot_r = (int64_t)floor(rmax / S0) + 1;
-        c.nroot_z = (int64_t)floor((zmax - c.z0) / S0) + 1;
-        /* A placement whose tree grows far past the first one's is given up at once: the
-         * fallback placements on the 9-face arm grew to 1.4 M and 2.5 M triangles before
-         * failing the check anyway (a refusal took 9 s and 1.5 GB). */
-        c.capped = 0;
-        c.leaf_cap = attempt > 0 ? 4 * leaves0 + 4096 : 0;
+        place_grid(&c, attempt, rmax, zmin, zmax, tolerance, leaves0);
         ok = sw_stage(&c, "sweep: cells", 0.05, 0.35, SWEEP_EVERY_CELLS) && sw_build_quadtree(&c);
         if (attempt == 0)
             leaves0 = c.nleaves;
         if (ok && c.capped) {
-            size_t lw = strlen(why);
-            snprintf(why + lw, sizeof why - lw, "%splacement %d given up past %lld cells",
-                     lw ? "; " : "", attempt, (long long)c.leaf_cap);
+            why_append(why, sizeof why, "%splacement %d given up past %lld cells", attempt,
+                       (long long)c.leaf_cap);
             continue;
         }
         /* A cut that fails in build_polygons (a chord or star whose vertices do not come
@@ -218,15 +350,13 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
                 break;
         }
         if (ok && c.capped) {
-            size_t lw = strlen(why);
-            snprintf(why + lw, sizeof why - lw, "%splacement %d given up past %lld cells",
-                     lw ? "; " : "", attempt, (long long)c.leaf_cap);
+            why_append(why, sizeof why, "%splacement %d given up past %lld cells", attempt,
+                       (long long)c.leaf_cap);
             continue;
         }
         if (ok && c.coarse_blocks) {
-            size_t lw = strlen(why);
-            snprintf(why + lw, sizeof why - lw, "%splacement %d: %lld cuts failed in coarse cells",
-                     lw ? "; " : "", attempt, (long long)c.coarse_blocks);
+            why_append(why, sizeof why, "%splacement %d: %lld cuts failed in coarse cells",
+                       attempt, (long long)c.coarse_blocks);
             continue;
         }
         if (ok)
@@ -239,35 +369,12 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
                  sw_report(&c, 0.8) && sw_resolve_pinches(&c, &o);
         ok = ok && sw_stage(&c, "sweep: check", 0.85, 0.95, 1);
         if (ok) {
-            mfg_status cs = mfg_mesh_check_closed(c.ox, c.nout, c.otri, c.notri, &rep);
-            if (cs == MFG_OK) {
-                valid = 1;
-                int overlap = 0;
-                if (!sw_drop_nested_shells(&c, &overlap)) {
-                    ok = 0;
-                    break;
-                }
-                if (overlap) {
-                    /* treated like an open surface: another placement, or a refusal */
-                    valid = 0;
-                    snprintf(why, sizeof why, "two of its shells cross each other");
-                } else if (!(sw_mesh_volume(c.ox, c.otri, c.notri) >= in_volume * (1 - 1e-9))) {
-                    /* SV holds O (t = 0): a closed surface holding less is wrong somewhere,
-                     * like an open one (found by fuzz_api) */
-                    valid = 0;
-                    snprintf(why, sizeof why, "it holds less volume than the input");
-                }
-                /* the merge of planar pieces last, on the shells that are kept (it reads oface,
-                 * which drop_nested_shells keeps aligned with the triangles) */
-                if (valid)
-                    ok = sw_merge_faces(&c);
-            } else {
-                if (cs == MFG_ERR_NOMEM) {
-                    ok = ctx_nomem(&c);
-                    break;
-                }
-                snprintf(why, sizeof why, "%s", mfg_last_error());
+            int r = check_surface(&c, in_volume, why, sizeof why, &valid);
+            if (r < 0) {
+                ok = 0;
+                break;
             }
+            ok = r;
         }
     }
     if (ok && !valid) {
@@ -279,87 +386,16 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     if (ok)
         ok = sw_stage(&c, "sweep: output", 0.95, 1.0, 1) && sw_flip_out_slivers(&c);
     mfg_mesh *m = NULL;
-    if (ok) {
-        m = calloc(1, sizeof *m);
-        if (m) {
-            m->vertices = malloc((size_t)(3 * c.nout + 1) * sizeof *m->vertices);
-            m->triangles = malloc((size_t)(3 * c.notri + 1) * sizeof *m->triangles);
-        }
-        if (!m || !m->vertices || !m->triangles) {
-            if (m) {
-                free(m->vertices);
-                free(m->triangles);
-                free(m);
-            }
-            m = NULL;
-            ok = ctx_nomem(&c);
-        }
-    }
-    if (ok) {
-        /* only the vertices the triangles use (lifts and ring points left over by
-         * cancelled twins are dropped), numbered in order of first use */
-        int64_t *map = malloc((size_t)(c.nout + 1) * sizeof *map);
-        if (!map) {
-            free(m->vertices);
-            free(m->triangles);
-            free(m);
-            m = NULL;
-            ok = ctx_nomem(&c);
-        } else {
-            for (int64_t i = 0; i < c.nout; i++)
-                map[i] = -1;
-            int64_t nused = 0;
-            for (int64_t i = 0; i < 3 * c.notri; i++) {
-                int64_t w = c.otri[i];
-                if (map[w] < 0) {
-                    map[w] = nused;
-                    const double *p = c.ox + 3 * w;
-                    for (int k = 0; k < 3; k++) {
-                        double x = c.origin[k] + p[0] * c.frame[0][k] + p[1] * c.frame[1][k] +
-                                   p[2] * c.frame[2][k];
-                        m->vertices[3 * nused + k] = fabs(x) < 0x1p-200 ? 0 : x;
-                    }
-                    nused++;
-                }
-                m->triangles[i] = map[w];
-            }
-            free(map);
-            m->nvertices = nused;
-            m->ntriangles = c.notri;
-        }
-    }
+    if (ok)
+        ok = output_mesh(&c, &m);
     if (ok && !sw_stage(&c, "sweep: done", 1.0, 1.0, 1)) {
         mfg_mesh_free(m);
         m = NULL;
         ok = 0;
     }
     if (ok) {
-        if (out_stats) {
-            mfg_sweep_stats S;
-            memset(&S, 0, sizeof S);
-            for (int k = 0; k < 3; k++) {
-                S.bbox[k] = INFINITY;
-                S.bbox[3 + k] = -INFINITY;
-            }
-            for (int64_t i = 0; i < m->nvertices; i++)
-                for (int k = 0; k < 3; k++) {
-                    S.bbox[k] = fmin(S.bbox[k], m->vertices[3 * i + k]);
-                    S.bbox[3 + k] = fmax(S.bbox[3 + k], m->vertices[3 * i + k]);
-                }
-            double area = 0;
-            for (int64_t t = 0; t < c.notri; t++) {
-                const double *a = c.ox + 3 * c.otri[3 * t], *b = c.ox + 3 * c.otri[3 * t + 1],
-                             *d = c.ox + 3 * c.otri[3 * t + 2];
-                double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-                double e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-                double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
-                       cz = e1[0] * e2[1] - e1[1] * e2[0];
-                area += 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
-            }
-            S.volume = sw_mesh_volume(c.ox, c.otri, c.notri); /* about the axis point */
-            S.area = area;
-            *out_stats = S;
-        }
+        if (out_stats)
+            sweep_stats(&c, m, out_stats);
         *out_mesh = m;
     }
     st = ok ? MFG_OK : c.st;

@@ -230,7 +230,7 @@ int sw_setup(sw_ctx *c, const double *xyz, const int64_t *tris, const int64_t *n
                 T->n[2] * (p[0][2] + p[1][2] + p[2][2])) / 3;
         double hn = v_r(T->n[0], T->n[1]);
         double nn = sqrt(hn * hn + T->n[2] * T->n[2]);
-        T->vertical_ok = hn > 1e-14 * nn;
+        T->vertical_ok = hn > SW_EPS_HORIZ * nn;
         T->phi0 = atan2(T->n[1], T->n[0]);
         T->zmin = fmin(p[0][2], fmin(p[1][2], p[2][2]));
         T->zmax = fmax(p[0][2], fmax(p[1][2], p[2][2]));
@@ -332,6 +332,16 @@ int sw_setup(sw_ctx *c, const double *xyz, const int64_t *tris, const int64_t *n
     return 1;
 }
 
+/* The bins [i0, i1] x [j0, j1] of a g x g grid over which triangle T's (r, z) box lies. */
+static void tri_bins(const sw_ctx *c, const sw_tri *T, double zmin, int64_t g, int64_t *i0,
+                     int64_t *i1, int64_t *j0, int64_t *j1)
+{
+    *i0 = (int64_t)(T->rmin / c->bdr), *i1 = (int64_t)(T->rmax / c->bdr);
+    *j0 = (int64_t)((T->zmin - zmin) / c->bdz), *j1 = (int64_t)((T->zmax - zmin) / c->bdz);
+    if (*i1 >= g) *i1 = g - 1;
+    if (*j1 >= g) *j1 = g - 1;
+}
+
 /* Bins of triangles over their (r, z) images. */
 int sw_build_bins(sw_ctx *c, double rmax, double zmin, double zmax)
 {
@@ -343,15 +353,12 @@ int sw_build_bins(sw_ctx *c, double rmax, double zmin, double zmax)
         c->nbz = g;
         c->br0 = 0;
         c->bz0 = zmin;
-        c->bdr = (rmax > 0 ? rmax : 1) / (double)g * (1 + 1e-9);
-        c->bdz = (zmax > zmin ? zmax - zmin : 1) / (double)g * (1 + 1e-9);
+        c->bdr = (rmax > 0 ? rmax : 1) / (double)g * (1 + SW_EPS_REL);
+        c->bdz = (zmax > zmin ? zmax - zmin : 1) / (double)g * (1 + SW_EPS_REL);
         int64_t total = 0;
         for (int64_t t = 0; t < c->nt; t++) {
-            const sw_tri *T = &c->tris[t];
-            int64_t i0 = (int64_t)(T->rmin / c->bdr), i1 = (int64_t)(T->rmax / c->bdr);
-            int64_t j0 = (int64_t)((T->zmin - zmin) / c->bdz), j1 = (int64_t)((T->zmax - zmin) / c->bdz);
-            if (i1 >= g) i1 = g - 1;
-            if (j1 >= g) j1 = g - 1;
+            int64_t i0, i1, j0, j1;
+            tri_bins(c, &c->tris[t], zmin, g, &i0, &i1, &j0, &j1);
             total += (i1 - i0 + 1) * (j1 - j0 + 1);
         }
         if (total > 24 * c->nt + 64 && g > 4) {
@@ -364,11 +371,8 @@ int sw_build_bins(sw_ctx *c, double rmax, double zmin, double zmax)
             return ctx_nomem(c);
         for (int pass = 0; pass < 2; pass++) {
             for (int64_t t = 0; t < c->nt; t++) {
-                const sw_tri *T = &c->tris[t];
-                int64_t i0 = (int64_t)(T->rmin / c->bdr), i1 = (int64_t)(T->rmax / c->bdr);
-                int64_t j0 = (int64_t)((T->zmin - zmin) / c->bdz), j1 = (int64_t)((T->zmax - zmin) / c->bdz);
-                if (i1 >= g) i1 = g - 1;
-                if (j1 >= g) j1 = g - 1;
+                int64_t i0, i1, j0, j1;
+                tri_bins(c, &c->tris[t], zmin, g, &i0, &i1, &j0, &j1);
                 for (int64_t j = j0; j <= j1; j++)
                     for (int64_t i = i0; i <= i1; i++) {
                         int64_t b = j * g + i;

@@ -44,7 +44,7 @@ static int ray_parity(const sw_ctx *c, const int64_t *tcomp, int64_t comp, const
         double rr[3] = {w[1] * e1[2] - w[2] * e1[1], w[2] * e1[0] - w[0] * e1[2], w[0] * e1[1] - w[1] * e1[0]};
         double v = (dir[0] * rr[0] + dir[1] * rr[1] + dir[2] * rr[2]) / det;
         double tt = (e2[0] * rr[0] + e2[1] * rr[1] + e2[2] * rr[2]) / det;
-        const double g = 1e-9;
+        const double g = SW_EPS_PARAM;
         if (u < -g || v < -g || u + v > 1 + g || tt < -g)
             continue;
         if (u < g || v < g || u + v > 1 - g || tt < g)
@@ -395,7 +395,7 @@ int sw_merge_faces(sw_ctx *c)
         int flat = 1;
         for (int k = 0; k < 3; k++) {
             const double *p = c->lx + 3 * B->v[k];
-            if (fabs(A->n[0] * p[0] + A->n[1] * p[1] + A->n[2] * p[2] - A->d) > 1e-12 * c->ext * na)
+            if (fabs(A->n[0] * p[0] + A->n[1] * p[1] + A->n[2] * p[2] - A->d) > SW_EPS_ROUND * c->ext * na)
                 flat = 0;
         }
         if (!flat)

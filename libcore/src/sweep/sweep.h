@@ -315,6 +315,58 @@ static inline double v_r(double x, double y)
     return sqrt(x * x + y * y);
 }
 
+/* qsort order of records by a double key, then an int64 tie-break (the comparators of
+ * polygons.c and wallmesh.c). */
+static inline int sw_cmp_key(double ka, double kb, int64_t ia, int64_t ib)
+{
+    if (ka != kb)
+        return (ka > kb) - (ka < kb);
+    return (ia > ib) - (ia < ib);
+}
+
+/* Named tolerances (the values of the single-file rotsweep.c).  None is the user's
+ * tolerance: they absorb the rounding of separately computed doubles, each scaled by the
+ * size it is relative to. */
+/* Rounding allowance relative to a length scale (r + |z|, the part's extent, a cell side):
+ * far above double rounding (~1e-16), far below anything the tolerance resolves. */
+#define SW_EPS_REL 1e-9
+/* The same allowance on a curve or segment parameter in [0, 1] (a crossing at an end). */
+#define SW_EPS_PARAM 1e-9
+/* Two angles (radians) computed separately are one below this; hidden blocks are widened
+ * by half of it on each side, so gaps narrower than it close. */
+#define SW_EPS_ANGLE 1e-9
+#define SW_EPS_ANGLE_HALF 5e-10
+/* Angles equal up to rounding of a few ulps of 2 pi (a wall's lines that meet). */
+#define SW_EPS_ANGLE_ROUND 1e-12
+/* An angle within this of 2 pi is a full turn (mfgeom.h: "within 1e-12 of 2 pi"). */
+#define SW_FULL_TURN_EPS 1e-12
+/* Relative rounding of a sum of a few products (plane equations, cell coordinates). */
+#define SW_EPS_ROUND 1e-12
+/* Angular rounding margin per unit of (extent / distance from the axis). */
+#define SW_EPS_ANGLE_EXT 1e-13
+/* A fraction of the user's tolerance that counts as no distance (welds, empty segments). */
+#define SW_TOL_FRAC 1e-6
+/* A mesh vertex lifted onto its own triangle snaps to itself within this part of the
+ * tolerance (plus SW_TOL_FRAC of its radius). */
+#define SW_TOL_SNAP 0.01
+/* Two planes are parallel when the squared sine of their angle is below this (1e-8^2). */
+#define SW_EPS_SIN2 1e-16
+/* A triangle whose normal's horizontal part is below this fraction of the normal faces
+ * along the axis: no circle crosses its plane (sw_tri.vertical_ok). */
+#define SW_EPS_HORIZ 1e-14
+/* A cell nearer than this fraction of the extent to the axis hides nothing (mark_hidden). */
+#define SW_EPS_AXIS_DIST 1e-7
+/* The swept volume may fall short of the input's volume by this fraction (rounding). */
+#define SW_EPS_VOLUME 1e-9
+
+/* The distance within which two points of the meridian half-plane near (r, z) are one:
+ * the rounding of coordinates of size r + |z| plus SW_TOL_FRAC of the tolerance.  Curve
+ * points, chord ends and lifted corners are matched with it. */
+static inline double sw_point_eps(const sw_ctx *c, double r, double z)
+{
+    return SW_EPS_REL * (r + fabs(z)) + SW_TOL_FRAC * c->tol;
+}
+
 typedef struct sw_out {
     double *phi;           /* angle of each output vertex */
     int64_t capphi;

@@ -13,9 +13,7 @@ typedef struct sw_pl {
 static int cmp_pl(const void *pa, const void *pb)
 {
     const sw_pl *a = pa, *b = pb;
-    if (a->off != b->off)
-        return (a->off > b->off) - (a->off < b->off);
-    return (a->vid > b->vid) - (a->vid < b->vid);
+    return sw_cmp_key(a->off, b->off, a->vid, b->vid);
 }
 
 /* The vertices of one end of a strip, in increasing angle from lo to hi (a full turn for
@@ -54,7 +52,7 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
         int64_t nr = we->v2 >= 0 ? W->ring_start[we->v2 + 1] - W->ring_start[we->v2] : we->ring_n;
         for (int64_t i = 0; i < nr && lo < 0; i++) {
             int64_t vid = we->v2 >= 0 ? W->rvid[W->ring_start[we->v2] + i] : W->evring[we->ring_first + i];
-            if (fabs(angle_diff(o->phi[vid], 0)) <= 1e-9)
+            if (fabs(angle_diff(o->phi[vid], 0)) <= SW_EPS_ANGLE)
                 lo = vid;
         }
         if (lo < 0) {
@@ -93,14 +91,14 @@ static int end_polyline(sw_ctx *c, sw_out *o, const sw_walls *W, const wend *we,
     pl[n].vid = lo;
     pl[n].grid = lo_grid;
     pl[n++].off = 0;
-    const double dtiny = 1e-9;
+    const double dtiny = SW_EPS_ANGLE;
     if (span > 0) {
         for (int64_t i = 0; i < cand_n; i++) {
             int64_t vid = we->v2 >= 0 ? W->rvid[W->ring_start[we->v2] + i] : W->evring[we->ring_first + i];
             if (vid == lo || vid == hi)
                 continue;
             double off = wrap_angle(o->phi[vid] - plo);
-            if (off > 0 && off < span && off < MFG_TWO_PI - 1e-12)
+            if (off > 0 && off < span && off < MFG_TWO_PI - SW_EPS_ANGLE_ROUND)
                 pl[n].vid = vid, pl[n++].off = off;
         }
         /* grid vertices of an outer wall's circle lie on the circumscribed polygon */
