@@ -166,21 +166,27 @@ typedef struct {
 /* A positive floor for a length that is divided by or must not be zero. */
 #define MA_TINY 1e-300
 
+/* Where a trace starts: a point of the axis (x, y) with its radius r, the element pair
+ * (e1, e2) whose bisector it follows, and its direction (dx, dy). */
+typedef struct {
+    double x, y, r;
+    int64_t e1, e2;
+    double dx, dy;
+} ma_start;
+
 enum { TR_LEAF, TR_EVENT, TR_NOMEM, TR_STUCK, TR_BADPAIR, TR_MISSED };
 
 /* bvh.c */
 int ma_bvh_build(ma_bvh *T, const double *x, const double *y, const int64_t *nxt, int64_t n);
 void ma_bvh_free(ma_bvh *T);
 double ma_pt_seg_d2(double px, double py, double ax, double ay, double bx, double by);
-int ma_bvh_collect(const ma_bvh *T, double ax, double ay, double bx, double by, double rad,
-                   int64_t from, ivec *out);
+int ma_bvh_collect(const ma_bvh *T, const double seg[4], double rad, int64_t from, ivec *out);
 
 /* bisector.c */
 void ma_vpoint(const ma_elems *E, int64_t e, double *x, double *y);
 double ma_elem_dist(const ma_elems *E, int64_t e, double x, double y);
 int ma_own_pair(const ma_elems *E, int64_t a, int64_t b);
-void ma_bis_make(const ma_elems *E, ma_bis *b, int64_t e1, int64_t e2, double Px, double Py,
-                 double dx, double dy);
+void ma_bis_make(const ma_elems *E, ma_bis *b, const ma_start *s);
 void ma_bis_at(const ma_bis *b, double t, double *x, double *y, double *r);
 double ma_bis_max_step(const ma_bis *b, double t, double tol);
 void ma_bis_tangent(const ma_bis *b, double t, double *tx, double *ty);
@@ -188,12 +194,10 @@ int ma_bis_window(const ma_elems *E, const ma_bis *b, double x, double y, int64_
 int64_t ma_window_switch(const ma_elems *E, int64_t e, int how);
 
 /* junctions.c */
-mfg_status ma_run_branch(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2,
-                         double dx, double dy, int64_t j0);
+mfg_status ma_run_branch(ma_ctx *C, const ma_start *s, int64_t j0);
 
 /* trace.c */
-int ma_trace(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2, double dx,
-             double dy, int first, double ev[5], int64_t *leafv);
+int ma_trace(ma_ctx *C, const ma_start *s, int first, double ev[5], int64_t *leafv);
 
 /* assemble.c */
 mfg_status ma_assemble(const ma_ctx *C, struct mfg_medial_axis **out);

@@ -66,9 +66,10 @@ static void bis_poly(ma_bis *b)
     }
 }
 
-void ma_bis_make(const ma_elems *E, ma_bis *b, int64_t e1, int64_t e2, double Px, double Py,
-                 double dx, double dy)
+void ma_bis_make(const ma_elems *E, ma_bis *b, const ma_start *s)
 {
+    int64_t e1 = s->e1, e2 = s->e2;
+    double Px = s->x, Py = s->y, dx = s->dx, dy = s->dy;
     memset(b, 0, sizeof *b);
     b->e1 = e1;
     b->e2 = e2;

@@ -139,9 +139,10 @@ double ma_pt_seg_d2(double px, double py, double ax, double ay, double bx, doubl
 
 /* Squared distance of two segments (0 when they cross; floating point: only used with a
  * padding). */
-static double seg_seg_d2(double ax, double ay, double bx, double by, double cx, double cy,
-                         double dx, double dy)
+static double seg_seg_d2(const double ab[4], const double cd[4])
 {
+    double ax = ab[0], ay = ab[1], bx = ab[2], by = ab[3];
+    double cx = cd[0], cy = cd[1], dx = cd[2], dy = cd[3];
     double o1 = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
     double o2 = (bx - ax) * (dy - ay) - (by - ay) * (dx - ax);
     double o3 = (dx - cx) * (ay - cy) - (dy - cy) * (ax - cx);
@@ -155,11 +156,11 @@ static double seg_seg_d2(double ax, double ay, double bx, double by, double cx, 
 }
 
 /* Appends to out every segment numbered from `from` on whose node lies within distance
- * rad of the segment (ax, ay)-(bx, by) (a capsule query; a point when a = b).  Returns 0
- * on NOMEM. */
-int ma_bvh_collect(const ma_bvh *T, double ax, double ay, double bx, double by, double rad,
-                   int64_t from, ivec *out)
+ * rad of the segment seg = (ax, ay, bx, by) (a capsule query; a point when a = b).
+ * Returns 0 on NOMEM. */
+int ma_bvh_collect(const ma_bvh *T, const double seg[4], double rad, int64_t from, ivec *out)
 {
+    double ax = seg[0], ay = seg[1], bx = seg[2], by = seg[3];
     if (T->nn == 0)
         return 1;
     int64_t stack[192];
@@ -179,7 +180,7 @@ int ma_bvh_collect(const ma_bvh *T, double ax, double ay, double bx, double by, 
             continue;
         const double *cp = T->cap + 5 * nd;
         double rc = rad + cp[4];
-        if (seg_seg_d2(ax, ay, bx, by, cp[0], cp[1], cp[2], cp[3]) > rc * rc)
+        if (seg_seg_d2(seg, cp) > rc * rc)
             continue;
         if (!point && seg_box_d2(ax, ay, bx, by, b) > r2)
             continue;

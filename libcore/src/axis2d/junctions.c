@@ -30,7 +30,7 @@ static int64_t junction_make(ma_ctx *C, double x, double y, double r)
     const ma_elems *E = &C->E;
     int64_t cnt = 0;
     C->cand.n = 0;
-    if (!ma_bvh_collect(&C->T, x, y, x, y, r + C->gather, 0, &C->cand))
+    if (!ma_bvh_collect(&C->T, (const double[4]){x, y, x, y}, r + C->gather, 0, &C->cand))
         return -1;
     ma_ea *ea = malloc((size_t)(2 * C->cand.n + 1) * sizeof *ea);
     if (!ea)
@@ -170,9 +170,10 @@ static int64_t junction_find(const ma_ctx *C, int64_t jn)
 
 /* Traces one branch from a leaf (j0 = -1) or a junction port, through pass-through
  * (degree-2) events, to a leaf or a junction; registers new junctions and their ports. */
-mfg_status ma_run_branch(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2,
-                         double dx, double dy, int64_t j0)
+mfg_status ma_run_branch(ma_ctx *C, const ma_start *s, int64_t j0)
 {
+    double x = s->x, y = s->y, r = s->r, dx = s->dx, dy = s->dy;
+    int64_t e1 = s->e1, e2 = s->e2;
     const ma_elems *E = &C->E;
     if (!ivec_push(&C->boff, C->px.n))
         return mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (branches)");
@@ -180,7 +181,7 @@ mfg_status ma_run_branch(ma_ctx *C, double x, double y, double r, int64_t e1, in
     for (;;) {
         double ev[5];
         int64_t leafv;
-        int rc = ma_trace(C, x, y, r, e1, e2, dx, dy, first, ev, &leafv);
+        int rc = ma_trace(C, &(ma_start){x, y, r, e1, e2, dx, dy}, first, ev, &leafv);
         if (rc == TR_NOMEM)
             return mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (samples)");
         if (rc == TR_BADPAIR)

@@ -24,9 +24,10 @@ static int ring_contains(const double *vx, const double *vy, int64_t lo, int64_t
 }
 
 /* Do closed segments ab and cd share a point?  Exact (orient2d, dot2d). */
-static int segs_touch(double ax, double ay, double bx, double by, double cx, double cy,
-                      double dx, double dy)
+static int segs_touch(const double ab[4], const double cd[4])
 {
+    double ax = ab[0], ay = ab[1], bx = ab[2], by = ab[3];
+    double cx = cd[0], cy = cd[1], dx = cd[2], dy = cd[3];
     int o1 = mfg_orient2d(ax, ay, bx, by, cx, cy), o2 = mfg_orient2d(ax, ay, bx, by, dx, dy);
     int o3 = mfg_orient2d(cx, cy, dx, dy, ax, ay), o4 = mfg_orient2d(cx, cy, dx, dy, bx, by);
     if (o1 * o2 < 0 && o3 * o4 < 0)
@@ -231,7 +232,8 @@ static mfg_status check_crossings(ma_ctx *C, const ma_rings *R, mfg_prog *prog)
         }
         int64_t i2 = E->next[i], jbest = -1;
         C->cand.n = 0;
-        if (!ma_bvh_collect(&C->T, vx[i], vy[i], vx[i2], vy[i2], MA_EPS_TOUCH * diag0, i + 1, &C->cand)) {
+        const double seg_i[4] = {vx[i], vy[i], vx[i2], vy[i2]};
+        if (!ma_bvh_collect(&C->T, seg_i, MA_EPS_TOUCH * diag0, i + 1, &C->cand)) {
             st = mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (index query)");
             return st;
         }
@@ -240,7 +242,7 @@ static mfg_status check_crossings(ma_ctx *C, const ma_rings *R, mfg_prog *prog)
             if (jj <= i || (jbest >= 0 && jj >= jbest) || jj == i2 || j2 == i)
                 continue; /* neighbours share their common vertex only, unless they
                              overlap (excluded by the spike check) */
-            if (segs_touch(vx[i], vy[i], vx[i2], vy[i2], vx[jj], vy[jj], vx[j2], vy[j2]))
+            if (segs_touch(seg_i, (const double[4]){vx[jj], vy[jj], vx[j2], vy[j2]}))
                 jbest = jj;
         }
         if (jbest >= 0) {
@@ -360,7 +362,7 @@ static mfg_status trace_all(ma_ctx *C, const ma_rings *R, mfg_prog *prog)
         C->reached[k] = 1;
         int64_t p = E->prev[k];
         double dx = E->nx[p] + E->nx[k], dy = E->ny[p] + E->ny[k], l = hypot(dx, dy);
-        st = ma_run_branch(C, vx[k], vy[k], 0.0, p, k, dx / l, dy / l, -1);
+        st = ma_run_branch(C, &(ma_start){vx[k], vy[k], 0.0, p, k, dx / l, dy / l}, -1);
         if (st != MFG_OK)
             return st;
         while (C->stack.n > 0) {
@@ -373,8 +375,11 @@ static mfg_status trace_all(ma_ctx *C, const ma_rings *R, mfg_prog *prog)
                 return st;
             }
             ma_junction *J = &C->J[C->P[q].j];
-            st = ma_run_branch(C, J->x, J->y, J->r, C->P[q].e1, C->P[q].e2, cos(C->P[q].angle),
-                            sin(C->P[q].angle), C->P[q].j);
+            const ma_port *Pq = &C->P[q];
+            st = ma_run_branch(C,
+                               &(ma_start){J->x, J->y, J->r, Pq->e1, Pq->e2, cos(Pq->angle),
+                                           sin(Pq->angle)},
+                               C->P[q].j);
             if (st != MFG_OK)
                 return st;
         }

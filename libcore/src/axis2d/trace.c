@@ -39,10 +39,10 @@ static double quad_entry(double A, double B, double C, double lo, double hi)
     return best;
 }
 
-/* The entry root of c . (p(t) - q) + c0 (a linear function of the point). */
-static double lin_entry(const ma_bis *b, double cx, double cy, double qx, double qy, double c0,
-                        double lo, double hi)
+/* The entry root of c . (p(t) - q) + c0 (a linear function of the point), lin = (c, q, c0). */
+static double lin_entry(const ma_bis *b, const double lin[5], double lo, double hi)
 {
+    double cx = lin[0], cy = lin[1], qx = lin[2], qy = lin[3], c0 = lin[4];
     return quad_entry(cx * b->p2x + cy * b->p2y, cx * b->p1x + cy * b->p1y,
                       cx * (b->p0x - qx) + cy * (b->p0y - qy) + c0, lo, hi);
 }
@@ -64,8 +64,10 @@ static double elem_entry(const ma_elems *E, const ma_bis *b, int64_t e, double l
         double vx, vy;
         ma_vpoint(E, e, &vx, &vy);
         if (curved_r)
-            return lin_entry(b, 2 * (b->fpx - vx), 2 * (b->fpy - vy), 0.5 * (b->fpx + vx),
-                             0.5 * (b->fpy + vy), 0.0, lo, hi);
+            return lin_entry(b,
+                             (const double[5]){2 * (b->fpx - vx), 2 * (b->fpy - vy),
+                                               0.5 * (b->fpx + vx), 0.5 * (b->fpy + vy), 0.0},
+                             lo, hi);
         double wx = b->p0x - vx, wy = b->p0y - vy;
         return quad_entry(b->p1x * b->p1x + b->p1y * b->p1y - b->r1c * b->r1c,
                           2 * (b->p1x * wx + b->p1y * wy - b->r0c * b->r1c),
@@ -107,12 +109,13 @@ static double bis_window_exit(const ma_elems *E, const ma_bis *b, double lo, int
         int64_t e = es[i];
         double t[2];
         if (is_seg(E, e)) {
-            t[0] = lin_entry(b, E->ux[e], E->uy[e], E->ax[e], E->ay[e], 0.0, lo, INFINITY);
-            t[1] = lin_entry(b, -E->ux[e], -E->uy[e], E->ax[e], E->ay[e], E->len[e], lo, INFINITY);
+            t[0] = lin_entry(b, (const double[5]){E->ux[e], E->uy[e], E->ax[e], E->ay[e], 0.0}, lo, INFINITY);
+            t[1] = lin_entry(b, (const double[5]){-E->ux[e], -E->uy[e], E->ax[e], E->ay[e], E->len[e]}, lo,
+                             INFINITY);
         } else {
             int64_t k = E->vk[e - E->ns], pk = E->prev[k];
-            t[0] = lin_entry(b, E->ux[pk], E->uy[pk], E->ax[k], E->ay[k], 0.0, lo, INFINITY);
-            t[1] = lin_entry(b, -E->ux[k], -E->uy[k], E->ax[k], E->ay[k], 0.0, lo, INFINITY);
+            t[0] = lin_entry(b, (const double[5]){E->ux[pk], E->uy[pk], E->ax[k], E->ay[k], 0.0}, lo, INFINITY);
+            t[1] = lin_entry(b, (const double[5]){-E->ux[k], -E->uy[k], E->ax[k], E->ay[k], 0.0}, lo, INFINITY);
         }
         for (int w = 0; w < 2; w++)
             if (t[w] < best)
@@ -307,12 +310,13 @@ static int sample_piece(ma_ctx *C, const ma_bis *b, double ta, double tb)
 }
 
 /* The foot of segment `who` reached its convex end (`how` 1: start, 2: end) at the last
- * sample (px, py, pr): the leaf, where the radius is 0.  At a radius above the event
+ * sample p = (x, y, r): the leaf, where the radius is 0.  At a radius above the event
  * accuracy a third element must have touched first (a missed event): TR_MISSED rather
  * than a false leaf inside the face. */
-static int corner_leaf(ma_ctx *C, int64_t who, int how, double px, double py, double pr,
-                       double ev[5], int64_t *leafv)
+static int corner_leaf(ma_ctx *C, int64_t who, int how, const double p[3], double ev[5],
+                       int64_t *leafv)
 {
+    double px = p[0], py = p[1], pr = p[2];
     *leafv = how == 1 ? who : C->E.next[who];
     if (pr > MA_EPS_ARRIVE * C->E.diag) {
         ev[0] = px, ev[1] = py, ev[2] = pr;
@@ -322,18 +326,18 @@ static int corner_leaf(ma_ctx *C, int64_t who, int how, double px, double py, do
     return TR_LEAF;
 }
 
-/* Traces from (x, y, r) along the bisector of (e1, e2) in direction (dx, dy), appending
+/* Traces from s = (x, y, r) along the bisector of (e1, e2) in direction (dx, dy), appending
  * samples (the start too when `first`).  Each piece runs to the first of: an event (the
  * least exact entry root of a third element, searched in doubling parameter intervals
  * through the index), the closing of a window of the pair (a transition: the element is
  * switched, or at a convex corner the leaf), the leaf (r = 0).  On TR_EVENT,
  * ev = (x, y, r, tx, ty); on TR_LEAF *leafv = the convex vertex (or -1 if unknown). */
-int ma_trace(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2, double dx,
-             double dy, int first, double ev[5], int64_t *leafv)
+int ma_trace(ma_ctx *C, const ma_start *s, int first, double ev[5], int64_t *leafv)
 {
     const ma_elems *E = &C->E;
+    double x = s->x, y = s->y, r = s->r;
     ma_bis b;
-    ma_bis_make(E, &b, e1, e2, x, y, dx, dy);
+    ma_bis_make(E, &b, s);
     if (first && !push_sample(C, x, y, r))
         return TR_NOMEM;
     *leafv = -1;
@@ -377,9 +381,9 @@ int ma_trace(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2, do
         ma_bis_at(&b, tw, &phx, &phy, &phr);
         int64_t en = ma_window_switch(E, who, how);
         if (en < 0)
-            return corner_leaf(C, who, how, phx, phy, phr, ev, leafv);
+            return corner_leaf(C, who, how, (const double[3]){phx, phy, phr}, ev, leafv);
         int64_t ea = b.e1 == who ? en : b.e1, eb = b.e1 == who ? b.e2 : en;
-        ma_bis_make(E, &b, ea, eb, phx, phy, tx, ty);
+        ma_bis_make(E, &b, &(ma_start){phx, phy, phr, ea, eb, tx, ty});
         for (int k = 0; k < 3; k++) { /* lesson 2: a double transition */
             double x1, y1, r1;
             ma_bis_at(&b, MA_EPS_STEP * E->diag, &x1, &y1, &r1);
@@ -388,9 +392,9 @@ int ma_trace(ma_ctx *C, double x, double y, double r, int64_t e1, int64_t e2, do
                 break;
             en = ma_window_switch(E, who, how);
             if (en < 0)
-                return corner_leaf(C, who, how, phx, phy, phr, ev, leafv);
+                return corner_leaf(C, who, how, (const double[3]){phx, phy, phr}, ev, leafv);
             ea = b.e1 == who ? en : b.e1, eb = b.e1 == who ? b.e2 : en;
-            ma_bis_make(E, &b, ea, eb, phx, phy, tx, ty);
+            ma_bis_make(E, &b, &(ma_start){phx, phy, phr, ea, eb, tx, ty});
         }
     }
     return TR_STUCK;
