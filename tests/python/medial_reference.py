@@ -1,10 +1,10 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Independent reference for the 2-D medial axis of polygons with holes (no Voronoi code,
-no code shared with libcore/src/medial_axis.c): medial points by bisection along inward
+no code shared with libcore/src/axis2d/): medial points by bisection along inward
 normals of boundary samples (and, at reflex vertices, along the fan of directions
 between the two edge normals): the largest s with dist(q + s*n, boundary) == s.  Plus
 soundness / completeness checks of an axis given as branches (points, radii).
-Copied from the issue 9 research notes (ma2d/ref_medial.py, 2026-11-29)."""
+Written for the 2-D medial axis work before the library's tracer (2026-11-29)."""
 import math
 
 import numpy as np

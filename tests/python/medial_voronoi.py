@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The peer of mfgeom's 2-D medial axis: FreeCAD's Path.Voronoi (PathApp.Voronoi in 1.0;
 Boost.Polygon's segment Voronoi diagram), as FreeCAD's V-carve uses it -- no code shared with
-libcore/src/medial_axis.c.  From the issue 9 research notes (ma2d/pv_medial.py).
+libcore/src/axis2d/.
 
-Facts that shape its use (measured, see the notes): the input is multiplied by `scale`
+Facts that shape its use (measured): the input is multiplied by `scale`
 and truncated to int32 (a 1/scale grid; |coordinate| * scale must stay below 2^31, else the
 diagram is silently empty); secondary edges (a segment and its own endpoint) and edges
 outside the face or inside holes are not medial axis and are filtered here; curved edges

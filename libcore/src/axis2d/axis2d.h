@@ -10,7 +10,7 @@
  *   assemble.c     the result: short branches contracted, canonical order
  *   medial_axis.c  input checks and the entry point
  *
- * Method (design: the ma2d notes, section 2 and the lessons of section 7).  The elements
+ * Method (design: docs/design/axis2d.md, section 2 and the lessons of section 7).  The elements
  * of the boundary are its edges as open segments (with the inward normal) and its reflex
  * vertices as points; convex vertices are the leaves of the axis (radius 0).  The axis is
  * a union of bisectors of element pairs: segment-segment (a line, or the midline of two

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
 /* hashmap.h - the open-addressing map from 4-word keys to int64 values shared by the
- * rotational sweep (rotsweep.c: corners, leaves, lifts, welds, edges) and its planar
+ * rotational sweep (sweep/: corners, leaves, lifts, welds, edges) and its planar
  * merge (planar_merge.c: directed edges).  Header-only (static inline): private to the
  * library, no symbols exported. */
 #ifndef MFG_HASHMAP_H

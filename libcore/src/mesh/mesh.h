@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* mesh.h - private: the closed-solid check every mesh algorithm (rotsweep.c, medial.c)
+/* mesh.h - private: the closed-solid check every mesh algorithm (sweep/, medial/)
  * runs on its input, and the edge adjacency it finds on the way. */
 #ifndef MFG_MESH_H
 #define MFG_MESH_H

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
 /* test_medial_axis.c - the 2-D medial axis against the hand-derived axes of the
- * rectangle, the square, the square frame and the L (ma2d design notes, section 4), an
+ * rectangle, the square, the square frame and the L (docs/design/axis2d.md, section 4), an
  * independent brute-force clearance (distance to the closed edges) and even-odd inside
  * test for every sample, and the bad-input errors. */
 #include <math.h>
