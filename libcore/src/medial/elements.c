@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* medial_elements.c - the boundary elements of a closed mesh for the medial surface
- * (issue 9, seed 004 Lee & Lee; design section 1): faces merged from coplanar adjacent
- * triangles, edges as chains of mesh edges between two faces, vertices at the chains'
- * ends; their distances restricted to their Voronoi regions (the paper's special
- * bisectors, Fig. 3), and the brute-force touching set. */
+/* elements.c - the boundary elements of a closed mesh for the medial surface (issue 9; Lee
+ * & Lee, the medial surface of a polyhedron; docs/design/medial.md section 1): faces merged
+ * from coplanar adjacent triangles, edges as chains of mesh edges between two faces,
+ * vertices at the chains' ends; their distances restricted to their Voronoi regions (the
+ * paper's special bisectors, Fig. 3), and the brute-force touching set. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

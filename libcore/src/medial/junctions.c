@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* medial_junctions.c - the paper's intersection points and curves (seed 004 Lee & Lee,
- * section 3.2; design /work/notes/issue9_design.md, section 4.3): inside one octree leaf,
+/* junctions.c - the paper's intersection points and curves (Lee & Lee, the medial surface
+ * of a polyhedron, section 3.2; docs/design/medial.md section 4.3): inside one octree leaf,
  * the points equidistant from a set T of >= 4 elements.  The paper's search by
  * subdivision with bisector sign tests finds where they may be; Gauss-Newton with the
  * singular values of the Jacobian places them and tells an isolated point (rank 3: a

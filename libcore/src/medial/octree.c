@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* medial_voxels.c - the adaptive octree of the 3-D medial surface (issue 9, seed 004, Lee &
- * Lee; design /work/notes/issue9_design.md sections 3 and 5).
+/* octree.c - the adaptive octree of the 3-D medial surface (issue 9; Lee & Lee, the medial
+ * surface of a polyhedron; docs/design/medial.md sections 3 and 5).
  *
  * The root cube (side S = 1.02 x the largest extent) is subdivided down to leaves of side
  * h, the largest S / 2^k <= tolerance.  A cell survives only when some pair of boundary

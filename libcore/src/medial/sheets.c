@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* medial_sheets.c - the sheets of the medial surface on the analytic bisectors (issue 9,
- * seed 004 Lee & Lee; design section 4.1, work package C2).  For every octree leaf and
- * every pair (a, b) of its P: marching tetrahedra on f_ab = d_a^car - d_b^car over the 6
+/* sheets.c - the sheets of the medial surface on the analytic bisectors, the sheet
+ * extraction stage (issue 9; Lee & Lee, the medial surface of a polyhedron;
+ * docs/design/medial.md section 4.1).  For every octree leaf and every pair (a, b) of
+ * its P: marching tetrahedra on f_ab = d_a^car - d_b^car over the 6
  * Kuhn tets about the leaf's main diagonal, with every vertex a root of f_ab on its lattice
  * edge (md_root_on_segment, from the edge's smaller lattice point); then each polygon is
  * trimmed where tau < 0, tau = min(region margins of a and b, min over the other candidates

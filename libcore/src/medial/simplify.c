@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* medial_simplify.c - a medial sheet made coarse within the tolerance (issue 9).
+/* simplify.c - a medial sheet made coarse within the tolerance (issue 9;
+ * docs/design/medial.md section 4.1).
  *
- * The sheets come out of marching tetrahedra (medial_sheets.c) at leaf size h <= tolerance:
+ * The sheets come out of marching tetrahedra (sheets.c) at leaf size h <= tolerance:
  * far more triangles than a mesh within the tolerance of the bisector needs.  Every
  * vertex of the soup lies on the analytic bisector (a root of d_a^car - d_b^car), so the
  * coarse sheet only removes vertices, never moves one: the kept vertices stay exactly on
@@ -19,7 +20,7 @@
  *     vertex goes only along the boundary, when every input boundary vertex between the
  *     new boundary edge's ends stays within tolerance / 4 of it and lies on the same seam
  *     (the seam labels: the element other than (a, b) of the soup's seam segments there),
- *     so the sheet's edge follows its seam (medial.c chains the soup's seam segments on
+ *     so the sheet's edge follows its seam (seam_assembly.c chains the soup's seam segments on
  *     their own, thinned to tolerance / 4 as well) and its corners, where two seams meet
  *     at a junction, stay: without them the cuboid's mid-sheet lost its corners by up to
  *     tolerance / 4 (area 3186.9 for 3200 at tolerance 2.5), the 48-gon disc half its
