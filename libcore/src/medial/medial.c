@@ -216,16 +216,16 @@ mfg_status mfg_medial_surface_p(const double *xyz, int64_t nvertices, const int6
     const char *stage = "the result";
     if (!m) {
         st = MFG_ERR_NOMEM;
-        goto fail;
+        goto cleanup;
     }
     stage = "the BVH";
     if ((st = md_bvh_build(&el, &bvh)) != MFG_OK)
-        goto fail;
+        goto cleanup;
 #define MEDIAL_STAGE(name, lo, hi, every)                                                  \
     do {                                                                                   \
         if (!mfg_prog_stage(&prog, name, lo, hi, every)) {                                 \
             st = mfg_prog_fail(&prog);                                                     \
-            goto fail;                                                                     \
+            goto cleanup;                                                                  \
         }                                                                                  \
     } while (0)
 /* A report inside the assembly (its steps are sequential and not split further). */
@@ -233,23 +233,23 @@ mfg_status mfg_medial_surface_p(const double *xyz, int64_t nvertices, const int6
     do {                                                                                   \
         if (!mfg_prog_report(&prog, done, total)) {                                        \
             st = mfg_prog_fail(&prog);                                                     \
-            goto fail;                                                                     \
+            goto cleanup;                                                                  \
         }                                                                                  \
     } while (0)
     stage = "the octree";
     MEDIAL_STAGE("medial: octree", 0.05, 0.25, MEDIAL_EVERY_OCTREE);
     if ((st = md_octree_build_p(&el, bvh, tolerance, full, nth, &lv, &prog)) != MFG_OK)
-        goto fail;
+        goto cleanup;
     stage = "the sheets";
     MEDIAL_STAGE("medial: sheets", 0.25, 0.6, MEDIAL_EVERY_SHEETS);
     if ((st = md_sheets_extract_p(&el, bvh, &lv, tolerance, nth, &sp, &prog)) != MFG_OK)
-        goto fail;
+        goto cleanup;
     double h = lv.lat.h;
     md_asm ax = {&el, bvh, h, 2 * h, tolerance, full};
     stage = "the junctions";
     MEDIAL_STAGE("medial: junctions", 0.6, 0.75, MEDIAL_EVERY_JUNCTIONS);
     if ((st = md_find_junctions(&ax, &lv, nth, &J, &nJ, &prog)) != MFG_OK)
-        goto fail;
+        goto cleanup;
     stage = "the assembly";
     MEDIAL_STAGE("medial: assembly", 0.75, 1.0, 1);
     /* rank-2 points (degenerate seams) first, rank-3 after */
@@ -265,7 +265,7 @@ mfg_status mfg_medial_surface_p(const double *xyz, int64_t nvertices, const int6
     Jall = J3;
     nall = n3;
     if ((st = elements_to_public(&el, m)) != MFG_OK || (st = md_build_sheets(&ax, &sp, m, &as, &prog)) != MFG_OK)
-        goto fail;
+        goto cleanup;
     MEDIAL_STEP(1, 5);
     /* Degenerate seams first: the soup's seams along them are dropped.  The soup's seams
      * are chained, the junctions the leaves missed are found where they end
@@ -276,14 +276,14 @@ mfg_status mfg_medial_surface_p(const double *xyz, int64_t nvertices, const int6
     if (!md_degenerate_seams(&ax, J, n2, &J3s, &so) ||
         !md_soup_seams(&ax, &sp, &as, &so, so.n, &pend)) {
         st = MFG_ERR_NOMEM;
-        goto fail;
+        goto cleanup;
     }
     MEDIAL_STEP(2, 5);
     int rec = md_recover_junctions(&ax, &pend, &Jall, &nall);
     own_jall = Jall != J3;
     if (!rec) {
         st = MFG_ERR_NOMEM;
-        goto fail;
+        goto cleanup;
     }
     MEDIAL_STEP(3, 5);
     md_seam_out_free(&so);
@@ -291,23 +291,24 @@ mfg_status mfg_medial_surface_p(const double *xyz, int64_t nvertices, const int6
     md_jset Js = {Jall, nall};
     if (!md_degenerate_seams(&ax, J, n2, &Js, &so)) {
         st = MFG_ERR_NOMEM;
-        goto fail;
+        goto cleanup;
     }
     for (int64_t i = 0; i < pend.n; i++)
         if (!md_emit_seam(&ax, &Js, &so, &pend.v[i].pl, pend.v[i].e, pend.v[i].ne, pend.v[i].kind)) {
             st = MFG_ERR_NOMEM;
-            goto fail;
+            goto cleanup;
         }
     MEDIAL_STEP(4, 5);
     if ((st = md_drop_narrow_sheets(&so, tolerance, m)) != MFG_OK || (st = md_close_pinholes(m, tolerance)) != MFG_OK ||
         (st = seams_to_public(&so, m)) != MFG_OK || (st = junctions_to_public(Jall, nall, m)) != MFG_OK)
-        goto fail;
+        goto cleanup;
     MEDIAL_STAGE("medial: done", 1.0, 1.0, 1);
 #undef MEDIAL_STAGE
 #undef MEDIAL_STEP
     m->cells_visited = lv.cells_visited;
     m->leaves = lv.nleaves;
     m->leaf_size = h;
+cleanup: /* also the way out on success (st MFG_OK) */
     md_seam_out_free(&so);
     md_pend_free(&pend);
     if (own_jall)
@@ -318,20 +319,11 @@ mfg_status mfg_medial_surface_p(const double *xyz, int64_t nvertices, const int6
     md_leaves_free(&lv);
     md_bvh_free(bvh);
     md_elements_free(&el);
-    *out = m;
-    mfg_clear_error();
-    return MFG_OK;
-fail:
-    md_seam_out_free(&so);
-    md_pend_free(&pend);
-    if (own_jall)
-        free(Jall);
-    md_asm_free(&as);
-    free(J);
-    md_soup_free(&sp);
-    md_leaves_free(&lv);
-    md_bvh_free(bvh);
-    md_elements_free(&el);
+    if (st == MFG_OK) {
+        *out = m;
+        mfg_clear_error();
+        return MFG_OK;
+    }
     mfg_medial_free(m);
     if (st == MFG_ERR_NOMEM)
         return mfg_fail(MFG_ERR_NOMEM, "mfg_medial_surface: out of memory building %s", stage);

@@ -135,10 +135,8 @@ static int64_t push_vertex(unit_buf *u, const vkey *k, const double *x, double r
 {
     if (u->nv == u->cv) {
         int64_t c = next_cap(u->cv);
-        vrec *v = realloc(u->v, (size_t)c * sizeof *v);
-        if (!v)
+        if (!mfg_resize((void **)&u->v, c, sizeof *u->v))
             return -1;
-        u->v = v;
         u->cv = c;
     }
     vrec *v = u->v + u->nv;
@@ -153,14 +151,10 @@ static int push_tri(unit_buf *u, int64_t p, int64_t q, int64_t r, int64_t a, int
     if (u->nt == u->ct) {
         /* An array already grown when the next fails is only larger: still consistent. */
         int64_t c = next_cap(u->ct);
-        int64_t *t = realloc(u->t, (size_t)c * 3 * sizeof *t);
-        if (!t)
+        if (!mfg_resize((void **)&u->t, c, 3 * sizeof *u->t))
             return 0;
-        u->t = t;
-        int64_t *tp = realloc(u->tp, (size_t)c * 2 * sizeof *tp);
-        if (!tp)
+        if (!mfg_resize((void **)&u->tp, c, 2 * sizeof *u->tp))
             return 0;
-        u->tp = tp;
         u->ct = c;
     }
     u->t[3 * u->nt] = p;
@@ -177,22 +171,14 @@ static int push_seg(unit_buf *u, int64_t p, int64_t q, const int64_t *e3, int32_
 {
     if (u->ns == u->cs) {
         int64_t c = next_cap(u->cs);
-        int64_t *s = realloc(u->s, (size_t)c * 2 * sizeof *s);
-        if (!s)
+        if (!mfg_resize((void **)&u->s, c, 2 * sizeof *u->s))
             return 0;
-        u->s = s;
-        int64_t *se = realloc(u->se, (size_t)c * 3 * sizeof *se);
-        if (!se)
+        if (!mfg_resize((void **)&u->se, c, 3 * sizeof *u->se))
             return 0;
-        u->se = se;
-        int32_t *sk = realloc(u->sk, (size_t)c * sizeof *sk);
-        if (!sk)
+        if (!mfg_resize((void **)&u->sk, c, sizeof *u->sk))
             return 0;
-        u->sk = sk;
-        int64_t *sp = realloc(u->sp, (size_t)c * 2 * sizeof *sp);
-        if (!sp)
+        if (!mfg_resize((void **)&u->sp, c, 2 * sizeof *u->sp))
             return 0;
-        u->sp = sp;
         u->cs = c;
     }
     u->s[2 * u->ns] = p;

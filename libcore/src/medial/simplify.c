@@ -116,22 +116,13 @@ static int scratch_grow(sd_mesh *M, int64_t n)
     int64_t c = M->scap ? M->scap : 64;
     while (c < n)
         c *= 2;
-    int64_t *p1 = realloc(M->sx, (size_t)c * sizeof *p1);
-    if (p1)
-        M->sx = p1;
-    int64_t *p2 = realloc(M->sy, (size_t)c * sizeof *p2);
-    if (p2)
-        M->sy = p2;
-    sd_key *p3 = realloc(M->kx, (size_t)c * sizeof *p3);
-    if (p3)
-        M->kx = p3;
-    sd_key *p5 = realloc(M->ky, (size_t)c * sizeof *p5);
-    if (p5)
-        M->ky = p5;
-    sd_nb *p4 = realloc(M->nbs, (size_t)(2 * c) * sizeof *p4);
-    if (p4)
-        M->nbs = p4;
-    if (!p1 || !p2 || !p3 || !p4 || !p5)
+    int ok = 1; /* every array is tried: one grown before a failure is only larger */
+    ok &= mfg_resize((void **)&M->sx, c, sizeof *M->sx);
+    ok &= mfg_resize((void **)&M->sy, c, sizeof *M->sy);
+    ok &= mfg_resize((void **)&M->kx, c, sizeof *M->kx);
+    ok &= mfg_resize((void **)&M->ky, c, sizeof *M->ky);
+    ok &= mfg_resize((void **)&M->nbs, 2 * c, sizeof *M->nbs);
+    if (!ok)
         return 0;
     M->scap = c;
     return 1;

@@ -164,37 +164,18 @@ static int work_grow(pm_work *w, int64_t n)
     int64_t c = w->cap ? w->cap : 64;
     while (c < n)
         c *= 2;
-    int64_t *p1 = realloc(w->bnd, (size_t)c * sizeof *p1);
-    if (p1)
-        w->bnd = p1;
-    int64_t *p2 = realloc(w->bnext, (size_t)c * sizeof *p2);
-    if (p2)
-        w->bnext = p2;
-    char *p3 = realloc(w->bseen, (size_t)c);
-    if (p3)
-        w->bseen = p3;
-    int64_t *p4 = realloc(w->lstart, (size_t)(c + 1) * sizeof *p4);
-    if (p4)
-        w->lstart = p4;
-    int64_t *p5 = realloc(w->lvert, (size_t)c * sizeof *p5);
-    if (p5)
-        w->lvert = p5;
-    double *p6 = realloc(w->xy, (size_t)(2 * c) * sizeof *p6);
-    if (p6)
-        w->xy = p6;
-    int64_t *p7 = realloc(w->ntri, (size_t)(3 * c) * sizeof *p7);
-    if (p7)
-        w->ntri = p7;
-    pm_pair *p8 = realloc(w->newe, (size_t)(3 * c) * sizeof *p8);
-    if (p8)
-        w->newe = p8;
-    pm_pair *p9 = realloc(w->olde, (size_t)c * sizeof *p9);
-    if (p9)
-        w->olde = p9;
-    pm_seg *p10 = realloc(w->seg, (size_t)c * sizeof *p10);
-    if (p10)
-        w->seg = p10;
-    if (!p1 || !p2 || !p3 || !p4 || !p5 || !p6 || !p7 || !p8 || !p9 || !p10)
+    int ok = 1; /* every array is tried: one grown before a failure is only larger */
+    ok &= mfg_resize((void **)&w->bnd, c, sizeof *w->bnd);
+    ok &= mfg_resize((void **)&w->bnext, c, sizeof *w->bnext);
+    ok &= mfg_resize((void **)&w->bseen, c, 1);
+    ok &= mfg_resize((void **)&w->lstart, c + 1, sizeof *w->lstart);
+    ok &= mfg_resize((void **)&w->lvert, c, sizeof *w->lvert);
+    ok &= mfg_resize((void **)&w->xy, 2 * c, sizeof *w->xy);
+    ok &= mfg_resize((void **)&w->ntri, 3 * c, sizeof *w->ntri);
+    ok &= mfg_resize((void **)&w->newe, 3 * c, sizeof *w->newe);
+    ok &= mfg_resize((void **)&w->olde, c, sizeof *w->olde);
+    ok &= mfg_resize((void **)&w->seg, c, sizeof *w->seg);
+    if (!ok)
         return 0;
     w->cap = c;
     return 1;
