@@ -26,6 +26,11 @@
 /* Rank: sigma_i / sigma_1 above this counts (design 4.3). */
 #define RANK_REL 1e-6
 #define POLISH_ITERS 60
+/* The Jacobi eigen-sweeps stop when the squared off-diagonal is below this times the
+ * squared diagonal (off-diagonal entries ~1e-18 of the diagonal: below rounding). */
+#define JACOBI_OFF 1e-36
+/* Gauss-Newton stops at a step below this times the scale (a few ulps of it). */
+#define GN_STEP_MIN 1e-15
 /* Subsets of T tried per search (the full set first, then ever smaller ones). */
 #define MAX_SUBSETS 512
 /* Boxes kept per subdivision level: a leaf side <= tolerance needs 3 levels to reach
@@ -270,7 +275,7 @@ static void eig3(const double Ain[9], double lam[3], double V[9])
     for (int sweep = 0; sweep < 50; sweep++) {
         double off = A[1] * A[1] + A[2] * A[2] + A[5] * A[5];
         double tr = A[0] * A[0] + A[4] * A[4] + A[8] * A[8];
-        if (off <= 1e-36 * tr || off == 0)
+        if (off <= JACOBI_OFF * tr || off == 0)
             break;
         for (int p = 0; p < 2; p++)
             for (int r = p + 1; r < 3; r++) {
@@ -402,7 +407,7 @@ static int gauss_newton(const md_elements *el, const eqsys *sy, const double x0[
             x[k] += step[k];
             ns += step[k] * step[k];
         }
-        if (!(sqrt(ns) > 1e-15 * scale))
+        if (!(sqrt(ns) > GN_STEP_MIN * scale))
             break;
     }
     equations(el, sy, x, &q);
@@ -743,7 +748,7 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
         for (int i = 0; i < nT; i++)
             for (int j = 0; j < nT; j++) {
                 double G = (fabs(gr[i][0] - gr[j][0]) + fabs(gr[i][1] - gr[j][1]) +
-                            fabs(gr[i][2] - gr[j][2])) * h * (1 + 1e-9);
+                            fabs(gr[i][2] - gr[j][2])) * h * (1 + MD_ROUND_REL);
                 double a = d[i] - d[j];
                 hopeless[i][j] = a - G - Q[j] > 4 * tol || a + G + Q[i] < -4 * tol;
             }

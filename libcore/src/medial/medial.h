@@ -18,6 +18,15 @@
 
 #include "common/vec3.h"
 
+/* Rounding allowance of the medial computations, relative to its base (mostly L, the
+ * bounding-box diagonal): distances of a computed point that agree within 1e-9 L count as
+ * equal (a sheet vertex on its pair's bisector, a trimmed point still in its regions),
+ * far above the rounding of distances up to L and far below any tolerance (>= L / 2^20). */
+#define MD_ROUND_REL 1e-9
+/* Sheet triangles smaller than this times h^2 are dropped (design 4.1): slivers of the
+ * marching tets, far below the h^2 / 2 of a triangle that matters. */
+#define MD_AREA_DROP 1e-6
+
 /* Element kinds, as the public mfg_element_kind will number them. */
 enum { MD_VERTEX = 0, MD_EDGE = 1, MD_FACE = 2 };
 

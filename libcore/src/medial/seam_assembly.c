@@ -108,7 +108,7 @@ int md_emit_seam(const md_asm *ax, const md_jset *Js, seam_out *o, polyline *pl,
         return 1;
     /* Orientation: from the lexicographically smaller end. */
     int64_t n = pl->rad.n;
-    if (md_cmp_xyz_tol(pl->pts.v + 3 * (n - 1), pl->pts.v, 1e-9 * tol) < 0)
+    if (md_cmp_xyz_tol(pl->pts.v + 3 * (n - 1), pl->pts.v, MD_ROUND_REL * tol) < 0)
         md_polyline_reverse(pl);
     int64_t e0 = md_snap_junction(Js, pl->pts.v, set, ns, reach);
     int64_t e1 = md_snap_junction(Js, pl->pts.v + 3 * (n - 1), set, ns, reach);

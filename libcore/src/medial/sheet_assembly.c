@@ -11,6 +11,10 @@
 
 #include "medial/assembly.h"
 
+/* A component whose width (area / extent) is below this times the tolerance is a sliver,
+ * not a sheet (the square prism's side pairs, trimmed down to its axis). */
+#define SLIVER_WIDTH 1e-3
+
 typedef struct sheet_ref {
     int64_t a, b;      /* the pair */
     int64_t first;     /* index into the sorted triangle list */
@@ -82,7 +86,7 @@ static int64_t sheet_components(const md_asm *ax, const md_soup *sp, asm_state *
         first_tri[v] = -1;
     }
     /* Triangles kept: of an output pair, not below 1e-6 h^2 (design 4.1). */
-    double amin = 1e-6 * h * h;
+    double amin = MD_AREA_DROP * h * h;
     int64_t pa = -1, pb = -1;
     int pair_out = 0;
     for (int64_t t = 0; t < nt; t++) {
@@ -102,8 +106,8 @@ static int64_t sheet_components(const md_asm *ax, const md_soup *sp, asm_state *
         for (int k = 0; k < 3 && keep; k++) {
             const double *p = sp->xyz + 3 * tv[k];
             double r = sp->radius[tv[k]];
-            keep = fabs(md_dist_car(el, pa, p, NULL) - r) <= 1e-9 * el->diag &&
-                   fabs(md_dist_car(el, pb, p, NULL) - r) <= 1e-9 * el->diag;
+            keep = fabs(md_dist_car(el, pa, p, NULL) - r) <= MD_ROUND_REL * el->diag &&
+                   fabs(md_dist_car(el, pb, p, NULL) - r) <= MD_ROUND_REL * el->diag;
         }
         s->parent[t] = keep ? t : -1;
     }
@@ -155,7 +159,7 @@ static int64_t sheet_components(const md_asm *ax, const md_soup *sp, asm_state *
         /* Width ~ area / extent: slivers narrower than 1e-3 tolerance are not sheets
          * (the square prism's side pairs, trimmed down to its axis). */
         double ext = mfg_dist3(lo, hi);
-        if (ext > 0 && area / ext >= 1e-3 * tol)
+        if (ext > 0 && area / ext >= SLIVER_WIDTH * tol)
             s->refs[nref++] = r;
         i = j;
     }

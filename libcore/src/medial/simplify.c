@@ -44,6 +44,9 @@
 #define SD_MAX_PASSES 200
 /* cos 60 deg: a new triangle's normal against the bisector's. */
 #define SD_COS_NORMAL 0.5
+/* |grad (d_a^car - d_b^car)| is in [0, 2]; below this the bisector's normal is not
+ * defined well enough to measure a deviation along it. */
+#define SD_GRAD_MIN 1e-9
 
 typedef struct sd_cand {
     double len2; /* the vertex's shortest edge, squared */
@@ -291,7 +294,7 @@ static int tri_ok(const sd_mesh *M, const double *p, const double *q, const doub
         for (int k = 0; k < 3; k++)
             x[k] = W[s][0] * p[k] + W[s][1] * q[k] + W[s][2] * r[k];
         double gn = bis_eval(M, x, &f, g);
-        if (!(gn > 1e-9) || !(fabs(f) <= M->dev * gn))
+        if (!(gn > SD_GRAD_MIN) || !(fabs(f) <= M->dev * gn))
             return 0;
         if (s == 0 && !(M->sign * (n[0] * g[0] + n[1] * g[1] + n[2] * g[2]) >= SD_COS_NORMAL * nn * gn))
             return 0;
