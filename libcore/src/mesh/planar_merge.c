@@ -26,6 +26,9 @@
  * rounding of the lifts (cos, sin, a few products) is some 1e-16; more is a corner that is
  * not on the plane. */
 #define PM_FLAT 1e-12
+/* The new triangulation of a region keeps its area to this relative error (the sums of
+ * a few hundred cross products round to ~1e-14 of the area); more is a wrong one. */
+#define PM_AREA_REL 1e-9
 
 /* Directed edges (a, b) -> an int64 value, on the library's shared map (hashmap.h). */
 static int64_t edges_get(const hmap *m, int64_t a, int64_t b)
@@ -371,7 +374,7 @@ static int merge_region(pm_ctx *P, const pm_item *its, int64_t n, int64_t *nnew)
             w->newe[3 * i + q].b = t[(q + 1) % 3];
         }
     }
-    if (!(fabs(area_new - area_old) <= 1e-9 * fabs(area_old)))
+    if (!(fabs(area_new - area_old) <= PM_AREA_REL * fabs(area_old)))
         return 0;
     for (int64_t j = 0; j < nb; j++) {
         w->olde[j].a = P->tris[w->bnd[j]];
