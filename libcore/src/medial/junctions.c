@@ -545,10 +545,26 @@ typedef struct boxbuf {
     leafcache *lc;
 } boxbuf;
 
-static int search_subset(const md_elements *el, const md_bvh *bvh, const double lo[3],
-                         double side, const int64_t *S, const int *ti, int n, double tolerance,
-                         md_junction *out, int nout, int cap, boxbuf *bb)
+/* One junction search's box, tolerance, scratch and output (md_junction_search). */
+typedef struct search_box {
+    const md_elements *el;
+    const md_bvh *bvh;
+    const double *lo; /* the box [lo, lo + side]^3 */
+    double side, tolerance;
+    md_junction *out; /* room for cap results */
+    int cap;
+    boxbuf *bb;
+} search_box;
+
+static int search_subset(const search_box *q, const int64_t *S, const int *ti, int n, int nout)
 {
+    const md_elements *el = q->el;
+    const md_bvh *bvh = q->bvh;
+    const double *lo = q->lo;
+    double side = q->side, tolerance = q->tolerance;
+    md_junction *out = q->out;
+    int cap = q->cap;
+    boxbuf *bb = q->bb;
     int comp[MD_JMAX];
     int nc = clusters(el, S, n, comp);
     eqsys *sy = &bb->sy;
@@ -707,6 +723,7 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
         return mfg_fail(MFG_ERR_NOMEM, "md_junction_search: out of memory"), -1;
     }
     memset(bb.lc->have, 0, sizeof bb.lc->have);
+    search_box sbox = {el, bvh, lo, side, tolerance, out, cap, &bb};
     unsigned char compat[MD_JMAX][MD_JMAX], hopeless[MD_JMAX][MD_JMAX];
     {
         double c[3] = {lo[0] + 0.5 * side, lo[1] + 0.5 * side, lo[2] + 0.5 * side};
@@ -786,7 +803,7 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
                     skip = hopeless[idx[r]][idx[q]];
             }
             if (!skip)
-                nout = search_subset(el, bvh, lo, side, S, idx, k, tolerance, out, nout, cap, &bb);
+                nout = search_subset(&sbox, S, idx, k, nout);
             tried++;
             idx[depth]++;
         }
