@@ -138,6 +138,18 @@ static inline int mfg_grow(void **p, int64_t *cap, int64_t need, size_t size)
     return 1;
 }
 
+/* Moves the block *p to one of n items of size bytes (realloc): 1, or 0 when memory runs
+ * out (then *p is untouched and still valid).  For arrays that share one capacity, grown
+ * together (mfg_grow keeps a capacity per array). */
+static inline int mfg_resize(void **p, int64_t n, size_t size)
+{
+    void *q = realloc(*p, (size_t)n * size);
+    if (!q)
+        return 0;
+    *p = q;
+    return 1;
+}
+
 /* qsort comparator of int64_t in ascending order. */
 static inline int mfg_cmp_i64(const void *pa, const void *pb)
 {

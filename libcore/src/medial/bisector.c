@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* medial_bisector.c - points on the bisector of two boundary elements (issue 9, seed 004
- * Lee & Lee; design section 4.0).  The paper's closed forms of the 11 bisector surfaces
- * ([LL95]) are not in the seed, so every sheet vertex is found the same way: as the root
- * of g(s) = d_a^car - d_b^car along a lattice segment.  The linear forms (plane-plane,
- * parallel lines, point-point) are solved by the first secant step up to rounding. */
+/* bisector.c - points on the bisector of two boundary elements (issue 9; Lee & Lee, the
+ * medial surface of a polyhedron; docs/design/medial.md section 4.0).  The paper's closed
+ * forms of the 11 bisector surfaces ([LL95]) are not in the paper itself, so every sheet
+ * vertex is found the same way: as the root of g(s) = d_a^car - d_b^car along a lattice
+ * segment.  The linear forms (plane-plane, parallel lines, point-point) are solved by the
+ * first secant step up to rounding. */
 #include <math.h>
 
 #include "medial/medial.h"

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* medial_bvh.c - the medial surface's distance field (issue 9, design section 2): a
+/* bvh.c - the medial surface's distance field (issue 9; docs/design/medial.md section 2): a
  * bounding-volume hierarchy over the non-degenerate triangles of the merged polyhedron.
  * Nearest queries map the triangle feature that holds the nearest point (Ericson's
  * closest-point regions) to the one element whose relative interior holds it and sign the

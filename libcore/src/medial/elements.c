@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* medial_elements.c - the boundary elements of a closed mesh for the medial surface
- * (issue 9, seed 004 Lee & Lee; design section 1): faces merged from coplanar adjacent
- * triangles, edges as chains of mesh edges between two faces, vertices at the chains'
- * ends; their distances restricted to their Voronoi regions (the paper's special
- * bisectors, Fig. 3), and the brute-force touching set. */
+/* elements.c - the boundary elements of a closed mesh for the medial surface (issue 9; Lee
+ * & Lee, the medial surface of a polyhedron; docs/design/medial.md section 1): faces merged
+ * from coplanar adjacent triangles, edges as chains of mesh edges between two faces,
+ * vertices at the chains' ends; their distances restricted to their Voronoi regions (the
+ * paper's special bisectors, Fig. 3), and the brute-force touching set. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,6 +17,11 @@
  * vertex's region is then empty, the faces cover it).  [choice] the angle sum is in
  * floating point; a true 180 deg corner comes out within a few ulps of pi. */
 #define STRAIGHT_SLACK 1e-9
+/* The near-coplanar merge threshold eta = min(ETA_TOL tol, max(ETA_DIAG L, ETA_COORD
+ * max|x|)) (design 1.3; md_elements_build says why each term). */
+#define ETA_TOL 1e-3
+#define ETA_DIAG 1e-7
+#define ETA_COORD 0x1p-20
 
 static int cmp_xyz(const double *p, const double *q)
 {
@@ -904,7 +909,7 @@ mfg_status md_elements_build(const double *xyz, int64_t nv, const int64_t *trian
     double M = 0.0;
     for (int k = 0; k < 6; k++)
         M = fmax(M, fabs(rep.bbox[k]));
-    mb.e.eta = fmin(1e-3 * tolerance, fmax(1e-7 * L, 0x1p-20 * M));
+    mb.e.eta = fmin(ETA_TOL * tolerance, fmax(ETA_DIAG * L, ETA_COORD * M));
     static mfg_status (*const phase[])(elements_build *) = {
         canonical_triangles, grow_faces, sort_faces, boundary_graph, chain_edges,
         sort_edges_and_vertices, edge_geometry, triangle_tables, closure_tables};

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* medial_junctions.c - the paper's intersection points and curves (seed 004 Lee & Lee,
- * section 3.2; design /work/notes/issue9_design.md, section 4.3): inside one octree leaf,
+/* junctions.c - the paper's intersection points and curves (Lee & Lee, the medial surface
+ * of a polyhedron, section 3.2; docs/design/medial.md section 4.3): inside one octree leaf,
  * the points equidistant from a set T of >= 4 elements.  The paper's search by
  * subdivision with bisector sign tests finds where they may be; Gauss-Newton with the
  * singular values of the Jacobian places them and tells an isolated point (rank 3: a
@@ -26,6 +26,11 @@
 /* Rank: sigma_i / sigma_1 above this counts (design 4.3). */
 #define RANK_REL 1e-6
 #define POLISH_ITERS 60
+/* The Jacobi eigen-sweeps stop when the squared off-diagonal is below this times the
+ * squared diagonal (off-diagonal entries ~1e-18 of the diagonal: below rounding). */
+#define JACOBI_OFF 1e-36
+/* Gauss-Newton stops at a step below this times the scale (a few ulps of it). */
+#define GN_STEP_MIN 1e-15
 /* Subsets of T tried per search (the full set first, then ever smaller ones). */
 #define MAX_SUBSETS 512
 /* Boxes kept per subdivision level: a leaf side <= tolerance needs 3 levels to reach
@@ -270,7 +275,7 @@ static void eig3(const double Ain[9], double lam[3], double V[9])
     for (int sweep = 0; sweep < 50; sweep++) {
         double off = A[1] * A[1] + A[2] * A[2] + A[5] * A[5];
         double tr = A[0] * A[0] + A[4] * A[4] + A[8] * A[8];
-        if (off <= 1e-36 * tr || off == 0)
+        if (off <= JACOBI_OFF * tr || off == 0)
             break;
         for (int p = 0; p < 2; p++)
             for (int r = p + 1; r < 3; r++) {
@@ -402,7 +407,7 @@ static int gauss_newton(const md_elements *el, const eqsys *sy, const double x0[
             x[k] += step[k];
             ns += step[k] * step[k];
         }
-        if (!(sqrt(ns) > 1e-15 * scale))
+        if (!(sqrt(ns) > GN_STEP_MIN * scale))
             break;
     }
     equations(el, sy, x, &q);
@@ -540,10 +545,26 @@ typedef struct boxbuf {
     leafcache *lc;
 } boxbuf;
 
-static int search_subset(const md_elements *el, const md_bvh *bvh, const double lo[3],
-                         double side, const int64_t *S, const int *ti, int n, double tolerance,
-                         md_junction *out, int nout, int cap, boxbuf *bb)
+/* One junction search's box, tolerance, scratch and output (md_junction_search). */
+typedef struct search_box {
+    const md_elements *el;
+    const md_bvh *bvh;
+    const double *lo; /* the box [lo, lo + side]^3 */
+    double side, tolerance;
+    md_junction *out; /* room for cap results */
+    int cap;
+    boxbuf *bb;
+} search_box;
+
+static int search_subset(const search_box *q, const int64_t *S, const int *ti, int n, int nout)
 {
+    const md_elements *el = q->el;
+    const md_bvh *bvh = q->bvh;
+    const double *lo = q->lo;
+    double side = q->side, tolerance = q->tolerance;
+    md_junction *out = q->out;
+    int cap = q->cap;
+    boxbuf *bb = q->bb;
     int comp[MD_JMAX];
     int nc = clusters(el, S, n, comp);
     eqsys *sy = &bb->sy;
@@ -702,6 +723,7 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
         return mfg_fail(MFG_ERR_NOMEM, "md_junction_search: out of memory"), -1;
     }
     memset(bb.lc->have, 0, sizeof bb.lc->have);
+    search_box sbox = {el, bvh, lo, side, tolerance, out, cap, &bb};
     unsigned char compat[MD_JMAX][MD_JMAX], hopeless[MD_JMAX][MD_JMAX];
     {
         double c[3] = {lo[0] + 0.5 * side, lo[1] + 0.5 * side, lo[2] + 0.5 * side};
@@ -743,7 +765,7 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
         for (int i = 0; i < nT; i++)
             for (int j = 0; j < nT; j++) {
                 double G = (fabs(gr[i][0] - gr[j][0]) + fabs(gr[i][1] - gr[j][1]) +
-                            fabs(gr[i][2] - gr[j][2])) * h * (1 + 1e-9);
+                            fabs(gr[i][2] - gr[j][2])) * h * (1 + MD_ROUND_REL);
                 double a = d[i] - d[j];
                 hopeless[i][j] = a - G - Q[j] > 4 * tol || a + G + Q[i] < -4 * tol;
             }
@@ -781,7 +803,7 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
                     skip = hopeless[idx[r]][idx[q]];
             }
             if (!skip)
-                nout = search_subset(el, bvh, lo, side, S, idx, k, tolerance, out, nout, cap, &bb);
+                nout = search_subset(&sbox, S, idx, k, nout);
             tried++;
             idx[depth]++;
         }

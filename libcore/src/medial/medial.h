@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* medial.h - private: the 3-D medial surface (issue 9, seed 004, Lee & Lee).  The
+/* medial.h - private: the 3-D medial surface (issue 9; Lee & Lee, the medial surface of a
+ * polyhedron; the design is docs/design/medial.md, cited below as "design N").  The
  * boundary elements of the merged polyhedron (faces, edges, vertices), their distances
  * restricted to their Voronoi regions (the paper's special bisectors), and the roots of
- * the bisector of two elements (design: /work/notes/issue9_design.md, sections 1 and 4.0).
- * Work package A: medial_elements.c, medial_bisector.c.  The BVH, octree and extraction
- * modules (medial_bvh.c, medial_voxels.c, medial_sheets.c, medial_junctions.c) add their
- * prototypes here. */
+ * the bisector of two elements (design 1 and 4.0): elements.c, bisector.c; then one
+ * section per stage: the BVH (bvh.c), the octree (octree.c), the sheet extraction
+ * (sheets.c), the sheet simplification (simplify.c) and the junction search (junctions.c).
+ * The assembly into mfg_medial has its own header, medial/assembly.h. */
 #ifndef MFG_MEDIAL_H
 #define MFG_MEDIAL_H
 
@@ -16,6 +17,15 @@
 #include "common/mfg_internal.h"
 
 #include "common/vec3.h"
+
+/* Rounding allowance of the medial computations, relative to its base (mostly L, the
+ * bounding-box diagonal): distances of a computed point that agree within 1e-9 L count as
+ * equal (a sheet vertex on its pair's bisector, a trimmed point still in its regions),
+ * far above the rounding of distances up to L and far below any tolerance (>= L / 2^20). */
+#define MD_ROUND_REL 1e-9
+/* Sheet triangles smaller than this times h^2 are dropped (design 4.1): slivers of the
+ * marching tets, far below the h^2 / 2 of a triangle that matters. */
+#define MD_AREA_DROP 1e-6
 
 /* Element kinds, as the public mfg_element_kind will number them. */
 enum { MD_VERTEX = 0, MD_EDGE = 1, MD_FACE = 2 };
@@ -73,7 +83,7 @@ typedef struct md_elements {
     int64_t *face_of_triangle, *side_elem, *corner_elem;
 } md_elements;
 
-/* ---- medial_elements.c ---------------------------------------------------------------- */
+/* ---- elements.c: the boundary elements ----------------------------------------------- */
 
 /* Builds the elements of a closed mesh.  Refuses (with mfg_fail's detail) everything
  * mfg_mesh_require_closed refuses, and a tolerance that is not finite and > 0, >= L, or
@@ -115,13 +125,13 @@ int md_incident(const md_elements *el, int64_t a, int64_t b);
 /* 1 when the closures of a and b meet (they share an edge or a vertex, or are incident). */
 int md_adjacent(const md_elements *el, int64_t a, int64_t b);
 
-/* D(x) = min_e d_e(x) over all elements (brute force; the BVH comes in medial_bvh.c) and
+/* D(x) = min_e d_e(x) over all elements (brute force; the BVH is bvh.c) and
  * the touching set {e : d_e(x) <= D + delta}, ascending, written to out (room for
  * nelements).  Returns its size; *D gets D(x) (+INFINITY when no region holds x). */
 int64_t md_nearest_set_brute(const md_elements *el, const double x[3], double delta,
                              int64_t *out, double *D);
 
-/* ---- medial_bisector.c ---------------------------------------------------------------- */
+/* ---- bisector.c: bisector roots ------------------------------------------------------ */
 
 /* The bisector forms of design 4.0, numbered as the public mfg_bisector_form will be. */
 enum {
@@ -147,7 +157,7 @@ int md_form(const md_elements *el, int64_t a, int64_t b);
 int md_root_on_segment(const md_elements *el, int64_t a, int64_t b, const double p[3],
                        const double q[3], double out[3], double *s_out);
 
-/* ---- medial_bvh.c (work package B) ------------------------------------------------------ */
+/* ---- bvh.c: the BVH, the distance field ---------------------------------------------- */
 
 /* A bounding-volume hierarchy over the non-degenerate triangles of el (design 2): median
  * splits on centroid Morton codes (deterministic), leaves of <= 4 triangles, double
@@ -171,7 +181,7 @@ double md_bvh_nearest(const md_bvh *bvh, const md_elements *el, const double x[3
 int64_t md_bvh_within(const md_bvh *bvh, const md_elements *el, const double x[3], double R,
                       int64_t *out, int64_t cap);
 
-/* ---- medial_voxels.c (work package C1): the adaptive octree ------------------------------ */
+/* ---- octree.c: the adaptive octree --------------------------------------------------- */
 
 /* The leaf lattice: leaf (i, j, k) is the cube [origin + h (i, j, k), origin + h (i+1, j+1,
  * k+1)].  Lattice point (i, j, k) is computed as origin[d] + h * (double)i_d, nothing else,
@@ -214,7 +224,7 @@ mfg_status md_octree_build_p(const md_elements *el, const md_bvh *bvh, double to
                              int full, int nthreads, md_leaves *out, mfg_prog *prog);
 void md_leaves_free(md_leaves *leaves);
 
-/* ---- medial_sheets.c (work package C2): sheets on the analytic bisectors ------------------ */
+/* ---- sheets.c: the sheet extraction on the analytic bisectors ------------------------ */
 
 /* The sheets of all leaves' pairs before assembly (design 4.1): marching tetrahedra (6 Kuhn
  * tets per leaf) on f_ab = d_a^car - d_b^car, vertices by md_root_on_segment from the
@@ -249,7 +259,7 @@ mfg_status md_sheets_extract_p(const md_elements *el, const md_bvh *bvh, const m
                                double tolerance, int nthreads, md_soup *out, mfg_prog *prog);
 void md_soup_free(md_soup *soup);
 
-/* ---- medial_simplify.c: a sheet made coarse within the tolerance -------------------------- */
+/* ---- simplify.c: a sheet made coarse within the tolerance ---------------------------- */
 
 /* Seam labels of the soup's vertices, for md_sheet_simplify: per soup vertex (label has
  * room for sp->nverts) -1 when no seam segment ends there (inside its sheet), the element
@@ -283,7 +293,7 @@ mfg_status md_sheet_simplify(const md_elements *el, int64_t a, int64_t b, double
                              const int64_t *label, int64_t *nverts, double *xyz, double *radius,
                              int64_t *ntris, int64_t *tris, int64_t *vmap);
 
-/* ---- medial_junctions.c (work package C3): junctions and degenerate seams ----------------- */
+/* ---- junctions.c: the junction search, junctions and degenerate seams ---------------- */
 
 /* A point equidistant from a set of elements (design 4.3).  rank 3: an isolated point
  * (a junction); rank 2: a point of a curve of such points (a degenerate seam) whose
@@ -328,8 +338,7 @@ int md_seam_point(const md_elements *el, const int64_t *S, int nS, const double 
 int md_touching_set(const md_elements *el, const md_bvh *bvh, const double x[3], int64_t *out,
                     int cap, double *D);
 
-/* ---- medial.c: the public entry point, assembly (sheets as connected components of one
- * pair's triangles, seams chained and snapped to junctions, junctions merged, major/full
- * filtering) and mfg_medial_free. -------------------------------------------------------- */
+/* The assembly (junction_search.c, sheet_assembly.c, seam_assembly.c, junction_recovery.c)
+ * and the entry point (medial.c): medial/assembly.h. */
 
 #endif

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* medial_voxels.c - the adaptive octree of the 3-D medial surface (issue 9, seed 004, Lee &
- * Lee; design /work/notes/issue9_design.md sections 3 and 5).
+/* octree.c - the adaptive octree of the 3-D medial surface (issue 9; Lee & Lee, the medial
+ * surface of a polyhedron; docs/design/medial.md sections 3 and 5).
  *
  * The root cube (side S = 1.02 x the largest extent) is subdivided down to leaves of side
  * h, the largest S / 2^k <= tolerance.  A cell survives only when some pair of boundary
@@ -263,7 +263,7 @@ static int cell(worker *w, int d, const int32_t ijk[3], const level *par, level 
         /* A superset of the ball below (the BVH's distances are not ours to the bit):
          * u_bvh + 2 rho + delta with margin; the exact filter follows. */
         double ub = md_bvh_nearest(J->bvh, el, c, NULL, NULL);
-        double R = ub + 2 * rho + delta + 4 * tau + 1e-9 * ub;
+        double R = ub + 2 * rho + delta + 4 * tau + MD_ROUND_REL * ub;
         nc = md_bvh_within(J->bvh, el, c, R, w->cand, el->nelements);
         cand = w->cand;
     } else {
@@ -785,7 +785,7 @@ mfg_status md_octree_build_p(const md_elements *el, const md_bvh *bvh, double to
         return mfg_fail(MFG_ERR_INVALID, "medial octree: tolerance %g gives no lattice of <= %d "
                         "levels", tolerance, MAX_DEPTH);
     J.delta = J.lat.h / 64; /* see the header comment: soundness needs > 0 only for rounding */
-    J.tau = 1e-9 * el->diag + 4 * el->eta;
+    J.tau = MD_ROUND_REL * el->diag + 4 * el->eta;
     J.shift = 4 * el->diag;
     atomic_init(&J.next, 0);
     atomic_init(&J.stop, 0);

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* medial_sheets.c - the sheets of the medial surface on the analytic bisectors (issue 9,
- * seed 004 Lee & Lee; design section 4.1, work package C2).  For every octree leaf and
- * every pair (a, b) of its P: marching tetrahedra on f_ab = d_a^car - d_b^car over the 6
+/* sheets.c - the sheets of the medial surface on the analytic bisectors, the sheet
+ * extraction stage (issue 9; Lee & Lee, the medial surface of a polyhedron;
+ * docs/design/medial.md section 4.1).  For every octree leaf and every pair (a, b) of
+ * its P: marching tetrahedra on f_ab = d_a^car - d_b^car over the 6
  * Kuhn tets about the leaf's main diagonal, with every vertex a root of f_ab on its lattice
  * edge (md_root_on_segment, from the edge's smaller lattice point); then each polygon is
  * trimmed where tau < 0, tau = min(region margins of a and b, min over the other candidates
@@ -22,10 +23,26 @@
 
 /* Leaves per work unit: the units, not the threads, fix the order of the output. */
 #define UNIT_LEAVES 16
-/* Triangles smaller than this times h^2 are dropped (design 4.1). */
-#define AREA_DROP 1e-6
 /* ... unless all their sides are at most this times h: then they are collapsed. */
 #define COLLAPSE_LEN 1e-2
+/* Gauss-Newton on the seam and corner equations (seam_polish, corner_point): converged
+ * at residuals below GN_TOL_REL L (a few hundred ulps of L), central differences with a
+ * step of FD_STEP_REL h (about sqrt(u): the best-balanced truncation and rounding). */
+#define GN_TOL_REL 1e-12
+#define FD_STEP_REL 1e-7
+/* A seam point is taken when both its equations are within this fraction of L (the steps
+ * bounce about a kink of the trimming term at ~1e-9 L, see seam_polish). */
+#define SEAM_ON_REL 1e-10
+/* J J^T with det below this times g00 g11 (gradients within ~1e-6 rad of parallel) counts
+ * as singular. */
+#define GRAM_SINGULAR 1e-12
+/* A pivot below this times the Jacobian's largest entry counts as singular (corner_point). */
+#define PIVOT_REL 1e-6
+/* The boundary point's search (boundary_point): its phase 0 bisects the sign of tau down
+ * to a bracket of PHASE0_BRACKET of the tet side, phase 1 stops at a trimming term below
+ * EDGE_TOL_REL L (a few ulps of L). */
+#define EDGE_TOL_REL 1e-15
+#define PHASE0_BRACKET 0x1p-10
 /* Steps for a boundary point; they stop earlier at a 1-ulp bracket or a zero. */
 #define BISECT_STEPS 80
 /* Room per (leaf, pair): the 19 Kuhn edges of a cube, at most one boundary point per tet
@@ -134,10 +151,8 @@ static int64_t push_vertex(unit_buf *u, const vkey *k, const double *x, double r
 {
     if (u->nv == u->cv) {
         int64_t c = next_cap(u->cv);
-        vrec *v = realloc(u->v, (size_t)c * sizeof *v);
-        if (!v)
+        if (!mfg_resize((void **)&u->v, c, sizeof *u->v))
             return -1;
-        u->v = v;
         u->cv = c;
     }
     vrec *v = u->v + u->nv;
@@ -152,14 +167,10 @@ static int push_tri(unit_buf *u, int64_t p, int64_t q, int64_t r, int64_t a, int
     if (u->nt == u->ct) {
         /* An array already grown when the next fails is only larger: still consistent. */
         int64_t c = next_cap(u->ct);
-        int64_t *t = realloc(u->t, (size_t)c * 3 * sizeof *t);
-        if (!t)
+        if (!mfg_resize((void **)&u->t, c, 3 * sizeof *u->t))
             return 0;
-        u->t = t;
-        int64_t *tp = realloc(u->tp, (size_t)c * 2 * sizeof *tp);
-        if (!tp)
+        if (!mfg_resize((void **)&u->tp, c, 2 * sizeof *u->tp))
             return 0;
-        u->tp = tp;
         u->ct = c;
     }
     u->t[3 * u->nt] = p;
@@ -176,22 +187,14 @@ static int push_seg(unit_buf *u, int64_t p, int64_t q, const int64_t *e3, int32_
 {
     if (u->ns == u->cs) {
         int64_t c = next_cap(u->cs);
-        int64_t *s = realloc(u->s, (size_t)c * 2 * sizeof *s);
-        if (!s)
+        if (!mfg_resize((void **)&u->s, c, 2 * sizeof *u->s))
             return 0;
-        u->s = s;
-        int64_t *se = realloc(u->se, (size_t)c * 3 * sizeof *se);
-        if (!se)
+        if (!mfg_resize((void **)&u->se, c, 3 * sizeof *u->se))
             return 0;
-        u->se = se;
-        int32_t *sk = realloc(u->sk, (size_t)c * sizeof *sk);
-        if (!sk)
+        if (!mfg_resize((void **)&u->sk, c, sizeof *u->sk))
             return 0;
-        u->sk = sk;
-        int64_t *sp = realloc(u->sp, (size_t)c * 2 * sizeof *sp);
-        if (!sp)
+        if (!mfg_resize((void **)&u->sp, c, 2 * sizeof *u->sp))
             return 0;
-        u->sp = sp;
         u->cs = c;
     }
     u->s[2 * u->ns] = p;
@@ -229,7 +232,7 @@ static double signed_dist(const ctx *c, const double *x)
 static double dist_ctr(const ctx *c, const double *x)
 {
     double d[3] = {x[0] - c->ctr[0], x[1] - c->ctr[1], x[2] - c->ctr[2]};
-    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + 1e-9 * c->el->diag;
+    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + MD_ROUND_REL * c->el->diag;
 }
 
 /* md_region_margin(e, x) (only its sign when sign_only), for e at position i of the
@@ -501,14 +504,14 @@ static void face_root_near_chord(const ctx *c, const double *PA, const double *P
  * *t becomes the element of that side, as near as a and b there. */
 static void seam_polish(const ctx *c, int k, int64_t *t, double *x)
 {
-    double tol = 1e-12 * c->el->diag, step = 1e-7 * c->h, y[3], yb[3], Fb = INFINITY;
+    double tol = GN_TOL_REL * c->el->diag, step = FD_STEP_REL * c->h, y[3], yb[3], Fb = INFINITY;
     memcpy(y, x, sizeof y);
     for (int it = 0; it < 40; it++) {
         double F[2], J[2][3];
         F[0] = md_dist_car(c->el, c->a, y, NULL) - md_dist_car(c->el, c->b, y, NULL);
         F[1] = trim_term(c, k, *t, y);
         double Fm = fmax(fabs(F[0]), fabs(F[1]));
-        if (it == 0 && Fm <= 1e-10 * c->el->diag)
+        if (it == 0 && Fm <= SEAM_ON_REL * c->el->diag)
             return; /* on the seam already (the bisection ended on R(t), not a stand-in) */
         if (Fm < Fb) {
             Fb = Fm;
@@ -528,7 +531,7 @@ static void seam_polish(const ctx *c, int k, int64_t *t, double *x)
         /* dy = -J^T (J J^T)^-1 F; a near-singular J J^T (parallel gradients) gives up. */
         double g00 = mfg_dot3(J[0], J[0]), g01 = mfg_dot3(J[0], J[1]), g11 = mfg_dot3(J[1], J[1]);
         double det = g00 * g11 - g01 * g01;
-        if (!(det > 1e-12 * g00 * g11))
+        if (!(det > GRAM_SINGULAR * g00 * g11))
             break;
         double l0 = (g11 * F[0] - g01 * F[1]) / det, l1 = (g00 * F[1] - g01 * F[0]) / det;
         double dy = 0;
@@ -543,8 +546,8 @@ static void seam_polish(const ctx *c, int k, int64_t *t, double *x)
     int64_t arg;
     int argk;
     double D;
-    if (!(Fb <= 1e-10 * c->el->diag) || !(mfg_dist3(x, yb) <= c->h) ||
-        trim_tau(c, yb, &arg, &argk, &D) < -1e-9 * c->el->diag)
+    if (!(Fb <= SEAM_ON_REL * c->el->diag) || !(mfg_dist3(x, yb) <= c->h) ||
+        trim_tau(c, yb, &arg, &argk, &D) < -MD_ROUND_REL * c->el->diag)
         return;
     if (k == TRIM_A || k == TRIM_B)
         md_region_margin(c->el, k == TRIM_A ? c->a : c->b, yb, t);
@@ -598,7 +601,7 @@ static int boundary_point(ctx *c, int iu, int iv)
         bestD = c->out->v[p0->rec].r;
     }
     const double *PA = c->cx[A], *PB = c->cx[B], *PC = c->cx[C];
-    double xn[3], gn = 0, gp = 0, tol = 1e-15 * c->el->diag;
+    double xn[3], gn = 0, gp = 0, tol = EDGE_TOL_REL * c->el->diag;
     memcpy(xn, p0->tau < 0 ? x0 : x1, sizeof xn);
     int phase = 0, last = 0, fell_back = 0;
     for (int it = 0; it < BISECT_STEPS; it++) {
@@ -633,7 +636,7 @@ static int boundary_point(ctx *c, int iu, int iv)
                 tp = tm;
                 memcpy(best, x, sizeof best);
             }
-            if (fabs(tp - tn) <= 0x1p-10) {
+            if (fabs(tp - tn) <= PHASE0_BRACKET) {
                 gn = trim_term(c, argkn, argn, xn);
                 gp = trim_term(c, argkn, argn, best);
                 phase = gn < 0 && gp >= 0; /* otherwise the bisection goes on */
@@ -709,7 +712,7 @@ static void corner_eqs(const ctx *c, const pvert *p, const pvert *q, const doubl
 static int corner_point(const ctx *c, const pvert *p, const pvert *q, double *x, double *Dout)
 {
     const double *xp = c->out->v[p->rec].x, *xq = c->out->v[q->rec].x;
-    double tol = 1e-12 * c->el->diag, step = 1e-7 * c->h, F[3];
+    double tol = GN_TOL_REL * c->el->diag, step = FD_STEP_REL * c->h, F[3];
     for (int d = 0; d < 3; d++)
         x[d] = 0.5 * (xp[d] + xq[d]);
     int ok = 0;
@@ -742,7 +745,7 @@ static int corner_point(const ctx *c, const pvert *p, const pvert *q, double *x,
             for (int i = col + 1; i < 3; i++)
                 if (fabs(J[i][col]) > fabs(J[piv][col]))
                     piv = i;
-            if (!(fabs(J[piv][col]) > 1e-6 * scale))
+            if (!(fabs(J[piv][col]) > PIVOT_REL * scale))
                 return 0;
             for (int d = 0; d < 4; d++) {
                 double t = J[col][d];
@@ -775,7 +778,7 @@ static int corner_point(const ctx *c, const pvert *p, const pvert *q, double *x,
     int64_t arg;
     int argk;
     double D;
-    if (trim_tau(c, x, &arg, &argk, &D) < -1e-9 * c->el->diag)
+    if (trim_tau(c, x, &arg, &argk, &D) < -MD_ROUND_REL * c->el->diag)
         return 0;
     *Dout = radius(c, x, D);
     return 1;
@@ -1201,7 +1204,7 @@ static mfg_status merge(const unit_buf *units, int64_t nunits, double h, md_soup
             rep[nid++] = sr[i].g;
         gid[sr[i].g] = nid - 1;
     }
-    double amin = AREA_DROP * h * h, lmax = COLLAPSE_LEN * h;
+    double amin = MD_AREA_DROP * h * h, lmax = COLLAPSE_LEN * h;
     /* Where the sheet passes within rounding of a lattice point, the roots on the Kuhn
      * edges there crowd about it and the tets give triangles below amin with all sides
      * short: dropping one leaves a pinhole (the T-section's {z1, E} by (33.94, 54.02,

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* medial_simplify.c - a medial sheet made coarse within the tolerance (issue 9).
+/* simplify.c - a medial sheet made coarse within the tolerance (issue 9;
+ * docs/design/medial.md section 4.1).
  *
- * The sheets come out of marching tetrahedra (medial_sheets.c) at leaf size h <= tolerance:
+ * The sheets come out of marching tetrahedra (sheets.c) at leaf size h <= tolerance:
  * far more triangles than a mesh within the tolerance of the bisector needs.  Every
  * vertex of the soup lies on the analytic bisector (a root of d_a^car - d_b^car), so the
  * coarse sheet only removes vertices, never moves one: the kept vertices stay exactly on
@@ -19,7 +20,7 @@
  *     vertex goes only along the boundary, when every input boundary vertex between the
  *     new boundary edge's ends stays within tolerance / 4 of it and lies on the same seam
  *     (the seam labels: the element other than (a, b) of the soup's seam segments there),
- *     so the sheet's edge follows its seam (medial.c chains the soup's seam segments on
+ *     so the sheet's edge follows its seam (seam_assembly.c chains the soup's seam segments on
  *     their own, thinned to tolerance / 4 as well) and its corners, where two seams meet
  *     at a junction, stay: without them the cuboid's mid-sheet lost its corners by up to
  *     tolerance / 4 (area 3186.9 for 3200 at tolerance 2.5), the 48-gon disc half its
@@ -43,6 +44,9 @@
 #define SD_MAX_PASSES 200
 /* cos 60 deg: a new triangle's normal against the bisector's. */
 #define SD_COS_NORMAL 0.5
+/* |grad (d_a^car - d_b^car)| is in [0, 2]; below this the bisector's normal is not
+ * defined well enough to measure a deviation along it. */
+#define SD_GRAD_MIN 1e-9
 
 typedef struct sd_cand {
     double len2; /* the vertex's shortest edge, squared */
@@ -115,22 +119,13 @@ static int scratch_grow(sd_mesh *M, int64_t n)
     int64_t c = M->scap ? M->scap : 64;
     while (c < n)
         c *= 2;
-    int64_t *p1 = realloc(M->sx, (size_t)c * sizeof *p1);
-    if (p1)
-        M->sx = p1;
-    int64_t *p2 = realloc(M->sy, (size_t)c * sizeof *p2);
-    if (p2)
-        M->sy = p2;
-    sd_key *p3 = realloc(M->kx, (size_t)c * sizeof *p3);
-    if (p3)
-        M->kx = p3;
-    sd_key *p5 = realloc(M->ky, (size_t)c * sizeof *p5);
-    if (p5)
-        M->ky = p5;
-    sd_nb *p4 = realloc(M->nbs, (size_t)(2 * c) * sizeof *p4);
-    if (p4)
-        M->nbs = p4;
-    if (!p1 || !p2 || !p3 || !p4 || !p5)
+    int ok = 1; /* every array is tried: one grown before a failure is only larger */
+    ok &= mfg_resize((void **)&M->sx, c, sizeof *M->sx);
+    ok &= mfg_resize((void **)&M->sy, c, sizeof *M->sy);
+    ok &= mfg_resize((void **)&M->kx, c, sizeof *M->kx);
+    ok &= mfg_resize((void **)&M->ky, c, sizeof *M->ky);
+    ok &= mfg_resize((void **)&M->nbs, 2 * c, sizeof *M->nbs);
+    if (!ok)
         return 0;
     M->scap = c;
     return 1;
@@ -299,7 +294,7 @@ static int tri_ok(const sd_mesh *M, const double *p, const double *q, const doub
         for (int k = 0; k < 3; k++)
             x[k] = W[s][0] * p[k] + W[s][1] * q[k] + W[s][2] * r[k];
         double gn = bis_eval(M, x, &f, g);
-        if (!(gn > 1e-9) || !(fabs(f) <= M->dev * gn))
+        if (!(gn > SD_GRAD_MIN) || !(fabs(f) <= M->dev * gn))
             return 0;
         if (s == 0 && !(M->sign * (n[0] * g[0] + n[1] * g[1] + n[2] * g[2]) >= SD_COS_NORMAL * nn * gn))
             return 0;

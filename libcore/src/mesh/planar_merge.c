@@ -26,6 +26,9 @@
  * rounding of the lifts (cos, sin, a few products) is some 1e-16; more is a corner that is
  * not on the plane. */
 #define PM_FLAT 1e-12
+/* The new triangulation of a region keeps its area to this relative error (the sums of
+ * a few hundred cross products round to ~1e-14 of the area); more is a wrong one. */
+#define PM_AREA_REL 1e-9
 
 /* Directed edges (a, b) -> an int64 value, on the library's shared map (hashmap.h). */
 static int64_t edges_get(const hmap *m, int64_t a, int64_t b)
@@ -164,37 +167,18 @@ static int work_grow(pm_work *w, int64_t n)
     int64_t c = w->cap ? w->cap : 64;
     while (c < n)
         c *= 2;
-    int64_t *p1 = realloc(w->bnd, (size_t)c * sizeof *p1);
-    if (p1)
-        w->bnd = p1;
-    int64_t *p2 = realloc(w->bnext, (size_t)c * sizeof *p2);
-    if (p2)
-        w->bnext = p2;
-    char *p3 = realloc(w->bseen, (size_t)c);
-    if (p3)
-        w->bseen = p3;
-    int64_t *p4 = realloc(w->lstart, (size_t)(c + 1) * sizeof *p4);
-    if (p4)
-        w->lstart = p4;
-    int64_t *p5 = realloc(w->lvert, (size_t)c * sizeof *p5);
-    if (p5)
-        w->lvert = p5;
-    double *p6 = realloc(w->xy, (size_t)(2 * c) * sizeof *p6);
-    if (p6)
-        w->xy = p6;
-    int64_t *p7 = realloc(w->ntri, (size_t)(3 * c) * sizeof *p7);
-    if (p7)
-        w->ntri = p7;
-    pm_pair *p8 = realloc(w->newe, (size_t)(3 * c) * sizeof *p8);
-    if (p8)
-        w->newe = p8;
-    pm_pair *p9 = realloc(w->olde, (size_t)c * sizeof *p9);
-    if (p9)
-        w->olde = p9;
-    pm_seg *p10 = realloc(w->seg, (size_t)c * sizeof *p10);
-    if (p10)
-        w->seg = p10;
-    if (!p1 || !p2 || !p3 || !p4 || !p5 || !p6 || !p7 || !p8 || !p9 || !p10)
+    int ok = 1; /* every array is tried: one grown before a failure is only larger */
+    ok &= mfg_resize((void **)&w->bnd, c, sizeof *w->bnd);
+    ok &= mfg_resize((void **)&w->bnext, c, sizeof *w->bnext);
+    ok &= mfg_resize((void **)&w->bseen, c, 1);
+    ok &= mfg_resize((void **)&w->lstart, c + 1, sizeof *w->lstart);
+    ok &= mfg_resize((void **)&w->lvert, c, sizeof *w->lvert);
+    ok &= mfg_resize((void **)&w->xy, 2 * c, sizeof *w->xy);
+    ok &= mfg_resize((void **)&w->ntri, 3 * c, sizeof *w->ntri);
+    ok &= mfg_resize((void **)&w->newe, 3 * c, sizeof *w->newe);
+    ok &= mfg_resize((void **)&w->olde, c, sizeof *w->olde);
+    ok &= mfg_resize((void **)&w->seg, c, sizeof *w->seg);
+    if (!ok)
         return 0;
     w->cap = c;
     return 1;
@@ -390,7 +374,7 @@ static int merge_region(pm_ctx *P, const pm_item *its, int64_t n, int64_t *nnew)
             w->newe[3 * i + q].b = t[(q + 1) % 3];
         }
     }
-    if (!(fabs(area_new - area_old) <= 1e-9 * fabs(area_old)))
+    if (!(fabs(area_new - area_old) <= PM_AREA_REL * fabs(area_old)))
         return 0;
     for (int64_t j = 0; j < nb; j++) {
         w->olde[j].a = P->tris[w->bnd[j]];

@@ -38,8 +38,10 @@
 
 /* v moved outward by at least one ulp: covers the half-ulp error of the one rounding
  * that produced v (the additive term covers results near zero). */
-static inline double round_down(double v) { return v - (fabs(v) * 0x1p-52 + 0x1p-1022); }
-static inline double round_up(double v) { return v + (fabs(v) * 0x1p-52 + 0x1p-1022); }
+#define ROUND_ULP 0x1p-52    /* one ulp of |v| (2u), relative */
+#define ROUND_TINY 0x1p-1022 /* the smallest normal double: results near zero */
+static inline double round_down(double v) { return v - (fabs(v) * ROUND_ULP + ROUND_TINY); }
+static inline double round_up(double v) { return v + (fabs(v) * ROUND_ULP + ROUND_TINY); }
 
 mfg_tolbox mfg_tolbox_make(double tx, double ty, double tol)
 {

@@ -100,6 +100,30 @@ enum { NODE_LIST = 0, NODE_ORDERED = 1, NODE_SPLIT = 2 };
  *           (see below) as an implicit B-tree of 8-entry groups, coarsest level first. */
 #define TREE_WORDS 8
 
+/* Rounding allowances (same values as derived in the comments where they are used):
+ * SEG_BOX_SLACK   relative slack on a box-to-segment distance bound (sqrt and products);
+ * HEIGHT_ERR      128 ulps (2^-46 = 2^7 u) of the magnitudes entering an ordered line's
+ *                 heights;
+ * EST_MARGIN      a 1 % margin on the height errors of an estimate, EST_FLOAT_ERR its
+ *                 float conversion (2^-24 relative, with room) and EST_ABS_ERR an
+ *                 absolute floor;
+ * TOL_SLACK       relative slack on the tolerance band stored with a line;
+ * POINT_EXTENT    a one-point grid's extent, relative to its coordinates;
+ * MIN_ASPECT      the shorter side of the grid at least this times the longer;
+ * GRID_MARGIN_ULPS * GRID_U   the cell-location margin: 128 ulps of the coordinates
+ *                 (GRID_U = u = 2^-53), at least GRID_MARGIN_MIN. */
+#define SEG_BOX_SLACK 1e-12
+#define HEIGHT_ERR 0x1p-46
+#define EST_MARGIN 1.01
+#define EST_FLOAT_ERR 0x1p-20
+#define EST_ABS_ERR 0x1p-40
+#define TOL_SLACK 1e-9
+#define POINT_EXTENT 0x1p-20
+#define MIN_ASPECT 1e-3
+#define GRID_MARGIN_ULPS 128.0
+#define GRID_U 0x1p-53
+#define GRID_MARGIN_MIN 0x1p-1000
+
 /* Heights of 8 ordered entries' edges at the two ends of the slab, relative to v0 and
  * divided by the leaf's height: one line, l and r apart so that 4-wide SIMD estimates
  * four entries at once. */
@@ -150,7 +174,11 @@ static inline uint64_t double_word(double d)
     return w;
 }
 
-static inline double round_up_abs(double v) { return v + (fabs(v) * 0x1p-50 + 0x1p-1022); }
+/* v moved up by 4 ulps of |v| (plus the smallest normal double for results near zero):
+ * covers the few roundings of a bound computed in double. */
+#define ROUND_UP_REL 0x1p-50
+#define ROUND_TINY 0x1p-1022
+static inline double round_up_abs(double v) { return v + (fabs(v) * ROUND_UP_REL + ROUND_TINY); }
 
 static inline int64_t clamp64(int64_t v, int64_t lo, int64_t hi)
 {
@@ -432,7 +460,7 @@ static int edge_near_box(const mfg_region *g, uint32_t e, double x0, double y0, 
     double l = ux * (cy - ay), r = uy * (cx - ax);
     double cr = fabs(l - r) - MFG_ORIENT2D_ERR * (fabs(l) + fabs(r));
     double len = sqrt(ux * ux + uy * uy);
-    double lim = (sqrt(hw * hw + hh * hh) + d) * len * (1.0 + 1e-12);
+    double lim = (sqrt(hw * hw + hh * hh) + d) * len * (1.0 + SEG_BOX_SLACK);
     /* The centre's rounding (ulps of |x0| + |x1|) is far inside the margin in d. */
     return !(cr > lim);
 }
@@ -548,7 +576,7 @@ static int try_ordered(mfg_region *g, const nodebox *b, const uint32_t *list, ui
         /* Each height: a handful of roundings of magnitude |av| + |bv| + |v0| (the
          * change u0 - au times the slope is at most |bv - av|); 128 ulps of that bound
          * them. */
-        emax = fmax(emax, 0x1p-46 * (fabs(av) + fabs(bv) + fabs(v0)) * inv_h);
+        emax = fmax(emax, HEIGHT_ERR * (fabs(av) + fabs(bv) + fabs(v0)) * inv_h);
         vmax = fmax(vmax, fabs(yl) + fabs(yr));
         sec = fmax(sec, sqrt(1.0 + slope * slope));
     }
@@ -569,14 +597,14 @@ static int try_ordered(mfg_region *g, const nodebox *b, const uint32_t *list, ui
      * and r enter at most (|1 - s| + |s|) < 4 times; float conversion <= 2^-24 relative;
      * the double steps and the rounding of the query's own normalised coordinates a
      * few ulps of vmax. */
-    double E = 5.0 * emax * 1.01 + 0x1p-20 * vmax + 0x1p-40;
+    double E = 5.0 * emax * EST_MARGIN + EST_FLOAT_ERR * vmax + EST_ABS_ERR;
     uint64_t *hd = g->tree + (size_t)line * TREE_WORDS;
     hd[0] = tree_header(NODE_ORDERED, (b->par ^ rank) & 1u, (unsigned)axis, levels, m);
     hd[1] = double_word(u0);
     hd[2] = double_word(v0);
     hd[3] = double_word(inv_w);
     hd[4] = double_word(inv_h);
-    hd[5] = double_word((E + g->tol * sec * (1.0 + 1e-9) * inv_h) * (1.0 + 1e-9));
+    hd[5] = double_word((E + g->tol * sec * (1.0 + TOL_SLACK) * inv_h) * (1.0 + TOL_SLACK));
     hd[6] = g->nord;
     slab_group *lev = (slab_group *)(hd + TREE_WORDS);
     for (int j = (int)levels - 1; j >= 0; j--) {
@@ -880,11 +908,11 @@ mfg_status mfg_region_new(const double *xy, const int64_t *ring_offsets, int64_t
     double w = x1 - x0, h = y1 - y0;
     double ext = fmax(w, h);
     if (ext == 0.0) /* one point: any cell size works; keep reference points far from it */
-        ext = fmax(fmax(fabs(x0), fabs(y0)), 1.0) * 0x1p-20;
-    w = fmax(w, ext * 1e-3);
-    h = fmax(h, ext * 1e-3);
-    double margin = 128.0 * 0x1p-53 * (fabs(x0) + fabs(x1) + fabs(y0) + fabs(y1) + w + h);
-    margin = fmax(margin, 0x1p-1000);
+        ext = fmax(fmax(fabs(x0), fabs(y0)), 1.0) * POINT_EXTENT;
+    w = fmax(w, ext * MIN_ASPECT);
+    h = fmax(h, ext * MIN_ASPECT);
+    double margin = GRID_MARGIN_ULPS * GRID_U * (fabs(x0) + fabs(x1) + fabs(y0) + fabs(y1) + w + h);
+    margin = fmax(margin, GRID_MARGIN_MIN);
     g->margin = margin;
     g->gx0 = x0 - 2.0 * margin;
     g->gy0 = y0 - 2.0 * margin;

@@ -37,7 +37,11 @@
  * vertices and points: never too small, and far below any feature.
  */
 
+/* Unit roundoff of IEEE double (2^-53). */
 #define U 1.1102230246251565e-16
+/* The projected boxes' pad in units of u |x|: twice the 4u (|x_i| + |x_j| + |x_k|) a
+ * projected coordinate may be off, with room to spare (the comment above). */
+#define RAY_PAD_ULPS 64.0
 
 #define LEAF 4 /* boxes per leaf of the tree */
 
@@ -117,6 +121,147 @@ mfg_status mfg_ray_blocked(const double *xyz, int64_t nvertices, const int64_t *
 #define RAY_EVERY_TRIANGLES 65536
 #define RAY_EVERY_POINTS 8192
 
+/* The triangles filed for the ray test and their tree (see the comment at the top). */
+typedef struct ray_tree {
+    ray_proj g;
+    int8_t *dn;         /* per triangle: the sign of d . n, 0 not filed */
+    double *box;        /* per triangle: its padded projected box (u0, v0, u1, v1) */
+    morton_ref *order;  /* the filed triangles in Z-order */
+    int64_t nfiled;
+    double lo_u, lo_v, hi_u, hi_v; /* the union of the boxes */
+    double *node;       /* 4 per node of the complete tree over the leaves */
+    int64_t pow2;       /* leaves of the tree (a power of 2) */
+} ray_tree;
+
+/* Files the triangles that can be crossed: their sign of d . n and padded boxes.  0 when
+ * the progress callback cancels. */
+static int file_triangles(ray_tree *T, const double *xyz, const int64_t *triangles,
+                          int64_t ntriangles, const double *d, double pad, mfg_prog *prog)
+{
+    T->nfiled = 0;
+    T->lo_u = T->lo_v = INFINITY;
+    T->hi_u = T->hi_v = -INFINITY;
+    for (int64_t t = 0; t < ntriangles; t++) {
+        if (!mfg_prog_poll(prog, (double)t, (double)ntriangles))
+            return 0;
+        const double *a = xyz + 3 * triangles[3 * t], *b = xyz + 3 * triangles[3 * t + 1];
+        const double *c = xyz + 3 * triangles[3 * t + 2];
+        T->dn[t] = (int8_t)mfg_orient3d_vec(a, b, c, d);
+        if (T->dn[t] == 0)
+            continue;
+        double u[3], v[3];
+        project(&T->g, a, &u[0], &v[0]);
+        project(&T->g, b, &u[1], &v[1]);
+        project(&T->g, c, &u[2], &v[2]);
+        double *bx = T->box + 4 * t;
+        bx[0] = fmin(u[0], fmin(u[1], u[2])) - pad;
+        bx[1] = fmin(v[0], fmin(v[1], v[2])) - pad;
+        bx[2] = fmax(u[0], fmax(u[1], u[2])) + pad;
+        bx[3] = fmax(v[0], fmax(v[1], v[2])) + pad;
+        T->lo_u = fmin(T->lo_u, bx[0]);
+        T->lo_v = fmin(T->lo_v, bx[1]);
+        T->hi_u = fmax(T->hi_u, bx[2]);
+        T->hi_v = fmax(T->hi_v, bx[3]);
+        T->order[T->nfiled].t = t;
+        T->nfiled++;
+    }
+    return 1;
+}
+
+/* Z-order of the filed boxes' centres; sets pow2. */
+static void order_boxes(ray_tree *T)
+{
+    double su = T->hi_u > T->lo_u ? 65535.0 / (T->hi_u - T->lo_u) : 0.0;
+    double sv = T->hi_v > T->lo_v ? 65535.0 / (T->hi_v - T->lo_v) : 0.0;
+    for (int64_t r = 0; r < T->nfiled; r++) {
+        const double *bx = T->box + 4 * T->order[r].t;
+        uint32_t qu = quantize16(0.5 * bx[0] + 0.5 * bx[2], T->lo_u, su);
+        uint32_t qv = quantize16(0.5 * bx[1] + 0.5 * bx[3], T->lo_v, sv);
+        T->order[r].code = spread16(qu) | (spread16(qv) << 1);
+    }
+    qsort(T->order, (size_t)T->nfiled, sizeof *T->order, cmp_morton);
+    int64_t nleaves = (T->nfiled + LEAF - 1) / LEAF, pow2 = 1;
+    while (pow2 < nleaves)
+        pow2 *= 2;
+    T->pow2 = pow2;
+}
+
+/* The complete tree over the leaves (node has room for 2 pow2 - 1): node k has children
+ * 2k+1 and 2k+2; the leaves are nodes pow2 - 1 .. 2 pow2 - 2, leaf l holding
+ * order[l * LEAF ..] (fewer in the last, none in the padding). */
+static void fill_nodes(ray_tree *T)
+{
+    int64_t pow2 = T->pow2;
+    for (int64_t l = 0; l < pow2; l++) {
+        double *nb = T->node + 4 * (pow2 - 1 + l);
+        nb[0] = nb[1] = INFINITY;
+        nb[2] = nb[3] = -INFINITY;
+        for (int64_t r = l * LEAF; r < (l + 1) * LEAF && r < T->nfiled; r++) {
+            const double *bx = T->box + 4 * T->order[r].t;
+            nb[0] = fmin(nb[0], bx[0]);
+            nb[1] = fmin(nb[1], bx[1]);
+            nb[2] = fmax(nb[2], bx[2]);
+            nb[3] = fmax(nb[3], bx[3]);
+        }
+    }
+    for (int64_t k = pow2 - 2; k >= 0; k--) {
+        double *nb = T->node + 4 * k;
+        const double *l = T->node + 4 * (2 * k + 1), *r = T->node + 4 * (2 * k + 2);
+        nb[0] = fmin(l[0], r[0]);
+        nb[1] = fmin(l[1], r[1]);
+        nb[2] = fmax(l[2], r[2]);
+        nb[3] = fmax(l[3], r[3]);
+    }
+}
+
+/* The MFG_RAY_* bits of the rays from p along +d and -d (own: the triangle p lies on, or
+ * -1).  The tree's depth is log2(pow2) <= 40, so a stack of 64 suffices (each pop pushes
+ * at most two). */
+static uint8_t ray_query(const ray_tree *T, const double *xyz, const int64_t *triangles,
+                         const double *d, const double *p, int64_t own, int64_t *stack)
+{
+    int64_t pow2 = T->pow2;
+    uint8_t bits = 0;
+    double pu, pv;
+    project(&T->g, p, &pu, &pv);
+    int64_t top = 0;
+    if (T->nfiled > 0)
+        stack[top++] = 0;
+    while (top > 0) {
+        int64_t k = stack[--top];
+        const double *nb = T->node + 4 * k;
+        if (pu < nb[0] || pu > nb[2] || pv < nb[1] || pv > nb[3])
+            continue;
+        if (k < pow2 - 1) {
+            stack[top++] = 2 * k + 2;
+            stack[top++] = 2 * k + 1;
+            continue;
+        }
+        int64_t l = k - (pow2 - 1);
+        for (int64_t r = l * LEAF; r < (l + 1) * LEAF && r < T->nfiled; r++) {
+            int64_t t = T->order[r].t;
+            if (t == own)
+                continue;
+            const double *bx = T->box + 4 * t;
+            if (pu < bx[0] || pu > bx[2] || pv < bx[1] || pv > bx[3])
+                continue;
+            const double *a = xyz + 3 * triangles[3 * t];
+            const double *b = xyz + 3 * triangles[3 * t + 1];
+            const double *cc = xyz + 3 * triangles[3 * t + 2];
+            int side = 0;
+            int where = cross_line(p, a, b, cc, d, T->dn[t], &side);
+            if (where == 2)
+                bits |= side > 0 ? MFG_RAY_BLOCKED_POS : MFG_RAY_BLOCKED_NEG;
+            else if (where == 1)
+                bits |= side > 0 ? MFG_RAY_GRAZES_POS : MFG_RAY_GRAZES_NEG;
+        }
+        if (bits == (MFG_RAY_BLOCKED_POS | MFG_RAY_BLOCKED_NEG | MFG_RAY_GRAZES_POS |
+                     MFG_RAY_GRAZES_NEG))
+            break;
+    }
+    return bits;
+}
+
 mfg_status mfg_ray_blocked_p(const double *xyz, int64_t nvertices, const int64_t *triangles,
                              int64_t ntriangles, const double *points,
                              const int64_t *own_triangle, int64_t npoints,
@@ -161,24 +306,26 @@ mfg_status mfg_ray_blocked_p(const double *xyz, int64_t nvertices, const int64_t
     if (!mfg_prog_stage(&prog, "rays: index", 0, 0.3, RAY_EVERY_TRIANGLES))
         return mfg_prog_fail(&prog);
     const double *d = direction;
-    ray_proj g;
-    g.axis_k = 0;
+    ray_tree T;
+    ray_proj *g = &T.g;
+    g->axis_k = 0;
     for (int k = 1; k < 3; k++)
-        if (fabs(d[k]) > fabs(d[g.axis_k]))
-            g.axis_k = k;
-    g.axis_i = (g.axis_k + 1) % 3;
-    g.axis_j = (g.axis_k + 2) % 3;
-    g.ri = d[g.axis_i] / d[g.axis_k];
-    g.rj = d[g.axis_j] / d[g.axis_k];
+        if (fabs(d[k]) > fabs(d[g->axis_k]))
+            g->axis_k = k;
+    g->axis_i = (g->axis_k + 1) % 3;
+    g->axis_j = (g->axis_k + 2) % 3;
+    g->ri = d[g->axis_i] / d[g->axis_k];
+    g->rj = d[g->axis_j] / d[g->axis_k];
 
     /* Sizes: counts <= 2^40, so every allocation below is far below SIZE_MAX. */
-    int8_t *dn = malloc((size_t)ntriangles + 1);
-    double *box = malloc(((size_t)ntriangles + 1) * 4 * sizeof *box);
-    morton_ref *order = malloc(((size_t)ntriangles + 1) * sizeof *order);
-    if (!dn || !box || !order) {
-        free(dn);
-        free(box);
-        free(order);
+    T.dn = malloc((size_t)ntriangles + 1);
+    T.box = malloc(((size_t)ntriangles + 1) * 4 * sizeof *T.box);
+    T.order = malloc(((size_t)ntriangles + 1) * sizeof *T.order);
+    T.node = NULL;
+    if (!T.dn || !T.box || !T.order) {
+        free(T.dn);
+        free(T.box);
+        free(T.order);
         return mfg_fail(MFG_ERR_NOMEM, "out of memory for the ray test of %lld triangles",
                         (long long)ntriangles);
     }
@@ -195,141 +342,42 @@ mfg_status mfg_ray_blocked_p(const double *xyz, int64_t nvertices, const int64_t
         double s = fabs(x[0]) + fabs(x[1]) + fabs(x[2]);
         big = s > big ? s : big;
     }
-    double pad = 64.0 * U * big + MFG_MIN_COORD;
+    double pad = RAY_PAD_ULPS * U * big + MFG_MIN_COORD;
 
-    /* The triangles that can be crossed, their sign of d . n and padded boxes. */
-    int64_t nfiled = 0;
-    double lo_u = INFINITY, lo_v = INFINITY, hi_u = -INFINITY, hi_v = -INFINITY;
-    for (int64_t t = 0; t < ntriangles; t++) {
-        if (!mfg_prog_poll(&prog, (double)t, (double)ntriangles)) {
-            free(dn);
-            free(box);
-            free(order);
-            return mfg_prog_fail(&prog);
-        }
-        const double *a = xyz + 3 * triangles[3 * t], *b = xyz + 3 * triangles[3 * t + 1];
-        const double *c = xyz + 3 * triangles[3 * t + 2];
-        dn[t] = (int8_t)mfg_orient3d_vec(a, b, c, d);
-        if (dn[t] == 0)
-            continue;
-        double u[3], v[3];
-        project(&g, a, &u[0], &v[0]);
-        project(&g, b, &u[1], &v[1]);
-        project(&g, c, &u[2], &v[2]);
-        double *bx = box + 4 * t;
-        bx[0] = fmin(u[0], fmin(u[1], u[2])) - pad;
-        bx[1] = fmin(v[0], fmin(v[1], v[2])) - pad;
-        bx[2] = fmax(u[0], fmax(u[1], u[2])) + pad;
-        bx[3] = fmax(v[0], fmax(v[1], v[2])) + pad;
-        lo_u = fmin(lo_u, bx[0]);
-        lo_v = fmin(lo_v, bx[1]);
-        hi_u = fmax(hi_u, bx[2]);
-        hi_v = fmax(hi_v, bx[3]);
-        order[nfiled].t = t;
-        nfiled++;
+    if (!file_triangles(&T, xyz, triangles, ntriangles, d, pad, &prog)) {
+        free(T.dn);
+        free(T.box);
+        free(T.order);
+        return mfg_prog_fail(&prog);
     }
-
-    /* Z-order of the box centres, then the complete tree over the leaves: node k has
-     * children 2k+1 and 2k+2; the leaves are nodes nleaf_pow - 1 .. 2 nleaf_pow - 2,
-     * leaf l holding order[l * LEAF ..] (fewer in the last, none in the padding). */
-    double su = hi_u > lo_u ? 65535.0 / (hi_u - lo_u) : 0.0;
-    double sv = hi_v > lo_v ? 65535.0 / (hi_v - lo_v) : 0.0;
-    for (int64_t r = 0; r < nfiled; r++) {
-        const double *bx = box + 4 * order[r].t;
-        uint32_t qu = quantize16(0.5 * bx[0] + 0.5 * bx[2], lo_u, su);
-        uint32_t qv = quantize16(0.5 * bx[1] + 0.5 * bx[3], lo_v, sv);
-        order[r].code = spread16(qu) | (spread16(qv) << 1);
-    }
-    qsort(order, (size_t)nfiled, sizeof *order, cmp_morton);
-    int64_t nleaves = (nfiled + LEAF - 1) / LEAF, pow2 = 1;
-    while (pow2 < nleaves)
-        pow2 *= 2;
-    int64_t nnodes = 2 * pow2 - 1;
-    double *node = malloc((size_t)nnodes * 4 * sizeof *node);
+    order_boxes(&T);
+    int64_t nnodes = 2 * T.pow2 - 1;
+    T.node = malloc((size_t)nnodes * 4 * sizeof *T.node);
     int64_t *stack = malloc(((size_t)64 + 1) * sizeof *stack);
     /* With progress the flags go to a buffer first: a cancel leaves blocked_out as it was. */
     uint8_t *flags = prog.fn ? malloc((size_t)npoints + 1) : blocked_out;
-    if (!node || !stack || (prog.fn && !flags)) {
-        free(dn);
-        free(box);
-        free(order);
-        free(node);
+    if (!T.node || !stack || (prog.fn && !flags)) {
+        free(T.dn);
+        free(T.box);
+        free(T.order);
+        free(T.node);
         free(stack);
         if (prog.fn)
             free(flags);
         return mfg_fail(MFG_ERR_NOMEM, "out of memory for the ray tree of %lld triangles",
-                        (long long)nfiled);
+                        (long long)T.nfiled);
     }
-    for (int64_t l = 0; l < pow2; l++) {
-        double *nb = node + 4 * (pow2 - 1 + l);
-        nb[0] = nb[1] = INFINITY;
-        nb[2] = nb[3] = -INFINITY;
-        for (int64_t r = l * LEAF; r < (l + 1) * LEAF && r < nfiled; r++) {
-            const double *bx = box + 4 * order[r].t;
-            nb[0] = fmin(nb[0], bx[0]);
-            nb[1] = fmin(nb[1], bx[1]);
-            nb[2] = fmax(nb[2], bx[2]);
-            nb[3] = fmax(nb[3], bx[3]);
-        }
-    }
-    for (int64_t k = pow2 - 2; k >= 0; k--) {
-        double *nb = node + 4 * k;
-        const double *l = node + 4 * (2 * k + 1), *r = node + 4 * (2 * k + 2);
-        nb[0] = fmin(l[0], r[0]);
-        nb[1] = fmin(l[1], r[1]);
-        nb[2] = fmax(l[2], r[2]);
-        nb[3] = fmax(l[3], r[3]);
-    }
+    fill_nodes(&T);
 
-    /* The queries: nothing but a cancel can fail from here on.  The tree's depth is
-     * log2(pow2) <= 40, so a stack of 64 suffices (each pop pushes at most two). */
+    /* The queries: nothing but a cancel can fail from here on. */
     int go = mfg_prog_stage(&prog, "rays: queries", 0.3, 1.0, RAY_EVERY_POINTS);
     for (int64_t i = 0; i < npoints && go; i++) {
         if (!mfg_prog_poll(&prog, (double)i, (double)npoints)) {
             go = 0;
             break;
         }
-        const double *p = points + 3 * i;
-        int64_t own = own_triangle ? own_triangle[i] : -1;
-        uint8_t bits = 0;
-        double pu, pv;
-        project(&g, p, &pu, &pv);
-        int64_t top = 0;
-        if (nfiled > 0)
-            stack[top++] = 0;
-        while (top > 0) {
-            int64_t k = stack[--top];
-            const double *nb = node + 4 * k;
-            if (pu < nb[0] || pu > nb[2] || pv < nb[1] || pv > nb[3])
-                continue;
-            if (k < pow2 - 1) {
-                stack[top++] = 2 * k + 2;
-                stack[top++] = 2 * k + 1;
-                continue;
-            }
-            int64_t l = k - (pow2 - 1);
-            for (int64_t r = l * LEAF; r < (l + 1) * LEAF && r < nfiled; r++) {
-                int64_t t = order[r].t;
-                if (t == own)
-                    continue;
-                const double *bx = box + 4 * t;
-                if (pu < bx[0] || pu > bx[2] || pv < bx[1] || pv > bx[3])
-                    continue;
-                const double *a = xyz + 3 * triangles[3 * t];
-                const double *b = xyz + 3 * triangles[3 * t + 1];
-                const double *cc = xyz + 3 * triangles[3 * t + 2];
-                int side = 0;
-                int where = cross_line(p, a, b, cc, d, dn[t], &side);
-                if (where == 2)
-                    bits |= side > 0 ? MFG_RAY_BLOCKED_POS : MFG_RAY_BLOCKED_NEG;
-                else if (where == 1)
-                    bits |= side > 0 ? MFG_RAY_GRAZES_POS : MFG_RAY_GRAZES_NEG;
-            }
-            if (bits == (MFG_RAY_BLOCKED_POS | MFG_RAY_BLOCKED_NEG | MFG_RAY_GRAZES_POS |
-                         MFG_RAY_GRAZES_NEG))
-                break;
-        }
-        flags[i] = bits;
+        flags[i] = ray_query(&T, xyz, triangles, d, points + 3 * i,
+                             own_triangle ? own_triangle[i] : -1, stack);
     }
     if (go)
         go = mfg_prog_stage(&prog, "rays: done", 1.0, 1.0, 1);
@@ -337,10 +385,10 @@ mfg_status mfg_ray_blocked_p(const double *xyz, int64_t nvertices, const int64_t
         memcpy(blocked_out, flags, (size_t)npoints);
     if (prog.fn)
         free(flags);
-    free(dn);
-    free(box);
-    free(order);
-    free(node);
+    free(T.dn);
+    free(T.box);
+    free(T.order);
+    free(T.node);
     free(stack);
     if (!go)
         return mfg_prog_fail(&prog);

@@ -10,6 +10,21 @@
 #include "common/predicates.h"
 #include "sphere/sphere.h"
 
+/* The inscribed cap of a cone (its quick inside test): the angular radius of its centre's
+ * nearest side shrunk by CAP_IN_SHRINK (relative) and CAP_IN_MARGIN rad for the rounding
+ * of asin and the unit vectors, kept only when above CAP_IN_MIN rad (else no use). */
+#define CAP_IN_SHRINK 1e-6
+#define CAP_IN_MARGIN 1e-9
+#define CAP_IN_MIN 1e-5
+/* Rounding of a corner on its own two circles (dot products of unit vectors, ~1e-16). */
+#define CORNER_SLACK 1e-13
+/* A loop winds once around a centre when its turning angle is 2 pi within this. */
+#define TURN_TOL 1e-6
+/* A cone's draft cap is sampled a hair inside its radius; the sine the sample step
+ * divides by is kept above MIN_SIN. */
+#define CAP_INSIDE 1e-12
+#define MIN_SIN 1e-12
+
 /*
  * VM(P) is the dual of the cone C spanned by P.  The paper decides its kind with two
  * 2-variable LPs and a smallest enclosing sphere, then runs a Graham scan on the sphere;
@@ -97,8 +112,8 @@ static void update_cap(cone3 *k)
             return;
         min_sin = fmin(min_sin, mfg_dot3(nu, k->c));
     }
-    double r = asin(fmin(fmax(min_sin, 0.0), 1.0)) * (1.0 - 1e-6) - 1e-9;
-    if (r > 1e-5) {
+    double r = asin(fmin(fmax(min_sin, 0.0), 1.0)) * (1.0 - CAP_IN_SHRINK) - CAP_IN_MARGIN;
+    if (r > CAP_IN_MIN) {
         k->cos2_in = cos(r) * cos(r);
         k->have_cap = 1;
     }
@@ -596,7 +611,7 @@ static int draft_boundary_ok(const double *u, int64_t nu, const int64_t *q, int6
 {
     if (r < 2)
         return nu == 1;
-    const double slack = 1e-13; /* rounding of a corner on its own two circles */
+    const double slack = CORNER_SLACK;
     for (int64_t j = 0; j < r; j++) {
         double x[3];
         if (!cap_corner(u + 3 * q[j], u + 3 * q[(j + 1) % r], s, x))
@@ -627,7 +642,7 @@ static int draft_boundary_ok(const double *u, int64_t nu, const int64_t *q, int6
             ang += 2.0 * MFG_PI;
         turn += ang;
     }
-    return fabs(turn - 2.0 * MFG_PI) < 1e-6;
+    return fabs(turn - 2.0 * MFG_PI) < TURN_TOL;
 }
 
 /* Clips convex spherical polygon (n unit vertices in poly, room for n+1 in out) by the
@@ -794,9 +809,9 @@ static mfg_status apply_draft(const cone3 *k, double draft, mfg_spoly **map)
         us = k->h;
         nu = k->nh;
     }
-    double rho = MFG_PI / 2 - draft - 1e-12; /* cap radius, a hair inside */
+    double rho = MFG_PI / 2 - draft - CAP_INSIDE; /* cap radius, a hair inside */
     double sr = sin(rho), s = cos(rho);
-    double step = sqrt(8.0 * MFG_DRAFT_TOL / fmax(sr, 1e-12)); /* sagitta sr step^2 / 8 */
+    double step = sqrt(8.0 * MFG_DRAFT_TOL / fmax(sr, MIN_SIN)); /* sagitta sr step^2 / 8 */
     step = fmin(step, 2.0 * MFG_PI / 8.0);
     double *u = calloc((size_t)nu * 3, sizeof(double)); /* calloc: quiets a false gcc warning */
     int64_t *q = malloc((size_t)nu * sizeof(int64_t));

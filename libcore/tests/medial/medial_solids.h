@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* medial_solids.h - the analytic solids of the medial-surface tests (design section 7):
- * boxes, the L-bracket and regular n-gon discs as closed, outward-oriented triangle
- * meshes.  Header-only, for the C tests. */
+/* medial_solids.h - the analytic solids of the medial-surface tests (docs/design/medial.md
+ * section 7): boxes, the L-bracket and regular n-gon discs as closed, outward-oriented
+ * triangle meshes.  Header-only, for the C tests. */
 #ifndef MEDIAL_SOLIDS_H
 #define MEDIAL_SOLIDS_H
 #include <math.h>

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* test_medial_bvh.c - the medial surface's distance field (medial_bvh.c) against brute
+/* test_medial_bvh.c - the medial surface's distance field (medial/bvh.c) against brute
  * force over all elements (md_dist_closed, md_nearest_set_brute) and a solid-angle
  * winding number, at random points inside, outside and near the boundary of a cuboid, the
  * L-bracket, a grid-tessellated cube, a random affine image of a geodesic sphere and a

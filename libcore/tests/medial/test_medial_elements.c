@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* test_medial_elements.c - the medial surface's boundary elements (medial_elements.c), the
- * exact mfg_orient3d they rely on, and the bisector roots (medial_bisector.c), on solids
- * whose elements, distances and bisector points are known by hand. */
+/* test_medial_elements.c - the medial surface's boundary elements (medial/elements.c), the
+ * exact mfg_orient3d they rely on, and the bisector roots (medial/bisector.c), on solids
+ * whose elements, distances and bisector points are known by hand.  "design N" cites
+ * docs/design/medial.md section N. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -418,7 +419,7 @@ static void test_bisector(void)
 /* ---- D(x) against an independent reference --------------------------------------------- */
 
 /* Distance from x to triangle abc by Ericson's closest-point regions (Real-Time Collision
- * Detection, 5.1.5), sharing no code with medial_elements.c. */
+ * Detection, 5.1.5), sharing no code with medial/elements.c. */
 static double tri_dist(const double *p, const double *a, const double *b, const double *c)
 {
     double ab[3], ac[3], ap[3], r[3];

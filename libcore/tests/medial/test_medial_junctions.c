@@ -1,11 +1,11 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* test_medial_junctions.c - junctions and degenerate seams (medial_junctions.c, design 4.3)
- * on solids whose equidistant points are known by hand: the cube's centre, the cuboid's
- * corners of its mid-sheet, the square prism's axis and its ends, the L-bracket's
- * junctions at the reflex edge (rho* = (2 - sqrt 2) 10) and at the end of its smooth
- * seam.  The search is run as the pipeline runs it: in a leaf-sized box, with T the
- * elements whose closure is within D + 2 rho of the box centre (a superset of those that
- * touch anywhere in the box, so the search must also drop the ones that do not). */
+/* test_medial_junctions.c - junctions and degenerate seams (medial/junctions.c;
+ * docs/design/medial.md section 4.3) on solids whose equidistant points are known by hand:
+ * the cube's centre, the cuboid's corners of its mid-sheet, the square prism's axis and its
+ * ends, the L-bracket's junctions at the reflex edge (rho* = (2 - sqrt 2) 10) and at the
+ * end of its smooth seam.  The search is run as the pipeline runs it: in a leaf-sized box,
+ * with T the elements whose closure is within D + 2 rho of the box centre (a superset of
+ * those that touch anywhere in the box, so the search must also drop the ones that do not). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>

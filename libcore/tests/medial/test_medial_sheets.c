@@ -1,10 +1,11 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
 /* test_medial_sheets.c - the sheets of the medial surface before assembly
- * (medial_sheets.c: marching tets on the analytic bisectors, trimming, boundary points,
+ * (medial/sheets.c: marching tets on the analytic bisectors, trimming, boundary points,
  * seam segments) on solids whose medial sheets are known by hand: the cuboid's mid-plane,
  * the L-bracket's mid-plane and parabolic cylinder, the cube's 12 edge triangles.  The
  * leaves come from a brute-force builder here (a uniform lattice over the bounding box,
- * every element a candidate), independent of the octree. */
+ * every element a candidate), independent of the octree.  "design N" cites
+ * docs/design/medial.md section N (the sheets: section 4.1). */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <math.h>
 #include <stdint.h>
@@ -624,7 +625,7 @@ static void test_l_bracket_full_on_bisector(void)
     md_elements_free(&el);
 }
 
-/* ---- on the octree's leaves (medial_voxels.c) -------------------------------------------- */
+/* ---- on the octree's leaves (medial/octree.c) -------------------------------------------- */
 
 /* The soup from the octree's leaves (with the BVH) equals, bit for bit, the soup from
  * brute-force leaves on the same lattice (every element a candidate, every pair in every

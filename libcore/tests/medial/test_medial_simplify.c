@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
 /* test_medial_simplify.c - medial sheets made coarse within the tolerance
- * (medial_simplify.c, md_sheet_simplify) on the sheets of the octree's leaves
+ * (medial/simplify.c, md_sheet_simplify) on the sheets of the octree's leaves
  * (md_octree_build, md_bvh, md_sheets_extract): the cuboid's mid-plane, the L-bracket's
  * mid-planes and parabolic cylinder, the 48-gon disc.  References: the input sheet (its
  * area, boundary and vertices), the analytic bisectors, and an exact count of the
@@ -635,7 +635,7 @@ static void test_all_sheets(const tmesh *m, double tol, int full, const char *na
     /* Kept vertices are input vertices (check_sheet: bit for bit): none further off than the
      * input's.  (The L-bracket's full soup has one boundary point 0.41 off: the (top, E) sheet
      * at (10, 9.994, 39.58), radius 0.006, where the corner (10, 10, 40) pinches it; an
-     * extraction matter, medial_sheets.c.) */
+     * extraction matter, medial/sheets.c.) */
     CHECK(worst_v <= fmax(worst_in, 1e-9 * P.el.diag));
     CHECK(worst <= 0.51 * tol);
     free(pairs);

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* test_medial_surface.c - the 3-D medial surface through the public API (issue 9; design
- * section 7, "Analytic solids"): the cuboid, the cube, the square prism, the L-bracket and
- * the 48-gon disc, whose sheets, seams and junctions are derived by hand; bit-identical
- * results for any thread count and triangle order; bad input refused with *out untouched.
- * Elements are matched by geometry (their planes and lines), never by id. */
+/* test_medial_surface.c - the 3-D medial surface through the public API (issue 9;
+ * docs/design/medial.md section 7, "Analytic solids"; "design N" below is that file): the
+ * cuboid, the cube, the square prism, the L-bracket and the 48-gon disc, whose sheets,
+ * seams and junctions are derived by hand; bit-identical results for any thread count and
+ * triangle order; bad input refused with *out untouched.  Elements are matched by geometry
+ * (their planes and lines), never by id. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
-/* test_medial_voxels.c - the medial surface's adaptive octree (medial_voxels.c) on the
+/* test_medial_voxels.c - the medial surface's adaptive octree (medial/octree.c) on the
  * cuboid 100 x 60 x 20, the L-bracket, the cube 40, the 48-gon disc, a 160-segment cup
  * (wall strips about one leaf wide) and the L-bracket rotated, in major and full mode, at 0.5 % of L and at
  * coarse tolerances (leaf depth 1 .. 5), against brute-force references
@@ -300,7 +300,7 @@ static int two_nearest(const md_elements *el, const double *x, int64_t *a, int64
 /* ---- (a) completeness -------------------------------------------------------------------- */
 
 /* The octree's slack: it keeps the pairs whose distances come within h / 64 of each other
- * and of D somewhere in the leaf (medial_voxels.c, delta). */
+ * and of D somewhere in the leaf (medial/octree.c, delta). */
 #define SLACK(h) ((h) / 64)
 
 /* Gauss-Newton from x toward the points equidistant (carrier distances) from the n = 2, 3
