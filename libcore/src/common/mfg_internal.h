@@ -118,6 +118,17 @@ static inline void mfg_uf_union(int64_t *parent, int64_t a, int64_t b)
         parent[a] = b;
 }
 
+/* The capacity for need items: cap (or first, when cap is 0) doubled until it holds them
+ * (need itself once doubling would overflow).  The one doubling rule of the growable
+ * buffers, including those that grow several arrays together (mfg_resize). */
+static inline int64_t mfg_grown_cap(int64_t cap, int64_t need, int64_t first)
+{
+    int64_t c = cap > 0 ? cap : first;
+    while (c < need)
+        c = c > INT64_MAX / 2 ? need : 2 * c;
+    return c;
+}
+
 /* Grows the array *p (items of size bytes, capacity *cap) to hold need items, doubling from
  * 16.  Returns 1, or 0 when memory runs out or the size would not fit in a size_t (then
  * *p and *cap are untouched and still valid).  The one growable-buffer helper. */
@@ -127,9 +138,7 @@ static inline int mfg_grow(void **p, int64_t *cap, int64_t need, size_t size)
         return 1;
     if (need > (int64_t)(PTRDIFF_MAX / (ptrdiff_t)size))
         return 0;
-    int64_t c = *cap > 0 ? *cap : 16;
-    while (c < need)
-        c = c > INT64_MAX / 2 ? need : 2 * c;
+    int64_t c = mfg_grown_cap(*cap, need, 16);
     void *q = realloc(*p, (size_t)c * size);
     if (!q)
         return 0;

@@ -177,7 +177,7 @@ static int inside_winding(const md_elements *el, const double x[3])
         w += atan2(det, la * lb * lc + ab * lc + ac * lb + bc * la);
     }
     /* The solid angles sum to 4 pi (sum of half-angles 2 pi) inside, 0 outside. */
-    return fabs(w) > 3.14159265358979323846;
+    return fabs(w) > MFG_PI;
 }
 
 static int point_inside(const job *J, const double x[3])

@@ -116,9 +116,7 @@ static int scratch_grow(sd_mesh *M, int64_t n)
 {
     if (n <= M->scap)
         return 1;
-    int64_t c = M->scap ? M->scap : 64;
-    while (c < n)
-        c *= 2;
+    int64_t c = mfg_grown_cap(M->scap, n, 64);
     int ok = 1; /* every array is tried: one grown before a failure is only larger */
     ok &= mfg_resize((void **)&M->sx, c, sizeof *M->sx);
     ok &= mfg_resize((void **)&M->sy, c, sizeof *M->sy);

@@ -164,9 +164,7 @@ static int work_grow(pm_work *w, int64_t n)
 {
     if (n <= w->cap)
         return 1;
-    int64_t c = w->cap ? w->cap : 64;
-    while (c < n)
-        c *= 2;
+    int64_t c = mfg_grown_cap(w->cap, n, 64);
     int ok = 1; /* every array is tried: one grown before a failure is only larger */
     ok &= mfg_resize((void **)&w->bnd, c, sizeof *w->bnd);
     ok &= mfg_resize((void **)&w->bnext, c, sizeof *w->bnext);
