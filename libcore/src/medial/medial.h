@@ -269,9 +269,9 @@ void md_soup_free(md_soup *soup);
 void md_soup_seam_labels(const md_soup *sp, int64_t *label);
 
 /* One sheet of pair (a, b) (a connected piece of the soup's triangles of that pair, or
- * several: each piece is handled on its own), made coarse in place.  On entry *nverts
- * vertices (xyz 3 each, radius 1 each) and *ntris triangles (tris 3 each, indices into
- * the vertices, consistently oriented, as md_sheets_extract makes them); label (may be
+ * several: each piece is handled on its own), made coarse in place.  On entry sheet holds
+ * nverts vertices and ntris triangles (consistently oriented, as md_sheets_extract makes
+ * them); label (may be
  * NULL) per vertex its seam label (md_soup_seam_labels).  On return the same arrays hold
  * the kept vertices (those of the kept triangles), in their input order, unmoved, radii
  * unchanged, and the new triangles (never more of either); vmap (may be NULL) gets per
@@ -289,9 +289,15 @@ void md_soup_seam_labels(const md_soup *sp, int64_t *label);
  *     edges follow the seams.
  * The result depends only on the input arrays (sorted orders, no threads).  MFG_OK, or
  * MFG_ERR_NOMEM with the arrays untouched. */
+typedef struct md_sheet_mesh {
+    int64_t nverts; /* vertices: xyz 3 each, radius 1 each */
+    double *xyz;
+    double *radius;
+    int64_t ntris; /* triangles: tris 3 each, indices into the vertices */
+    int64_t *tris;
+} md_sheet_mesh;
 mfg_status md_sheet_simplify(const md_elements *el, int64_t a, int64_t b, double tolerance,
-                             const int64_t *label, int64_t *nverts, double *xyz, double *radius,
-                             int64_t *ntris, int64_t *tris, int64_t *vmap);
+                             const int64_t *label, md_sheet_mesh *sheet, int64_t *vmap);
 
 /* ---- junctions.c: the junction search, junctions and degenerate seams ---------------- */
 

@@ -182,12 +182,13 @@ static mfg_status simplify_sheets(const md_asm *ax, mfg_medial *m, const int64_t
         if (!mfg_prog_poll(prog, (double)r, 5.0 * (double)nref))
             return mfg_prog_fail(prog);
         int64_t v1 = m->sheet_vertex_offsets[r + 1], t1 = m->sheet_triangle_offsets[r + 1];
-        int64_t nvr = v1 - v0, ntr = t1 - t0;
+        md_sheet_mesh sh = {v1 - v0, m->sheet_vertices + 3 * v0, m->sheet_radii + v0, t1 - t0,
+                            m->sheet_triangles + 3 * t0};
         mfg_status st = md_sheet_simplify(ax->el, m->sheet_elements[2 * r], m->sheet_elements[2 * r + 1],
-                                          ax->tol, vlabel + v0, &nvr, m->sheet_vertices + 3 * v0,
-                                          m->sheet_radii + v0, &ntr, m->sheet_triangles + 3 * t0, NULL);
+                                          ax->tol, vlabel + v0, &sh, NULL);
         if (st != MFG_OK)
             return st;
+        int64_t nvr = sh.nverts, ntr = sh.ntris;
         memmove(m->sheet_vertices + 3 * wv, m->sheet_vertices + 3 * v0, (size_t)(3 * nvr) * sizeof(double));
         memmove(m->sheet_radii + wv, m->sheet_radii + v0, (size_t)nvr * sizeof(double));
         memmove(m->sheet_triangles + 3 * wt, m->sheet_triangles + 3 * t0, (size_t)(3 * ntr) * sizeof(int64_t));

@@ -556,9 +556,10 @@ void md_soup_seam_labels(const md_soup *sp, int64_t *label)
 }
 
 mfg_status md_sheet_simplify(const md_elements *el, int64_t a, int64_t b, double tolerance,
-                             const int64_t *label, int64_t *nverts, double *xyz, double *radius,
-                             int64_t *ntris, int64_t *tris, int64_t *vmap)
+                             const int64_t *label, md_sheet_mesh *sheet, int64_t *vmap)
 {
+    int64_t *nverts = &sheet->nverts, *ntris = &sheet->ntris, *tris = sheet->tris;
+    double *xyz = sheet->xyz, *radius = sheet->radius;
     sd_mesh M;
     memset(&M, 0, sizeof M);
     M.el = el;

@@ -324,14 +324,24 @@ static int64_t check_sheet(const md_elements *el, const sheet *I, const sheet *O
     return nbO;
 }
 
+/* md_sheet_simplify on T (a copy of S, whose labels it uses), in place. */
+static mfg_status sheet_simplify(const md_elements *el, const sheet *S, double tol, sheet *T,
+                                 int64_t *vmap)
+{
+    md_sheet_mesh m = {T->nv, T->xyz, T->radius, T->nt, T->tris};
+    mfg_status st = md_sheet_simplify(el, T->a, T->b, tol, S->label, &m, vmap);
+    T->nv = m.nverts;
+    T->nt = m.ntris;
+    return st;
+}
+
 /* Simplifies a copy of S; *out gets the result, vmap (room for S->nv) the vertex map. */
 static void simplify(const md_elements *el, const sheet *S, double tol, sheet *out, int64_t *vmap,
                      const char *name)
 {
     *out = sheet_copy(S);
     double t0 = now();
-    CHECK_EQ_INT(md_sheet_simplify(el, out->a, out->b, tol, S->label, &out->nv, out->xyz, out->radius, &out->nt,
-                                   out->tris, vmap),
+    CHECK_EQ_INT(sheet_simplify(el, S, tol, out, vmap),
                  MFG_OK);
     double t1 = now();
     printf("%s (form %d): %lld -> %lld triangles, %lld -> %lld vertices, %.3f s\n", name,
@@ -339,8 +349,7 @@ static void simplify(const md_elements *el, const sheet *S, double tol, sheet *o
            (long long)out->nv, t1 - t0);
     /* again on the result's input: the same bits (no dependence on anything else) */
     sheet again = sheet_copy(S);
-    CHECK_EQ_INT(md_sheet_simplify(el, again.a, again.b, tol, S->label, &again.nv, again.xyz, again.radius, &again.nt,
-                                   again.tris, NULL),
+    CHECK_EQ_INT(sheet_simplify(el, S, tol, &again, NULL),
                  MFG_OK);
     CHECK(again.nv == out->nv && again.nt == out->nt &&
           !memcmp(again.tris, out->tris, (size_t)(3 * out->nt) * sizeof *out->tris));
@@ -594,7 +603,7 @@ static void test_all_sheets(const tmesh *m, double tol, int full, const char *na
         sheet S = sheet_of(s, pairs[2 * i], pairs[2 * i + 1]), O;
         int64_t *vmap = malloc((size_t)(S.nv + 1) * sizeof *vmap);
         O = sheet_copy(&S);
-        CHECK_EQ_INT(md_sheet_simplify(&P.el, O.a, O.b, tol, S.label, &O.nv, O.xyz, O.radius, &O.nt, O.tris, vmap),
+        CHECK_EQ_INT(sheet_simplify(&P.el, &S, tol, &O, vmap),
                      MFG_OK);
         int form = md_form(&P.el, S.a, S.b);
         before[form] += S.nt;
@@ -650,8 +659,7 @@ static void test_all_sheets(const tmesh *m, double tol, int full, const char *na
 static void alloc_fail_on(const md_elements *el, const sheet *S, double tol, const char *name)
 {
     sheet ref = sheet_copy(S);
-    CHECK_EQ_INT(md_sheet_simplify(el, ref.a, ref.b, tol, S->label, &ref.nv, ref.xyz, ref.radius, &ref.nt,
-                                   ref.tris, NULL),
+    CHECK_EQ_INT(sheet_simplify(el, S, tol, &ref, NULL),
                  MFG_OK);
     CHECK(ref.nt < S->nt);
     int done = 0;
@@ -659,7 +667,7 @@ static void alloc_fail_on(const md_elements *el, const sheet *S, double tol, con
     for (n = 1; n < 100000 && !done; n++) {
         sheet C = sheet_copy(S);
         alloc_shim_arm(n);
-        mfg_status st = md_sheet_simplify(el, C.a, C.b, tol, S->label, &C.nv, C.xyz, C.radius, &C.nt, C.tris, NULL);
+        mfg_status st = sheet_simplify(el, S, tol, &C, NULL);
         alloc_shim_stats a = alloc_shim_disarm();
         CHECK_EQ_INT(a.net, 0);
         if (a.failed == 0) {
