@@ -42,18 +42,13 @@
  */
 
 /* The three entry points differ only in the search mode and the region rule. */
-mfg_status mfg_maxisect_run(int mode, const double *vertices, const int64_t *offsets,
-                            const int32_t *kinds, const int32_t *closed, int64_t npolys,
-                            const double *weights, double level, mfg_regions **out,
+mfg_status mfg_maxisect_run(int mode, const ms_input *in, double level, mfg_regions **out,
                             int64_t *ncells)
 {
-    return mfg_maxisect_run_p(mode, vertices, offsets, kinds, closed, npolys, weights, level,
-                              out, ncells, NULL, "mfg_maxisect_run");
+    return mfg_maxisect_run_p(mode, in, level, out, ncells, NULL, "mfg_maxisect_run");
 }
 
-mfg_status mfg_maxisect_run_p(int mode, const double *vertices, const int64_t *offsets,
-                              const int32_t *kinds, const int32_t *closed, int64_t npolys,
-                              const double *weights, double level, mfg_regions **out,
+mfg_status mfg_maxisect_run_p(int mode, const ms_input *in, double level, mfg_regions **out,
                               int64_t *ncells, const mfg_progress *progress, const char *call)
 {
     if (ncells)
@@ -65,7 +60,7 @@ mfg_status mfg_maxisect_run_p(int mode, const double *vertices, const int64_t *o
     if (!mfg_prog_stage(&prog, "maxisect: sets", 0, 0.05, 1))
         return mfg_prog_fail(&prog);
     work W;
-    mfg_status st = mfg_sets_prepare(vertices, offsets, kinds, closed, npolys, weights, &W);
+    mfg_status st = mfg_sets_prepare(in, &W);
     W.prog = &prog;
     double eps = W.eps, lev = mode == MODE_LEVEL ? ldexp(level, -W.scale_exp) : 0.0;
     if (st == MFG_OK && !mfg_prog_stage(&prog, "maxisect: search", 0.05, 0.8, MAXISECT_EVERY_CELLS))
@@ -108,8 +103,8 @@ mfg_status mfg_max_intersection_p(const double *vertices, const int64_t *offsets
                                   const double *weights, mfg_regions **out,
                                   const mfg_progress *progress)
 {
-    return mfg_maxisect_run_p(MODE_MAX, vertices, offsets, kinds, closed, npolys, weights, 0.0,
-                              out, NULL, progress, "mfg_max_intersection");
+    ms_input in = {vertices, offsets, kinds, closed, npolys, weights};
+    return mfg_maxisect_run_p(MODE_MAX, &in, 0.0, out, NULL, progress, "mfg_max_intersection");
 }
 
 mfg_status mfg_level_regions(const double *vertices, const int64_t *offsets,
@@ -127,8 +122,8 @@ mfg_status mfg_level_regions_p(const double *vertices, const int64_t *offsets,
 {
     if (!(level > -1e300 && level < 1e300))
         return mfg_fail(MFG_ERR_INVALID, "level must be finite (got %g)", level);
-    return mfg_maxisect_run_p(MODE_LEVEL, vertices, offsets, kinds, closed, npolys, weights,
-                              level, out, NULL, progress, "mfg_level_regions");
+    ms_input in = {vertices, offsets, kinds, closed, npolys, weights};
+    return mfg_maxisect_run_p(MODE_LEVEL, &in, level, out, NULL, progress, "mfg_level_regions");
 }
 
 mfg_status mfg_min_intersection(const double *vertices, const int64_t *offsets,
@@ -143,8 +138,8 @@ mfg_status mfg_min_intersection_p(const double *vertices, const int64_t *offsets
                                   const double *weights, mfg_regions **out,
                                   const mfg_progress *progress)
 {
-    return mfg_maxisect_run_p(MODE_MIN, vertices, offsets, kinds, closed, npolys, weights, 0.0,
-                              out, NULL, progress, "mfg_min_intersection");
+    ms_input in = {vertices, offsets, kinds, closed, npolys, weights};
+    return mfg_maxisect_run_p(MODE_MIN, &in, 0.0, out, NULL, progress, "mfg_min_intersection");
 }
 
 void mfg_regions_free(mfg_regions *r)

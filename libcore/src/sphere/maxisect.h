@@ -105,26 +105,31 @@ enum { MODE_MAX, MODE_LEVEL, MODE_MIN };
 #define FAN_MIN_VERTICES 32 /* below this, testing every edge is as fast */
 #define FAN_PAD 2
 
+/* The input of the three entry points: npolys sets (vertices 3 each, ring offsets, kinds,
+ * closed flags, weights; closed and weights may be NULL), as in mfgeom.h. */
+typedef struct ms_input {
+    const double *vertices;
+    const int64_t *offsets;
+    const int32_t *kinds;
+    const int32_t *closed;
+    int64_t npolys;
+    const double *weights;
+} ms_input;
+
 /* ---- maxisect.c ------------------------------------------------------------------- */
 
 /* The entry points' common body (mode MODE_MAX, MODE_LEVEL or MODE_MIN); when ncells is
  * not NULL it receives the number of cells the search examined (W.ncells), also on
  * error, so tests can bound the work without timing it. */
-mfg_status mfg_maxisect_run(int mode, const double *vertices, const int64_t *offsets,
-                            const int32_t *kinds, const int32_t *closed, int64_t npolys,
-                            const double *weights, double level, mfg_regions **out,
+mfg_status mfg_maxisect_run(int mode, const ms_input *in, double level, mfg_regions **out,
                             int64_t *ncells);
 /* The same with progress (mfg_progress, may be NULL); call names the entry point. */
-mfg_status mfg_maxisect_run_p(int mode, const double *vertices, const int64_t *offsets,
-                              const int32_t *kinds, const int32_t *closed, int64_t npolys,
-                              const double *weights, double level, mfg_regions **out,
+mfg_status mfg_maxisect_run_p(int mode, const ms_input *in, double level, mfg_regions **out,
                               int64_t *ncells, const mfg_progress *progress, const char *call);
 
 /* ---- maxisect_sets.c -------------------------------------------------------------- */
 
-mfg_status mfg_sets_prepare(const double *vertices, const int64_t *offsets, const int32_t *kinds,
-                            const int32_t *closed, int64_t npolys, const double *weights,
-                            work *W);
+mfg_status mfg_sets_prepare(const ms_input *in, work *W);
 void mfg_sets_free(work *W);
 /* Parameter s of direction y on the arc a -> b (x(s) = a + s (b - a)); 0 when y is off
  * the arc beyond the tolerance. */

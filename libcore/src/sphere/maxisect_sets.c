@@ -496,10 +496,12 @@ static mfg_status alloc_sweep(work *W)
     return MFG_OK;
 }
 
-mfg_status mfg_sets_prepare(const double *vertices, const int64_t *offsets, const int32_t *kinds,
-                          const int32_t *closed, int64_t npolys, const double *weights,
-                          work *W)
+mfg_status mfg_sets_prepare(const ms_input *in, work *W)
 {
+    const double *vertices = in->vertices, *weights = in->weights;
+    const int64_t *offsets = in->offsets;
+    const int32_t *kinds = in->kinds, *closed = in->closed;
+    int64_t npolys = in->npolys;
     memset(W, 0, sizeof *W);
     mfg_status st = check_layout(offsets, kinds, closed, npolys, weights);
     if (st == MFG_OK)

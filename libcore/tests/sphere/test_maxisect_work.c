@@ -209,9 +209,9 @@ static void corpus_case(const char *name, const double *V, const int64_t *off,
     for (int mode = MODE_MAX; mode <= (level > 0 ? MODE_LEVEL : MODE_MAX); mode++) {
         mfg_regions *r = NULL, *r2 = NULL;
         int64_t cells = -1, cells2 = -1;
-        CHECK_EQ_INT(mfg_maxisect_run(mode, V, off, kind, NULL, n, NULL, level, &r, &cells),
+        CHECK_EQ_INT(mfg_maxisect_run(mode, &(ms_input){V, off, kind, NULL, n, NULL}, level, &r, &cells),
                      MFG_OK);
-        CHECK_EQ_INT(mfg_maxisect_run(mode, V2, off2, kind2, NULL, n, NULL, level, &r2, &cells2),
+        CHECK_EQ_INT(mfg_maxisect_run(mode, &(ms_input){V2, off2, kind2, NULL, n, NULL}, level, &r2, &cells2),
                      MFG_OK);
         printf("%s %s: %lld regions, weight %g, %lld cells (reversed: %lld)\n", name,
                mode == MODE_MAX ? "max" : "level", r ? (long long)r->nregions : -1LL,
@@ -255,7 +255,7 @@ static void shared_circle(int n)
     }
     mfg_regions *r = NULL;
     int64_t cells = -1;
-    CHECK_EQ_INT(mfg_maxisect_run(MODE_MAX, V, off, kind, NULL, n, NULL, 0.0, &r, &cells),
+    CHECK_EQ_INT(mfg_maxisect_run(MODE_MAX, &(ms_input){V, off, kind, NULL, n, NULL}, 0.0, &r, &cells),
                  MFG_OK);
     printf("%d hemispheres on one circle: %lld cells\n", n, (long long)cells);
     CHECK(cells > 0 && cells <= CELL_BOUND);
