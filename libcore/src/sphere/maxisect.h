@@ -165,11 +165,22 @@ int mfg_cmp_event(const void *x, const void *y);
 mfg_status mfg_compute_cover(work *W, int64_t ci);
 /* Records a candidate direction x of the given weight. */
 mfg_status mfg_add_candidate(work *W, double weight, const double x[3], int degenerate);
-/* Sweeps [r0, r1] of the arc a -> b (of set own, or -1) over the listed sets from the
- * ownership base, recording the pieces and points that reach the limit. */
-mfg_status mfg_sweep_edge(work *W, int64_t own, const double *a, const double *b, double r0,
-                          double r1, double base, const int64_t *list, int64_t nlist,
-                          double threshold, int keep_best, double eps);
+/* The part [r0, r1] of the arc a -> b (x(s) = a + s (b - a); a == b: a point). */
+typedef struct arc_span {
+    const double *a, *b;
+    double r0, r1;
+} arc_span;
+/* What a sweep records: pieces and points whose weight reaches the running best W->best
+ * (keep_best, which then rises) or threshold, less eps. */
+typedef struct sweep_goal {
+    double threshold;
+    int keep_best;
+    double eps;
+} sweep_goal;
+/* Sweeps span (an arc of set own, or -1) over the listed sets from the ownership base,
+ * recording the pieces and points that reach the goal. */
+mfg_status mfg_sweep_edge(work *W, int64_t own, const arc_span *span, double base,
+                          const int64_t *list, int64_t nlist, const sweep_goal *goal);
 
 /* ---- maxisect_search.c ------------------------------------------------------------- */
 

@@ -257,9 +257,11 @@ static int64_t piece_count(const sset *S)
 static mfg_status leaf(work *W, const cell *c, double threshold, int keep_best, double eps)
 {
     mfg_status st = MFG_OK;
-    for (int k = 0; k < 4 && st == MFG_OK; k++)
-        st = mfg_sweep_edge(W, -1, c->q.v + 3 * k, c->q.v + 3 * ((k + 1) % 4), 0.0, 1.0, c->full,
-                        c->part, c->npart, threshold, keep_best, eps);
+    sweep_goal goal = {threshold, keep_best, eps};
+    for (int k = 0; k < 4 && st == MFG_OK; k++) {
+        arc_span side = {c->q.v + 3 * k, c->q.v + 3 * ((k + 1) % 4), 0.0, 1.0};
+        st = mfg_sweep_edge(W, -1, &side, c->full, c->part, c->npart, &goal);
+    }
     for (int64_t t = 0; t < c->npart && st == MFG_OK; t++) {
         int64_t j = c->part[t];
         const sset *S = &W->sets[j];
@@ -269,8 +271,8 @@ static mfg_status leaf(work *W, const cell *c, double threshold, int keep_best, 
             double r0 = 0.0, r1 = 1.0;
             if (!mfg_polygon_interval(&c->q, a, b, &r0, &r1))
                 continue;
-            st = mfg_sweep_edge(W, j, a, b, r0, r1, c->full + S->w, c->part, c->npart, threshold,
-                            keep_best, eps);
+            arc_span span = {a, b, r0, r1};
+            st = mfg_sweep_edge(W, j, &span, c->full + S->w, c->part, c->npart, &goal);
         }
     }
     return st;

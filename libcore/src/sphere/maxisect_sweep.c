@@ -237,10 +237,12 @@ mfg_status mfg_add_candidate(work *W, double weight, const double x[3], int dege
 
 /* Exact sweep of the events (already in W->ev) inside [s0, s1] of edge a->b, entering
  * with ownership depth. */
-static mfg_status sweep_range(work *W, const double *a, const double *b, int64_t ne, double s0,
-                              double s1, double depth, double threshold, int keep_best,
-                              double eps, int first_range)
+static mfg_status sweep_range(work *W, const arc_span *range, int64_t ne, double depth,
+                              const sweep_goal *goal, int first_range)
 {
+    const double *a = range->a, *b = range->b, s0 = range->r0, s1 = range->r1;
+    double threshold = goal->threshold, eps = goal->eps;
+    int keep_best = goal->keep_best;
     double prev = s0;
     int point_edge = a == b;
     qsort(W->ev, (size_t)ne, sizeof(event), mfg_cmp_event);
@@ -303,10 +305,12 @@ static mfg_status sweep_range(work *W, const double *a, const double *b, int64_t
  * (the running best when keep_best).  The range is cut into buckets first, and a bucket
  * whose bound (depth on entry + everything starting inside it) cannot reach the limit
  * is never sorted. */
-mfg_status mfg_sweep_edge(work *W, int64_t own, const double *a, const double *b, double r0,
-                             double r1, double base, const int64_t *list, int64_t nlist,
-                             double threshold, int keep_best, double eps)
+mfg_status mfg_sweep_edge(work *W, int64_t own, const arc_span *span, double base,
+                          const int64_t *list, int64_t nlist, const sweep_goal *goal)
 {
+    const double *a = span->a, *b = span->b, r0 = span->r0, r1 = span->r1;
+    double threshold = goal->threshold, eps = goal->eps;
+    int keep_best = goal->keep_best;
     int64_t niv = mfg_edge_intervals(W, own, a, b, list, nlist);
     double ebound = base;
     int64_t kept = 0;
@@ -345,7 +349,8 @@ mfg_status mfg_sweep_edge(work *W, int64_t own, const double *a, const double *b
                     W->ev[ne++] = (event){W->iv[k].hi, 0, W->iv[k].set};
             }
             double s0 = r0 + width * bk / nb, s1 = bk == nb - 1 ? r1 : r0 + width * (bk + 1) / nb;
-            mfg_status st = sweep_range(W, a, b, ne, s0, s1, depth, threshold, keep_best, eps, bk == 0);
+            arc_span range = {a, b, s0, s1};
+            mfg_status st = sweep_range(W, &range, ne, depth, goal, bk == 0);
             if (st != MFG_OK)
                 return st;
         }
