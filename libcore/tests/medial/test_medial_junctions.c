@@ -12,22 +12,12 @@
 #include <string.h>
 
 #include "medial/medial.h"
+#include "medial_find.h"
 #include "mfg_test.h"
 #include "mfgeom.h"
 #include "medial_solids.h"
 
 /* The search runs here without a BVH (bvh = NULL: every element is a candidate). */
-
-static int64_t face_with(const md_elements *el, double nx, double ny, double nz, double delta)
-{
-    for (int64_t f = 0; f < el->nfaces; f++) {
-        const double *p = el->face_plane + 4 * f;
-        if (fabs(p[0] - nx) < 1e-15 && fabs(p[1] - ny) < 1e-15 && fabs(p[2] - nz) < 1e-15 &&
-            fabs(p[3] - delta) < 1e-12)
-            return f;
-    }
-    return -1;
-}
 
 static int64_t edge_on_line(const md_elements *el, double x, double y)
 {

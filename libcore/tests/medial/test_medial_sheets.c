@@ -14,6 +14,7 @@
 #include <time.h>
 
 #include "medial/medial.h"
+#include "medial_find.h"
 #include "medial_solids.h"
 #include "mfg_test.h"
 #include "mfgeom.h"
@@ -65,27 +66,6 @@ static void t_section(tmesh *m)
         ms_tri(m, b[i], b[j], t[j]);
         ms_tri(m, b[i], t[j], t[i]);
     }
-}
-
-static int64_t face_with(const md_elements *el, double nx, double ny, double nz, double delta)
-{
-    for (int64_t f = 0; f < el->nfaces; f++) {
-        const double *p = el->face_plane + 4 * f;
-        if (fabs(p[0] - nx) < 1e-15 && fabs(p[1] - ny) < 1e-15 && fabs(p[2] - nz) < 1e-15 &&
-            fabs(p[3] - delta) < 1e-12)
-            return f;
-    }
-    return -1;
-}
-
-static int64_t edge_with(const md_elements *el, const double *a, const double *b)
-{
-    for (int64_t i = 0; i < el->nedges; i++) {
-        const double *A = el->edge_seg + 6 * i, *B = A + 3;
-        if ((!memcmp(A, a, 24) && !memcmp(B, b, 24)) || (!memcmp(A, b, 24) && !memcmp(B, a, 24)))
-            return el->nfaces + i;
-    }
-    return -1;
 }
 
 /* ---- brute-force leaves ---------------------------------------------------------------- */

@@ -13,6 +13,7 @@
 #include <time.h>
 
 #include "medial/medial.h"
+#include "medial_find.h"
 #include "medial_solids.h"
 #include "mfg_test.h"
 #include "mfgeom.h"
@@ -49,18 +50,8 @@ static void convex_prism(tmesh *m, const double (*P)[2], int n, double H)
     prism(m, P, n, H, (const int(*)[3])T, n - 2);
 }
 
-static int64_t face_with(const md_elements *el, double nx, double ny, double nz, double delta)
-{
-    for (int64_t f = 0; f < el->nfaces; f++) {
-        const double *p = el->face_plane + 4 * f;
-        if (fabs(p[0] - nx) < 1e-15 && fabs(p[1] - ny) < 1e-15 && fabs(p[2] - nz) < 1e-15 &&
-            fabs(p[3] - delta) < 1e-12)
-            return f;
-    }
-    return -1;
-}
-
-static int64_t edge_with(const md_elements *el, const double *a, const double *b)
+/* The edge element running from a to b (this direction only), or -1. */
+static int64_t edge_from_to(const md_elements *el, const double *a, const double *b)
 {
     for (int64_t i = 0; i < el->nedges; i++) {
         const double *s = el->edge_seg + 6 * i;
@@ -458,7 +449,7 @@ static void test_l_bracket(double tol)
     int64_t Fo = face_with(el, -1, 0, 0, 0), Fi = face_with(el, 1, 0, 0, 10);
     int64_t Go = face_with(el, 0, -1, 0, 0), Gi = face_with(el, 0, 1, 0, 10);
     double e0[3] = {10, 10, 0}, e1[3] = {10, 10, 40};
-    int64_t E = edge_with(el, e0, e1);
+    int64_t E = edge_from_to(el, e0, e1);
     CHECK(Fo >= 0 && Fi >= 0 && Go >= 0 && Gi >= 0 && E >= 0);
     /* the flat sheets: x = 5 over y in [10, 45], z in [5, 35] (and y = 5 likewise) */
     for (int k = 0; k < 2; k++) {
@@ -707,7 +698,7 @@ static void test_alloc_fail(void)
     prism(&m, Pl, 6, 40, T, 4);
     pipeline_run(&P, &m, 2, "L-bracket");
     double e0[3] = {10, 10, 0}, e1[3] = {10, 10, 40};
-    S = sheet_of(&P.s, face_with(&P.el, -1, 0, 0, 0), edge_with(&P.el, e0, e1));
+    S = sheet_of(&P.s, face_with(&P.el, -1, 0, 0, 0), edge_from_to(&P.el, e0, e1));
     alloc_fail_on(&P.el, &S, 2, "L-bracket (Fo,E)");
     sheet_free(&S);
     pipeline_free(&P);
