@@ -40,6 +40,23 @@ def qt():
     return QtCore, QtGui
 
 
+def screenshot(out_dir, name, doc=None, clear_selection=False, size=(1000, 700)):
+    """Saves the 3-D view of ``doc`` (a document name; None: the active one), isometric and
+    fitted, as ``out_dir/name`` on white; ``clear_selection`` first drops the selection
+    (its green would hide the result's colours).  Returns the path."""
+    import FreeCADGui as Gui
+    os.makedirs(out_dir, exist_ok=True)
+    if clear_selection:
+        Gui.Selection.clearSelection()
+    view = (Gui.getDocument(doc) if doc else Gui.ActiveDocument).ActiveView
+    view.viewIsometric()
+    view.fitAll()
+    Gui.updateGui()
+    path = os.path.join(out_dir, name)
+    view.saveImage(path, size[0], size[1], "White")
+    return path
+
+
 def pump(until, seconds):
     """Processes GUI events until ``until()`` is true or ``seconds`` have passed."""
     _QtCore, QtGui = qt()

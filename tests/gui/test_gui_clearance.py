@@ -28,7 +28,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 if os.path.join(ROOT, "workbench") not in sys.path:
     sys.path.append(os.path.join(ROOT, "workbench"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_harness import DialogCloser, check, finish, pump, qt, state  # noqa: E402
+from gui_harness import DialogCloser, check, finish, pump, qt, screenshot, state  # noqa: E402
 
 WORKBENCH = "MfgeomWorkbench"
 COMMAND = "Mfgeom_ClearanceCheck"
@@ -237,14 +237,7 @@ def _():
 
 @check("screenshot of the coloured result")
 def _():
-    os.makedirs(OUT, exist_ok=True)
-    Gui.Selection.clearSelection()   # the selection green would hide the result colours
-    view = Gui.ActiveDocument.ActiveView
-    view.viewIsometric()
-    view.fitAll()
-    Gui.updateGui()
-    path = os.path.join(OUT, "clearance.png")
-    view.saveImage(path, 1000, 700, "White")
+    path = screenshot(OUT, "clearance.png", clear_selection=True)
     assert os.path.getsize(path) > 10000
     state["image"] = path
 
@@ -359,13 +352,7 @@ def _():
                          "'Across' was sampled\n")
     assert rows["Beyond"][1] == "clear", rows["Beyond"]
     assert gap - SWEEP_TOL <= float(rows["Beyond"][3]) <= gap + SWEEP_TOL, rows["Beyond"]
-    Gui.Selection.clearSelection()
-    view = Gui.ActiveDocument.ActiveView
-    view.viewIsometric()
-    view.fitAll()
-    Gui.updateGui()
-    path = os.path.join(OUT, "clearance-sweep.png")
-    view.saveImage(path, 1000, 700, "White")
+    path = screenshot(OUT, "clearance-sweep.png", clear_selection=True)
     assert os.path.getsize(path) > 10000
     state["image"] = path
 

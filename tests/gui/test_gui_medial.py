@@ -39,7 +39,7 @@ if os.path.join(ROOT, "workbench") not in sys.path:
     sys.path.append(os.path.join(ROOT, "workbench"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "examples", "parts"))
-from gui_harness import DialogCloser, check, finish, press, pump, qt, state  # noqa: E402
+from gui_harness import DialogCloser, check, finish, press, pump, qt, screenshot, state  # noqa: E402
 import thin_wall  # noqa: E402
 
 WORKBENCH = "MfgeomWorkbench"
@@ -249,15 +249,8 @@ def legend_bars(path):
 def legend_screenshot(name):
     """Saves the MedialGui view (isometric, fit; the tray half-transparent) as ``name`` in
     OUT; returns the path."""
-    os.makedirs(OUT, exist_ok=True)
-    path = os.path.join(OUT, name)
     state["tray"].ViewObject.Transparency = 80
-    Gui.Selection.clearSelection()
-    view = Gui.getDocument(state["doc"].Name).ActiveView
-    view.viewIsometric()
-    view.fitAll()
-    Gui.updateGui()
-    view.saveImage(path, 1000, 700, "White")
+    path = screenshot(OUT, name, doc=state["doc"].Name, clear_selection=True)
     sys.stdout.write(f"screenshot: {path}\n")
     return path
 
@@ -373,15 +366,10 @@ def _():
         for name in ("medial", "axis"):
             state[name].ViewObject.Visibility = False
         state["mid"].ViewObject.Visibility = True
-        path = os.path.join(OUT, "medial-mid-surface.png")
+        name = "medial-mid-surface.png"
     else:
-        path = os.path.join(OUT, "medial-axis.png")
-    Gui.Selection.clearSelection()
-    view = Gui.getDocument(doc.Name).ActiveView
-    view.viewIsometric()
-    view.fitAll()
-    Gui.updateGui()
-    view.saveImage(path, 1000, 700, "White")
+        name = "medial-axis.png"
+    path = screenshot(OUT, name, doc=doc.Name, clear_selection=True)
     assert os.path.getsize(path) > 5000
     state["image"] = path
 

@@ -25,7 +25,7 @@ for path in (os.path.join(ROOT, "examples", "parts"), os.path.join(ROOT, "workbe
     if path not in sys.path:
         sys.path.append(path)
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_harness import DialogCloser, check, finish, press, pump, qt, state  # noqa: E402
+from gui_harness import DialogCloser, check, finish, press, pump, qt, screenshot, state  # noqa: E402
 
 WORKBENCH = "MfgeomWorkbench"
 COMMAND = "Mfgeom_PartingAnalysis"
@@ -310,13 +310,7 @@ def _():
 
 @check("screenshot")
 def _():
-    os.makedirs(OUT, exist_ok=True)
-    view = Gui.ActiveDocument.ActiveView
-    view.viewIsometric()
-    view.fitAll()
-    Gui.updateGui()
-    path = os.path.join(OUT, "parting.png")
-    view.saveImage(path, 1000, 700, "White")
+    path = screenshot(OUT, "parting.png")
     assert os.path.getsize(path) > 10000
     state["image"] = path
 

@@ -23,7 +23,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 if os.path.join(ROOT, "workbench") not in sys.path:
     sys.path.append(os.path.join(ROOT, "workbench"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_harness import DialogCloser, check, finish, press, pump, qt, state  # noqa: E402
+from gui_harness import DialogCloser, check, finish, press, pump, qt, screenshot, state  # noqa: E402
 
 WORKBENCH = "MfgeomWorkbench"
 COMMAND = "Mfgeom_RotationalSweep"
@@ -185,13 +185,7 @@ def _():
 
 @check("screenshot")
 def _():
-    os.makedirs(OUT, exist_ok=True)
-    view = Gui.ActiveDocument.ActiveView
-    view.viewIsometric()
-    view.fitAll()
-    Gui.updateGui()
-    path = os.path.join(OUT, "sweep.png")
-    view.saveImage(path, 1000, 700, "White")
+    path = screenshot(OUT, "sweep.png")
     assert os.path.getsize(path) > 5000
     state["image"] = path
 

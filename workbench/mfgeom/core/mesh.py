@@ -43,6 +43,21 @@ _lib.mfg_mesh_free.restype = None
 _lib.mfg_mesh_free.argtypes = [ctypes.POINTER(_Mesh)]
 
 
+def _take_mesh(res) -> Tuple[np.ndarray, np.ndarray]:
+    """Copies of the vertices (n, 3) and triangles (t, 3) of the mfg_mesh result ``res``
+    (a POINTER(_Mesh) the library filled), which is freed here, also on error."""
+    try:
+        m = res.contents
+        nv, nt = int(m.nvertices), int(m.ntriangles)
+        verts = (np.ctypeslib.as_array(m.vertices, shape=(3 * nv,)).reshape(-1, 3).copy()
+                 if nv else np.zeros((0, 3)))
+        tris = (np.ctypeslib.as_array(m.triangles, shape=(3 * nt,)).reshape(-1, 3).copy()
+                if nt else np.zeros((0, 3), dtype=np.int64))
+    finally:
+        _lib.mfg_mesh_free(res)
+    return verts, tris
+
+
 class MeshReport:
     """What :func:`mesh_check` found: the counts of mfgeom.h's mfg_mesh_report as int
     attributes (``boundary_edges``, ``nonmanifold_edges``, ``inconsistent_edges``,
@@ -101,13 +116,4 @@ def weld(soup: ArrayLike) -> Tuple[np.ndarray, np.ndarray]:
     arr = np.ascontiguousarray(arr)
     res = ctypes.POINTER(_Mesh)()
     _check(_lib.mfg_mesh_weld(_ptr(arr, ctypes.c_double), len(arr), ctypes.byref(res)))
-    try:
-        m = res.contents
-        nv, nt = int(m.nvertices), int(m.ntriangles)
-        verts = (np.ctypeslib.as_array(m.vertices, shape=(3 * nv,)).reshape(-1, 3).copy()
-                 if nv else np.zeros((0, 3)))
-        tris = (np.ctypeslib.as_array(m.triangles, shape=(3 * nt,)).reshape(-1, 3).copy()
-                if nt else np.zeros((0, 3), dtype=np.int64))
-    finally:
-        _lib.mfg_mesh_free(res)
-    return verts, tris
+    return _take_mesh(res)

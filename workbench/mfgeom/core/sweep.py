@@ -11,7 +11,7 @@ from mfgeom.core.arrays import (_as_float, _as_triangles, _as_vector3, _as_verti
                                 _c_int64_p, _ptr)
 from mfgeom.core.loader import _lib
 from mfgeom.core.status import ProgressFn, _c_progress_p, _ProgressCall
-from mfgeom.core.mesh import _Mesh
+from mfgeom.core.mesh import _Mesh, _take_mesh
 
 
 class _SweepStats(ctypes.Structure):
@@ -76,13 +76,5 @@ def rotational_sweep(vertices: ArrayLike, triangles: ArrayLike, axis_point: Arra
                                            _ptr(point, ctypes.c_double),
                                            _ptr(direction, ctypes.c_double), angle, tolerance,
                                            ctypes.byref(res), ctypes.byref(stats), prog.arg)
-    try:
-        m = res.contents
-        nv, nt = int(m.nvertices), int(m.ntriangles)
-        verts = (np.ctypeslib.as_array(m.vertices, shape=(3 * nv,)).reshape(-1, 3).copy()
-                 if nv else np.zeros((0, 3)))
-        tris = (np.ctypeslib.as_array(m.triangles, shape=(3 * nt,)).reshape(-1, 3).copy()
-                if nt else np.zeros((0, 3), dtype=np.int64))
-    finally:
-        _lib.mfg_mesh_free(res)
+    verts, tris = _take_mesh(res)
     return SweepResult(verts, tris, stats.volume, stats.area, stats.bbox[:])
