@@ -116,7 +116,8 @@ static int junctions_from_unions(const md_asm *ax, const pend_list *pl, const md
                 lo[c] = x0[c] - reach;
             }
             md_junction j;
-            int r = md_junction_polish(el, bvh, x0, T, nT, lo, 2 * reach, tol, &j);
+            md_jbox box = {el, bvh, lo, 2 * reach, tol};
+            int r = md_junction_polish(&box, x0, T, nT, &j);
             if (r < 0 || (r == 1 && j.rank == 3 && !jlist_push(add, &j))) {
                 ok = 0;
                 break;
@@ -278,7 +279,8 @@ static int trace_seam(rec_ctx *rc, int64_t i, int64_t g0, int64_t g1)
             if (nT < 4)
                 continue;
             md_junction j;
-            int r = md_junction_polish(el, bvh, mid, T, nT, lo, 2 * step, tol, &j);
+            md_jbox box = {el, bvh, lo, 2 * step, tol};
+            int r = md_junction_polish(&box, mid, T, nT, &j);
             if (r < 0)
                 return 0;
             if (r == 1 && j.rank == 3 && md_subset_of(S, ns, j.elems, j.n)) {

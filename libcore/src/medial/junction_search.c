@@ -92,7 +92,8 @@ static void *junction_worker(void *arg)
             double lo[3], h = lv->lat.h;
             for (int k = 0; k < 3; k++)
                 lo[k] = lv->lat.origin[k] + h * (double)lf->ijk[k];
-            int n = md_junction_search(job->el, job->bvh, lo, h, T, nT, job->tol, out, LEAF_JMAX);
+            md_jbox box = {job->el, job->bvh, lo, h, job->tol};
+            int n = md_junction_search(&box, T, nT, out, LEAF_JMAX);
             if (n < 0) {
                 job->failed[b] = 1;
                 break;

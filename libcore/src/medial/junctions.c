@@ -417,10 +417,13 @@ static int gauss_newton(const md_elements *el, const eqsys *sy, const double x0[
 
 /* Polish from x0 for the set S (ascending), then classify at the point reached by the
  * set that touches there. */
-int md_junction_polish(const md_elements *el, const md_bvh *bvh, const double x0[3],
-                       const int64_t *T, int nT, const double lo[3], double side,
-                       double tolerance, md_junction *out)
+int md_junction_polish(const md_jbox *B, const double x0[3], const int64_t *T, int nT,
+                       md_junction *out)
 {
+    const md_elements *el = B->el;
+    const md_bvh *bvh = B->bvh;
+    const double *lo = B->lo;
+    double side = B->side, tolerance = B->tolerance;
     if (nT < 2 || nT > MD_JMAX)
         return 0;
     int comp[MD_JMAX];
@@ -547,10 +550,7 @@ typedef struct boxbuf {
 
 /* One junction search's box, tolerance, scratch and output (md_junction_search). */
 typedef struct search_box {
-    const md_elements *el;
-    const md_bvh *bvh;
-    const double *lo; /* the box [lo, lo + side]^3 */
-    double side, tolerance;
+    md_jbox box;
     md_junction *out; /* room for cap results */
     int cap;
     boxbuf *bb;
@@ -558,10 +558,9 @@ typedef struct search_box {
 
 static int search_subset(const search_box *q, const int64_t *S, const int *ti, int n, int nout)
 {
-    const md_elements *el = q->el;
-    const md_bvh *bvh = q->bvh;
-    const double *lo = q->lo;
-    double side = q->side, tolerance = q->tolerance;
+    const md_elements *el = q->box.el;
+    const double *lo = q->box.lo;
+    double side = q->box.side, tolerance = q->box.tolerance;
     md_junction *out = q->out;
     int cap = q->cap;
     boxbuf *bb = q->bb;
@@ -659,7 +658,7 @@ static int search_subset(const search_box *q, const int64_t *S, const int *ti, i
             }
         }
         md_junction j;
-        int ok = md_junction_polish(el, bvh, x0, S, n, lo, side, tolerance, &j);
+        int ok = md_junction_polish(&q->box, x0, S, n, &j);
         if (ok < 0) {
             nout = -1;
             break;
@@ -680,9 +679,11 @@ static int search_subset(const search_box *q, const int64_t *S, const int *ti, i
     return nout;
 }
 
-int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo[3], double side,
-                       const int64_t *T, int nT, double tolerance, md_junction *out, int cap)
+int md_junction_search(const md_jbox *B, const int64_t *T, int nT, md_junction *out, int cap)
 {
+    const md_elements *el = B->el;
+    const double *lo = B->lo;
+    double side = B->side, tolerance = B->tolerance;
     if (nT < 4 || cap <= 0)
         return 0;
     /* Elements whose Voronoi region stays away from the box touch nowhere in it: the
@@ -723,7 +724,7 @@ int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo
         return mfg_fail(MFG_ERR_NOMEM, "md_junction_search: out of memory"), -1;
     }
     memset(bb.lc->have, 0, sizeof bb.lc->have);
-    search_box sbox = {el, bvh, lo, side, tolerance, out, cap, &bb};
+    search_box sbox = {*B, out, cap, &bb};
     unsigned char compat[MD_JMAX][MD_JMAX], hopeless[MD_JMAX][MD_JMAX];
     {
         double c[3] = {lo[0] + 0.5 * side, lo[1] + 0.5 * side, lo[2] + 0.5 * side};

@@ -315,19 +315,26 @@ typedef struct md_junction {
     int64_t elems[MD_JMAX]; /* the touching elements, ascending */
 } md_junction;
 
-/* The paper's search for the points in the box [lo, lo + side]^3 equidistant from all of
- * T (nT >= 4 element ids, ascending): subdivision down to side <= tolerance / 8, then
- * Gauss-Newton polish (md_junction_polish).  Writes at most cap results, returns their
- * count (or -1 with mfg_fail on NOMEM). */
-int md_junction_search(const md_elements *el, const md_bvh *bvh, const double lo[3], double side,
-                       const int64_t *T, int nT, double tolerance, md_junction *out, int cap);
+/* Where a junction is looked for: the box [lo, lo + side]^3 of the elements el (bvh may be
+ * NULL: every element is a candidate), and the tolerance. */
+typedef struct md_jbox {
+    const md_elements *el;
+    const md_bvh *bvh;
+    const double *lo;
+    double side, tolerance;
+} md_jbox;
+
+/* The paper's search for the points in the box equidistant from all of T (nT >= 4
+ * element ids, ascending): subdivision down to side <= tolerance / 8, then Gauss-Newton
+ * polish (md_junction_polish).  Writes at most cap results, returns their count (or -1
+ * with mfg_fail on NOMEM). */
+int md_junction_search(const md_jbox *B, const int64_t *T, int nT, md_junction *out, int cap);
 
 /* Gauss-Newton on d_t0 = d_ti (i >= 1) from x0, with the SVD of the Jacobian (an incident
  * pair uses its region boundary instead); returns 1 with *out filled (rank, kind, the
  * elements within 1e-9 L of D) when it converges inside the box grown by tolerance. */
-int md_junction_polish(const md_elements *el, const md_bvh *bvh, const double x0[3],
-                       const int64_t *T, int nT, const double lo[3], double side,
-                       double tolerance, md_junction *out);
+int md_junction_polish(const md_jbox *B, const double x0[3], const int64_t *T, int nT,
+                       md_junction *out);
 
 /* The point of the seam of S (nS >= 3 elements, ascending, equidistant along a curve)
  * nearest x0, and the seam's unit tangent there (either sign).  Returns 1 when

@@ -56,7 +56,7 @@ static int search_at(const md_elements *el, const double p[3], double side, doub
             T[nT++] = e;
     free(buf);
     *nT_out = nT;
-    return md_junction_search(el, NULL, lo, side, T, nT, tol, out, cap);
+    return md_junction_search(&(md_jbox){el, NULL, lo, side, tol}, T, nT, out, cap);
 }
 
 static int same_set(const md_junction *j, int64_t *want, int n)
@@ -117,11 +117,11 @@ static void test_cuboid(void)
     int64_t T[4] = {face_with(&el, 0, 0, -1, 0), face_with(&el, 0, 0, 1, 20),
                     face_with(&el, -1, 0, 0, 0), face_with(&el, 0, -1, 0, 0)};
     qsort(T, 4, sizeof *T, cmp64);
-    CHECK_EQ_INT(md_junction_search(&el, NULL, (double[3]){29.8, 9.8, 9.8}, tol, T, 4, tol, j, 8), 0);
+    CHECK_EQ_INT(md_junction_search(&(md_jbox){&el, NULL, (double[3]){29.8, 9.8, 9.8}, tol, tol}, T, 4, j, 8), 0);
     /* The polish alone, from 0.3 away: the same point. */
     md_junction one;
-    CHECK_EQ_INT(md_junction_polish(&el, NULL, (double[3]){10.2, 9.9, 10.1}, T, 4,
-                                    (double[3]){9.75, 9.75, 9.75}, 0.5, tol, &one), 1);
+    md_jbox box = {&el, NULL, (double[3]){9.75, 9.75, 9.75}, 0.5, tol};
+    CHECK_EQ_INT(md_junction_polish(&box, (double[3]){10.2, 9.9, 10.1}, T, 4, &one), 1);
     CHECK(dist3(one.x, (double[3]){10, 10, 10}) <= 1e-12);
     md_elements_free(&el);
 }
