@@ -31,27 +31,6 @@
 #include "mfg_test.h"
 #include "mfgeom.h"
 
-/* A prism: the polygon P (n corners, counter-clockwise) extruded over z in [0, H], caps
- * fanned from corner 0 (P convex or star-shaped from corner 0). */
-static void prism(tmesh *m, const double (*P)[2], int n, double H)
-{
-    memset(m, 0, sizeof *m);
-    int64_t b[64], t[64];
-    for (int i = 0; i < n; i++) {
-        b[i] = ms_vtx(m, P[i][0], P[i][1], 0);
-        t[i] = ms_vtx(m, P[i][0], P[i][1], H);
-    }
-    for (int i = 1; i + 1 < n; i++) {
-        ms_tri(m, t[0], t[i], t[i + 1]);
-        ms_tri(m, b[0], b[i + 1], b[i]);
-    }
-    for (int i = 0; i < n; i++) {
-        int j = (i + 1) % n;
-        ms_tri(m, b[i], b[j], t[j]);
-        ms_tri(m, b[i], t[j], t[i]);
-    }
-}
-
 /* A solid of revolution about z: the profile (r, z) runs from the axis round to the axis
  * (pr[0] and pr[np - 1] have r = 0: one vertex each), nseg segments.  Room: 2 + (np - 2)
  * nseg vertices, 2 (np - 1) nseg triangles; *nv, *nt get the counts. */
@@ -165,17 +144,17 @@ static void make_solids(solid *S)
 {
     static const double R[4][2] = {{0, 0}, {100, 0}, {100, 60}, {0, 60}};
     S[0].name = "cuboid";
-    prism(&S[0].m, R, 4, 20);
+    ms_prism(&S[0].m, R, 4, 20);
     S[0].major_area = 3200;
     S[0].inside = in_cuboid;
     static const double Lp[6][2] = {{0, 0}, {50, 0}, {50, 10}, {10, 10}, {10, 50}, {0, 50}};
     S[1].name = "L-bracket";
-    prism(&S[1].m, Lp, 6, 40);
+    ms_prism(&S[1].m, Lp, 6, 40);
     S[1].major_area = 2 * 1050 + 2 * 180; /* {Fo,Fi}, {Go,Gi} and roughly the {Fo,E}s */
     S[1].inside = in_l;
     static const double Q[4][2] = {{0, 0}, {40, 0}, {40, 40}, {0, 40}};
     S[2].name = "cube";
-    prism(&S[2].m, Q, 4, 40);
+    ms_prism(&S[2].m, Q, 4, 40);
     S[2].major_area = 0;
     S[2].inside = in_cube;
     for (int i = 0; i < DISC_N; i++) {
@@ -183,7 +162,7 @@ static void make_solids(solid *S)
         disc_p[i][1] = 50 * sin(2 * M_PI * i / DISC_N);
     }
     S[3].name = "disc48";
-    prism(&S[3].m, (const double(*)[2])disc_p, DISC_N, 4);
+    ms_prism(&S[3].m, (const double(*)[2])disc_p, DISC_N, 4);
     S[3].major_area = 7216.3;
     S[3].inside = in_disc;
     static const double pr[6][2] = {{0, 0}, {20, 0}, {20, 30}, {17, 30}, {17, 4}, {0, 4}};
