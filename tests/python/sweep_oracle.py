@@ -154,3 +154,41 @@ def prism_mesh(centre, radius, height, n):
         j = (i + 1) % n
         tris += [[i, j, n + j], [i, n + j, n + i], [bot, j, i], [top, n + i, n + j]]
     return v, np.array(tris, dtype=np.int64)
+
+
+def torus_mesh(major, minor, nu, nv):
+    """A tessellated torus about the x axis: nu x nv quads (2 nu nv triangles), outward."""
+    u = np.arange(nu) * (2.0 * math.pi) / nu
+    w = np.arange(nv) * (2.0 * math.pi) / nv
+    uu, ww = np.meshgrid(u, w, indexing="ij")
+    rho = major + minor * np.cos(ww)
+    v = np.stack([(minor * np.sin(ww)).ravel(), (rho * np.cos(uu)).ravel(),
+                  (rho * np.sin(uu)).ravel()], axis=1)
+    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+    a, b = i * nv + j, ((i + 1) % nu) * nv + j
+    c, d = ((i + 1) % nu) * nv + (j + 1) % nv, i * nv + (j + 1) % nv
+    t = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3),
+                        np.stack([a, c, d], -1).reshape(-1, 3)])
+    if soup_winding([[0.0, major, 0.0]], v[t])[0] < 0:   # the tube's centre is inside
+        t = t[:, ::-1].copy()
+    return v, t
+
+
+def soup_winding(points, tri, chunk=400_000):
+    """Generalised winding number of a set of oriented triangles tri (T, 3, 3) about each
+    point: the sum of the triangles' signed solid angles / 4 pi (van Oosterom and
+    Strackee).  For a closed outward mesh 1 inside and 0 outside; for any closed chain an
+    integer away from its triangles."""
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    tri = np.asarray(tri, dtype=np.float64).reshape(-1, 3, 3)
+    out = np.empty(len(p))
+    step = max(1, chunk // max(1, len(tri)))
+    for s in range(0, len(p), step):
+        d = tri[None, :, :, :] - p[s:s + step, None, None, :]      # (P, T, 3, 3)
+        a, b, c = d[:, :, 0], d[:, :, 1], d[:, :, 2]
+        la, lb, lc = (np.linalg.norm(x, axis=2) for x in (a, b, c))
+        num = np.einsum("ptk,ptk->pt", a, np.cross(b, c))
+        den = (la * lb * lc + np.einsum("ptk,ptk->pt", a, b) * lc
+               + np.einsum("ptk,ptk->pt", a, c) * lb + np.einsum("ptk,ptk->pt", b, c) * la)
+        out[s:s + step] = 2.0 * np.arctan2(num, den).sum(axis=1) / (4.0 * math.pi)
+    return out

@@ -33,7 +33,7 @@ import pytest
 
 from mfgeom import core
 from mfgeom.core import MfgError
-from sweep_oracle import box_mesh, inside_swept, prism_mesh
+from sweep_oracle import box_mesh, inside_swept, prism_mesh, soup_winding, torus_mesh
 
 TWO_PI = 2.0 * math.pi
 SLACK = 1.05
@@ -141,23 +141,10 @@ def volume_area(v, t):
             np.linalg.norm(np.cross(b - a, c - a), axis=1).sum() / 2)
 
 
-def winding_numbers(points, v, t, chunk=400_000):
-    """Generalized winding number of the closed mesh about each point (van Oosterom &
-    Strackee's solid angle of each triangle / 4 pi): 1 inside an outward mesh, 0 outside,
-    robust for points away from the surface."""
-    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    tri = v[t]
-    out = np.empty(len(p))
-    step = max(1, chunk // max(1, len(t)))
-    for s in range(0, len(p), step):
-        d = tri[None, :, :, :] - p[s:s + step, None, None, :]      # (P, T, 3, 3)
-        a, b, c = d[:, :, 0], d[:, :, 1], d[:, :, 2]
-        la, lb, lc = (np.linalg.norm(x, axis=2) for x in (a, b, c))
-        num = np.einsum("ptk,ptk->pt", a, np.cross(b, c))
-        den = (la * lb * lc + np.einsum("ptk,ptk->pt", a, b) * lc
-               + np.einsum("ptk,ptk->pt", a, c) * lb + np.einsum("ptk,ptk->pt", b, c) * la)
-        out[s:s + step] = 2.0 * np.arctan2(num, den).sum(axis=1) / (4.0 * math.pi)
-    return out
+def winding_numbers(points, v, t):
+    """Generalized winding number of the closed mesh about each point: 1 inside an outward
+    mesh, 0 outside, robust for points away from the surface."""
+    return soup_winding(points, np.asarray(v, dtype=np.float64)[np.asarray(t)])
 
 
 def point_triangle_distance(p, tri):
@@ -1053,24 +1040,6 @@ def test_star_spokes_follow_their_curves():
     res = sweep(v, t, point, direction, math.pi / 2, tol)
     check_result(res, tol)
     assert_no_deep_surface(res, v, t, point, direction, math.pi / 2, tol)
-
-
-def torus_mesh(major, minor, nu, nv):
-    """A tessellated torus about the x axis: nu x nv quads (2 nu nv triangles), outward."""
-    u = np.arange(nu) * TWO_PI / nu
-    w = np.arange(nv) * TWO_PI / nv
-    uu, ww = np.meshgrid(u, w, indexing="ij")
-    rho = major + minor * np.cos(ww)
-    v = np.stack([(minor * np.sin(ww)).ravel(), (rho * np.cos(uu)).ravel(),
-                  (rho * np.sin(uu)).ravel()], axis=1)
-    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
-    a, b = i * nv + j, ((i + 1) % nu) * nv + j
-    c, d = ((i + 1) % nu) * nv + (j + 1) % nv, i * nv + (j + 1) % nv
-    t = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3),
-                        np.stack([a, c, d], -1).reshape(-1, 3)])
-    if volume_area(v, t)[0] < 0:
-        t = t[:, ::-1].copy()
-    return v, t
 
 
 @pytest.mark.parametrize("nu, nv, deg, most", [(18, 14, 180, 320_000), (12, 10, 360, 120_000)])
