@@ -279,7 +279,23 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     int64_t *nb = NULL;
     st = mfg_mesh_require_closed(xyz, nvertices, triangles, ntriangles, NULL, &nb);
     if (st != MFG_OK)
+        return st; /* its message numbers the caller's triangles */
+    free(nb);
+    nb = NULL;
+    /* from here on the canonical copy (sweep/canonical.c): the result does not depend on
+     * the caller's order; it is as closed as the caller's mesh, so the check passes */
+    double *canon_xyz = NULL;
+    int64_t *canon_tris = NULL;
+    if (!sw_canonical_input(xyz, nvertices, triangles, ntriangles, &canon_xyz, &canon_tris))
+        return mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
+    xyz = canon_xyz;
+    triangles = canon_tris;
+    st = mfg_mesh_require_closed(xyz, nvertices, triangles, ntriangles, NULL, &nb);
+    if (st != MFG_OK) {
+        free(canon_xyz);
+        free(canon_tris);
         return st;
+    }
     sw_ctx c;
     memset(&c, 0, sizeof c);
     c.st = MFG_OK;
@@ -402,6 +418,8 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     free(o.phi);
     hmap_free(&o.lifts);
     ctx_free(&c);
+    free(canon_xyz);
+    free(canon_tris);
     if (st == MFG_OK)
         mfg_clear_error();
     return st;

@@ -431,6 +431,10 @@ void sw_make_frame(sw_ctx *c, const double *p, const double *a);
 int sw_add_curve(sw_ctx *c, const double *a, const double *b, int64_t t0, int64_t t1,
                  int64_t va, int64_t vb);
 void sw_edge_at_z(const sw_ctx *c, int64_t i, int64_t j, double z, double out[3]);
+/* sweep/canonical.c: copies of the mesh in canonical order (vertices by coordinates,
+ * triangles rotated to their smallest vertex and sorted); 0 when out of memory. */
+int sw_canonical_input(const double *xyz, int64_t nv, const int64_t *tris, int64_t nt,
+                       double **out_xyz, int64_t **out_tris);
 int sw_setup(sw_ctx *c, const double *xyz, const int64_t *tris, const int64_t *nb);
 int sw_build_bins(sw_ctx *c, double rmax, double zmin, double zmax);
 int sw_gather(sw_ctx *c, double ra, double rb, double za, double zb);
