@@ -1,6 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: LGPL-2.1-or-later
-# Builds the libFuzzer targets (point classification; the raw C API of every entry point) into build-fuzz/ and runs them.
+# Builds the libFuzzer targets (point classification; the raw C API of every entry point;
+# the properties of rotational sweep results, fuzz_sweep.c) into build-fuzz/ and runs them.
 #
 # Usage: tests/fuzz/run_fuzz.sh [seconds] [extra libFuzzer args...]
 #   e.g. tests/fuzz/run_fuzz.sh 3600 -jobs=2 -workers=2
@@ -26,15 +27,15 @@ SECONDS_TO_RUN=${1:-30}
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 OUT=${MFG_FUZZ_OUT:-"$ROOT/build-fuzz"}
 CC=${CC:-clang}
-mkdir -p "$OUT/corpus" "$OUT/corpus_api" "$OUT/artifacts"
+mkdir -p "$OUT/corpus" "$OUT/corpus_api" "$OUT/corpus_sweep" "$OUT/artifacts"
 
 # -ffp-contract=off: the exact predicates rely on every double operation rounding once.
 # FUZZ_CFLAGS: extra compiler flags.
-for target in fuzz_pointclass fuzz_api; do
+for target in fuzz_pointclass fuzz_api fuzz_sweep; do
     # shellcheck disable=SC2086
     "$CC" -g -O1 -ffp-contract=off -fno-fast-math -fno-omit-frame-pointer ${FUZZ_CFLAGS:-} \
         -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
-        -I"$ROOT/libcore/include" -I"$ROOT/libcore/src" \
+        -I"$ROOT/libcore/include" -I"$ROOT/libcore/src" -I"$ROOT/libcore/tests/sweep" \
         "$ROOT"/libcore/src/*/*.c "$ROOT/tests/fuzz/$target.c" -lm \
         -o "$OUT/$target"
 done
@@ -58,8 +59,11 @@ if [ "$SECONDS_TO_RUN" -le 60 ]; then
     RUNS=${MFG_FUZZ_RUNS:-$((150 * SECONDS_TO_RUN))}
     WORK=$(mktemp -d "${TMPDIR:-/tmp}/mfg_fuzz.XXXXXX")
     trap 'rm -rf "$WORK"' EXIT
-    mkdir -p "$WORK/corpus" "$WORK/corpus_api"
-    CORPUS=$WORK/corpus CORPUS_API=$WORK/corpus_api
+    mkdir -p "$WORK/corpus" "$WORK/corpus_api" "$WORK/corpus_sweep"
+    CORPUS=$WORK/corpus CORPUS_API=$WORK/corpus_api CORPUS_SWEEP=$WORK/corpus_sweep
+    # fuzz_sweep checks results (two sweeps and ~10^3 winding numbers per input): an
+    # eighth of the runs
+    SWEEP_ARGS="-seed=1 -runs=$((RUNS / 8))"
     FIRST=$((10 * SECONDS_TO_RUN))
     SECOND=$FIRST
     MODE_ARGS="-seed=1 -runs=$RUNS"
@@ -69,7 +73,8 @@ if [ "$SECONDS_TO_RUN" -le 60 ]; then
         NOASLR=
     }
 else
-    CORPUS=$OUT/corpus CORPUS_API=$OUT/corpus_api
+    CORPUS=$OUT/corpus CORPUS_API=$OUT/corpus_api CORPUS_SWEEP=$OUT/corpus_sweep
+    SWEEP_ARGS=
     MODE_ARGS=
     NOASLR=
 fi
@@ -86,4 +91,5 @@ run() {  # run TARGET WORK_CORPUS SEEDS SECONDS PREFIX [args...]
 status=0
 run fuzz_pointclass "$CORPUS" "$ROOT/tests/fuzz/corpus" "$FIRST" "" "$@" || status=1
 run fuzz_api "$CORPUS_API" "$ROOT/tests/fuzz/corpus_api" "$SECOND" "api-" "$@" || status=1
+MODE_ARGS=${SWEEP_ARGS:-$MODE_ARGS} run fuzz_sweep "$CORPUS_SWEEP" "$ROOT/tests/fuzz/corpus_sweep" "$SECOND" "sweep-" -max_len=64 "$@" || status=1
 exit $status

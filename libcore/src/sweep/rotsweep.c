@@ -183,7 +183,7 @@ static int check_surface(sw_ctx *c, double in_volume, char *why, size_t nwhy, in
 
 /* The result mesh in the caller's frame: only the vertices the triangles use (lifts and
  * ring points left over by cancelled twins are dropped), numbered in order of first use. */
-static int output_mesh(sw_ctx *c, mfg_mesh **out)
+static int output_mesh(sw_ctx *c, int scale_exp, mfg_mesh **out)
 {
     mfg_mesh *m = calloc(1, sizeof *m);
     if (m) {
@@ -220,7 +220,7 @@ static int output_mesh(sw_ctx *c, mfg_mesh **out)
                 for (int k = 0; k < 3; k++) {
                     double x = c->origin[k] + p[0] * c->frame[0][k] + p[1] * c->frame[1][k] +
                                p[2] * c->frame[2][k];
-                    m->vertices[3 * nused + k] = fabs(x) < 0x1p-200 ? 0 : x;
+                    m->vertices[3 * nused + k] = fabs(x) < 0x1p-200 ? 0 : ldexp(x, scale_exp);
                 }
                 nused++;
             }
@@ -235,7 +235,7 @@ static int output_mesh(sw_ctx *c, mfg_mesh **out)
 }
 
 /* The result's bounding box, volume and area. */
-static void sweep_stats(const sw_ctx *c, const mfg_mesh *m, mfg_sweep_stats *out)
+static void sweep_stats(const sw_ctx *c, int scale_exp, const mfg_mesh *m, mfg_sweep_stats *out)
 {
     mfg_sweep_stats S;
     memset(&S, 0, sizeof S);
@@ -258,9 +258,26 @@ static void sweep_stats(const sw_ctx *c, const mfg_mesh *m, mfg_sweep_stats *out
                cz = e1[0] * e2[1] - e1[1] * e2[0];
         area += 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
     }
-    S.volume = sw_mesh_volume(c->ox, c->otri, c->notri); /* about the axis point */
-    S.area = area;
+    /* c->ox is at unit scale (the caller's numbers times 2^-scale_exp); m is not */
+    S.volume = ldexp(sw_mesh_volume(c->ox, c->otri, c->notri), 3 * scale_exp); /* about the axis point */
+    S.area = ldexp(area, 2 * scale_exp);
     *out = S;
+}
+
+/* The exponent e of the power of two 2^e with ext / 2 < 2^e <= ext... (frexp's: ext =
+ * f 2^e, f in [0.5, 1)), ext = the largest |coordinate - axis point|: itself scaled by
+ * exactly 2^k when the input is (the differences round the same way), so the unit-scale
+ * input does not depend on the unit. */
+static int sweep_scale_exponent(const double *xyz, int64_t nv, const double axis_point[3])
+{
+    double ext = 0;
+    for (int64_t i = 0; i < nv; i++)
+        for (int k = 0; k < 3; k++)
+            ext = fmax(ext, fabs(xyz[3 * i + k] - axis_point[k]));
+    int e = 0;
+    if (ext > 0)
+        (void)frexp(ext, &e);
+    return e;
 }
 
 mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
@@ -296,6 +313,22 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
         free(canon_tris);
         return st;
     }
+    /* Unit scale (issue 20: results changed with the unit, by up to 42 % in volume after
+     * scaling by 2^-120, and expressions of degree 8 overflowed from ~2e51 up).  The copy,
+     * the axis point and the tolerance are divided by S = 2^scale_exp, the power of two of
+     * the part's extent about the axis point; scaling by a power of two is exact in binary
+     * floating point (barring subnormals), so every later operation rounds exactly as it
+     * would on the caller's numbers times 2^-scale_exp, every constant of the stages is
+     * relative to the part's size, and the input scaled by 2^k gives the same result
+     * scaled by 2^k, bit for bit.  The output is scaled back in output_mesh / sweep_stats. */
+    int scale_exp = sweep_scale_exponent(xyz, nvertices, axis_point);
+    double unit_point[3];
+    for (int64_t i = 0; i < 3 * nvertices; i++)
+        canon_xyz[i] = ldexp(canon_xyz[i], -scale_exp);
+    for (int k = 0; k < 3; k++)
+        unit_point[k] = ldexp(axis_point[k], -scale_exp);
+    axis_point = unit_point;
+    tolerance = ldexp(tolerance, -scale_exp);
     sw_ctx c;
     memset(&c, 0, sizeof c);
     c.st = MFG_OK;
@@ -403,7 +436,7 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
         ok = sw_stage(&c, "sweep: output", 0.95, 1.0, 1) && sw_flip_out_slivers(&c);
     mfg_mesh *m = NULL;
     if (ok)
-        ok = output_mesh(&c, &m);
+        ok = output_mesh(&c, scale_exp, &m);
     if (ok && !sw_stage(&c, "sweep: done", 1.0, 1.0, 1)) {
         mfg_mesh_free(m);
         m = NULL;
@@ -411,7 +444,7 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     }
     if (ok) {
         if (out_stats)
-            sweep_stats(&c, m, out_stats);
+            sweep_stats(&c, scale_exp, m, out_stats);
         *out_mesh = m;
     }
     st = ok ? MFG_OK : c.st;
