@@ -483,7 +483,17 @@ MFG_API mfg_status mfg_ray_blocked_p(const double *xyz, int64_t nvertices,
  *              the solid of revolution)
  *   tolerance  absolute, in model units, > 0: the result's boundary lies within tolerance
  *              of the boundary of SV (chords of the swept curves, cells of the meridian
- *              decomposition; see rotsweep.c for what is exact and what is not)
+ *              decomposition; see rotsweep.c for what is exact and what is not).
+ *              Refused (MFG_ERR_INVALID, the message names the smallest accepted value)
+ *              below max(2^12 ulps of the largest |coordinate| of the mesh and axis point,
+ *              2^-24 of E), E = the largest |coordinate - axis point|: what the
+ *              coordinates cannot resolve, or work without bound.  Above E / 16 it is
+ *              computed to about E / 16 (a tighter result meets the request).
+ *
+ * The computation runs at unit scale (everything divided by the power of two of E) on a
+ * canonically numbered copy of the mesh, so the input scaled by 2^k gives the result
+ * scaled by 2^k bit for bit, and any reordering of the triangles, their start corners or
+ * the vertex numbers gives the same result arrays.
  *
  * On MFG_OK, *out_mesh is a closed, outward oriented triangle mesh of SV (released with
  * mfg_mesh_free) and, when out_stats is not NULL, *out_stats holds its volume, area and

@@ -933,6 +933,53 @@ def test_rigid_motion_moves_the_result():
             assert np.isfinite(near_surface(sample(pts), v2, t2, r)).all()
 
 
+@pytest.mark.parametrize("k", [-190, -120, -60, -1, 1, 60, 120, 196])
+@pytest.mark.parametrize("name, deg", [("box-skew-axis", 359.0), ("L-axis-through-vertex", 120.0)])
+def test_power_of_two_scale_is_exact(name, deg, k):
+    """The sweep runs at unit scale (the power of two of the part's extent), so the input
+    and tolerance scaled by 2^k give the result scaled by 2^k, bit for bit (issue 20: the
+    volumes differed by up to 42 % at 2^-120)."""
+    v, t, point, direction, theta = _case(name, deg)
+    tol = 3e-2
+    ref = sweep(v, t, point, direction, theta, tol)
+    f = math.ldexp(1.0, k)
+    res = sweep(v * f, t, point * f, direction, theta, tol * f)
+    assert np.array_equal(res.vertices, ref.vertices * f)
+    assert np.array_equal(res.triangles, ref.triangles)
+    assert res.volume == math.ldexp(ref.volume, 3 * k) and res.area == math.ldexp(ref.area, 2 * k)
+
+
+def test_unit_cube_at_1e55_is_exact_in_volume():
+    """Far outside the old range (degree-8 expressions overflowed from ~2e51: -29 %)."""
+    v, t = box_mesh((0, 0, 0), (1, 1, 1))
+    s = 1e55
+    res = sweep(v * s, t, (0, 0, 0), (0, 0, 1), math.pi / 2, 0.01 * s)
+    # a quarter turn of the unit cube about its edge: the quarter disc of radius sqrt 2
+    # over the cube's own square, pi (sqrt 2)^2 / 4 = pi / 2 ... minus nothing: the union
+    # of the turned squares is the quarter disc of radius sqrt(2) less the two corner
+    # regions outside both end squares: area 1 + pi/4 * 2 / 2 (see test_box_about_an_edge)
+    ref = sweep(v, t, (0, 0, 0), (0, 0, 1), math.pi / 2, 0.01)
+    assert res.volume / s ** 3 == pytest.approx(ref.volume, rel=1e-12)
+
+
+def test_tolerance_below_the_coordinates_resolution_is_refused():
+    """A unit cube at 1e15 (ulp 0.125) with tol 0.02 was accepted and not met."""
+    v, t = box_mesh((1e15, 1e15, 0), (1e15 + 1, 1e15 + 1, 1))
+    with pytest.raises(MfgError, match="smallest accepted"):
+        core.rotational_sweep(v, t, (1e15, 1e15, 0), (0, 0, 1), 1.0, 0.02)
+    # 2^12 ulps of 2e15 (0.25 each) is accepted
+    res = core.rotational_sweep(v, t, (1e15, 1e15, 0), (0, 0, 1), 1.0, 2048.0)
+    assert res.volume > 1.0
+
+
+def test_tolerance_far_below_the_part_is_refused_not_run():
+    """tol = 1e-9 of the part ran 5 minutes and 2 GB; below 2^-24 of the extent it is
+    refused at once with the smallest accepted tolerance in the message."""
+    v, t = box_mesh((0, 0, 0), (100.0, 50.0, 20.0))
+    with pytest.raises(MfgError, match="smallest accepted is"):
+        core.rotational_sweep(v, t, (0, 0, 0), (0, 0, 1), 1.0, 1e-7)
+
+
 @pytest.mark.parametrize("scale", [1e-6, 1e6])
 def test_scaling(scale):
     v, t, point, direction, theta = _case("hole-axis-through-hole", 250.0)

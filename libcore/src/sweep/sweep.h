@@ -329,6 +329,12 @@ static inline int sw_cmp_key(double ka, double kb, int64_t ia, int64_t ib)
  * size it is relative to. */
 /* Rounding allowance relative to a length scale (r + |z|, the part's extent, a cell side):
  * far above double rounding (~1e-16), far below anything the tolerance resolves. */
+/* Tolerance limits at unit scale (rotsweep.c, the entry): at least 2^12 ulps of the
+ * largest coordinate and 2^-24 of the part's extent; at most 1/16 of it (coarser
+ * requests are computed to 1/16). */
+#define SW_TOL_MIN_ULPS_LOG2 12
+#define SW_TOL_MIN_REL_LOG2 (-24)
+#define SW_TOL_MAX_UNIT 0.0625
 #define SW_EPS_REL 1e-9
 /* The same allowance on a curve or segment parameter in [0, 1] (a crossing at an end). */
 #define SW_EPS_PARAM 1e-9
