@@ -44,34 +44,7 @@
 #define SENTINEL 0xA5
 #define IMPOSSIBLE ((int64_t)1 << 59) /* counts from here on cannot be backed by memory */
 
-typedef struct reader {
-    const uint8_t *p;
-    size_t n;
-} reader;
-
-static uint8_t rd_u8(reader *r)
-{
-    if (r->n == 0)
-        return 0;
-    r->n--;
-    return *r->p++;
-}
-
-static uint64_t rd_u64(reader *r)
-{
-    uint64_t v = 0;
-    for (int i = 0; i < 8; i++)
-        v |= (uint64_t)rd_u8(r) << (8 * i);
-    return v;
-}
-
-static double rd_f64(reader *r)
-{
-    uint64_t u = rd_u64(r);
-    double d;
-    memcpy(&d, &u, sizeof d);
-    return d;
-}
+#include "fuzz_reader.h"
 
 static const char *g_where = "";
 

@@ -44,28 +44,7 @@
 #define MAX_EXPLICIT_POINTS 63
 #define SENTINEL 0xA5
 
-typedef struct reader {
-    const uint8_t *p;
-    size_t n;
-} reader;
-
-static uint8_t rd_u8(reader *r)
-{
-    if (r->n == 0)
-        return 0;
-    r->n--;
-    return *r->p++;
-}
-
-static double rd_f64(reader *r)
-{
-    uint8_t b[8];
-    for (int i = 0; i < 8; i++)
-        b[i] = rd_u8(r);
-    double d;
-    memcpy(&d, b, sizeof d);
-    return d;
-}
+#include "fuzz_reader.h"
 
 /* The decoded case, printed when a check fails. */
 static struct {

@@ -28,6 +28,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fuzz_reader.h"
 #include "mfgeom.h"
 #include "sweep_checks.h" /* libcore/tests/sweep: the checks test_rotsweep.c uses */
 
@@ -42,19 +43,6 @@
 #define SCALE_EXACT 1
 /* (d) MFG_ERR_INTERNAL ("could not be made a closed 2-manifold") allowed */
 #define ALLOW_INTERNAL 1
-
-typedef struct reader {
-    const uint8_t *p;
-    size_t n;
-} reader;
-
-static uint8_t rd_u8(reader *r)
-{
-    if (r->n == 0)
-        return 0;
-    r->n--;
-    return *r->p++;
-}
 
 static void fail(const char *what, double value)
 {
