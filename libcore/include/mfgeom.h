@@ -89,10 +89,9 @@ MFG_API const char *mfg_version(void);
  * calls: the library stays reentrant.
  *
  * Stages, in order, per entry point:
- *   mfg_rotational_sweep_p  "sweep: setup", "sweep: cells", "sweep: polygons",
- *                           "sweep: walls", "sweep: check", "sweep: output", "sweep: done"
- *                           (cells .. check repeat, with a fraction that still only
- *                           grows, when the decomposition is placed again)
+ *   mfg_rotational_sweep_p  "sweep: setup", "sweep: contour", "sweep: strips",
+ *                           "sweep: intersections", "sweep: faces", "sweep: boundary",
+ *                           "sweep: output", "sweep: done"
  *   mfg_medial_surface_p    "medial: elements", "medial: octree", "medial: sheets",
  *                           "medial: junctions", "medial: assembly", "medial: done"
  *   mfg_medial_axis_p       "axis: setup", "axis: branches", "axis: output", "axis: done"

@@ -13,7 +13,7 @@
  *     comes first, and the triangles sorted by their three vertices.
  * A permutation of the caller's arrays then gives bit-identical internal input, hence a
  * bit-identical result (vertices numbered by first use in the canonical triangles). */
-#include "sweep/sweep.h"
+#include "sweep/envelope.h"
 
 static int cmp_coord(const double *a, const double *b)
 {

@@ -425,10 +425,11 @@ static void test_axis(void)
 
 static void test_sweep(void)
 {
-    static const char *const st[] = {"sweep: setup", "sweep: cells", "sweep: polygons",
-                                     "sweep: walls", "sweep: check", "sweep: output",
-                                     "sweep: done"};
-    int n = check_entry("mfg_rotational_sweep", run_sweep, st, 7, 1, 6);
+    static const char *const st[] = {"sweep: setup",         "sweep: contour",
+                                     "sweep: strips",        "sweep: intersections",
+                                     "sweep: faces",         "sweep: boundary",
+                                     "sweep: output",        "sweep: done"};
+    int n = check_entry("mfg_rotational_sweep", run_sweep, st, 8, 0, 6);
     CHECK(n >= 10);
 }
 

@@ -24,7 +24,7 @@ class MfgError(MfgeomError, RuntimeError):
 class Cancelled(MfgError, errors.Cancelled):
     """A long computation stopped by its ``progress`` callable (C status
     MFG_ERR_CANCELLED, ``status`` "cancelled"); ``stage`` is the stage it stopped in
-    (e.g. "sweep: walls").  Nothing was computed: the call has no result.  A progress
+    (e.g. "sweep: faces").  Nothing was computed: the call has no result.  A progress
     callable that raises does not give Cancelled: its own exception propagates."""
 
     def __init__(self, status, message, stage=None):
@@ -76,7 +76,7 @@ class _ProgressCall:
     """The progress of one call of a ``*_p`` entry point.
 
     ``progress`` is None or a callable ``progress(fraction, stage)``: fraction a float in
-    [0, 1] that never decreases, stage a str such as "sweep: cells" (the stage names of
+    [0, 1] that never decreases, stage a str such as "sweep: faces" (the stage names of
     mfgeom.h).  It is called on the calling thread, every few to few tens of
     milliseconds of work.  A truthy return value cancels the call (Cancelled is raised);
     None / False go on.  An exception raised by the callable (KeyboardInterrupt too)

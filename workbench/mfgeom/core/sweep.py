@@ -60,8 +60,8 @@ def rotational_sweep(vertices: ArrayLike, triangles: ArrayLike, axis_point: Arra
     out of range and NaN raise MfgError with the library's detail (e.g. "mesh is not
     closed: 3 boundary edges (first: vertices 1-5)").  ``progress``: None or
     ``progress(fraction, stage)`` (see :class:`_ProgressCall`; stages "sweep: setup",
-    "sweep: cells", "sweep: polygons", "sweep: walls", "sweep: check", "sweep: output",
-    "sweep: done"); a truthy return raises Cancelled, an exception it raises propagates."""
+    "sweep: contour", "sweep: strips", "sweep: intersections", "sweep: faces",
+    "sweep: boundary", "sweep: output", "sweep: done"); a truthy return raises Cancelled, an exception it raises propagates."""
     xyz = _as_vertices(vertices)
     tri = _as_triangles(triangles)
     point = _as_vector3(axis_point, "axis_point")

@@ -1,0 +1,176 @@
+/* SPDX-License-Identifier: LGPL-2.1-or-later */
+/* sweep/turn.c - Turning points: the steps of the polylines, the points R(t_i) v of the
+ * chords and the apexes M_i v of the tangents, each made once and snapped to the
+ * arrangement's grid (so every predicate on the soup is exact; the snap moves a point by
+ * at most 2^-51 of the unit extent). */
+#include "sweep/envelope.h"
+
+double sw_snap(double x)
+{
+    return ldexp(nearbyint(ldexp(x, ARR_GRID_LOG2)), -ARR_GRID_LOG2);
+}
+
+int64_t sw_add_vertex(sw_env *e, const double p[3])
+{
+    if (e->nv >= e->capv) {
+        int64_t cap = mfg_grown_cap(e->capv, e->nv + 1, 1024);
+        double *n = realloc(e->x, (size_t)cap * 3 * sizeof *n);
+        if (!n)
+            return -1;
+        e->x = n;
+        e->capv = cap;
+    }
+    for (int k = 0; k < 3; k++)
+        e->x[3 * e->nv + k] = sw_snap(p[k]);
+    return e->nv++;
+}
+
+/* p split into its part along the unit axis and the rest, and kh x p. */
+static void split_axis(const sw_env *e, const double p[3], double par[3], double perp[3],
+                       double side[3])
+{
+    double a = mfg_dot3(e->kh, p);
+    for (int k = 0; k < 3; k++) {
+        par[k] = e->kh[k] * a;
+        perp[k] = p[k] - par[k];
+    }
+    mfg_cross3(e->kh, p, side);
+}
+
+double sw_radius(const sw_env *e, const double p[3])
+{
+    double par[3], perp[3], side[3];
+    split_axis(e, p, par, perp, side);
+    return mfg_norm3(perp);
+}
+
+/* cos and sin of t, exactly 0 / +-1 next to the quarter turns. */
+static void trig(double t, double *c, double *s)
+{
+    *c = cos(t);
+    *s = sin(t);
+    if (fabs(*c) < SW_TRIG_SNAP) {
+        *c = 0;
+        *s = *s > 0 ? 1 : -1;
+    } else if (fabs(*s) < SW_TRIG_SNAP) {
+        *s = 0;
+        *c = *c > 0 ? 1 : -1;
+    }
+}
+
+/* p turned by angle t and scaled away from the axis by f (1 for a chord point). */
+static void turn(const sw_env *e, const double p[3], double t, double f, double out[3])
+{
+    double par[3], perp[3], side[3], c, s;
+    split_axis(e, p, par, perp, side);
+    trig(t, &c, &s);
+    for (int k = 0; k < 3; k++)
+        out[k] = par[k] + f * (c * perp[k] + s * side[k]);
+}
+
+void sw_setup_steps(sw_env *e)
+{
+    double len = mfg_norm3(e->k);
+    for (int k = 0; k < 3; k++)
+        e->kh[k] = e->k[k] / len;
+    /* a coordinate axis stays exact (the rounded division may already be, but make
+     * sure: the turned faces of a box about its own axis stay in their planes) */
+    for (int k = 0; k < 3; k++)
+        if (e->k[(k + 1) % 3] == 0 && e->k[(k + 2) % 3] == 0) {
+            e->kh[k] = e->k[k] > 0 ? 1 : -1;
+            e->kh[(k + 1) % 3] = e->kh[(k + 2) % 3] = 0;
+        }
+    e->rmax = 0;
+    for (int64_t v = 0; v < e->nin; v++)
+        e->rmax = fmax(e->rmax, sw_radius(e, e->x + 3 * v));
+    /* the apex height r (sec(delta/2) - 1) within its share of the tolerance at rmax */
+    double step = MFG_PI;
+    if (e->rmax > 0) {
+        double sec = 1 + SW_SHARE_APEX * e->tol / e->rmax;
+        step = fmin(step, 2 * acos(1 / sec));
+    }
+    double n = ceil(e->theta / step);
+    e->nsteps = n < 1 ? 1 : (int)n;
+    e->delta = e->theta / e->nsteps;
+}
+
+/* Codes of the turned-point map: chord point i is i, apex i is nsteps + 1 + i. */
+static int64_t cached(sw_env *e, int64_t v, int64_t code, int apex, int i)
+{
+    hkey key = mkkey(v, code, 0, 0);
+    int64_t id = hmap_get(&e->turned, &key);
+    if (id >= 0)
+        return id;
+    const double *p = e->x + 3 * v;
+    double q[3];
+    if (sw_radius(e, p) < SW_ON_AXIS) {
+        id = v; /* on the axis: a turn leaves it */
+    } else {
+        if (apex) {
+            /* pushed out by a little more than the apex height: a tangent polyline may
+             * only move outwards (its strips' fronts face away from the axis), and this
+             * tilts the first quad of a strip that leaves its face tangentially (a cut
+             * line: the first tangent lies in the face's plane) clear of that plane, so
+             * the arrangement never meets the two as nearly coplanar sheets */
+            double t = (i + 0.5) * e->delta, r = sw_radius(e, p);
+            turn(e, p, t, 1 / cos(0.5 * e->delta) + SW_SHARE_PUSH * e->tol / r, q);
+        } else if (i == e->nsteps) {
+            turn(e, p, e->theta, 1, q);
+        } else {
+            turn(e, p, i * e->delta, 1, q);
+        }
+        id = sw_add_vertex(e, q);
+        if (id < 0)
+            return -1;
+    }
+    if (!hmap_put(&e->turned, &key, id))
+        return -1;
+    return id;
+}
+
+int64_t sw_chord_point(sw_env *e, int64_t v, int i)
+{
+    if (i == 0 || (i == e->nsteps && e->full_turn))
+        return v;
+    return cached(e, v, i, 0, i);
+}
+
+int64_t sw_apex_point(sw_env *e, int64_t v, int i)
+{
+    return cached(e, v, (int64_t)e->nsteps + 1 + i, 1, i);
+}
+
+int64_t sw_track_point(sw_env *e, int64_t v, int kind, int j)
+{
+    if (kind == SW_CHORD)
+        return sw_chord_point(e, v, j);
+    if (j == 0)
+        return v;
+    if (j == e->nsteps + 1)
+        return sw_chord_point(e, v, e->nsteps);
+    return sw_apex_point(e, v, j - 1);
+}
+
+int sw_emit(sw_env *e, int64_t a, int64_t b, int64_t c, int64_t g)
+{
+    if (a == b || b == c || c == a)
+        return 1; /* no area: nothing to add to the chain */
+    if (e->nst >= e->capst) {
+        int64_t cap = mfg_grown_cap(e->capst, e->nst + 1, 1024);
+        int64_t *n = realloc(e->st, (size_t)cap * 3 * sizeof *n);
+        if (!n)
+            return 0;
+        e->st = n;
+        int64_t *gn = realloc(e->sgroup, (size_t)cap * sizeof *gn);
+        if (!gn)
+            return 0;
+        e->sgroup = gn;
+        e->capst = cap;
+    }
+    e->st[3 * e->nst] = a;
+    e->st[3 * e->nst + 1] = b;
+    e->st[3 * e->nst + 2] = c;
+    e->sgroup[e->nst] = g;
+    e->nst++;
+    return 1;
+}
