@@ -488,6 +488,13 @@ int arr_cdt_cluster(arr_ctx *c, int64_t cl, const int64_t *pts, int64_t npts,
             return 0;
         }
     }
+#ifdef ARR_DEBUG
+    for (int64_t t = 0; t < D->nt; t++)
+        if (orient(D, D->tv[t][0], D->tv[t][1], D->tv[t][2]) <= 0)
+            fprintf(stderr, "cdt: cluster %lld triangle %lld (%lld %lld %lld) has orientation %d\n", (long long)cl, (long long)t,
+                    (long long)D->gid[D->tv[t][0]], (long long)D->gid[D->tv[t][1]], (long long)D->gid[D->tv[t][2]],
+                    orient(D, D->tv[t][0], D->tv[t][1], D->tv[t][2]));
+#endif
     /* the multiplicity of each triangle: 0 at the enclosing corners, then across each
      * edge minus the delta of the segment it lies on (left to right) */
     hmap deltas;

@@ -502,11 +502,24 @@ int arr_clusters(arr_ctx *c)
         }
         if (!split_segments(c, cl, &w.L, &w.ps, &w.capps, &w.inside, &w.capin))
             goto nomem;
+#ifdef ARR_DEBUG
+        if (getenv("ARR_DEBUG_CL") && atoll(getenv("ARR_DEBUG_CL")) == cl) {
+            fprintf(stderr, "cluster %lld: %lld points, %lld segments\n", (long long)cl, (long long)w.L.npts, (long long)w.L.nsegs);
+            for (int64_t q = 0; q < w.L.npts; q++) fprintf(stderr, " pt %lld", (long long)w.L.pts[q]);
+            fprintf(stderr, "\n");
+            for (int64_t q = 0; q < w.L.nsegs; q++) fprintf(stderr, " seg %lld-%lld sup %lld delta %d\n", (long long)w.L.segs[q].p, (long long)w.L.segs[q].q, (long long)w.L.segs[q].support, w.L.segs[q].delta);
+        }
+        int64_t nf0 = c->nface;
+#endif
         if (!arr_cdt_cluster(c, cl, w.L.pts, w.L.npts, w.L.segs, w.L.nsegs)) {
             if (c->st == MFG_OK)
                 goto nomem;
             goto fail;
         }
+#ifdef ARR_DEBUG
+        if (getenv("ARR_DEBUG_CL") && atoll(getenv("ARR_DEBUG_CL")) == cl)
+            for (int64_t q = nf0; q < c->nface; q++) fprintf(stderr, " face %lld %lld %lld mult %d\n", (long long)c->face[q].v[0], (long long)c->face[q].v[1], (long long)c->face[q].v[2], c->face[q].mult);
+#endif
     }
     csr_free(&members);
     csr_free(&segrec);

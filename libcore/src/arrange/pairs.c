@@ -241,6 +241,16 @@ static int meet(arr_ctx *c, int64_t i, int64_t j)
     int64_t lo = arr_cmp(&P, I[0], J[0], k) >= 0 ? I[0] : J[0];
     int64_t hi = arr_cmp(&P, I[1], J[1], k) <= 0 ? I[1] : J[1];
     int s = arr_cmp(&P, lo, hi, k);
+#ifdef ARR_DEBUG
+    if (getenv("ARR_DEBUG_PAIRS")) {
+        double a0[3], a1[3], b0[3], b1[3], xl[3], xh[3];
+        arr_coords(&P, I[0], a0); arr_coords(&P, I[1], a1); arr_coords(&P, J[0], b0); arr_coords(&P, J[1], b1);
+        arr_coords(&P, lo, xl); arr_coords(&P, hi, xh);
+        fprintf(stderr, "meet %lld %lld (cl %lld %lld) axis %d I %lld(%g %g %g)-%lld(%g %g %g) J %lld(%g %g %g)-%lld(%g %g %g) -> s %d lo %lld hi %lld\n",
+                (long long)i, (long long)j, (long long)ci, (long long)cj, k, (long long)I[0], a0[0], a0[1], a0[2], (long long)I[1], a1[0], a1[1], a1[2],
+                (long long)J[0], b0[0], b0[1], b0[2], (long long)J[1], b1[0], b1[1], b1[2], s, (long long)lo, (long long)hi);
+    }
+#endif
     if (s > 0)
         return 1;
     if (s == 0)

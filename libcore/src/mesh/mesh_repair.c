@@ -1,0 +1,467 @@
+/* SPDX-License-Identifier: LGPL-2.1-or-later */
+/* mesh_repair.c - The rounded boundary of an exact arrangement made a clean closed
+ * 2-manifold: welds, needles, touching sheets (mesh_repair.h says what and why). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/hashmap.h"
+#include "common/mfg_internal.h"
+#include "common/vec3.h"
+#include "mesh/mesh_repair.h"
+
+static int64_t uf_find(int64_t *uf, int64_t i)
+{
+    while (uf[i] != i) {
+        uf[i] = uf[uf[i]];
+        i = uf[i];
+    }
+    return i;
+}
+
+static void uf_join(int64_t *uf, int64_t a, int64_t b)
+{
+    a = uf_find(uf, a);
+    b = uf_find(uf, b);
+    if (a < b)
+        uf[b] = a;
+    else if (b < a)
+        uf[a] = b;
+}
+
+/* ---- 1. Welds ------------------------------------------------------------------------- */
+
+typedef struct tri_key {
+    int64_t s[3]; /* sorted vertices */
+    int64_t t;    /* the triangle */
+    int sign;     /* +1: its order is an even permutation of s */
+} tri_key;
+
+static int cmp_tri_key(const void *pa, const void *pb)
+{
+    const tri_key *a = pa, *b = pb;
+    for (int k = 0; k < 3; k++)
+        if (a->s[k] != b->s[k])
+            return a->s[k] < b->s[k] ? -1 : 1;
+    return a->t < b->t ? -1 : a->t > b->t;
+}
+
+static hkey cell_key(const double *p, double eps, int d)
+{
+    return mkkey((int64_t)floor(p[0] / eps) + d % 3 - 1, (int64_t)floor(p[1] / eps) + d / 3 % 3 - 1,
+                 (int64_t)floor(p[2] / eps) + d / 9 - 1, 0);
+}
+
+static int weld(mfg_rmesh *m, double eps)
+{
+    int64_t nv = m->nv, nt = m->nt;
+    int64_t *uf = malloc((size_t)(nv + 1) * sizeof *uf);
+    int64_t *next = malloc((size_t)(nv + 1) * sizeof *next);
+    tri_key *keys = malloc((size_t)(nt + 1) * sizeof *keys);
+    int64_t *keep = malloc((size_t)(nt + 1) * sizeof *keep);
+    hmap grid;
+    memset(&grid, 0, sizeof grid);
+    int ok = uf && next && keys && keep && hmap_init(&grid, nv + 1);
+    for (int64_t i = 0; ok && i < nv; i++) {
+        uf[i] = i;
+        hkey key = cell_key(m->x + 3 * i, eps, 13);
+        next[i] = hmap_get(&grid, &key);
+        ok = hmap_put(&grid, &key, i);
+    }
+    for (int64_t i = 0; ok && i < nv; i++)
+        for (int d = 0; d < 27; d++) {
+            hkey key = cell_key(m->x + 3 * i, eps, d);
+            for (int64_t j = hmap_get(&grid, &key); j >= 0; j = next[j])
+                if (j > i && fabs(m->x[3 * j] - m->x[3 * i]) <= eps &&
+                    fabs(m->x[3 * j + 1] - m->x[3 * i + 1]) <= eps &&
+                    fabs(m->x[3 * j + 2] - m->x[3 * i + 2]) <= eps)
+                    uf_join(uf, i, j);
+        }
+    if (!ok) {
+        free(uf);
+        free(next);
+        free(keys);
+        free(keep);
+        hmap_free(&grid);
+        return 0;
+    }
+    hmap_free(&grid);
+    int64_t n = 0;
+    for (int64_t t = 0; t < nt; t++) {
+        int64_t v[3];
+        for (int k = 0; k < 3; k++)
+            v[k] = m->t[3 * t + k] = uf_find(uf, m->t[3 * t + k]);
+        if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0])
+            continue;
+        int sign = 1;
+        for (int i = 0; i < 2; i++) /* sort, counting swaps for the orientation */
+            for (int j = 0; j < 2 - i; j++)
+                if (v[j] > v[j + 1]) {
+                    int64_t tmp = v[j];
+                    v[j] = v[j + 1];
+                    v[j + 1] = tmp;
+                    sign = -sign;
+                }
+        memcpy(keys[n].s, v, sizeof v);
+        keys[n].t = t;
+        keys[n].sign = sign;
+        n++;
+    }
+    qsort(keys, (size_t)n, sizeof *keys, cmp_tri_key);
+    int64_t nk = 0;
+    for (int64_t i = 0; i < n;) {
+        int64_t j = i, net = 0;
+        while (j < n && !memcmp(keys[j].s, keys[i].s, sizeof keys[i].s))
+            net += keys[j++].sign;
+        for (int64_t q = i; q < j && net != 0; q++)
+            if (keys[q].sign == (net > 0 ? 1 : -1)) {
+                keep[nk++] = keys[q].t; /* one triangle of the net orientation */
+                break;
+            }
+        i = j;
+    }
+    qsort(keep, (size_t)nk, sizeof *keep, mfg_cmp_i64); /* the original order */
+    for (int64_t i = 0; i < nk; i++) {
+        memmove(m->t + 3 * i, m->t + 3 * keep[i], 3 * sizeof *m->t);
+        if (m->g)
+            m->g[i] = m->g[keep[i]];
+    }
+    m->nt = nk;
+    free(uf);
+    free(next);
+    free(keys);
+    free(keep);
+    return 1;
+}
+
+/* ---- 2. Needles ------------------------------------------------------------------------ */
+
+/* The longest side of triangle t (0 .. 2: from corner k to corner k + 1) and its height
+ * over that side. */
+static int longest_side(const mfg_rmesh *m, int64_t t, double *height)
+{
+    const int64_t *V = m->t + 3 * t;
+    double best = -1;
+    int k = 0;
+    for (int i = 0; i < 3; i++) {
+        double d = mfg_dist3(m->x + 3 * V[i], m->x + 3 * V[(i + 1) % 3]);
+        if (d > best) {
+            best = d;
+            k = i;
+        }
+    }
+    double e1[3], e2[3], n[3];
+    mfg_sub3(m->x + 3 * V[1], m->x + 3 * V[0], e1);
+    mfg_sub3(m->x + 3 * V[2], m->x + 3 * V[0], e2);
+    mfg_cross3(e1, e2, n);
+    *height = best > 0 ? mfg_norm3(n) / best : 0;
+    return k;
+}
+
+static int add_triangle(mfg_rmesh *m, int64_t a, int64_t b, int64_t c, int64_t g)
+{
+    if (m->nt >= m->capt) {
+        int64_t cap = mfg_grown_cap(m->capt, m->nt + 1, 64);
+        int64_t *nt = realloc(m->t, (size_t)cap * 3 * sizeof *nt);
+        if (!nt)
+            return 0;
+        m->t = nt;
+        if (m->g) {
+            int64_t *ng = realloc(m->g, (size_t)cap * sizeof *ng);
+            if (!ng)
+                return 0;
+            m->g = ng;
+        }
+        m->capt = cap;
+    }
+    m->t[3 * m->nt] = a;
+    m->t[3 * m->nt + 1] = b;
+    m->t[3 * m->nt + 2] = c;
+    if (m->g)
+        m->g[m->nt] = g;
+    m->nt++;
+    return 1;
+}
+
+/* The live triangle with directed side a -> b (from the map, checked), or -1. */
+static int64_t with_side(const mfg_rmesh *m, const hmap *dir, const uint8_t *dead, int64_t a, int64_t b)
+{
+    hkey key = mkkey(a, b, 0, 0);
+    int64_t t = hmap_get(dir, &key);
+    if (t < 0 || dead[t])
+        return -1;
+    for (int k = 0; k < 3; k++)
+        if (m->t[3 * t + k] == a && m->t[3 * t + (k + 1) % 3] == b)
+            return t;
+    return -1;
+}
+
+static int map_sides(hmap *dir, const mfg_rmesh *m, int64_t t)
+{
+    for (int k = 0; k < 3; k++) {
+        hkey key = mkkey(m->t[3 * t + k], m->t[3 * t + (k + 1) % 3], 0, 0);
+        if (!hmap_put(dir, &key, t))
+            return 0;
+    }
+    return 1;
+}
+
+static int remove_needles(mfg_rmesh *m, double eps)
+{
+    hmap dir;
+    int64_t cap = 2 * m->nt + 16, top = 0;
+    uint8_t *dead = calloc((size_t)cap, 1);
+    int64_t *stack = malloc((size_t)cap * sizeof *stack);
+    if (!dead || !stack || !hmap_init(&dir, 3 * m->nt + 1)) {
+        free(dead);
+        free(stack);
+        return 0;
+    }
+    int ok = 1;
+    for (int64_t t = 0; t < m->nt && ok; t++) {
+        ok = map_sides(&dir, m, t);
+        stack[top++] = t;
+    }
+    /* every operation removes a needle and makes two triangles of its neighbour: bound the
+     * work in case rounding keeps making new ones */
+    int64_t budget = 4 * m->nt + 64;
+    while (ok && top > 0 && budget-- > 0) {
+        int64_t t = stack[--top];
+        if (dead[t])
+            continue;
+        double h;
+        int k = longest_side(m, t, &h);
+        if (h > eps)
+            continue;
+        int64_t a = m->t[3 * t + k], b = m->t[3 * t + (k + 1) % 3], c = m->t[3 * t + (k + 2) % 3];
+        int64_t u = with_side(m, &dir, dead, b, a);
+        if (u < 0)
+            continue;
+        int j = 0;
+        while (m->t[3 * u + j] != b)
+            j++;
+        int64_t d = m->t[3 * u + (j + 2) % 3];
+        if (d == c)
+            continue; /* a flat pocket of two triangles: left to the check */
+        /* t = (a, b, c) goes; u = (b, a, d) becomes (b, c, d) and (c, a, d) */
+        if (m->nt + 1 > cap) {
+            int64_t nc = 2 * cap;
+            uint8_t *nd = realloc(dead, (size_t)nc);
+            int64_t *ns = nd ? realloc(stack, (size_t)nc * sizeof *ns) : NULL;
+            if (nd)
+                dead = nd;
+            if (!ns) {
+                ok = 0;
+                break;
+            }
+            stack = ns;
+            memset(dead + cap, 0, (size_t)(nc - cap));
+            cap = nc;
+        }
+        dead[t] = 1;
+        int64_t g = m->g ? m->g[u] : 0;
+        m->t[3 * u] = b;
+        m->t[3 * u + 1] = c;
+        m->t[3 * u + 2] = d;
+        int64_t w = m->nt;
+        ok = add_triangle(m, c, a, d, g) && map_sides(&dir, m, u) && map_sides(&dir, m, w);
+        if (ok && top + 2 <= cap) {
+            stack[top++] = u;
+            stack[top++] = w;
+        }
+    }
+    if (ok) {
+        int64_t n = 0;
+        for (int64_t t = 0; t < m->nt; t++) {
+            if (dead[t])
+                continue;
+            memmove(m->t + 3 * n, m->t + 3 * t, 3 * sizeof *m->t);
+            if (m->g)
+                m->g[n] = m->g[t];
+            n++;
+        }
+        m->nt = n;
+    }
+    hmap_free(&dir);
+    free(dead);
+    free(stack);
+    return ok;
+}
+
+/* ---- 3. Touching sheets ----------------------------------------------------------------- */
+
+typedef struct side_ref {
+    int64_t s;      /* triangle * 3 + corner: the side from corner k to corner k + 1 */
+    double angle;
+    int dir;        /* +1: the side runs from the smaller vertex id to the larger */
+} side_ref;
+
+static int cmp_angle(const void *pa, const void *pb)
+{
+    const side_ref *a = pa, *b = pb;
+    if (a->angle != b->angle)
+        return a->angle < b->angle ? -1 : 1;
+    return a->s < b->s ? -1 : a->s > b->s;
+}
+
+static int cmp_i64_pair(const void *pa, const void *pb)
+{
+    const int64_t *a = pa, *b = pb;
+    if (a[0] != b[0])
+        return a[0] < b[0] ? -1 : 1;
+    return a[1] < b[1] ? -1 : a[1] > b[1];
+}
+
+/* Pairs the 2k sides round one edge (lo < hi its vertices) so that each pair bounds a
+ * wedge of the solid: round the edge by increasing angle (right-handed about lo -> hi),
+ * a side running hi -> lo has the solid after it, up to the next side. */
+static void pair_round_edge(const mfg_rmesh *m, side_ref *r, int64_t n, int64_t lo, int64_t hi,
+                            int64_t *partner)
+{
+    const double *a = m->x + 3 * lo, *b = m->x + 3 * hi;
+    double e[3], ref[3] = {0, 0, 0}, ref2[3];
+    mfg_sub3(b, a, e);
+    double ee = mfg_dot3(e, e);
+    for (int64_t i = 0; i < n; i++) {
+        int64_t t = r[i].s / 3;
+        int k = (int)(r[i].s % 3);
+        const double *c = m->x + 3 * m->t[3 * t + (k + 2) % 3];
+        double d[3];
+        mfg_sub3(c, a, d);
+        double f = ee > 0 ? mfg_dot3(d, e) / ee : 0;
+        for (int q = 0; q < 3; q++)
+            d[q] -= f * e[q];
+        if (i == 0) {
+            mfg_unit3(d, ref);
+            double eu[3];
+            mfg_unit3(e, eu);
+            mfg_cross3(eu, ref, ref2);
+        }
+        double ang = atan2(mfg_dot3(d, ref2), mfg_dot3(d, ref));
+        r[i].angle = ang < 0 ? ang + MFG_TWO_PI : ang;
+    }
+    qsort(r, (size_t)n, sizeof *r, cmp_angle);
+    for (int64_t i = 0; i < n; i++) {
+        int64_t j = (i + 1) % n;
+        if (r[i].dir < 0 && r[j].dir > 0 && partner[r[i].s] < 0 && partner[r[j].s] < 0) {
+            partner[r[i].s] = r[j].s;
+            partner[r[j].s] = r[i].s;
+        }
+    }
+}
+
+static int separate_sheets(mfg_rmesh *m)
+{
+    int64_t nt = m->nt, ns = 3 * nt;
+    int64_t *partner = malloc((size_t)(ns + 1) * sizeof *partner);
+    int64_t *uf = malloc((size_t)(ns + 1) * sizeof *uf);
+    side_ref *r = NULL;
+    int64_t capr = 0;
+    int ok = partner && uf;
+    if (!ok)
+        goto done;
+    /* sides sorted by their edge: (min vertex, max vertex, side) records */
+    int64_t *pairs = malloc((size_t)(3 * ns + 3) * sizeof *pairs);
+    if (!pairs) {
+        ok = 0;
+        goto done;
+    }
+    for (int64_t s = 0; s < ns; s++) {
+        int64_t a = m->t[s], b = m->t[s - s % 3 + (s % 3 + 1) % 3];
+        pairs[3 * s] = a < b ? a : b;
+        pairs[3 * s + 1] = a < b ? b : a;
+        pairs[3 * s + 2] = s;
+        partner[s] = -1;
+        uf[s] = s;
+    }
+    qsort(pairs, (size_t)ns, 3 * sizeof *pairs, cmp_i64_pair);
+    for (int64_t i = 0, j; i < ns && ok; i = j) {
+        for (j = i + 1; j < ns && pairs[3 * j] == pairs[3 * i] && pairs[3 * j + 1] == pairs[3 * i + 1]; j++)
+            ;
+        int64_t n = j - i;
+        if (n == 2) {
+            partner[pairs[3 * i + 2]] = pairs[3 * i + 5];
+            partner[pairs[3 * i + 5]] = pairs[3 * i + 2];
+        } else if (n > 2) {
+            if (!mfg_grow((void **)&r, &capr, n, sizeof *r)) {
+                ok = 0;
+                break;
+            }
+            for (int64_t q = 0; q < n; q++) {
+                int64_t s = pairs[3 * (i + q) + 2];
+                r[q].s = s;
+                r[q].dir = m->t[s] == pairs[3 * i] ? 1 : -1;
+            }
+            pair_round_edge(m, r, n, pairs[3 * i], pairs[3 * i + 1], partner);
+        }
+    }
+    free(pairs);
+    if (!ok)
+        goto done;
+    /* corners joined through paired sides: corner (t, k) is slot 3 t + k */
+    for (int64_t s = 0; s < ns; s++) {
+        int64_t p = partner[s];
+        if (p < 0)
+            continue;
+        int64_t t = s / 3, k = s % 3, u = p / 3, j = p % 3;
+        int64_t a = m->t[s], b = m->t[3 * t + (k + 1) % 3];
+        /* the partner runs b -> a (or a -> b, inconsistently oriented: join by vertex) */
+        for (int q = 0; q < 3; q++) {
+            int64_t slot = 3 * u + q, v = m->t[slot];
+            if (v == a)
+                uf_join(uf, s, slot);
+            else if (v == b)
+                uf_join(uf, 3 * t + (k + 1) % 3, slot);
+        }
+        (void)j;
+    }
+    /* one vertex per fan: the first fan (smallest corner) keeps the vertex */
+    {
+        int64_t *first = malloc((size_t)(m->nv + 1) * sizeof *first);
+        int64_t *copy = malloc((size_t)(ns + 1) * sizeof *copy);
+        if (!first || !copy) {
+            free(first);
+            free(copy);
+            ok = 0;
+            goto done;
+        }
+        for (int64_t v = 0; v < m->nv; v++)
+            first[v] = -1;
+        for (int64_t s = 0; s < ns; s++)
+            copy[s] = -1;
+        for (int64_t s = 0; s < ns && ok; s++) {
+            int64_t v = m->t[s], root = uf_find(uf, s);
+            if (first[v] < 0)
+                first[v] = root;
+            if (root == first[v])
+                continue;
+            if (copy[root] < 0) {
+                if (m->nv >= m->capv) {
+                    int64_t cap = mfg_grown_cap(m->capv, m->nv + 1, 64);
+                    double *nx = realloc(m->x, (size_t)cap * 3 * sizeof *nx);
+                    if (!nx) {
+                        ok = 0;
+                        break;
+                    }
+                    m->x = nx;
+                    m->capv = cap;
+                }
+                memcpy(m->x + 3 * m->nv, m->x + 3 * v, 3 * sizeof *m->x);
+                copy[root] = m->nv++;
+            }
+            m->t[s] = copy[root];
+        }
+        free(first);
+        free(copy);
+    }
+done:
+    free(partner);
+    free(uf);
+    free(r);
+    return ok;
+}
+
+int mfg_mesh_repair(mfg_rmesh *m, double eps)
+{
+    return weld(m, eps) && remove_needles(m, eps) && separate_sheets(m);
+}
