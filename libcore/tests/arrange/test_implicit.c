@@ -810,6 +810,11 @@ static void test_expansion_primitives(void)
         int nd = expn_diff_expansions(nsq, sq, n2, t2, h);
         bad += expn_sign(nd, h) != 0;
         bad += expn_sign(expn_compress(nsq, sq), sq) != (a != b);
+        /* grow by one double = sum with a one-component expansion. */
+        double gw[4], gs[4], gd[8];
+        int ngw = expn_grow(ne, e, b, gw), ngs = expn_sum(ne, e, 1, &b, gs);
+        bad += expn_sign(expn_diff_expansions(ngw, gw, ngs, gs, gd), gd) != 0;
+        bad += expn_sign(expn_diff(a, 0.0, gd), gd) != (a > 0) - (a < 0);
     }
     CHECK_EQ_INT(bad, 0);
 }
