@@ -252,9 +252,12 @@ int arr_point_prepare(const double *xyz, arr_point *p)
         return 0;
     fv X[4];
     construct_fv(xyz, p, X);
+    /* herr with the slacks applied, so that it is a bound by itself (a zero bound is
+     * exact: a non-zero error would be a multiple of the grid, far above any bound
+     * that can round to zero). */
     for (int k = 0; k < 4; k++) {
         p->h[k] = X[k].v;
-        p->herr[k] = X[k].e; /* raw: the predicates' final test covers the whole chain */
+        p->herr[k] = X[k].e > 0.0 ? X[k].e * BOUND_SLACK + UNDERFLOW_SLACK : 0.0;
     }
     if (fv_sign(X[3]) != 0)
         return 1;

@@ -859,7 +859,7 @@ static void mode_points(int ncases)
             degree_bad += !okh;
             big diff = big_sub(hb, *want);
             diff.neg = 0;
-            double eb = ceil(ldexp(P->pts[i].herr[k] * (1.0 + 0x1p-40) + 0x1p-900, 50 * deg));
+            double eb = ceil(ldexp(P->pts[i].herr[k], 50 * deg));
             int oke = 1;
             big ebig = big_from_scaled_double(eb, 0, &oke);
             bound_bad += !oke || big_mag_cmp(&diff, &ebig) > 0;
