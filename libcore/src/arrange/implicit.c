@@ -22,8 +22,8 @@
  *    covered by the factor BOUND_SLACK; the subnormal losses, at most 2^12 of them, each
  *    grown by at most 2^130 (no value here is larger), stay below 2^-933, covered by
  *    the absolute UNDERFLOW_SLACK.
- * A certified sign thus needs |v| > e * BOUND_SLACK + UNDERFLOW_SLACK; an exact value
- * that is non-zero is at least 2^-1000, far from the 2^-900 this can refuse. */
+ * A certified sign thus needs |v| > e * BOUND_SLACK + UNDERFLOW_SLACK: values below
+ * 2^-900 (only from features a few grid steps wide) always go to the exact stage. */
 #include <math.h>
 #include <stdint.h>
 
