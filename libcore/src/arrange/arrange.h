@@ -80,7 +80,7 @@ int64_t arr_aux_vertex(arr_table *T, const double x[3]);
 /* An explicit point for auxiliary vertex xi (its point id), or -1. */
 int64_t arr_aux_point(arr_table *T, int64_t xi);
 /* A lifted point (kind ARR_LIFT) on the plane of explicit triangle tri, without a key;
- * -1 when out of memory or when the plane is parallel to axis. */
+ * -1 when out of memory, -2 when there is none (the plane parallel to axis). */
 int64_t arr_lift(arr_table *T, const int64_t tri[3], int axis, double u, double v);
 /* Drops the points appended after npts (temporary lifts). */
 void arr_truncate(arr_table *T, int64_t npts);

@@ -52,11 +52,12 @@ static int grow_pts(arr_table *T)
     return 1;
 }
 
-/* Appends p (prepared here); its id, -1 when out of memory or p has no position. */
+/* Appends p (prepared here); its id, -1 when out of memory, -2 when p has no position
+ * (or is off the grid: a lifted point's coordinates). */
 static int64_t append(arr_table *T, arr_point *p)
 {
     if (!arr_point_prepare(T->xyz, p))
-        return -1;
+        return -2;
     if (!grow_pts(T))
         return -1;
     T->pts[T->npts] = *p;
@@ -71,7 +72,7 @@ static int64_t keyed(arr_table *T, hkey k, arr_point *p)
         return id;
     id = append(T, p);
     if (id < 0)
-        return -1;
+        return -1; /* a keyed construction the caller knows to exist: only memory fails */
     if (!hmap_put(&T->keys, &k, id))
         return -1;
     return id;

@@ -88,17 +88,12 @@ static double approx_area(const arr_points *P, const arr_face *f)
     return mfg_norm3(n);
 }
 
-/* The grids of the lifted start points, coarse to fine: the arrangement's own first
- * (implicit.h); a face thinner than its step (a sliver where two sheets cross at a
- * grazing angle) gets a start on a finer grid.  The finest keeps every predicate on a
- * lifted point within the exact range of implicit.h (a lifted point has degree 3; with
- * its 2-D coordinates on 2^-110 steps, orient2d with two TPI points still stays above
- * 2^-1074). */
-static const int LIFT_GRIDS[] = {ARR_GRID_LOG2, 80, 110};
-
-static double snap(double x, int grid)
+/* The lifted start points lie on the arrangement's grid (implicit.h): a face so thin
+ * that no candidate grid point falls inside it (a sliver where two sheets cross at a
+ * grazing angle) is decided by the faces round it (decide_by_balance). */
+static double snap(double x)
 {
-    return ldexp(nearbyint(ldexp(x, grid)), -grid);
+    return ldexp(nearbyint(ldexp(x, ARR_GRID_LOG2)), -ARR_GRID_LOG2);
 }
 
 /* The winding number in front of face f, or INT64_MIN when no grid point lies strictly
@@ -118,15 +113,16 @@ static int64_t front_winding(arr_ctx *c, const arr_bvh *bvh, const arr_face *f, 
     static const double wts[4][3] = {
         {1.0 / 3, 1.0 / 3, 1.0 / 3}, {0.5, 0.25, 0.25}, {0.25, 0.5, 0.25}, {0.25, 0.25, 0.5}};
     int64_t mark = c->T.npts;
-    for (int g = 0; g < 3; g++)
     for (int w = 0; w < 4; w++) {
-        double u = snap(wts[w][0] * x[0][i1] + wts[w][1] * x[1][i1] + wts[w][2] * x[2][i1], LIFT_GRIDS[g]);
-        double v = snap(wts[w][0] * x[0][i2] + wts[w][1] * x[1][i2] + wts[w][2] * x[2][i2], LIFT_GRIDS[g]);
+        double u = snap(wts[w][0] * x[0][i1] + wts[w][1] * x[1][i1] + wts[w][2] * x[2][i1]);
+        double v = snap(wts[w][0] * x[0][i2] + wts[w][1] * x[1][i2] + wts[w][2] * x[2][i2]);
         int64_t L = arr_lift(&c->T, c->tri + 3 * K->rep, axis, u, v);
-        if (L < 0) {
+        if (L == -1) {
             *nomem = 1;
             return INT64_MIN;
         }
+        if (L < 0)
+            continue;
         P = arr_view(&c->T);
         int inside = 1;
         for (int k = 0; k < 3 && inside; k++)

@@ -5,158 +5,32 @@
 #include <math.h>
 #include <stddef.h>
 
+#include "common/expansion.h"
 #include "common/predicates.h"
 
 /* Unit roundoff of IEEE double (2^-53). */
 #define U 1.1102230246251565e-16
 
-/* ---- Expansion arithmetic ---------------------------------------------------------
- * An expansion is a sum of doubles, non-overlapping and ordered by increasing magnitude;
- * its sign is the sign of its last (largest) non-zero component.  All routines eliminate
- * zero components so the lengths stay small in practice. */
-
-/* a + b = x + y exactly (Knuth's TwoSum). */
-static inline void two_sum(double a, double b, double *x, double *y)
-{
-    double s = a + b;
-    double bv = s - a;
-    double av = s - bv;
-    *x = s;
-    *y = (a - av) + (b - bv);
-}
-
-/* a * b = x + y exactly (fma gives the rounding error of the product). */
-static inline void two_product(double a, double b, double *x, double *y)
-{
-    double p = a * b;
-    *x = p;
-    *y = fma(a, b, -p);
-}
-
-/* h = e + b; returns the length of h.  h may not alias e.  (Shewchuk's GROW-EXPANSION
- * with zero elimination: valid for any non-overlapping e.) */
-static int grow_expansion(int elen, const double *e, double b, double *h)
-{
-    double q = b;
-    int hlen = 0;
-    for (int i = 0; i < elen; i++) {
-        double sum, err;
-        two_sum(q, e[i], &sum, &err);
-        q = sum;
-        if (err != 0.0)
-            h[hlen++] = err;
-    }
-    if (q != 0.0 || hlen == 0)
-        h[hlen++] = q;
-    return hlen;
-}
-
-/* h = e + f by repeated growth; h needs elen + flen slots.  tmp is scratch of the same
- * size.  Quadratic, but only used on the rare exact path with short expansions. */
-static int sum_expansion(int elen, const double *e, int flen, const double *f, double *h,
-                         double *tmp)
-{
-    int hlen = elen;
-    for (int i = 0; i < elen; i++)
-        h[i] = e[i];
-    for (int j = 0; j < flen; j++) {
-        int n = grow_expansion(hlen, h, f[j], tmp);
-        for (int i = 0; i < n; i++)
-            h[i] = tmp[i];
-        hlen = n;
-    }
-    return hlen;
-}
-
-/* h = e * b (Shewchuk's SCALE-EXPANSION with zero elimination); h needs 2*elen slots. */
-static int scale_expansion(int elen, const double *e, double b, double *h)
-{
-    double q, hh, prod, perr, sum;
-    int hlen = 0;
-    two_product(e[0], b, &q, &hh);
-    if (hh != 0.0)
-        h[hlen++] = hh;
-    for (int i = 1; i < elen; i++) {
-        two_product(e[i], b, &prod, &perr);
-        two_sum(q, perr, &sum, &hh);
-        if (hh != 0.0)
-            h[hlen++] = hh;
-        two_sum(prod, sum, &q, &hh);
-        if (hh != 0.0)
-            h[hlen++] = hh;
-    }
-    if (q != 0.0 || hlen == 0)
-        h[hlen++] = q;
-    return hlen;
-}
+/* Expansion arithmetic (two_sum, scale, sum, product, sign) lives in common/expansion.h,
+ * shared with the exact predicates of arrange/. */
 
 /* Largest expansion we ever build: cross^2 with cross up to 16 components -> 512, and
  * the difference against e^2 L^2 (64) -> 576. */
 #define EXP_MAX 1024
-
-/* h = e * f; h needs 2*elen*flen slots (<= EXP_MAX here). */
-static int mul_expansion(int elen, const double *e, int flen, const double *f, double *h)
-{
-    double part[2 * EXP_MAX / 16];
-    double acc[EXP_MAX], tmp[EXP_MAX];
-    int hlen = 0;
-    for (int j = 0; j < flen; j++) {
-        int plen = scale_expansion(elen, e, f[j], part);
-        int n = sum_expansion(hlen, h, plen, part, acc, tmp);
-        for (int i = 0; i < n; i++)
-            h[i] = acc[i];
-        hlen = n;
-    }
-    if (hlen == 0) {
-        h[0] = 0.0;
-        hlen = 1;
-    }
-    return hlen;
-}
-
-static int expansion_sign(int elen, const double *e)
-{
-    for (int i = elen - 1; i >= 0; i--)
-        if (e[i] != 0.0)
-            return e[i] > 0.0 ? 1 : -1;
-    return 0;
-}
-
-static int negate(int elen, const double *e, double *h)
-{
-    for (int i = 0; i < elen; i++)
-        h[i] = -e[i];
-    return elen;
-}
-
-/* a - b as a 2-component expansion (exact). */
-static inline int diff2(double a, double b, double *h)
-{
-    double x, y;
-    two_sum(a, -b, &x, &y);
-    h[0] = y;
-    h[1] = x;
-    return 2;
-}
 
 /* Exact value of p*q + r*s where p, q, r, s are each a difference of two doubles:
  * (p1-p0)(q1-q0) + sgn * (r1-r0)(s1-s0).  Result up to 16 components. */
 static int sum_of_diff_products(double p1, double p0, double q1, double q0, double r1,
                                 double r0, double s1, double s0, int sgn, double *h)
 {
-    double p[2], q[2], r[2], s[2], pq[8], rs[8], nrs[8], tmp[16];
-    diff2(p1, p0, p);
-    diff2(q1, q0, q);
-    diff2(r1, r0, r);
-    diff2(s1, s0, s);
-    int pqlen = mul_expansion(2, p, 2, q, pq);
-    int rslen = mul_expansion(2, r, 2, s, rs);
+    double p[2], q[2], r[2], s[2], pq[8], rs[8], t1[8], t2[8];
+    int plen = expn_diff(p1, p0, p), qlen = expn_diff(q1, q0, q);
+    int rlen = expn_diff(r1, r0, r), slen = expn_diff(s1, s0, s);
+    int pqlen = expn_mul(plen, p, qlen, q, pq, t1, t2);
+    int rslen = expn_mul(rlen, r, slen, s, rs, t1, t2);
     if (sgn < 0)
-        rslen = negate(rslen, rs, nrs);
-    else
-        for (int i = 0; i < rslen; i++)
-            nrs[i] = rs[i];
-    return sum_expansion(pqlen, pq, rslen, nrs, h, tmp);
+        return expn_diff_expansions(pqlen, pq, rslen, rs, h);
+    return expn_sum(pqlen, pq, rslen, rs, h);
 }
 
 /* ---- Predicates ------------------------------------------------------------------- */
@@ -166,7 +40,7 @@ static int orient2d_exact(double ax, double ay, double bx, double by, double cx,
     double h[16];
     /* (bx-ax)(cy-ay) - (by-ay)(cx-ax) */
     int n = sum_of_diff_products(bx, ax, cy, ay, by, ay, cx, ax, -1, h);
-    return expansion_sign(n, h);
+    return expn_sign(n, h);
 }
 
 int mfg_orient2d(double ax, double ay, double bx, double by, double cx, double cy)
@@ -187,18 +61,17 @@ int mfg_dot2d(double ax, double ay, double bx, double by, double cx, double cy)
         return -1;
     double h[16];
     int n = sum_of_diff_products(bx, ax, cx, ax, by, ay, cy, ay, +1, h);
-    return expansion_sign(n, h);
+    return expn_sign(n, h);
 }
 
 /* Exact sign of |t - a|^2 - tol^2. */
 static int point_dist_sign_exact(double tx, double ty, double ax, double ay, double tol)
 {
-    double d2[16], e2[2], diff[18], tmp[18], ne2[2];
+    double d2[16], e2[2], diff[18];
     int n = sum_of_diff_products(ax, tx, ax, tx, ay, ty, ay, ty, +1, d2);
-    two_product(tol, tol, &e2[1], &e2[0]);
-    int elen = negate(2, e2, ne2);
-    int m = sum_expansion(n, d2, elen, ne2, diff, tmp);
-    return expansion_sign(m, diff);
+    int elen = expn_product(tol, tol, e2);
+    int m = expn_diff_expansions(n, d2, elen, e2, diff);
+    return expn_sign(m, diff);
 }
 
 /* 1 when |t - a| <= tol exactly. */
@@ -223,16 +96,15 @@ static int point_within(double tx, double ty, double ax, double ay, double tol)
 static int line_dist_sign_exact(double tx, double ty, double ax, double ay, double bx,
                                 double by, double tol)
 {
-    double cross[16], cross2[EXP_MAX / 2], len2[16], e2[2], rhs[64], nrhs[64];
-    double diff[EXP_MAX], tmp[EXP_MAX];
+    double cross[16], cross2[EXP_MAX / 2], len2[16], e2[2], rhs[64];
+    double diff[EXP_MAX], t1[EXP_MAX / 2], t2[EXP_MAX / 2];
     int cn = sum_of_diff_products(bx, ax, ty, ay, by, ay, tx, ax, -1, cross);
-    int c2n = mul_expansion(cn, cross, cn, cross, cross2);
+    int c2n = expn_mul(cn, cross, cn, cross, cross2, t1, t2);
     int ln = sum_of_diff_products(bx, ax, bx, ax, by, ay, by, ay, +1, len2);
-    two_product(tol, tol, &e2[1], &e2[0]);
-    int rn = mul_expansion(ln, len2, 2, e2, rhs);
-    rn = negate(rn, rhs, nrhs);
-    int dn = sum_expansion(c2n, cross2, rn, nrhs, diff, tmp);
-    return expansion_sign(dn, diff);
+    int en = expn_product(tol, tol, e2);
+    int rn = expn_mul(ln, len2, en, e2, rhs, t1, t2);
+    int dn = expn_diff_expansions(c2n, cross2, rn, rhs, diff);
+    return expn_sign(dn, diff);
 }
 
 int mfg_segment_within(double tx, double ty, double ax, double ay, double bx, double by,
@@ -269,13 +141,21 @@ int mfg_segment_within(double tx, double ty, double ax, double ay, double bx, do
 /* Exact x*(p*q - r*s) as an expansion (up to 8 components); callers sum three. */
 static int cofactor_term(double x, double p, double q, double r, double s, double *h)
 {
-    double pq[2], rs[2], d[4], tmp[4];
-    two_product(p, q, &pq[1], &pq[0]);
-    two_product(r, s, &rs[1], &rs[0]);
-    rs[0] = -rs[0];
-    rs[1] = -rs[1];
-    int n = sum_expansion(2, pq, 2, rs, d, tmp);
-    return scale_expansion(n, d, x, h);
+    double pq[2], rs[2], d[4];
+    int pqn = expn_product(p, q, pq), rsn = expn_product(r, s, rs);
+    int n = expn_diff_expansions(pqn, pq, rsn, rs, d);
+    return expn_scale(n, d, x, h);
+}
+
+/* Exact det[a, b, c] on raw coordinates, as an expansion of up to 24 components. */
+static int det3_expansion(const double a[3], const double b[3], const double c[3], double *h)
+{
+    double t0[8], t1[8], t2[8], s01[16];
+    int n0 = cofactor_term(a[0], b[1], c[2], b[2], c[1], t0);
+    int n1 = cofactor_term(a[1], b[2], c[0], b[0], c[2], t1);
+    int n2 = cofactor_term(a[2], b[0], c[1], b[1], c[0], t2);
+    int n01 = expn_sum(n0, t0, n1, t1, s01);
+    return expn_sum(n01, s01, n2, t2, h);
 }
 
 int mfg_orient3(const double a[3], const double b[3], const double c[3])
@@ -296,24 +176,9 @@ int mfg_orient3(const double a[3], const double b[3], const double c[3])
         if (-det > bound)
             return -1;
     }
-    double t0[8], t1[8], t2[8], s01[16], s[24], tmp[24];
-    int n0 = cofactor_term(a[0], b[1], c[2], b[2], c[1], t0);
-    int n1 = cofactor_term(a[1], b[2], c[0], b[0], c[2], t1);
-    int n2 = cofactor_term(a[2], b[0], c[1], b[1], c[0], t2);
-    int n01 = sum_expansion(n0, t0, n1, t1, s01, tmp);
-    int n = sum_expansion(n01, s01, n2, t2, s, tmp);
-    return expansion_sign(n, s);
-}
-
-/* Exact det[a, b, c] on raw coordinates, as an expansion of up to 24 components. */
-static int det3_expansion(const double a[3], const double b[3], const double c[3], double *h)
-{
-    double t0[8], t1[8], t2[8], s01[16], tmp[24];
-    int n0 = cofactor_term(a[0], b[1], c[2], b[2], c[1], t0);
-    int n1 = cofactor_term(a[1], b[2], c[0], b[0], c[2], t1);
-    int n2 = cofactor_term(a[2], b[0], c[1], b[1], c[0], t2);
-    int n01 = sum_expansion(n0, t0, n1, t1, s01, tmp);
-    return sum_expansion(n01, s01, n2, t2, h, tmp);
+    double s[24];
+    int n = det3_expansion(a, b, c, s);
+    return expn_sign(n, s);
 }
 
 int mfg_orient3d(const double a[3], const double b[3], const double c[3], const double d[3])
@@ -336,14 +201,13 @@ int mfg_orient3d(const double a[3], const double b[3], const double c[3], const 
             return -1;
     }
     /* Exact: the four determinants of the raw coordinates (no rounded difference). */
-    double acd[24], abc[24], bcd[24], abd[24], s1[48], s2[48], ns2[48], s[96], tmp[96];
+    double acd[24], abc[24], bcd[24], abd[24], s1[48], s2[48], s[96];
     int n_acd = det3_expansion(a, c, d, acd), n_abc = det3_expansion(a, b, c, abc);
     int n_bcd = det3_expansion(b, c, d, bcd), n_abd = det3_expansion(a, b, d, abd);
-    int n1 = sum_expansion(n_acd, acd, n_abc, abc, s1, tmp);
-    int n2 = sum_expansion(n_bcd, bcd, n_abd, abd, s2, tmp);
-    negate(n2, s2, ns2);
-    int n = sum_expansion(n1, s1, n2, ns2, s, tmp);
-    return expansion_sign(n, s);
+    int n1 = expn_sum(n_acd, acd, n_abc, abc, s1);
+    int n2 = expn_sum(n_bcd, bcd, n_abd, abd, s2);
+    int n = expn_diff_expansions(n1, s1, n2, s2, s);
+    return expn_sign(n, s);
 }
 
 int mfg_orient3d_vec(const double o[3], const double a[3], const double b[3], const double v[3])
@@ -365,23 +229,22 @@ int mfg_orient3d_vec(const double o[3], const double a[3], const double b[3], co
             return -1;
     }
     /* Exact: det[a - o, b - o, v] = det[a, b, v] + det[o, a, v] + det[b, o, v]. */
-    double abv[24], oav[24], bov[24], s1[48], s[72], tmp[72];
+    double abv[24], oav[24], bov[24], s1[48], s[72];
     int n_abv = det3_expansion(a, b, v, abv), n_oav = det3_expansion(o, a, v, oav);
     int n_bov = det3_expansion(b, o, v, bov);
-    int n1 = sum_expansion(n_abv, abv, n_oav, oav, s1, tmp);
-    int n = sum_expansion(n1, s1, n_bov, bov, s, tmp);
-    return expansion_sign(n, s);
+    int n1 = expn_sum(n_abv, abv, n_oav, oav, s1);
+    int n = expn_sum(n1, s1, n_bov, bov, s);
+    return expn_sign(n, s);
 }
 
 /* Exact a . b as an expansion of up to 6 components. */
 static int dot3_expansion(const double a[3], const double b[3], double *e)
 {
-    double h[6], tmp[6], t[2];
-    two_product(a[0], b[0], &e[1], &e[0]);
-    int n = 2;
+    double h[6], t[2];
+    int n = expn_product(a[0], b[0], e);
     for (int k = 1; k < 3; k++) {
-        two_product(a[k], b[k], &t[1], &t[0]);
-        n = sum_expansion(n, e, 2, t, h, tmp);
+        int tn = expn_product(a[k], b[k], t);
+        n = expn_sum(n, e, tn, t, h);
         for (int i = 0; i < n; i++)
             e[i] = h[i];
     }
@@ -410,22 +273,21 @@ int mfg_cross_dot_sign(const double a[3], const double b[3], const double c[3],
         if (-v > bound)
             return -1;
     }
-    double eac[6], ebd[6], ead[6], ebc[6], p[72], q[72], nq[72], s[144], tmp[144];
+    double eac[6], ebd[6], ead[6], ebc[6], p[72], q[72], s[144], t1[72], t2[72];
     int nac = dot3_expansion(a, c, eac), nbd = dot3_expansion(b, d, ebd);
     int nad = dot3_expansion(a, d, ead), nbc = dot3_expansion(b, c, ebc);
-    int np = mul_expansion(nac, eac, nbd, ebd, p);
-    int nqq = mul_expansion(nad, ead, nbc, ebc, q);
-    negate(nqq, q, nq);
-    int ns = sum_expansion(np, p, nqq, nq, s, tmp);
-    return expansion_sign(ns, s);
+    int np = expn_mul(nac, eac, nbd, ebd, p, t1, t2);
+    int nqq = expn_mul(nad, ead, nbc, ebc, q, t1, t2);
+    int ns = expn_diff_expansions(np, p, nqq, q, s);
+    return expn_sign(ns, s);
 }
 
 /* Exact test p*q == r*s: the (rounded product, error) pair of a product is unique. */
 static int products_equal(double p, double q, double r, double s)
 {
     double h1, l1, h2, l2;
-    two_product(p, q, &h1, &l1);
-    two_product(r, s, &h2, &l2);
+    expn_two_product(p, q, &h1, &l1);
+    expn_two_product(r, s, &h2, &l2);
     return h1 == h2 && l1 == l2;
 }
 
@@ -451,15 +313,15 @@ int mfg_dot3_sign(const double a[3], const double b[3])
     }
     double e[6];
     int n = dot3_expansion(a, b, e);
-    return expansion_sign(n, e);
+    return expn_sign(n, e);
 }
 
 /* p*q - r*s accurately: the rounding errors of both products are carried along. */
 static double diff_of_products(double p, double q, double r, double s)
 {
     double h1, l1, h2, l2;
-    two_product(p, q, &h1, &l1);
-    two_product(r, s, &h2, &l2);
+    expn_two_product(p, q, &h1, &l1);
+    expn_two_product(r, s, &h2, &l2);
     return (h1 - h2) + (l1 - l2);
 }
 
