@@ -11,6 +11,7 @@
  * never hit - every triangle of an edge sees the same perturbation), and the start on
  * the triangle's back or front (arr_orient3d). */
 #include "arrange/arrange.h"
+#include "common/expansion.h"
 
 /* Faces of a patch tried as ray starts, largest first. */
 #define RAY_TRIES 16
@@ -274,6 +275,172 @@ static int64_t decide_by_balance(const arr_ctx *c, const edges *E, const int64_t
     return left;
 }
 
+/* ---- The winding round an edge ------------------------------------------------------- */
+
+/* A face too thin to hold a start point takes its winding from a neighbour across an edge
+ * where three or more faces meet: round that edge (line L through p, q, direction l) the
+ * faces are ordered by angle, and crossing face i in the direction of increasing angle
+ * changes w by -mult * (its front lies ahead).  Every face lies in its cluster's plane
+ * (normal n of the representative triangle), so with d_i the direction in that plane from
+ * L towards the face's third corner r_i (d_i = s_i (n_i x l), s_i the side of r_i):
+ *   sign (d_i x d_j) . l = s_i s_j sign det(n_i, n_j, l),   sign d_i . d_j = s_i s_j sign n_i . n_j
+ * and det(n_i, n_j, l) = +-|n_i x n_j| |l| (both planes hold L): its sign is that of a
+ * non-zero component k of n_i x n_j times the sign of q_k - p_k.  All exact. */
+
+#define RX_MAX 64 /* components of the expansions below (products of the normals) */
+
+/* The exact normal (b - a) x (c - a) of an explicit triangle, each component an
+ * expansion (at most 8 components). */
+static void exact_normal(const double *xyz, const int64_t *V, double n[3][8], int len[3])
+{
+    double u[3][2], w[3][2];
+    int lu[3], lw[3];
+    for (int k = 0; k < 3; k++) {
+        lu[k] = expn_diff(xyz[3 * V[1] + k], xyz[3 * V[0] + k], u[k]);
+        lw[k] = expn_diff(xyz[3 * V[2] + k], xyz[3 * V[0] + k], w[k]);
+    }
+    for (int k = 0; k < 3; k++) {
+        int i = (k + 1) % 3, j = (k + 2) % 3;
+        double p1[8], p2[8], s1[8], s2[8];
+        int l1 = expn_mul(lu[i], u[i], lw[j], w[j], p1, s1, s2);
+        int l2 = expn_mul(lu[j], u[j], lw[i], w[i], p2, s1, s2);
+        len[k] = expn_compress(expn_diff_expansions(l1, p1, l2, p2, n[k]), n[k]);
+    }
+}
+
+/* Sign of a . b - c . d for expansions (a b and c d products of two of the normal's
+ * components). */
+static int sign_ab_minus_cd(const double *a, int la, const double *b, int lb, const double *c,
+                            int lc, const double *d, int ld)
+{
+    double p1[2 * RX_MAX], p2[2 * RX_MAX], s1[2 * RX_MAX], s2[2 * RX_MAX], r[4 * RX_MAX];
+    int l1 = expn_mul(la, a, lb, b, p1, s1, s2);
+    int l2 = expn_mul(lc, c, ld, d, p2, s1, s2);
+    return expn_sign(expn_diff_expansions(l1, p1, l2, p2, r), r);
+}
+
+/* sign of n_i . n_j */
+static int normals_dot(double ni[3][8], const int *li, double nj[3][8], const int *lj)
+{
+    double acc[6 * RX_MAX], p[2 * RX_MAX], s1[2 * RX_MAX], s2[2 * RX_MAX], t[6 * RX_MAX];
+    int la = 0;
+    for (int k = 0; k < 3; k++) {
+        int lp = expn_mul(li[k], ni[k], lj[k], nj[k], p, s1, s2);
+        int lt = expn_sum(la, acc, lp, p, t);
+        la = expn_compress(lt, t);
+        memcpy(acc, t, (size_t)la * sizeof *acc);
+    }
+    return expn_sign(la, acc);
+}
+
+typedef struct rface {
+    int64_t f;       /* the face */
+    int s;           /* side of its third corner: sign of (n x l) . (r - p) */
+    int o;           /* its front along +n (1) or -n (-1) */
+    double n[3][8];  /* its plane's normal, exactly */
+    int ln[3];
+    int half;        /* 0: angle in [0, pi) from the first face, 1: [pi, 2 pi) */
+} rface;
+
+/* sign det(n_i, n_j, l), l = q - p */
+static int det_nnl(const arr_points *P, const rface *a, const rface *b, int64_t p, int64_t q)
+{
+    for (int k = 0; k < 3; k++) {
+        int i = (k + 1) % 3, j = (k + 2) % 3;
+        int sk = sign_ab_minus_cd(a->n[i], a->ln[i], b->n[j], b->ln[j], a->n[j], a->ln[j],
+                                  b->n[i], b->ln[i]);
+        if (sk != 0)
+            return sk * arr_cmp(P, q, p, k);
+    }
+    return 0;
+}
+
+/* The winding in front of face f from the faces round its side from p to q whose
+ * patches' windings are known (pw by patch root); INT64_MIN when none is. */
+static int64_t winding_round_edge(const arr_ctx *c, const int64_t *root, const int64_t *pw,
+                                  const int64_t *faces, int64_t nfaces, int64_t p, int64_t q,
+                                  int64_t f, rface *R)
+{
+    arr_points P = arr_view(&c->T);
+    int known = -1, me = -1;
+    if (nfaces > 16)
+        return INT64_MIN;
+    for (int64_t i = 0; i < nfaces; i++) {
+        const arr_face *F = &c->face[faces[i]];
+        const arr_cluster *K = &c->cl[F->cluster];
+        rface *r = &R[i];
+        r->f = faces[i];
+        int64_t third = -1;
+        for (int k = 0; k < 3; k++)
+            if (F->v[k] != p && F->v[k] != q)
+                third = F->v[k];
+        if (third < 0)
+            return INT64_MIN;
+        r->s = arr_orient2d(&P, p, q, third, K->axis) * K->sign;
+        r->o = arr_orient2d(&P, F->v[0], F->v[1], F->v[2], K->axis) * K->sign;
+        if (r->s == 0 || r->o == 0)
+            return INT64_MIN;
+        exact_normal(c->T.xyz, c->tri + 3 * K->rep, r->n, r->ln);
+        if (faces[i] == f)
+            me = (int)i;
+        else if (known < 0 && pw[root[faces[i]]] != INT64_MIN)
+            known = (int)i;
+    }
+    if (me < 0 || known < 0)
+        return INT64_MIN;
+    /* halves relative to face 0, then insertion sort by angle */
+    for (int64_t i = 0; i < nfaces; i++) {
+        if (i == 0) {
+            R[i].half = 0;
+            continue;
+        }
+        int sn = R[0].s * R[i].s * det_nnl(&P, &R[0], &R[i], p, q);
+        int cs = R[0].s * R[i].s * normals_dot(R[0].n, R[0].ln, R[i].n, R[i].ln);
+        R[i].half = sn > 0 || (sn == 0 && cs > 0) ? 0 : 1;
+    }
+    int order[16];
+    for (int i = 0; i < nfaces; i++)
+        order[i] = i;
+    for (int i = 1; i < nfaces; i++) {
+        int x = order[i], j = i - 1;
+        while (j >= 0) {
+            const rface *a = &R[order[j]], *b = &R[x];
+            int before; /* b comes before a */
+            if (a->half != b->half)
+                before = b->half < a->half;
+            else
+                before = a->s * b->s * det_nnl(&P, b, a, p, q) > 0;
+            if (!before)
+                break;
+            order[j + 1] = order[j];
+            j--;
+        }
+        order[j + 1] = x;
+    }
+    /* the wedge after each face (in sorted order), from the known face */
+    int64_t wedge[16];
+    int pk = -1, pm = -1;
+    for (int i = 0; i < nfaces; i++) {
+        if (order[i] == known)
+            pk = i;
+        if (order[i] == me)
+            pm = i;
+    }
+    const rface *K0 = &R[order[pk]];
+    int64_t wk = pw[root[K0->f]];
+    int64_t mk = c->face[K0->f].mult;
+    /* ahead of the known face: its front when its front lies ahead, else its back */
+    wedge[pk] = K0->s * K0->o > 0 ? wk : wk + mk;
+    for (int step = 1; step < nfaces; step++) {
+        int i = (pk + step) % (int)nfaces, prev = (i + (int)nfaces - 1) % (int)nfaces;
+        const rface *r = &R[order[i]];
+        wedge[i] = wedge[prev] - c->face[r->f].mult * (r->s * r->o);
+    }
+    const rface *M = &R[order[pm]];
+    int64_t behind = wedge[(pm + (int)nfaces - 1) % (int)nfaces];
+    return M->s * M->o > 0 ? wedge[pm] : behind;
+}
+
 int arr_boundary_faces(arr_ctx *c, const arr_bvh *bvh, uint8_t *keep)
 {
     int64_t nf = c->nface;
@@ -283,7 +450,9 @@ int arr_boundary_faces(arr_ctx *c, const arr_bvh *bvh, uint8_t *keep)
     int64_t *pairs = malloc((size_t)(2 * nf + 2) * sizeof *pairs);
     double *area = malloc((size_t)(nf + 1) * sizeof *area);
     int8_t *state = malloc((size_t)(nf + 1));
-    if (!uf || !pairs || !area || !state || !build_edges(c, &E)) {
+    int64_t *pw = malloc((size_t)(nf + 1) * sizeof *pw); /* w in front, per patch root */
+    if (!uf || !pairs || !area || !state || !pw || !build_edges(c, &E)) {
+        free(pw);
         free(uf);
         free(pairs);
         free(area);
@@ -316,6 +485,7 @@ int arr_boundary_faces(arr_ctx *c, const arr_bvh *bvh, uint8_t *keep)
         area[f] = approx_area(&P, &c->face[f]);
         uf[f] = pairs[2 * f];
         state[f] = -1;
+        pw[f] = INT64_MIN;
     }
     qsort(pairs, (size_t)nf, 2 * sizeof *pairs, cmp_patch);
     int ok = 1;
@@ -355,13 +525,36 @@ int arr_boundary_faces(arr_ctx *c, const arr_bvh *bvh, uint8_t *keep)
             ok = 0;
             break;
         }
-        if (w != INT64_MIN)
-            for (int64_t k = i; k < j; k++) {
-                int64_t f = pairs[2 * k + 1];
-                state[f] = (int8_t)(w <= 0 && w + c->face[f].mult > 0);
-            }
+        pw[pairs[2 * i]] = w;
         i = j;
     }
+    /* patches no start point decided: from their neighbours round an edge, as long as
+     * that decides more */
+    rface R[16];
+    for (int progress = 1; ok && progress;) {
+        progress = 0;
+        for (int64_t f = 0; f < nf; f++) {
+            if (pw[uf[f]] != INT64_MIN)
+                continue;
+            for (int k = 0; k < 3 && pw[uf[f]] == INT64_MIN; k++) {
+                int64_t e = E.fe[3 * f + k], n = E.start[e + 1] - E.start[e];
+                if (n < 3 || n > 16)
+                    continue;
+                int64_t faces[16];
+                for (int64_t q = 0; q < n; q++)
+                    faces[q] = E.item[E.start[e] + q] / 3;
+                int64_t w = winding_round_edge(c, uf, pw, faces, n, c->face[f].v[k],
+                                               c->face[f].v[(k + 1) % 3], f, R);
+                if (w != INT64_MIN) {
+                    pw[uf[f]] = w;
+                    progress = 1;
+                }
+            }
+        }
+    }
+    for (int64_t f = 0; f < nf; f++)
+        if (pw[uf[f]] != INT64_MIN)
+            state[f] = (int8_t)(pw[uf[f]] <= 0 && pw[uf[f]] + c->face[f].mult > 0);
     if (ok) {
         int64_t left = decide_by_balance(c, &E, uf, state);
         if (left > 0) {
@@ -376,6 +569,7 @@ int arr_boundary_faces(arr_ctx *c, const arr_bvh *bvh, uint8_t *keep)
     free(pairs);
     free(area);
     free(state);
+    free(pw);
     edges_free(&E);
     return ok;
 }
