@@ -52,7 +52,7 @@ static hkey cell_key(const double *p, double eps, int d)
                  (int64_t)floor(p[2] / eps) + d / 9 - 1, 0);
 }
 
-static int weld(mfg_rmesh *m, double eps)
+static int weld(mfg_rmesh *m, double eps, int chain)
 {
     int64_t nv = m->nv, nt = m->nt;
     int64_t *uf = malloc((size_t)(nv + 1) * sizeof *uf);
@@ -113,10 +113,13 @@ static int weld(mfg_rmesh *m, double eps)
         int64_t j = i, net = 0;
         while (j < n && !memcmp(keys[j].s, keys[i].s, sizeof keys[i].s))
             net += keys[j++].sign;
-        for (int64_t q = i; q < j && net != 0; q++)
+        /* the net orientation survives: once on a surface, |net| times in a chain (a
+         * triangle counted twice is a sheet of multiplicity two) */
+        int64_t want = net == 0 ? 0 : chain ? (net > 0 ? net : -net) : 1;
+        for (int64_t q = i; q < j && want > 0; q++)
             if (keys[q].sign == (net > 0 ? 1 : -1)) {
-                keep[nk++] = keys[q].t; /* one triangle of the net orientation */
-                break;
+                keep[nk++] = keys[q].t;
+                want--;
             }
         i = j;
     }
@@ -463,5 +466,10 @@ done:
 
 int mfg_mesh_repair(mfg_rmesh *m, double eps)
 {
-    return weld(m, eps) && remove_needles(m, eps) && separate_sheets(m);
+    return weld(m, eps, 0) && remove_needles(m, eps) && separate_sheets(m);
+}
+
+int mfg_chain_weld(mfg_rmesh *m, double eps)
+{
+    return weld(m, eps, 1);
 }

@@ -36,4 +36,11 @@ typedef struct mfg_rmesh {
  */
 int mfg_mesh_repair(mfg_rmesh *m, double eps);
 
+/* Step 1 alone for a closed 2-chain (triangles counted with their orientation): points
+ * closer than eps welded into the smallest-numbered one (whose coordinates stay), the
+ * triangles that lose their area dropped, equal triangles of opposite orientations
+ * cancelled (the rest kept as often as their net count): the chain stays closed.  1, or
+ * 0 when out of memory. */
+int mfg_chain_weld(mfg_rmesh *m, double eps);
+
 #endif

@@ -81,7 +81,8 @@ typedef struct sw_env {
     double theta, tol;
     int full_turn;
     int nsteps;             /* N: chord polylines have N segments, tangent ones N + 1 */
-    double delta;           /* theta / N */
+    double delta;           /* the step: t_i = i delta for i < N, t_N = theta */
+    int symmetry;           /* the part's symmetry about the axis the steps follow (1: none) */
     double rmax;
     hmap turned;            /* (vertex, code) -> turned vertex */
     /* the soup: triangles and their planar group (-1: none) */
@@ -110,6 +111,8 @@ double sw_snap(double x);
 int64_t sw_add_vertex(sw_env *e, const double p[3]);
 /* The axis (unit direction) and the steps for theta and the tolerance (rmax set). */
 void sw_setup_steps(sw_env *e);
+/* t_i: i delta, theta for i >= N. */
+double sw_step_angle(const sw_env *e, int i);
 /* Vertex v turned by step i of the chord polyline (i = 0 .. N: R(i delta) v; R(theta) v
  * at i = N, v itself at a full turn), or apex i of the tangent polyline (i = 0 .. N-1).
  * Made once per (v, kind, i).  -1 when out of memory. */

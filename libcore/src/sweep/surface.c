@@ -38,9 +38,21 @@ static void uf_join(int64_t *uf, int64_t a, int64_t b)
  * needles thinner than it removed (mesh/mesh_repair.h): the surface moves by at most
  * this, far inside the tolerance's headroom. */
 #define SW_REPAIR_EPS 0x1p-40
+/* Points of the chain closer than this are welded before the arrangement: turns of
+ * different vertices onto one position (a part symmetric about the axis, whose strips
+ * coincide when the steps line up) come out of the rounding a few ulps apart, and as
+ * separate points they would make the arrangement cut nearly coincident sheets into
+ * slivers; welded, the sheets are one plane's (a cluster) and add up exactly. */
+#define SW_SOUP_WELD 0x1p-36
 
 int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_)
 {
+    mfg_rmesh soup = {e->x, e->nv, e->capv, e->st, e->nst, e->capst, e->sgroup};
+    if (!mfg_chain_weld(&soup, SW_SOUP_WELD)) {
+        e->st_code = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
+        return 0;
+    }
+    e->nst = soup.nt;
     static const arr_stages stages = {
         {"sweep: intersections", "sweep: faces", "sweep: boundary"}, {0.3, 0.55, 0.8, 0.9}};
     arr_table T;
@@ -49,6 +61,32 @@ int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_
 #ifdef ARR_DEBUG
     fprintf(stderr, "soup: %lld triangles, %lld vertices (input %lld)\n", (long long)e->nst,
             (long long)e->nv, (long long)e->nin);
+    {
+        hmap bal;
+        memset(&bal, 0, sizeof bal);
+        if (!hmap_init(&bal, 3 * e->nst + 1)) return 0;
+        int64_t *cnt = calloc((size_t)(3 * e->nst + 1), sizeof *cnt), nk = 0;
+        for (int64_t t = 0; t < e->nst; t++)
+            for (int k = 0; k < 3; k++) {
+                int64_t a = e->st[3 * t + k], b = e->st[3 * t + (k + 1) % 3];
+                hkey key = mkkey(a < b ? a : b, a < b ? b : a, 0, 0);
+                int64_t id = hmap_get(&bal, &key);
+                if (id < 0) { id = nk++; hmap_put(&bal, &key, id); }
+                cnt[id] += a < b ? 1 : -1;
+            }
+        int64_t open = 0;
+        for (int64_t i = 0; i < nk; i++) open += cnt[i] != 0;
+        fprintf(stderr, "soup: %lld unbalanced edges\n", (long long)open);
+        if (getenv("MFG_SWEEP_DUMP")) {
+            FILE *fp = fopen(getenv("MFG_SWEEP_DUMP"), "w");
+            fprintf(fp, "%lld %lld\n", (long long)e->nv, (long long)e->nst);
+            for (int64_t i = 0; i < e->nv; i++) fprintf(fp, "%.17g %.17g %.17g\n", e->x[3*i], e->x[3*i+1], e->x[3*i+2]);
+            for (int64_t t = 0; t < e->nst; t++) fprintf(fp, "%lld %lld %lld\n", (long long)e->st[3*t], (long long)e->st[3*t+1], (long long)e->st[3*t+2]);
+            fclose(fp);
+        }
+        free(cnt);
+        hmap_free(&bal);
+    }
 #endif
     mfg_status st = arr_union_boundary(e->x, e->nv, e->st, e->nst, e->prog, &stages, &T, &F,
                                        &nf, &tcl, &ncl);

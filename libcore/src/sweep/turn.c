@@ -68,6 +68,93 @@ static void turn(const sw_env *e, const double p[3], double t, double f, double 
         out[k] = par[k] + f * (c * perp[k] + s * side[k]);
 }
 
+/* ---- The steps --------------------------------------------------------------------------- */
+
+/* Vertices within this of each other in (distance from the axis, height along it) are
+ * turns of one another (unit scale; CAD copies of a feature agree far better). */
+#define SYM_RZ 0x1p-30
+/* An angle between two such vertices is a multiple of 2 pi / m when it is within this
+ * many turns of one. */
+#define SYM_ANGLE 1e-7
+/* The most-fold symmetry looked for (beyond it the steps would have to be too fine). */
+#define SYM_MAX 360
+
+typedef struct rzphi {
+    double r, z, phi;
+} rzphi;
+
+static int cmp_rz(const void *pa, const void *pb)
+{
+    const rzphi *a = pa, *b = pb;
+    if (a->z != b->z)
+        return a->z < b->z ? -1 : 1;
+    if (a->r != b->r)
+        return a->r < b->r ? -1 : 1;
+    return (a->phi > b->phi) - (a->phi < b->phi);
+}
+
+/* The order m of the part's symmetry about the axis as its vertices show it: the smallest
+ * m <= SYM_MAX such that any two vertices at the same distance from the axis and height
+ * along it lie a multiple of 2 pi / m apart (1 when no vertices pair up, 0 when some do
+ * but no such m exists).  Strips of symmetric contour edges then coincide exactly when the
+ * steps are multiples of 2 pi / m (their points are welded, surface.c); otherwise they
+ * are polyhedral copies of one surface in different phases, which cross everywhere. */
+static int symmetry_order(const sw_env *e)
+{
+    rzphi *v = malloc((size_t)(e->nin + 1) * sizeof *v);
+    if (!v)
+        return 1; /* only an optimisation */
+    double ref[3] = {1, 0, 0};
+    if (fabs(e->kh[0]) > 0.9)
+        ref[0] = 0, ref[1] = 1;
+    double u1[3], u2[3];
+    mfg_cross3(e->kh, ref, u1);
+    mfg_unit3(u1, u1);
+    mfg_cross3(e->kh, u1, u2);
+    int64_t n = 0;
+    for (int64_t i = 0; i < e->nin; i++) {
+        const double *p = e->x + 3 * i;
+        double r = sw_radius(e, p);
+        if (r < SW_ON_AXIS)
+            continue;
+        v[n].r = r;
+        v[n].z = mfg_dot3(e->kh, p);
+        v[n].phi = atan2(mfg_dot3(p, u2), mfg_dot3(p, u1));
+        n++;
+    }
+    qsort(v, (size_t)n, sizeof *v, cmp_rz);
+    /* the angle differences within groups, as fractions of a turn */
+    double *diff = malloc((size_t)(n + 1) * sizeof *diff);
+    int64_t nd = 0;
+    if (!diff) {
+        free(v);
+        return 1;
+    }
+    for (int64_t i = 0; i < n;) {
+        int64_t j = i + 1;
+        while (j < n && fabs(v[j].z - v[i].z) <= SYM_RZ && fabs(v[j].r - v[i].r) <= SYM_RZ)
+            j++;
+        for (int64_t k = i + 1; k < j; k++) {
+            double f = (v[k].phi - v[i].phi) / MFG_TWO_PI;
+            diff[nd++] = f - floor(f);
+        }
+        i = j;
+    }
+    int m = nd == 0 ? 1 : 0;
+    for (int cand = 2; cand <= SYM_MAX && m == 0; cand++) {
+        int ok = 1;
+        for (int64_t i = 0; i < nd && ok; i++) {
+            double x = diff[i] * cand;
+            ok = fabs(x - nearbyint(x)) < SYM_ANGLE * cand;
+        }
+        if (ok)
+            m = cand;
+    }
+    free(v);
+    free(diff);
+    return m;
+}
+
 void sw_setup_steps(sw_env *e)
 {
     double len = mfg_norm3(e->k);
@@ -84,14 +171,32 @@ void sw_setup_steps(sw_env *e)
     for (int64_t v = 0; v < e->nin; v++)
         e->rmax = fmax(e->rmax, sw_radius(e, e->x + 3 * v));
     /* the apex height r (sec(delta/2) - 1) within its share of the tolerance at rmax */
-    double step = MFG_PI;
+    double step = MFG_PI / 2;
     if (e->rmax > 0) {
         double sec = 1 + SW_SHARE_APEX * e->tol / e->rmax;
         step = fmin(step, 2 * acos(1 / sec));
     }
-    double n = ceil(e->theta / step);
-    e->nsteps = n < 1 ? 1 : (int)n;
-    e->delta = e->theta / e->nsteps;
+    /* steps of 2 pi / (m q) for a part with an m-fold symmetry about the axis: the last
+     * step ends at theta and may be shorter */
+    int m = symmetry_order(e);
+    e->symmetry = m;
+    if (m >= 2) {
+        double q = ceil(MFG_TWO_PI / (m * step));
+        e->delta = MFG_TWO_PI / (m * q);
+        double n = ceil(e->theta / e->delta * (1 - 1e-12));
+        e->nsteps = n < 1 ? 1 : (int)n;
+        if (e->full_turn)
+            e->delta = MFG_TWO_PI / e->nsteps;
+    } else {
+        double n = ceil(e->theta / step);
+        e->nsteps = n < 1 ? 1 : (int)n;
+        e->delta = e->theta / e->nsteps;
+    }
+}
+
+double sw_step_angle(const sw_env *e, int i)
+{
+    return i >= e->nsteps ? e->theta : i * e->delta;
 }
 
 /* Codes of the turned-point map: chord point i is i, apex i is nsteps + 1 + i. */
@@ -112,12 +217,11 @@ static int64_t cached(sw_env *e, int64_t v, int64_t code, int apex, int i)
              * tilts the first quad of a strip that leaves its face tangentially (a cut
              * line: the first tangent lies in the face's plane) clear of that plane, so
              * the arrangement never meets the two as nearly coplanar sheets */
-            double t = (i + 0.5) * e->delta, r = sw_radius(e, p);
-            turn(e, p, t, 1 / cos(0.5 * e->delta) + SW_SHARE_PUSH * e->tol / r, q);
-        } else if (i == e->nsteps) {
-            turn(e, p, e->theta, 1, q);
+            double t0 = sw_step_angle(e, i), t1 = sw_step_angle(e, i + 1);
+            double r = sw_radius(e, p);
+            turn(e, p, 0.5 * (t0 + t1), 1 / cos(0.5 * (t1 - t0)) + SW_SHARE_PUSH * e->tol / r, q);
         } else {
-            turn(e, p, i * e->delta, 1, q);
+            turn(e, p, sw_step_angle(e, i), 1, q);
         }
         id = sw_add_vertex(e, q);
         if (id < 0)
