@@ -91,7 +91,9 @@ MFG_API const char *mfg_version(void);
  * Stages, in order, per entry point:
  *   mfg_rotational_sweep_p  "sweep: setup", "sweep: contour", "sweep: strips",
  *                           "sweep: intersections", "sweep: faces", "sweep: boundary",
- *                           "sweep: output", "sweep: done"
+ *                           "sweep: output", "sweep: done" (contour .. boundary repeat,
+ *                           with a fraction that still only grows, in the rare case that
+ *                           the envelope is built again with other steps)
  *   mfg_medial_surface_p    "medial: elements", "medial: octree", "medial: sheets",
  *                           "medial: junctions", "medial: assembly", "medial: done"
  *   mfg_medial_axis_p       "axis: setup", "axis: branches", "axis: output", "axis: done"

@@ -26,10 +26,11 @@ static int zero_area(const arr_points *P, const int64_t *V)
     return 1;
 }
 
-mfg_status arr_union_boundary(const double *xyz, int64_t nv, const int64_t *tri, int64_t ntri,
-                              mfg_prog *prog, const arr_stages *stages, arr_table *table,
-                              arr_face **out_faces, int64_t *nfaces, int64_t **out_tcluster,
-                              int64_t *nclusters)
+/* The pipeline; every_face: stop after the clusters' faces (all of them, no winding). */
+static mfg_status run(const double *xyz, int64_t nv, const int64_t *tri, int64_t ntri,
+                      mfg_prog *prog, const arr_stages *stages, arr_table *table,
+                      arr_face **out_faces, int64_t *nfaces, int64_t **out_tcluster,
+                      int64_t *nclusters, int every_face)
 {
     arr_ctx c;
     memset(&c, 0, sizeof c);
@@ -78,6 +79,12 @@ mfg_status arr_union_boundary(const double *xyz, int64_t nv, const int64_t *tri,
     }
     if (!arr_clusters(&c))
         goto done;
+    if (every_face) {
+        *out_faces = c.face;
+        *nfaces = c.nface;
+        c.face = NULL;
+        goto done;
+    }
     if (!mfg_prog_stage(prog, stages->name[2], stages->at[2], stages->at[3], 64)) {
         c.st = MFG_ERR_CANCELLED;
         goto done;
@@ -113,4 +120,20 @@ done:
     else
         arr_table_free(&c.T);
     return st;
+}
+
+mfg_status arr_union_boundary(const double *xyz, int64_t nv, const int64_t *tri, int64_t ntri,
+                              mfg_prog *prog, const arr_stages *stages, arr_table *table,
+                              arr_face **out_faces, int64_t *nfaces, int64_t **out_tcluster,
+                              int64_t *nclusters)
+{
+    return run(xyz, nv, tri, ntri, prog, stages, table, out_faces, nfaces, out_tcluster,
+               nclusters, 0);
+}
+
+mfg_status arr_cluster_faces(const double *xyz, int64_t nv, const int64_t *tri, int64_t ntri,
+                             mfg_prog *prog, const arr_stages *stages, arr_table *table,
+                             arr_face **out_faces, int64_t *nfaces)
+{
+    return run(xyz, nv, tri, ntri, prog, stages, table, out_faces, nfaces, NULL, NULL, 1);
 }

@@ -86,8 +86,9 @@ int64_t arr_lift(arr_table *T, const int64_t tri[3], int axis, double u, double 
 void arr_truncate(arr_table *T, int64_t npts);
 
 /* Merges points at exactly the same position: canon[p] = the smallest id at p's
- * position, for every point so far.  1, or 0 when out of memory. */
-int arr_dedupe(arr_table *T);
+ * position, for every point so far.  1, 0 when out of memory, -1 when prog (may be NULL)
+ * asked to stop. */
+int arr_dedupe(arr_table *T, mfg_prog *prog);
 static inline int64_t arr_canon(const arr_table *T, int64_t p)
 {
     return p < T->ncanon ? T->canon[p] : p;
@@ -193,5 +194,14 @@ mfg_status arr_union_boundary(const double *xyz, int64_t nv, const int64_t *tri,
                               mfg_prog *prog, const arr_stages *stages, arr_table *table,
                               arr_face **out_faces, int64_t *nfaces, int64_t **out_tcluster,
                               int64_t *nclusters);
+
+/* The faces of every cluster with their multiplicities (the 2-D arrangements alone, no
+ * winding numbers): for a chain whose triangles all lie in one plane, the faces of the
+ * plane's arrangement, each counted as often as the chain covers it (mult, with the face
+ * counter-clockwise about the normal direction of its multiplicity's sign).  The same
+ * outputs and errors as arr_union_boundary; stages->name[2] is not used. */
+mfg_status arr_cluster_faces(const double *xyz, int64_t nv, const int64_t *tri, int64_t ntri,
+                             mfg_prog *prog, const arr_stages *stages, arr_table *table,
+                             arr_face **out_faces, int64_t *nfaces);
 
 #endif

@@ -468,7 +468,10 @@ int arr_clusters(arr_ctx *c)
     csr members = {NULL, NULL}, segrec = {NULL, NULL}, ptrec = {NULL, NULL};
     work w;
     memset(&w, 0, sizeof w);
-    int ok = arr_dedupe(&c->T) && csr_build(&members, c->tcluster, c->ntri, c->ncl) &&
+    int dd = arr_dedupe(&c->T, c->prog);
+    if (dd < 0)
+        goto cancelled;
+    int ok = dd && csr_build(&members, c->tcluster, c->ntri, c->ncl) &&
              csr_build(&segrec, c->segcl, c->nseg, c->ncl) &&
              csr_build(&ptrec, c->ptcl, c->npt, c->ncl);
     if (!ok)
@@ -482,7 +485,10 @@ int arr_clusters(arr_ctx *c)
             goto nomem;
     }
     csr_free(&ptrec);
-    if (!arr_dedupe(&c->T) || !csr_build(&ptrec, c->ptcl, c->npt, c->ncl))
+    dd = arr_dedupe(&c->T, c->prog);
+    if (dd < 0)
+        goto cancelled;
+    if (!dd || !csr_build(&ptrec, c->ptcl, c->npt, c->ncl))
         goto nomem;
     for (int64_t cl = 0; cl < c->ncl; cl++) {
         if (!mfg_prog_poll(c->prog, 0.3 * (double)c->ncl + 0.7 * (double)cl, (double)c->ncl))

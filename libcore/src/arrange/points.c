@@ -181,16 +181,7 @@ void arr_truncate(arr_table *T, int64_t npts)
  * cell of this size or into neighbouring ones, and are then compared exactly. */
 #define DD_CELL 0x1p-36
 
-static int64_t uf_root(int64_t *parent, int64_t i)
-{
-    while (parent[i] != i) {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    return i;
-}
-
-int arr_dedupe(arr_table *T)
+int arr_dedupe(arr_table *T, mfg_prog *prog)
 {
     int64_t n = T->npts;
     int64_t *canon = realloc(T->canon, (size_t)(n + 1) * sizeof *canon);
@@ -221,25 +212,31 @@ int arr_dedupe(arr_table *T)
             return 0;
         }
     }
+    /* each point against the representatives of the positions met so far in its
+     * neighbourhood (not against every point there: many constructions of one point -
+     * strips meeting on the axis - would make that quadratic in their number) */
     for (int64_t i = 0; i < n; i++) {
-        for (int d = 0; d < 27; d++) {
+        if ((i & 4095) == 0 && prog && !mfg_prog_poll(prog, (double)i, (double)n)) {
+            free(next);
+            free(cell);
+            hmap_free(&grid);
+            return -1;
+        }
+        for (int d = 0; d < 27 && canon[i] == i; d++) {
             hkey key = mkkey(cell[3 * i] + d % 3 - 1, cell[3 * i + 1] + d / 3 % 3 - 1,
                              cell[3 * i + 2] + d / 9 - 1, 0);
             for (int64_t j = hmap_get(&grid, &key); j >= 0; j = next[j]) {
-                if (j <= i)
-                    continue;
-                int64_t a = uf_root(canon, i), b = uf_root(canon, j);
-                if (a != b && arr_same(&P, i, j)) {
-                    if (a < b)
-                        canon[b] = a;
-                    else
-                        canon[a] = b;
+                if (j >= i || canon[j] != j)
+                    continue; /* only earlier points that represent their position */
+                if (arr_same(&P, i, j)) {
+                    canon[i] = j;
+                    break;
                 }
             }
         }
     }
     for (int64_t i = 0; i < n; i++)
-        canon[i] = uf_root(canon, i);
+        canon[i] = canon[canon[i]]; /* a representative is its own: one step */
     T->ncanon = n;
     free(next);
     free(cell);

@@ -501,7 +501,7 @@ static double twist_of(const sw_env *e, const double *u, const double *v, int ki
     return fabs(mfg_dot3(m, n)) / ln;
 }
 
-static int add_piece(sw_env *e, int64_t u, int64_t v, int kind)
+int sw_add_contour_piece(sw_env *e, int64_t u, int64_t v, int kind)
 {
     if (!mfg_grow((void **)&e->ce, &e->capce, 2 * (e->nce + 1), sizeof *e->ce))
         return 0;
@@ -564,7 +564,7 @@ static int split_contour(split *S)
                 if (!ok)
                     return nomem(e);
             }
-            if (!add_piece(e, prev, cur, kind))
+            if (!sw_add_contour_piece(e, prev, cur, kind))
                 return nomem(e);
             prev = cur;
         }

@@ -23,6 +23,7 @@
  *               arrangement's grid)
  *   contour.c   F and B: each triangle split along its line n . tau = 0, the contour,
  *               the pieces triangulated (F at t = 0, B turned by theta)
+ *   profile.c   a full turn: the outline of the profile, revolved instead of the contour
  *   strips.c    the strips along the contour and the fins
  *   surface.c   the arrangement of the chain, the planar pieces merged, the output mesh
  *   canonical.c the input in a canonical order
@@ -60,6 +61,8 @@
 #define SW_TRIG_SNAP 1e-15
 /* A vertex closer than this to the axis (unit scale) is on it: its turns are itself. */
 #define SW_ON_AXIS 0x1p-40
+/* Builds of the soup tried before a broken invariant is reported (rotsweep.c). */
+#define SW_ATTEMPTS 3
 /* The most soup triangles a sweep may build (strips x steps): beyond, the tolerance is
  * refused as needing work without bound. */
 #define SW_MAX_SOUP 40000000
@@ -83,6 +86,7 @@ typedef struct sw_env {
     int nsteps;             /* N: chord polylines have N segments, tangent ones N + 1 */
     double delta;           /* the step: t_i = i delta for i < N, t_N = theta */
     int symmetry;           /* the part's symmetry about the axis the steps follow (1: none) */
+    int attempt;            /* 0, then 1, 2 when the soup is built again (one step more each) */
     double rmax;
     hmap turned;            /* (vertex, code) -> turned vertex */
     /* the soup: triangles and their planar group (-1: none) */
@@ -135,6 +139,14 @@ int sw_emit(sw_env *e, int64_t a, int64_t b, int64_t c, int64_t g);
 /* ---- contour.c ---------------------------------------------------------------------------- */
 /* F at t = 0 and R(theta) B, and the contour (split into pieces for the twist). */
 int sw_build_faces(sw_env *e);
+/* Appends contour piece u -> v of the given kind (SW_TANGENT, SW_CHORD, -1: level, the
+ * kind decided by its neighbours); 0 when out of memory. */
+int sw_add_contour_piece(sw_env *e, int64_t u, int64_t v, int kind);
+
+/* ---- profile.c ------------------------------------------------------------------------------ */
+/* A full turn: the contour replaced by the outline of the profile P (the soup must hold no
+ * F or B faces). */
+int sw_build_profile(sw_env *e);
 
 /* ---- strips.c ------------------------------------------------------------------------------ */
 /* The strips along the contour, and the fins where its polylines change kind. */

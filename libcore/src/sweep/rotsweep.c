@@ -224,22 +224,54 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     if (!ok)
         e.st_code = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
     e.nin = nvertices;
-    if (ok)
-        sw_setup_steps(&e);
     double *ox = NULL;
     int64_t nox = 0, *ot = NULL, not_ = 0;
-    ok = ok && (mfg_prog_stage(&prog, "sweep: contour", 0.05, 0.15, 1024) || (e.st_code = MFG_ERR_CANCELLED, 0)) &&
-         sw_build_faces(&e);
+    /* A broken invariant of the arrangement or of the repair of its rounded boundary
+     * (a bug, or a configuration rounding defeats) is not the caller's problem while
+     * another build can avoid it: the soup is built again with one step more (other
+     * turned points, other crossings), up to SW_ATTEMPTS times, before the call reports
+     * MFG_ERR_INTERNAL. */
+    for (int attempt = 0; ok && attempt < SW_ATTEMPTS; attempt++) {
+        if (attempt > 0) {
+            e.nv = e.nin;
+            e.nst = 0;
+            e.nce = 0;
+            hmap_free(&e.turned);
+            if (!hmap_init(&e.turned, 4 * nvertices + 64)) {
+                e.st_code = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
+                ok = 0;
+                break;
+            }
+            e.st_code = MFG_OK;
+        }
+        e.attempt = attempt;
+        sw_setup_steps(&e);
+        int built = (mfg_prog_stage(&prog, "sweep: contour", 0.05, 0.15, 1024) ||
+                     (e.st_code = MFG_ERR_CANCELLED, 0)) &&
+                    sw_build_faces(&e);
 #ifdef ARR_DEBUG
-    int64_t nfaces_soup = e.nst;
+        int64_t nfaces_soup = e.nst;
 #endif
-    ok = ok && (mfg_prog_stage(&prog, "sweep: strips", 0.15, 0.3, 256) || (e.st_code = MFG_ERR_CANCELLED, 0)) &&
-         sw_build_strips(&e);
+        if (built && e.full_turn) {
+            /* a full turn revolves the profile's outline, not the contour */
+            e.nst = 0;
+            built = sw_build_profile(&e);
+        }
+        built = built && (mfg_prog_stage(&prog, "sweep: strips", 0.15, 0.3, 256) ||
+                          (e.st_code = MFG_ERR_CANCELLED, 0)) &&
+                sw_build_strips(&e);
 #ifdef ARR_DEBUG
-    fprintf(stderr, "faces F/B: soup 0..%lld, strips and fins after; steps %d, contour pieces %lld\n",
-            (long long)nfaces_soup, e.nsteps, (long long)e.nce);
+        fprintf(stderr, "faces F/B: soup 0..%lld, strips and fins after; steps %d, contour pieces %lld\n",
+                (long long)nfaces_soup, e.nsteps, (long long)e.nce);
 #endif
-    ok = ok && sw_surface(&e, &ox, &nox, &ot, &not_);
+        built = built && sw_surface(&e, &ox, &nox, &ot, &not_);
+        if (built || e.st_code != MFG_ERR_INTERNAL)
+            ok = built;
+        if (built || e.st_code != MFG_ERR_INTERNAL)
+            break;
+        if (attempt + 1 == SW_ATTEMPTS)
+            ok = 0;
+    }
     ok = ok && (mfg_prog_stage(&prog, "sweep: output", 0.9, 1.0, 1) || (e.st_code = MFG_ERR_CANCELLED, 0));
     mfg_mesh *m = NULL;
     if (ok) {

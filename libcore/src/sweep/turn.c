@@ -181,14 +181,14 @@ void sw_setup_steps(sw_env *e)
     int m = symmetry_order(e);
     e->symmetry = m;
     if (m >= 2) {
-        double q = ceil(MFG_TWO_PI / (m * step));
+        double q = ceil(MFG_TWO_PI / (m * step)) + e->attempt;
         e->delta = MFG_TWO_PI / (m * q);
         double n = ceil(e->theta / e->delta * (1 - 1e-12));
         e->nsteps = n < 1 ? 1 : (int)n;
         if (e->full_turn)
             e->delta = MFG_TWO_PI / e->nsteps;
     } else {
-        double n = ceil(e->theta / step);
+        double n = ceil(e->theta / step) + e->attempt;
         e->nsteps = n < 1 ? 1 : (int)n;
         e->delta = e->theta / e->nsteps;
     }

@@ -429,7 +429,7 @@ static void test_sweep(void)
                                      "sweep: strips",        "sweep: intersections",
                                      "sweep: faces",         "sweep: boundary",
                                      "sweep: output",        "sweep: done"};
-    int n = check_entry("mfg_rotational_sweep", run_sweep, st, 8, 0, 6);
+    int n = check_entry("mfg_rotational_sweep", run_sweep, st, 8, 1, 6);
     CHECK(n >= 10);
 }
 
