@@ -137,3 +137,52 @@ mfg_status arr_cluster_faces(const double *xyz, int64_t nv, const int64_t *tri, 
 {
     return run(xyz, nv, tri, ntri, prog, stages, table, out_faces, nfaces, NULL, NULL, 1);
 }
+
+mfg_status arr_chain2d_faces(const double *xyz, int64_t nv, const int64_t *seg, int64_t nseg,
+                             mfg_prog *prog, arr_table *table, arr_face **out_faces,
+                             int64_t *nfaces)
+{
+    arr_ctx c;
+    memset(&c, 0, sizeof c);
+    c.prog = prog;
+    c.st = MFG_OK;
+    for (int a = 0; a < 3; a++)
+        for (int k = 0; k < 3; k++)
+            c.super[a][k] = -1;
+    *out_faces = NULL;
+    *nfaces = 0;
+    if (!arr_table_init(&c.T, xyz, nv))
+        return mfg_fail(MFG_ERR_NOMEM, "arrangement: out of memory");
+    /* one cluster, the plane z = 0, through a triangle of auxiliary points */
+    static const double plane[3][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    int64_t ptri[3];
+    c.tri = ptri;
+    c.ntri = 1;
+    c.tcluster = malloc(sizeof *c.tcluster);
+    c.cl = malloc(sizeof *c.cl);
+    int ok = c.tcluster && c.cl;
+    for (int k = 0; ok && k < 3; k++)
+        ok = (ptri[k] = arr_aux_vertex(&c.T, plane[k])) >= 0;
+    if (!ok) {
+        c.st = mfg_fail(MFG_ERR_NOMEM, "arrangement: out of memory");
+    } else {
+        c.tcluster[0] = 0;
+        c.cl[0].rep = 0;
+        c.cl[0].axis = 2;
+        c.cl[0].sign = 1;
+        c.ncl = 1;
+        if (arr_planar_chain(&c, seg, nseg)) {
+            *out_faces = c.face;
+            *nfaces = c.nface;
+            c.face = NULL;
+        }
+    }
+    c.tri = NULL;
+    mfg_status st = c.st;
+    ctx_free(&c);
+    if (st == MFG_OK)
+        *table = c.T;
+    else
+        arr_table_free(&c.T);
+    return st;
+}

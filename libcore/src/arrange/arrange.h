@@ -171,6 +171,10 @@ int arr_add_point_record(arr_ctx *c, int64_t cl, int64_t p);
 int arr_pairs(arr_ctx *c, arr_bvh *bvh);
 /* cluster.c + cdt.c: the faces of every cluster.  1, or 0 with ctx->st set. */
 int arr_clusters(arr_ctx *c);
+/* cluster.c: the arrangement of the 2-D chain seg (nseg segments, pairs of explicit point
+ * ids) in the plane of cluster 0 (set up by the caller), each segment counting +1 from
+ * its right to its left: faces with their windings into c->face.  1, or 0 with c->st. */
+int arr_planar_chain(arr_ctx *c, const int64_t *seg, int64_t nseg);
 /* cdt.c: the faces of one cluster from its points and segments (split already: no two
  * cross, no point lies inside a segment).  Appends to c->face. */
 int arr_cdt_cluster(arr_ctx *c, int64_t cl, const int64_t *pts, int64_t npts,
@@ -194,6 +198,14 @@ mfg_status arr_union_boundary(const double *xyz, int64_t nv, const int64_t *tri,
                               mfg_prog *prog, const arr_stages *stages, arr_table *table,
                               arr_face **out_faces, int64_t *nfaces, int64_t **out_tcluster,
                               int64_t *nclusters);
+
+/* The faces of the plane z = 0 cut by the closed 2-D chain of nseg segments (seg: pairs of
+ * vertex ids into xyz, whose z is 0), each with its winding number (mult, the face
+ * counter-clockwise about the normal direction of its winding's sign; windings 0 are
+ * left out): a 2-D union or winding computation, exact.  Errors as arr_union_boundary. */
+mfg_status arr_chain2d_faces(const double *xyz, int64_t nv, const int64_t *seg, int64_t nseg,
+                             mfg_prog *prog, arr_table *table, arr_face **out_faces,
+                             int64_t *nfaces);
 
 /* The faces of every cluster with their multiplicities (the 2-D arrangements alone, no
  * winding numbers): for a chain whose triangles all lie in one plane, the faces of the

@@ -544,3 +544,57 @@ fail:
     work_free(&w);
     return 0;
 }
+
+/* ---- A chain in one plane ---------------------------------------------------------------- */
+
+int arr_planar_chain(arr_ctx *c, const int64_t *seg, int64_t nseg)
+{
+    work w;
+    memset(&w, 0, sizeof w);
+    /* the segments (explicit ends), their crossings, then again on the merged points */
+    for (int pass = 0; pass < 2; pass++) {
+        w.L.npts = w.L.nsegs = 0;
+        for (int64_t i = 0; i < nseg; i++) {
+            arr_seg s;
+            s.ea = seg[2 * i];
+            s.eb = seg[2 * i + 1];
+            s.p = arr_canon(&c->T, s.ea);
+            s.q = arr_canon(&c->T, s.eb);
+            s.support = -1;
+            s.delta = 1;
+            if (!push_pt(&w.L, s.p) || !push_pt(&w.L, s.q) || (s.p != s.q && !push_seg(&w.L, &s)))
+                goto nomem;
+        }
+        for (int64_t r = 0; r < c->npt; r++)
+            if (!push_pt(&w.L, arr_canon(&c->T, c->pt[r])))
+                goto nomem;
+        unique_pts(&w.L);
+        merge_segs(&w.L);
+        if (pass == 0) {
+            if (!crossings(c, 0, &w.L, &w.boxes, &w.capboxes))
+                goto nomem;
+            int dd = arr_dedupe(&c->T, c->prog);
+            if (dd < 0) {
+                c->st = MFG_ERR_CANCELLED;
+                work_free(&w);
+                return 0;
+            }
+            if (!dd)
+                goto nomem;
+        }
+    }
+    if (!split_segments(c, 0, &w.L, &w.ps, &w.capps, &w.inside, &w.capin))
+        goto nomem;
+    if (!arr_cdt_cluster(c, 0, w.L.pts, w.L.npts, w.L.segs, w.L.nsegs)) {
+        work_free(&w);
+        if (c->st == MFG_OK)
+            c->st = mfg_fail(MFG_ERR_NOMEM, "arrangement: out of memory");
+        return 0;
+    }
+    work_free(&w);
+    return 1;
+nomem:
+    work_free(&w);
+    c->st = mfg_fail(MFG_ERR_NOMEM, "arrangement: out of memory");
+    return 0;
+}

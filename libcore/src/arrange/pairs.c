@@ -91,15 +91,34 @@ static const double *X(const arr_ctx *c, int64_t v)
     return c->T.xyz + 3 * v;
 }
 
-/* Number of vertex ids the two triangles share. */
-static int shared_ids(const int64_t *a, const int64_t *b)
+/* 1 when point id p is one of the triangle's corners (explicit vertex ids are point ids). */
+static int is_corner(const int64_t *A, int64_t p)
 {
-    int n = 0;
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            if (a[i] == b[j])
-                n++;
-    return n;
+    return p == A[0] || p == A[1] || p == A[2];
+}
+
+/* orient3d of vertex id v against triangle A: 0 at once when v is one of A's corners
+ * (the exact stage of a zero is the slow one). */
+static int side_of_plane(const arr_ctx *c, const int64_t *A, int64_t v)
+{
+    if (v == A[0] || v == A[1] || v == A[2])
+        return 0;
+    return mfg_orient3d(X(c, A[0]), X(c, A[1]), X(c, A[2]), X(c, v));
+}
+
+/* 1 when the signs (one per corner) are all > 0 or all < 0, ignoring the corners of a
+ * common vertex (shared[k]): then the triangle meets the plane at most at that vertex. */
+static int one_side(const int *s, const int *shared)
+{
+    int pos = 0, neg = 0, zero = 0;
+    for (int k = 0; k < 3; k++) {
+        if (shared[k])
+            continue;
+        pos += s[k] > 0;
+        neg += s[k] < 0;
+        zero += s[k] == 0;
+    }
+    return zero == 0 && (pos == 0 || neg == 0) && pos + neg > 0;
 }
 
 static int pass1_pair(void *user, int64_t i, int64_t j)
@@ -111,23 +130,39 @@ static int pass1_pair(void *user, int64_t i, int64_t j)
     if (c->tcluster[i] < 0 || c->tcluster[j] < 0)
         return 1;
     const int64_t *A = c->tri + 3 * i, *B = c->tri + 3 * j;
+    int ashared[3], bshared[3], nshared = 0;
+    for (int k = 0; k < 3; k++) {
+        bshared[k] = B[k] == A[0] || B[k] == A[1] || B[k] == A[2];
+        ashared[k] = A[k] == B[0] || A[k] == B[1] || A[k] == B[2];
+        nshared += bshared[k];
+    }
+    if (nshared == 3) { /* the same corners: one plane (they add up or cancel) */
+        uf_join(P->uf, i, j);
+        return 1;
+    }
+    if (nshared == 2) {
+        /* a common edge: one plane (a cluster) or they meet in that edge only */
+        for (int k = 0; k < 3; k++)
+            if (!bshared[k] && side_of_plane(c, A, B[k]) == 0)
+                uf_join(P->uf, i, j);
+        return 1;
+    }
     int sb[3], sa[3];
     for (int k = 0; k < 3; k++)
-        sb[k] = mfg_orient3d(X(c, A[0]), X(c, A[1]), X(c, A[2]), X(c, B[k]));
+        sb[k] = side_of_plane(c, A, B[k]);
     if (sb[0] == 0 && sb[1] == 0 && sb[2] == 0) {
         /* one plane: touching or overlapping is resolved in the cluster's arrangement
          * (boxes that overlap are enough: a cluster may hold pieces that do not touch) */
         uf_join(P->uf, i, j);
         return 1;
     }
-    if ((sb[0] > 0 && sb[1] > 0 && sb[2] > 0) || (sb[0] < 0 && sb[1] < 0 && sb[2] < 0))
+    /* B's other corners strictly on one side of A's plane: they meet at most at the
+     * common vertex (or not at all), which both have already */
+    if (one_side(sb, bshared))
         return 1;
     for (int k = 0; k < 3; k++)
-        sa[k] = mfg_orient3d(X(c, B[0]), X(c, B[1]), X(c, B[2]), X(c, A[k]));
-    if ((sa[0] > 0 && sa[1] > 0 && sa[2] > 0) || (sa[0] < 0 && sa[1] < 0 && sa[2] < 0))
-        return 1;
-    /* triangles of different planes sharing an edge meet in that edge only */
-    if (shared_ids(A, B) >= 2)
+        sa[k] = side_of_plane(c, B, A[k]);
+    if (one_side(sa, ashared))
         return 1;
     if (P->nkeep >= P->capkeep) {
         int64_t cap = mfg_grown_cap(P->capkeep, P->nkeep + 1, 16);
@@ -200,14 +235,28 @@ static void approx_normal(const arr_ctx *c, int64_t t, double n[3])
     mfg_cross3(e1, e2, n);
 }
 
+static int meet_points(arr_ctx *c, int64_t i, int64_t j);
+
+/* Where triangles i and j of different planes meet (records for both clusters); the
+ * points made only to find out that they meet at a common vertex or not at all are
+ * dropped again. */
 static int meet(arr_ctx *c, int64_t i, int64_t j)
+{
+    int64_t mark = c->T.npts, nseg = c->nseg, npt = c->npt;
+    int r = meet_points(c, i, j);
+    if (r == 1 && c->nseg == nseg && c->npt == npt)
+        arr_truncate(&c->T, mark);
+    return r;
+}
+
+static int meet_points(arr_ctx *c, int64_t i, int64_t j)
 {
     const int64_t *A = c->tri + 3 * i, *B = c->tri + 3 * j;
     int64_t ci = c->tcluster[i], cj = c->tcluster[j];
     int sb[3], sa[3];
     for (int k = 0; k < 3; k++) {
-        sb[k] = mfg_orient3d(X(c, A[0]), X(c, A[1]), X(c, A[2]), X(c, B[k]));
-        sa[k] = mfg_orient3d(X(c, B[0]), X(c, B[1]), X(c, B[2]), X(c, A[k]));
+        sb[k] = side_of_plane(c, A, B[k]);
+        sa[k] = side_of_plane(c, B, A[k]);
     }
     int64_t I[2], J[2];
     int ni = on_plane(c, i, sa, cj, I), nj = on_plane(c, j, sb, ci, J);
@@ -226,8 +275,11 @@ static int meet(arr_ctx *c, int64_t i, int64_t j)
     arr_points P = arr_view(&c->T);
     int64_t all[4] = {I[0], I[1], J[0], J[1]};
     int k = line_axis(&P, dir, all, 4);
-    if (k < 0) /* one position: the triangles touch at a point */
+    if (k < 0) { /* one position: the triangles touch at a point */
+        if (is_corner(A, I[0]) && is_corner(B, I[0]))
+            return 1; /* a common vertex: both have it */
         return arr_add_point_record(c, ci, I[0]) && arr_add_point_record(c, cj, I[0]);
+    }
     if (arr_cmp(&P, I[0], I[1], k) > 0) {
         int64_t t = I[0];
         I[0] = I[1];
@@ -253,8 +305,11 @@ static int meet(arr_ctx *c, int64_t i, int64_t j)
 #endif
     if (s > 0)
         return 1;
-    if (s == 0)
+    if (s == 0) {
+        if (is_corner(A, lo) && is_corner(B, lo))
+            return 1;
         return arr_add_point_record(c, ci, lo) && arr_add_point_record(c, cj, lo);
+    }
     return add_seg(c, ci, lo, hi, cj) && add_seg(c, cj, lo, hi, ci);
 }
 

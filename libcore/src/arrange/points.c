@@ -65,10 +65,20 @@ static int64_t append(arr_table *T, arr_point *p)
 }
 
 /* The point with key k, made by p when it is new. */
+/* 1 when point id holds the construction p (a key may outlive its point: arr_truncate
+ * drops points, not keys, and a later point may take the id). */
+static int same_construction(const arr_table *T, int64_t id, const arr_point *p)
+{
+    if (id >= T->npts)
+        return 0;
+    const arr_point *q = &T->pts[id];
+    return q->kind == p->kind && q->axis == p->axis && !memcmp(q->v, p->v, sizeof q->v);
+}
+
 static int64_t keyed(arr_table *T, hkey k, arr_point *p)
 {
     int64_t id = hmap_get(&T->keys, &k);
-    if (id >= 0)
+    if (id >= 0 && same_construction(T, id, p))
         return id;
     id = append(T, p);
     if (id < 0)
@@ -168,6 +178,7 @@ int64_t arr_lift(arr_table *T, const int64_t tri[3], int axis, double u, double 
     return append(T, &p);
 }
 
+/* Keys of the dropped points stay in the map; keyed() checks them (same_construction). */
 void arr_truncate(arr_table *T, int64_t npts)
 {
     if (npts < T->npts)
@@ -177,69 +188,110 @@ void arr_truncate(arr_table *T, int64_t npts)
 /* ---- Exact merge of equal positions ------------------------------------------------- */
 
 /* Rounded positions of equal points differ by a few ulps (arr_coords: within 2 ulps of
- * the exact value, coordinates at most ARR_COORD_MAX): equal points fall into the same
- * cell of this size or into neighbouring ones, and are then compared exactly. */
+ * the exact value, coordinates at most ARR_COORD_MAX, so within 2^-48): an implicit point
+ * is entered in every cell of this size that its box of DD_BOX about its rounded position
+ * touches (one, nearly always), so two equal points share a cell, and is compared exactly
+ * only with the earlier positions met there.  Explicit points are equal exactly when their
+ * coordinates are. */
 #define DD_CELL 0x1p-36
+#define DD_BOX 0x1p-44
+
+typedef struct dd_grid {
+    hmap cells;       /* cell -> its last entry */
+    int64_t *entry;   /* 2 per entry: point, previous entry of its cell */
+    int64_t n, cap;
+} dd_grid;
+
+static int dd_enter(dd_grid *g, hkey key, int64_t p)
+{
+    if (!mfg_grow((void **)&g->entry, &g->cap, 2 * (g->n + 1), sizeof *g->entry))
+        return 0;
+    int64_t prev = hmap_get(&g->cells, &key);
+    g->entry[2 * g->n] = p;
+    g->entry[2 * g->n + 1] = prev;
+    if (!hmap_put(&g->cells, &key, g->n))
+        return 0;
+    g->n++;
+    return 1;
+}
+
+/* The cells of the box about x (their count, keys in out[0..7]). */
+static int dd_cells(const double x[3], double box, hkey out[8])
+{
+    int64_t lo[3], hi[3];
+    for (int k = 0; k < 3; k++) {
+        lo[k] = (int64_t)floor((x[k] - box) / DD_CELL);
+        hi[k] = (int64_t)floor((x[k] + box) / DD_CELL);
+    }
+    int n = 0;
+    for (int64_t a = lo[0]; a <= hi[0]; a++)
+        for (int64_t b = lo[1]; b <= hi[1]; b++)
+            for (int64_t c = lo[2]; c <= hi[2]; c++)
+                out[n++] = mkkey(a, b, c, 0);
+    return n;
+}
 
 int arr_dedupe(arr_table *T, mfg_prog *prog)
 {
     int64_t n = T->npts;
     int64_t *canon = realloc(T->canon, (size_t)(n + 1) * sizeof *canon);
-    if (canon)
-        T->canon = canon;
-    int64_t *next = malloc((size_t)(n + 1) * sizeof *next);
-    int64_t *cell = malloc((size_t)(n + 1) * 3 * sizeof *cell);
-    hmap grid;
-    if (!canon || !next || !cell || !hmap_init(&grid, n + 1)) {
-        free(next);
-        free(cell);
+    if (!canon)
+        return 0;
+    T->canon = canon;
+    dd_grid g;
+    memset(&g, 0, sizeof g);
+    hmap exact;
+    memset(&exact, 0, sizeof exact);
+    if (!hmap_init(&g.cells, n + 1) || !hmap_init(&exact, n + 1)) {
+        hmap_free(&g.cells);
         return 0;
     }
     arr_points P = arr_view(T);
-    for (int64_t i = 0; i < n; i++) {
-        double x[3];
-        arr_coords(&P, i, x);
-        for (int k = 0; k < 3; k++)
-            cell[3 * i + k] = (int64_t)floor(x[k] / DD_CELL);
-        canon[i] = i;
-        hkey key = mkkey(cell[3 * i], cell[3 * i + 1], cell[3 * i + 2], 0);
-        int64_t s = hmap_slot(&grid, &key);
-        next[i] = grid.vals[s]; /* -1 when the cell is new */
-        if (!hmap_put(&grid, &key, i)) {
-            free(next);
-            free(cell);
-            hmap_free(&grid);
-            return 0;
-        }
-    }
-    /* each point against the representatives of the positions met so far in its
-     * neighbourhood (not against every point there: many constructions of one point -
-     * strips meeting on the axis - would make that quadratic in their number) */
-    for (int64_t i = 0; i < n; i++) {
+    int ok = 1;
+    for (int64_t i = 0; i < n && ok; i++) {
         if ((i & 4095) == 0 && prog && !mfg_prog_poll(prog, (double)i, (double)n)) {
-            free(next);
-            free(cell);
-            hmap_free(&grid);
-            return -1;
+            ok = -1;
+            break;
         }
-        for (int d = 0; d < 27 && canon[i] == i; d++) {
-            hkey key = mkkey(cell[3 * i] + d % 3 - 1, cell[3 * i + 1] + d / 3 % 3 - 1,
-                             cell[3 * i + 2] + d / 9 - 1, 0);
-            for (int64_t j = hmap_get(&grid, &key); j >= 0; j = next[j]) {
-                if (j >= i || canon[j] != j)
-                    continue; /* only earlier points that represent their position */
-                if (arr_same(&P, i, j)) {
+        canon[i] = i;
+        const arr_point *pt = &T->pts[i];
+        double x[3];
+        hkey cells[8];
+        if (pt->kind == ARR_EXPLICIT) {
+            const double *c = T->xyz + 3 * pt->v[0];
+            int64_t bits[3];
+            for (int k = 0; k < 3; k++) {
+                double v = c[k] == 0 ? 0 : c[k]; /* -0 and +0 are one position */
+                memcpy(&bits[k], &v, sizeof v);
+            }
+            hkey key = mkkey(bits[0], bits[1], bits[2], 0);
+            int64_t j = hmap_get(&exact, &key);
+            if (j >= 0) {
+                canon[i] = j;
+                continue;
+            }
+            ok = hmap_put(&exact, &key, i) && dd_enter(&g, dd_cells(c, 0, cells) ? cells[0] : cells[0], i);
+            continue;
+        }
+        arr_coords(&P, i, x);
+        int nc = dd_cells(x, DD_BOX, cells);
+        for (int q = 0; q < nc && canon[i] == i; q++)
+            for (int64_t en = hmap_get(&g.cells, &cells[q]); en >= 0; en = g.entry[2 * en + 1]) {
+                int64_t j = g.entry[2 * en];
+                if (canon[j] == j && arr_same(&P, i, j)) {
                     canon[i] = j;
                     break;
                 }
             }
-        }
+        if (canon[i] == i)
+            for (int q = 0; q < nc && ok; q++)
+                ok = dd_enter(&g, cells[q], i);
     }
-    for (int64_t i = 0; i < n; i++)
-        canon[i] = canon[canon[i]]; /* a representative is its own: one step */
+    hmap_free(&g.cells);
+    hmap_free(&exact);
+    free(g.entry);
+    if (ok != 1)
+        return ok;
     T->ncanon = n;
-    free(next);
-    free(cell);
-    hmap_free(&grid);
     return 1;
 }

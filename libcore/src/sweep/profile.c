@@ -17,9 +17,8 @@
  *     chords (above the curve) where the edge rises along the axis - its strip's front
  *     faces away from the axis - and as tangents (below it) where it falls, so the
  *     polylines lie on the fronts, as the 3-D strips do, and P grows only.
- * The 2-D chain is fanned from Z0 into flat triangles, whose one cluster of the exact
- * arrangement (arrange/) gives every face of the plane its winding; the faces with w >= 1
- * are P, and P's outline, each edge with P on its left, becomes the contour of a full turn
+ * The exact arrangement of the 2-D chain (arrange/: arr_chain2d_faces) gives every face of
+ * the plane its winding; the faces with w >= 1 are P, and P's outline, each edge with P on its left, becomes the contour of a full turn
  * (strips.c revolves it; no F or B faces): tangent polylines where P's outward normal
  * points away from the axis, chords where it points towards it. */
 #include "sweep/envelope.h"
@@ -272,42 +271,36 @@ int sw_build_profile(sw_env *e)
         e->st_code = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
         return 0;
     }
-    /* the chain fanned from Z0, in the plane z = 0 of (r, z, 0) */
-    int64_t np = 2 * P.ns + 1;
-    double *xy = malloc((size_t)(3 * np) * sizeof *xy);
-    int64_t *tri = malloc((size_t)(3 * P.ns + 1) * sizeof *tri);
-    if (!xy || !tri) {
+    /* the chain in the plane z = 0 of (r, z, 0) */
+    int64_t np = 2 * P.ns;
+    double *xy = malloc((size_t)(3 * np + 3) * sizeof *xy);
+    int64_t *seg = malloc((size_t)(2 * P.ns + 2) * sizeof *seg);
+    if (!xy || !seg) {
         free(P.s);
         free(xy);
-        free(tri);
+        free(seg);
         e->st_code = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
         return 0;
     }
-    xy[0] = 0;
-    xy[1] = P.zlow;
-    xy[2] = 0;
     for (int64_t i = 0; i < P.ns; i++) {
         for (int q = 0; q < 2; q++) {
             const double *c = q ? P.s[i].b : P.s[i].a;
-            xy[3 * (1 + 2 * i + q)] = c[0];
-            xy[3 * (1 + 2 * i + q) + 1] = c[1];
-            xy[3 * (1 + 2 * i + q) + 2] = 0;
+            xy[3 * (2 * i + q)] = c[0];
+            xy[3 * (2 * i + q) + 1] = c[1];
+            xy[3 * (2 * i + q) + 2] = 0;
+            seg[2 * i + q] = 2 * i + q;
         }
-        tri[3 * i] = 0;
-        tri[3 * i + 1] = 1 + 2 * i;
-        tri[3 * i + 2] = 2 + 2 * i;
     }
+    int64_t nseg = P.ns;
     free(P.s);
     /* equal 2-D points of different segments are one point of the arrangement (its
      * exact merge), so the chain's pieces join */
-    static const arr_stages stages = {
-        {"sweep: intersections", "sweep: faces", "sweep: faces"}, {0.3, 0.45, 0.6, 0.6}};
     arr_table T;
     arr_face *F = NULL;
     int64_t nf = 0;
-    mfg_status st = arr_cluster_faces(xy, np, tri, P.ns, e->prog, &stages, &T, &F, &nf);
+    mfg_status st = arr_chain2d_faces(xy, np, seg, nseg, e->prog, &T, &F, &nf);
     free(xy);
-    free(tri);
+    free(seg);
     if (st != MFG_OK) {
         e->st_code = st;
         return 0;
