@@ -144,13 +144,17 @@ double bt_signed(const bt_index *ix, const double p[3], double band, int64_t *ne
  * all their arcs may spend, and the most one arc may spend, before an arc counts as
  * checked at a coarser step than the fine one (reported, not a failure) */
 #define BT_CONS_ARCS 240
+/* conservative: an arc piece at most this many tolerances long is checked at its ends
+ * only (the fine grid: "the arc between samples far below tol") */
+#define BT_FINE_ARC_TOLS (1.0 / 16)
 #define BT_CONS_EVALS 30000
 #define BT_CONS_EVALS_PER_ARC 15000
-/* tight: result vertices (all of them up to this many), face points, and the queries
- * each may spend before it counts as undecided */
+/* tight: result vertices (all of them up to this many), face points, the distance
+ * queries all of them may spend and the most one may spend before it counts as undecided */
 #define BT_TIGHT_VERTICES 1000
 #define BT_TIGHT_FACE_POINTS 300
-#define BT_TIGHT_EVALS_PER_POINT 200
+#define BT_TIGHT_EVALS 100000
+#define BT_TIGHT_EVALS_PER_POINT 20000
 /* rigid motion: points of each result checked against the other */
 #define BT_NEAR_POINTS 200
 
@@ -177,11 +181,11 @@ typedef struct bt_tight_report {
     double worst_lb;     /* the largest certified lower bound of a point beyond */
     double worst_p[3];
     double undecided_lb; /* the largest lower bound left on an undecided point */
+    double undecided_p[3], undecided_min; /* one of them, its smallest distance sampled */
 } bt_tight_report;
 
-void bt_check_tight(const bt_problem *pb, const bt_index *input, const mfg_mesh *res, double eps,
-                    int nvertices, int nfacepoints, long evals_per_point, uint64_t seed,
-                    bt_tight_report *out);
+void bt_check_tight(const bt_problem *pb, const bt_index *input, const mfg_mesh *res, double eps, int nvertices,
+                    int nfacepoints, long evals, long evals_per_point, uint64_t seed, bt_tight_report *out);
 
 /* Points of a (its vertices, sampled, and face points) within bound of the solid b:
  * returns how many are not; *worst gets the largest signed distance seen. */

@@ -19,9 +19,6 @@ static const double PIECE_AT[] = {0.5, 0.381966, 0.618034, 0.236068};
 #define PIECE_TRIES ((int)(sizeof PIECE_AT / sizeof PIECE_AT[0]))
 /* tight: the first spans of [0, angle] before any refinement */
 #define TIGHT_FIRST_SPANS 8
-/* conservative: a span whose arc is at most this many tolerances long is checked at its
- * ends only (the brief's fine grid: "the arc between samples far below tol") */
-#define FINE_ARC_TOLS (1.0 / 16)
 /* a result triangle counts as a cap (a plane perpendicular to the axis, along which a
  * turned point may run on the surface for a long arc) when its normal leans from the axis
  * by at most this sine; beyond, the arc leaves its plane by more than eps anyway */
@@ -255,7 +252,7 @@ typedef struct arc_work {
 static int bnb(const arc *A, const bt_problem *pb, int n, long budget, arc_work *w, long *used, double *step,
                sample *bad)
 {
-    double fine = FINE_ARC_TOLS * pb->tol, eps = A->eps;
+    double fine = BT_FINE_ARC_TOLS * pb->tol, eps = A->eps;
     sample *S = w->S;
     long ns = n;
     int result = ARC_CHECKED;
@@ -428,7 +425,7 @@ static void arc_crossings(const arc *A, double angle, arc_work *w)
 static int run_arc(const arc *A, const bt_problem *pb, long budget, arc_work *w, long *used, double *step,
                    sample *bad)
 {
-    double fine = FINE_ARC_TOLS * pb->tol, eps = A->eps;
+    double fine = BT_FINE_ARC_TOLS * pb->tol, eps = A->eps;
     *used = 0;
     *step = 0;
     if (A->r * pb->angle <= eps) { /* the arc is a point to within eps */
@@ -594,9 +591,62 @@ static double sv_dist(const bt_problem *pb, const bt_index *in, const double u[3
     return bt_inside(in, x) == 1 ? 0 : d;
 }
 
-void bt_check_tight(const bt_problem *pb, const bt_index *input, const mfg_mesh *res, double eps,
-                    int nvertices, int nfacepoints, long evals_per_point, uint64_t seed,
-                    bt_tight_report *out)
+enum { POINT_WITHIN, POINT_BEYOND, POINT_UNDECIDED };
+
+/* One result point p: branch and bound for min over t of the distance of p turned back to
+ * the input (the span with the lowest bound first; the heap keeps the largest key on top:
+ * keys are negated bounds), until a sample is within `bound` (within), every span's bound
+ * is above it (beyond, certified), or `budget` queries are spent (undecided).  *lb gets the
+ * lowest bound left, *best the smallest distance sampled, *used the queries. */
+static int tight_point(const bt_problem *pb, const bt_index *input, const double u[3], const double p[3],
+                       double bound, double eps, long budget, double *t, double *g, heap *h, double *lb, double *best,
+                       long *used)
+{
+    double r = dist_to_axis(pb->ap, u, p);
+    int spans = r * pb->angle > eps ? TIGHT_FIRST_SPANS : 0, result = POINT_UNDECIDED;
+    long ns = 0;
+    *best = INFINITY;
+    for (int i = 0; i <= spans && result != POINT_WITHIN; i++) {
+        t[ns] = spans ? (i == spans ? pb->angle : pb->angle * i / spans) : 0;
+        g[ns] = sv_dist(pb, input, u, p, t[ns], bound);
+        *best = fmin(*best, g[ns]);
+        if (g[ns++] <= bound)
+            result = POINT_WITHIN;
+    }
+    h->n = 0;
+    for (int i = 0; i < spans && result != POINT_WITHIN; i++)
+        heap_push(h, (span){-0.5 * (g[i] + g[i + 1] - r * (t[i + 1] - t[i])), i, i + 1});
+    *lb = spans ? -INFINITY : g[0];
+    if (!spans && result != POINT_WITHIN)
+        result = POINT_BEYOND; /* on the axis: the one distance is the distance */
+    while (result == POINT_UNDECIDED && h->n) {
+        span sp = heap_pop(h);
+        *lb = -sp.key;
+        if (*lb > bound) {
+            result = POINT_BEYOND; /* every span's bound is above */
+            break;
+        }
+        if (ns >= budget + TIGHT_FIRST_SPANS + 1)
+            break; /* undecided: *lb is the lowest bound left */
+        double m = 0.5 * (t[sp.a] + t[sp.b]);
+        t[ns] = m;
+        g[ns] = sv_dist(pb, input, u, p, m, bound);
+        *best = fmin(*best, g[ns]);
+        if (g[ns] <= bound) {
+            result = POINT_WITHIN;
+            ns++;
+            break;
+        }
+        heap_push(h, (span){-0.5 * (g[sp.a] + g[ns] - r * (m - t[sp.a])), sp.a, (int)ns});
+        heap_push(h, (span){-0.5 * (g[ns] + g[sp.b] - r * (t[sp.b] - m)), (int)ns, sp.b});
+        ns++;
+    }
+    *used = ns;
+    return result;
+}
+
+void bt_check_tight(const bt_problem *pb, const bt_index *input, const mfg_mesh *res, double eps, int nvertices,
+                    int nfacepoints, long evals, long evals_per_point, uint64_t seed, bt_tight_report *out)
 {
     memset(out, 0, sizeof *out);
     bt_rng rng = {seed};
@@ -620,81 +670,72 @@ void bt_check_tight(const bt_problem *pb, const bt_index *input, const mfg_mesh 
         total += 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         cum[k] = total;
     }
-    int all_vertices = res->nvertices <= nvertices, npts = (all_vertices ? (int)res->nvertices : nvertices) + nfacepoints;
-    for (int k = 0; k < npts; k++) {
-        double p[3];
-        int nv_used = all_vertices ? (int)res->nvertices : nvertices;
-        if (k < nv_used) {
-            int64_t v = all_vertices ? k : bt_int(&rng, 0, res->nvertices - 1);
-            memcpy(p, res->vertices + 3 * v, sizeof p);
-        } else {
-            int64_t tri;
-            if (k % 2 && total > 0) { /* by area: big triangles bridge concavities */
-                double x = bt_unif(&rng, 0, total);
-                int64_t lo = 0, hi = res->ntriangles - 1;
-                while (lo < hi) {
-                    int64_t mid = (lo + hi) / 2;
-                    if (cum[mid] < x)
-                        lo = mid + 1;
-                    else
-                        hi = mid;
-                }
-                tri = lo;
+    int all_vertices = res->nvertices <= nvertices, nv_used = all_vertices ? (int)res->nvertices : nvertices;
+    int npts = nv_used + nfacepoints, nleft = 0;
+    double *left = malloc((size_t)(3 * npts + 1) * sizeof *left);
+    /* round 1: every point with the first budget; round 2: the undecided ones share what
+     * is left of the total (points whose distance stays near the tolerance along a long
+     * stretch of the arc need many queries) */
+    long first = evals / 2 / (npts > 0 ? npts : 1);
+    first = first < evals_per_point ? first : evals_per_point;
+    for (int round = 1; round <= 2; round++) {
+        int n = round == 1 ? npts : nleft;
+        for (int k = 0; k < n; k++) {
+            double p[3];
+            long budget = first;
+            if (round == 2) {
+                memcpy(p, left + 3 * k, sizeof p);
+                budget = (evals - out->evals) / (nleft - k);
+                budget = budget < first ? first : budget < evals_per_point ? budget : evals_per_point;
+            } else if (k < nv_used) {
+                int64_t v = all_vertices ? k : bt_int(&rng, 0, res->nvertices - 1);
+                memcpy(p, res->vertices + 3 * v, sizeof p);
             } else {
-                tri = bt_int(&rng, 0, res->ntriangles - 1);
+                int64_t tri;
+                if (k % 2 && total > 0) { /* by area: big triangles bridge concavities */
+                    double x = bt_unif(&rng, 0, total);
+                    int64_t lo = 0, hi = res->ntriangles - 1;
+                    while (lo < hi) {
+                        int64_t mid = (lo + hi) / 2;
+                        if (cum[mid] < x)
+                            lo = mid + 1;
+                        else
+                            hi = mid;
+                    }
+                    tri = lo;
+                } else {
+                    tri = bt_int(&rng, 0, res->ntriangles - 1);
+                }
+                surface_point(res->vertices, res->triangles, tri, 2, &rng, p);
             }
-            surface_point(res->vertices, res->triangles, tri, 2, &rng, p);
-        }
-        out->points++;
-        double r = dist_to_axis(pb->ap, u, p);
-        int spans = r * pb->angle > eps ? TIGHT_FIRST_SPANS : 0, ns = 0, within = 0;
-        for (int i = 0; i <= spans && !within; i++) {
-            t[ns] = spans ? (i == spans ? pb->angle : pb->angle * i / spans) : 0;
-            g[ns] = sv_dist(pb, input, u, p, t[ns], bound);
-            within = g[ns++] <= bound;
-        }
-        /* branch and bound for the minimum: the span with the lowest bound first (the
-         * heap keeps the largest key on top: keys are negated bounds) */
-        h.n = 0;
-        for (int i = 0; i < spans && !within; i++)
-            heap_push(&h, (span){-0.5 * (g[i] + g[i + 1] - r * (t[i + 1] - t[i])), i, i + 1});
-        double lb = spans ? -INFINITY : g[0];
-        int decided = within;
-        while (!decided) {
-            if (!h.n)
-                break;
-            span sp = heap_pop(&h);
-            lb = -sp.key;
-            if (lb > bound)
-                break; /* every span's bound is above: beyond, certified */
-            if (ns >= cap)
-                break; /* undecided: lb is the lowest bound left */
-            double m = 0.5 * (t[sp.a] + t[sp.b]);
-            t[ns] = m;
-            g[ns] = sv_dist(pb, input, u, p, m, bound);
-            if (g[ns] <= bound) {
-                within = decided = 1;
-                ns++;
-                break;
+            double lb, best;
+            long used;
+            int r = tight_point(pb, input, u, p, bound, eps, budget, t, g, &h, &lb, &best, &used);
+            out->evals += used;
+            if (round == 1)
+                out->points++;
+            if (r == POINT_UNDECIDED && round == 1) {
+                memcpy(left + 3 * nleft++, p, sizeof p);
+                continue;
             }
-            heap_push(&h, (span){-0.5 * (g[sp.a] + g[ns] - r * (m - t[sp.a])), sp.a, ns});
-            heap_push(&h, (span){-0.5 * (g[ns] + g[sp.b] - r * (t[sp.b] - m)), ns, sp.b});
-            ns++;
-        }
-        out->evals += ns;
-        if (within) {
-            out->within++;
-        } else if (lb > bound) {
-            out->beyond++;
-            if (lb > out->worst_lb) {
-                out->worst_lb = lb;
-                memcpy(out->worst_p, p, sizeof p);
+            if (r == POINT_WITHIN) {
+                out->within++;
+            } else if (r == POINT_BEYOND) {
+                out->beyond++;
+                if (lb > out->worst_lb) {
+                    out->worst_lb = lb;
+                    memcpy(out->worst_p, p, sizeof p);
+                }
+            } else {
+                if (!out->undecided++) {
+                    memcpy(out->undecided_p, p, sizeof p);
+                    out->undecided_min = best;
+                }
+                out->undecided_lb = fmax(out->undecided_lb, lb);
             }
-        } else {
-            out->undecided++;
-            out->undecided_lb = fmax(out->undecided_lb, lb);
         }
     }
+    free(left);
     free(t);
     free(g);
     free(h.s);

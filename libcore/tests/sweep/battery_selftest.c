@@ -200,7 +200,7 @@ static outcome check_ref(const bt_problem *p, const bt_mesh *res, const char *na
     bt_cons_report c;
     bt_tight_report t;
     bt_check_conservative(p, &ri, eps, BT_CONS_ARCS, BT_CONS_EVALS, BT_CONS_EVALS_PER_ARC, 7, &c);
-    bt_check_tight(p, &ii, &m, eps, BT_TIGHT_VERTICES, BT_TIGHT_FACE_POINTS, BT_TIGHT_EVALS_PER_POINT, 8, &t);
+    bt_check_tight(p, &ii, &m, eps, BT_TIGHT_VERTICES, BT_TIGHT_FACE_POINTS, BT_TIGHT_EVALS, BT_TIGHT_EVALS_PER_POINT, 8, &t);
     self_intersections_quiet = 1;
     o.selfint = self_intersections(&m, name);
     o.outside = c.outside;

@@ -75,7 +75,9 @@ static const char *const CHECK_NAME[F_COUNT] = {"input",  "refused", "timeout", 
 typedef struct verdict {
     unsigned fails; /* bit per check */
     char text[2048];
-    long undecided;
+    long undecided;          /* tight: points neither within nor beyond */
+    long arcs, coarse_arcs;  /* conservative: arcs, arcs checked at a coarser step */
+    long points;             /* tight: points */
 } verdict;
 
 static void say(verdict *v, int check, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
@@ -207,19 +209,25 @@ static void check_result(const bt_problem *p, const mfg_mesh *m, verdict *v, con
     t_cons = now() - t_cons;
     double t_tight = now();
     bt_tight_report t;
-    bt_check_tight(p, &in, m, eps, BT_TIGHT_VERTICES, BT_TIGHT_FACE_POINTS, BT_TIGHT_EVALS_PER_POINT, seed ^ SALT_TIGHT, &t);
+    bt_check_tight(p, &in, m, eps, BT_TIGHT_VERTICES, BT_TIGHT_FACE_POINTS, BT_TIGHT_EVALS, BT_TIGHT_EVALS_PER_POINT, seed ^ SALT_TIGHT, &t);
     if (t.beyond)
         say(v, F_TIGHT, "%snot tight: %ld of %ld result points farther than tol from SV, one at least %.3g tol "
                         "(%.9g, %.9g, %.9g)",
             label, t.beyond, t.points, t.worst_lb / p->tol, t.worst_p[0], t.worst_p[1], t.worst_p[2]);
     t_tight = now() - t_tight;
     v->undecided += t.undecided;
+    v->points += t.points;
+    v->arcs += c.arcs;
+    v->coarse_arcs += c.coarse;
     if (getenv("MFG_BATTERY_VERBOSE"))
         printf("    %schecks: self-intersections %.3f s; conservative %.3f s: %ld arcs (%ld queries, %ld coarse at "
                "<= %.2g tol, %ld sides undecided); tight %.3f s: %ld points (%ld within, %ld beyond, %ld undecided "
                "up to %.3g tol; %ld queries)\n",
                label, t_si, t_cons, c.arcs, c.evals, c.coarse, c.coarse_step, c.unsure_side, t_tight, t.points,
                t.within, t.beyond, t.undecided, t.undecided_lb / p->tol, t.evals);
+    if (getenv("MFG_BATTERY_VERBOSE") && t.undecided)
+        printf("    %sundecided: (%.17g, %.17g, %.17g) sampled down to %.6g tol\n", label, t.undecided_p[0],
+               t.undecided_p[1], t.undecided_p[2], t.undecided_min / p->tol);
     bt_index_free(&res);
     bt_index_free(&in);
 }
@@ -423,9 +431,13 @@ static void run_variant(const bt_problem *p, const mfg_mesh *m, int variant, ver
 /* One input                                                                */
 /* ------------------------------------------------------------------------ */
 
+#define MAX_FAMILIES 16
+
 typedef struct totals {
-    long inputs, failing, refused, undecided, undecided_inputs;
+    long inputs, failing, refused, undecided, undecided_inputs, arcs, coarse_arcs, points;
     long by_check[F_COUNT];
+    /* per family (bt_families' order): inputs, failing, and failures by check */
+    long fam_inputs[MAX_FAMILIES], fam_failing[MAX_FAMILIES], fam_check[MAX_FAMILIES][F_COUNT];
     double sweep_s, check_s;
     struct {
         double s;
@@ -487,17 +499,28 @@ static void run_input(const char *family, uint64_t seed, totals *tot)
     }
     tot->sweep_s += tm.sweep;
     tot->check_s += tm.checks;
+    tot->arcs += v.arcs;
+    tot->coarse_arcs += v.coarse_arcs;
+    tot->points += v.points;
     if (v.undecided) {
         tot->undecided += v.undecided;
         tot->undecided_inputs++;
     }
+    int fam = 0;
+    while (fam < bt_nfamilies && strcmp(bt_families[fam], family))
+        fam++;
+    fam = fam < MAX_FAMILIES ? fam : MAX_FAMILIES - 1;
+    tot->fam_inputs[fam]++;
     if (v.fails) {
         if (v.fails & (1u << F_REFUSED))
             tot->refused++;
         if (v.fails & ~(1u << F_REFUSED))
             tot->failing++;
-        for (int c = 0; c < F_COUNT; c++)
+        tot->fam_failing[fam]++;
+        for (int c = 0; c < F_COUNT; c++) {
             tot->by_check[c] += (v.fails >> c) & 1;
+            tot->fam_check[fam][c] += (v.fails >> c) & 1;
+        }
         printf("FAIL %s 0x%016llx (%s; sweep %.2f s): %s  [MFG_BATTERY_INPUT=%s:0x%016llx]\n", family,
                (unsigned long long)seed, p.what, tm.sweep, v.text, family, (unsigned long long)seed);
         fflush(stdout);
@@ -571,6 +594,16 @@ int main(int argc, char **argv)
             run_input(bt_families[i % bt_nfamilies], input_seed(run_seed, i), &tot);
         }
     }
+    for (int f = 0; f < bt_nfamilies && f < MAX_FAMILIES; f++) {
+        if (!tot.fam_inputs[f])
+            continue;
+        printf("battery: %-9s %3ld inputs, %3ld failing or refused:", bt_families[f], tot.fam_inputs[f],
+               tot.fam_failing[f]);
+        for (int c = 0; c < F_COUNT; c++)
+            if (tot.fam_check[f][c])
+                printf(" %s %ld", CHECK_NAME[c], tot.fam_check[f][c]);
+        printf("\n");
+    }
     printf("battery: %ld inputs, %ld refused, %ld failing (", tot.inputs, tot.refused, tot.failing);
     int any = 0;
     for (int c = 0; c < F_COUNT; c++)
@@ -580,8 +613,10 @@ int main(int argc, char **argv)
         }
     printf("%s), %ld undecided (tight points, in %ld inputs)\n", any ? "" : "none", tot.undecided,
            tot.undecided_inputs);
-    printf("battery: time %.1f s: sweeps %.1f s, checks %.1f s; slowest sweeps:", now() - t_start, tot.sweep_s,
-           tot.check_s);
+    printf("battery: checked %ld turned arcs of input points (%ld at a step coarser than tol/%g: budget) and %ld "
+           "result points\n", tot.arcs, tot.coarse_arcs, 1 / BT_FINE_ARC_TOLS, tot.points);
+    printf("battery: time %.1f s (processor %.1f s): sweeps %.1f s, checks %.1f s; slowest sweeps:", now() - t_start,
+           (double)clock() / CLOCKS_PER_SEC, tot.sweep_s, tot.check_s);
     for (int k = 0; k < 5 && tot.slowest[k].s > 0; k++)
         printf(" %.2f s %s%s", tot.slowest[k].s, tot.slowest[k].what, k < 4 ? "," : "");
     printf("\n");
