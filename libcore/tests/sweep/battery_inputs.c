@@ -641,8 +641,9 @@ int bt_make(const char *family, uint64_t seed, bt_problem *p)
         }
     for (int c = 0; c < 3; c++)
         cen[c] = 0.5 * (lo[c] + hi[c]);
-    int ak = (int)bt_int(r, 0, 6);
-    static const char *const axis_kind[7] = {"random", "vertex", "edge", "face", "through", "outside", "aligned"};
+    int ak = (int)bt_int(r, 0, 7);
+    static const char *const axis_kind[8] = {"random",  "vertex",  "edge",    "face",
+                                             "through", "outside", "aligned", "symmetry"};
     int64_t t = bt_int(r, 0, p->in.nt - 1), k = bt_int(r, 0, 2);
     const double *a = V + 3 * p->in.tri[3 * t + k], *b = V + 3 * p->in.tri[3 * t + (k + 1) % 3],
                  *c3 = V + 3 * p->in.tri[3 * t + (k + 2) % 3];
@@ -713,6 +714,13 @@ int bt_make(const char *family, uint64_t seed, bt_problem *p)
         }
         break;
     }
+    case 7: /* the local z axis through the local origin: the axis of symmetry of the tori,
+             * n-gon prisms and plates with a hole (SV is the solid itself for a torus) */
+        for (int c = 0; c < 3; c++) {
+            p->ap[c] = T[c];
+            p->ad[c] = R[3 * c + 2];
+        }
+        break;
     default: { /* parallel to a local coordinate axis (faces of the boxes, prisms, frames
                 * perpendicular or parallel to it), through a vertex */
         int e = (int)bt_int(r, 0, 2);

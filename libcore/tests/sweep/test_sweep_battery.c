@@ -19,12 +19,14 @@
  */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <math.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "battery.h"
 #include "sweep_checks.h"
@@ -458,8 +460,22 @@ static void note_slow(totals *tot, double s, const bt_problem *p, int64_t ntri)
              (unsigned long long)p->seed, (long long)p->in.nt, (long long)ntri);
 }
 
+/* The input being run, for the crash handler: a crash in the library or a check names
+ * it (written with write(2): async-signal-safe). */
+static char crash_note[160];
+
+static void on_crash(int sig)
+{
+    ssize_t n = write(2, crash_note, strlen(crash_note));
+    (void)n;
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
 static void run_input(const char *family, uint64_t seed, totals *tot)
 {
+    snprintf(crash_note, sizeof crash_note, "\nbattery: crashed in MFG_BATTERY_INPUT=%s:0x%016llx\n", family,
+             (unsigned long long)seed);
     bt_problem p;
     verdict v;
     memset(&v, 0, sizeof v);
@@ -523,7 +539,6 @@ static void run_input(const char *family, uint64_t seed, totals *tot)
         }
         printf("FAIL %s 0x%016llx (%s; sweep %.2f s): %s  [MFG_BATTERY_INPUT=%s:0x%016llx]\n", family,
                (unsigned long long)seed, p.what, tm.sweep, v.text, family, (unsigned long long)seed);
-        fflush(stdout);
         if (dump && p.in.nv) {
             char tag[96];
             snprintf(tag, sizeof tag, "%s_0x%016llx", family, (unsigned long long)seed);
@@ -549,6 +564,14 @@ int main(int argc, char **argv)
 {
     const char *e;
     int only_selftest = argc > 1 && !strcmp(argv[1], "selftest");
+    /* lines as they come (a crash or a timeout of ctest keeps what was found), and the
+     * input named on a crash */
+    setvbuf(stdout, NULL, _IOLBF, 0);
+#if !defined(__SANITIZE_ADDRESS__) /* AddressSanitizer's own handler says more */
+    static const int fatal[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
+    for (size_t k = 0; k < sizeof fatal / sizeof fatal[0]; k++)
+        signal(fatal[k], on_crash);
+#endif
     double t_start = now();
     int self = bt_selftest(getenv("MFG_BATTERY_VERBOSE") != NULL);
     printf("battery: self-test of the checks: %d failures (%.2f s)\n", self, now() - t_start);
