@@ -16,6 +16,29 @@
  *   MFG_BATTERY_TIMEOUT=s    cancel a sweep after s seconds (a failure "timeout")
  *   MFG_BATTERY_VERBOSE=1    one line per input with its sizes and times
  *   MFG_BATTERY_VARIANTS=0   no invariance variants (half the inputs get one)
+ *
+ * The checks (eps: the rounding allowance, BT_EPS_REL = 1e-9 of the part's size about the
+ * axis; the sample counts and query budgets are battery.h's BT_*):
+ *   refused       status not MFG_OK (timeout: cancelled through the progress callback)
+ *   closed        mfg_mesh_check_closed accepts the result
+ *   selfint       no two triangles meet but at their common edge or vertex (exact)
+ *   zeroarea      no triangle of zero area (exact)
+ *   volume        the result's volume at least the input's (to 1e-9 relative)
+ *   conservative  points of the input surface (corners, side and face points) turned
+ *                 over [0, angle]: each arc is cut where it crosses the result's surface
+ *                 and each piece classified (exact point-in-solid); no point outside by
+ *                 more than eps.  Pieces along the surface get a branch and bound on the
+ *                 r dt bound down to arcs of tol/16; arcs whose budget ran out first are
+ *                 counted ("coarse"), not failed
+ *   tight         result vertices and face points: none certified farther than tol + eps
+ *                 from SV (dist(p, SV) = min over t of dist(R(-t) p, O), which changes by
+ *                 at most r dt); points neither found within nor certified beyond are
+ *                 "undecided": counted, not failed
+ *   order         renumbered vertices, reordered and restarted triangles: identical arrays
+ *   rigid         the problem moved: volume to 1e-9 relative, and each result within
+ *                 tol + 2 eps of the other (moved)
+ *   scale2        scaled by 2^k: the result scaled by 2^k bit for bit
+ *   scale10       scaled by 10^k (|k| <= 9): volume / 10^3k to 1e-9 relative, every check
  */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <math.h>
