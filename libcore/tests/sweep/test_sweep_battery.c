@@ -490,6 +490,7 @@ static void note_slow(totals *tot, double s, const bt_problem *p, int64_t ntri)
  * it (written with write(2): async-signal-safe). */
 static char crash_note[160];
 
+#if !defined(__SANITIZE_ADDRESS__) /* AddressSanitizer's own handler says more */
 static void on_crash(int sig)
 {
     ssize_t n = write(2, crash_note, strlen(crash_note));
@@ -497,6 +498,7 @@ static void on_crash(int sig)
     signal(sig, SIG_DFL);
     raise(sig);
 }
+#endif
 
 static void run_input(const char *family, uint64_t seed, totals *tot)
 {
@@ -593,7 +595,7 @@ int main(int argc, char **argv)
     /* lines as they come (a crash or a timeout of ctest keeps what was found), and the
      * input named on a crash */
     setvbuf(stdout, NULL, _IOLBF, 0);
-#if !defined(__SANITIZE_ADDRESS__) /* AddressSanitizer's own handler says more */
+#if !defined(__SANITIZE_ADDRESS__)
     static const int fatal[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
     for (size_t k = 0; k < sizeof fatal / sizeof fatal[0]; k++)
         signal(fatal[k], on_crash);
