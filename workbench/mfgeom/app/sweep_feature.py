@@ -87,9 +87,12 @@ def _meshed_copy(shape, deflection):
 def source_mesh(shape, deflection):
     """(vertices (n, 3), triangles (t, 3), curved (t,) bool) of the solids of ``shape``
     (global coordinates as the shape is placed): its faces tessellated one by one at
-    ``deflection`` (planar faces exactly) and welded where corners coincide exactly
-    (OCCT meshes a shared edge once, so neighbouring faces share its nodes)."""
+    ``deflection`` (planar faces exactly), welded where corners coincide (OCCT meshes a
+    shared edge once, so neighbouring faces share its nodes) and then where they differ
+    by a few ulps (each face's copy of those nodes is moved by the face's own location:
+    :func:`mfgeom.geometry.mesh.merge_near_vertices`)."""
     from mfgeom import core
+    from mfgeom.geometry.mesh import merge_near_vertices
     shape = _meshed_copy(shape, deflection)
     soup, curved = [], []
     for solid in shape.Solids:
@@ -104,7 +107,8 @@ def source_mesh(shape, deflection):
     if not soup:
         raise SweepInputError("the source has no faces to mesh")
     vertices, triangles = core.weld(np.vstack(soup))
-    return vertices, triangles, np.concatenate(curved)
+    vertices, triangles, kept = merge_near_vertices(vertices, triangles)
+    return vertices, triangles, np.concatenate(curved)[kept]
 
 
 def axis_of(axis_object, sub=""):
