@@ -69,6 +69,11 @@ def mesh_centroid(vertices, triangles):
     return ((p0 + p1 + p2) * vol6[:, None]).sum(axis=0) / (4.0 * vol6.sum())
 
 
+def core_volume(vertices, triangles):
+    from mfgeom import core
+    return core.mesh_check(vertices, triangles).volume
+
+
 def result_mesh(obj):
     points, facets = obj.Mesh.Topology
     return (np.array([(p.x, p.y, p.z) for p in points]).reshape(-1, 3),
@@ -348,6 +353,88 @@ class Feature(DocumentTestCase):
         self.doc.recompute()
         self.assert_clean(again)
         self.assertEqual(again.Volume, volume)
+
+    def test_exact_result_is_kept_with_the_document(self):
+        """ExactVertices / ExactTriangles hold the library's double-precision result: the
+        triangles of the float32 Mesh, closed, of the feature's Volume, with coordinates
+        float32 cannot hold; they come back bit for bit after save, close and reopen, and
+        a recompute after reopening gives them again."""
+        from mfgeom import core
+        obj = mfgeom.make_rotational_sweep(self.doc, self.box, (1, -2, 0), (0.3, 0.1, 1), 70,
+                                           0.05)
+        self.assert_clean(obj)
+        v, t = sf.exact_mesh(obj)
+        self.assertEqual((v.dtype, t.dtype), (np.float64, np.int64))
+        self.assertEqual(len(t), obj.TriangleCount)
+        rep = core.mesh_check(v, t, require_closed=True)
+        self.assertAlmostEqual(rep.volume / obj.Volume, 1.0, delta=1e-12)
+        self.assertTrue((v != v.astype(np.float32)).any())   # a turn about a slanted axis
+        # the float32 kernel holds the same points, rounded
+        fv, _ = result_mesh(obj)
+        near = np.array([np.abs(v - p).sum(axis=1).min() for p in fv[:200]])
+        self.assertLess(near.max(), 1e-5)
+        name, path = obj.Name, os.path.join(tempfile.mkdtemp(), "exact.FCStd")
+        self.doc.saveAs(path)
+        App.closeDocument(self.doc.Name)
+        self.doc = App.openDocument(path)
+        again = self.doc.getObject(name)
+        self.assertEqual(again.Version, sf.VERSION)
+        self.assertIsNone(again.Proxy.last_mesh)           # read from the file, not kept
+        v2, t2 = sf.exact_mesh(again)
+        np.testing.assert_array_equal(v2, v)
+        np.testing.assert_array_equal(t2, t)
+        again.touch()
+        self.doc.recompute()
+        self.assert_clean(again)
+        v3, t3 = sf.exact_mesh(again)
+        np.testing.assert_array_equal(v3, v)
+        np.testing.assert_array_equal(t3, t)
+
+    def test_version_1_document_opens_and_recomputes(self):
+        """A sweep saved before the exact mesh existed (version 1: no such properties)
+        opens, has no exact result until it recomputes, and then has it."""
+        obj = mfgeom.make_rotational_sweep(self.doc, self.box, (0, 0, 0), "Z", 60, 0.05)
+        volume, name = obj.Volume, obj.Name
+        obj.removeProperty("ExactVertices")
+        obj.removeProperty("ExactTriangles")
+        obj.Version = 1
+        path = os.path.join(tempfile.mkdtemp(), "v1.FCStd")
+        self.doc.saveAs(path)
+        App.closeDocument(self.doc.Name)
+        self.doc = App.openDocument(path)
+        old = self.doc.getObject(name)
+        self.assertEqual(old.Version, sf.VERSION)          # migrated on restore
+        self.assertIn("ExactTriangles", old.PropertiesList)
+        self.assertIsNone(sf.exact_mesh(old))
+        self.assertEqual(old.Volume, volume)
+        old.touch()
+        self.doc.recompute()
+        self.assert_clean(old)
+        v, t = sf.exact_mesh(old)
+        self.assertEqual(len(t), old.TriangleCount)
+        self.assertEqual(old.Volume, volume)
+
+    def test_copies_and_undo_keep_their_own_exact_result(self):
+        self.doc.UndoMode = 1
+        obj = mfgeom.make_rotational_sweep(self.doc, self.box, (0, 0, 0), "Z", 60, 0.05)
+        copy = self.doc.copyObject(obj)
+        self.doc.recompute()
+        self.doc.openTransaction("angle")   # as the task panel's Apply: edit + recompute
+        obj.Angle = 30
+        self.doc.recompute()
+        self.doc.commitTransaction()
+        self.assert_clean(obj)
+        for o in (obj, copy):
+            self.assertAlmostEqual(core_volume(*sf.exact_mesh(o)) / o.Volume, 1.0,
+                                   delta=1e-12)
+        self.assertLess(obj.Volume, copy.Volume)
+        self.assertLess(len(sf.exact_mesh(obj)[1]), len(sf.exact_mesh(copy)[1]))
+        self.doc.undo()      # back to 60 deg: the arrays come back with the other outputs
+        self.assertEqual(obj.Angle.Value, 60)
+        self.assertEqual(obj.Volume, copy.Volume)
+        np.testing.assert_array_equal(sf.exact_mesh(obj)[0], sf.exact_mesh(copy)[0])
+        path = os.path.join(tempfile.mkdtemp(), "copies.FCStd")
+        self.doc.saveAs(path)   # a copy's arrays never stop a save
 
     def test_bad_input_creates_nothing(self):
         face = self.doc.addObject("Part::Feature", "Face")

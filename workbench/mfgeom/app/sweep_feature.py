@@ -20,10 +20,19 @@ with Part's own display modes.
 * Mesh (default): ``Mesh`` holds the result, ``Shape`` is empty.  FreeCAD's mesh kernel
   stores single-precision coordinates (~1e-7 relative); Volume, Area and the bounding box
   are the library's, in double precision.
-* Solid: ``Shape`` is a Part solid of the same triangles with coplanar ones merged into
-  faces (``makeShapeFromMesh``, ``removeSplitter``, ``Part.Solid``); it must be valid
-  and its volume must agree with the library's (an error otherwise).  Building it costs
-  OCCT time per triangle: seconds for ~10^4 triangles.
+* Always: ``ExactVertices`` (App::PropertyVectorList) and ``ExactTriangles``
+  (App::PropertyFloatList, three vertex indices a triangle), hidden, keep the library's
+  result in double precision; FreeCAD saves both as binary doubles in the FCStd (0.20
+  and 1.0 alike).  :func:`exact_mesh` reads them.  Rounded to single precision the mesh
+  of a curved part gets non-manifold edges and zero-area triangles (FreeCAD's mesh
+  kernel merges corners that became equal), so the clearance check, the Solid
+  representation and the view use the exact mesh; the Mesh property stays for other
+  tools and export.  An App::PropertyFileIncluded was tried first and dropped: FreeCAD
+  0.20 copies a new result into the file it made read-only (a failure for a user who is
+  not root), and ``copyObject`` shares that file between original and copy until a
+  recompute of one deletes it, after which the document cannot be saved.  A document
+  of version 1 has no exact mesh until its next recompute (the clearance check then
+  falls back to the Mesh).
 
 Inputs are in global coordinates: the source's global placement (containers included)
 is applied to its shape, so the answer moves with the part; an AxisObject (a straight
@@ -49,8 +58,8 @@ from mfgeom.errors import InputError, MfgeomError
 # names stay importable from here.
 from mfgeom.geometry.mesh import MAX_OFFSET_FACTOR, conservative_offset  # noqa: F401
 
-# 1: first release.  Bump when properties change and migrate in _upgrade().
-VERSION = 1
+# 1: first release.  2: ExactVertices, ExactTriangles.  Bump when properties change and migrate in _upgrade().
+VERSION = 2
 TYPE = "Mfgeom::RotationalSweep"
 REPRESENTATIONS = ["Mesh", "Solid"]
 DEFAULT_ANGLE = 90.0          # degrees
@@ -344,7 +353,16 @@ class RotationalSweep(FeatureProxy):
              "Version of this object's properties, for migrating old documents", True),
         ]
         add_properties(obj, spec)
-        add_mesh_property(obj, "The swept volume as a closed triangle mesh (global)")
+        add_mesh_property(obj, "The swept volume as a closed triangle mesh (global, single "
+                               "precision)")
+        for ptype, name, tip in (
+                ("App::PropertyVectorList", "ExactVertices",
+                 "The swept volume's vertices in double precision (the library's result)"),
+                ("App::PropertyFloatList", "ExactTriangles",
+                 "The swept volume's triangles: three indices into ExactVertices each")):
+            if name not in obj.PropertiesList:
+                obj.addProperty(ptype, name, "Result", tip, 8, True)
+                obj.setEditorMode(name, 2)
 
     def _execute(self, obj):
         import Part
@@ -361,8 +379,8 @@ class RotationalSweep(FeatureProxy):
         if obj.Representation == "Solid":
             solid = solid_of_mesh(result.vertices, result.triangles, result.volume)
         t3 = time.perf_counter()
-        # the double-precision result stays on the proxy (not saved) for the view
-        self.last_mesh = (result.vertices, result.triangles)
+        obj.ExactVertices = [tuple(p) for p in result.vertices.tolist()]
+        obj.ExactTriangles = result.triangles.ravel().astype(np.float64).tolist()
         obj.Mesh = mesh_of(result.vertices, result.triangles)
         obj.Shape = solid if solid is not None else Part.Shape()
         obj.Placement = FreeCAD.Placement()
@@ -370,6 +388,8 @@ class RotationalSweep(FeatureProxy):
         obj.SourceOffset = float(offset)
         obj.TriangleCount = len(result.triangles)
         obj.Area = result.area
+        # the arrays stay on the proxy (onChanged of the Exact* properties drops them)
+        self.last_mesh = (result.vertices, result.triangles)
         obj.Volume = result.volume  # last: the view redraws on it
         FreeCAD.Console.PrintLog(
             f"mfgeom: {obj.Label}: {len(triangles)} source triangles (offset "
@@ -378,6 +398,45 @@ class RotationalSweep(FeatureProxy):
 
     def _restored(self):
         self.last_mesh = None
+
+    def onChanged(self, obj, prop):
+        # an undo or a restore brings other arrays: convert them again when asked
+        if prop in ("ExactVertices", "ExactTriangles"):
+            self.last_mesh = None
+
+
+# ---------------------------------------------------------------------------- exact mesh
+def exact_mesh(obj):
+    """(vertices (n, 3) float64, triangles (t, 3) int64) of the sweep ``obj``'s result in
+    double precision, or None when it has none (a document of version 1 not recomputed
+    yet, an object that is not a sweep) or when the arrays are not its result (their
+    triangle count and volume must be the object's).  Converted once: the proxy keeps
+    the arrays until the properties change."""
+    if "ExactTriangles" not in getattr(obj, "PropertiesList", ()):
+        return None
+    proxy = getattr(obj, "Proxy", None)
+    kept = getattr(proxy, "last_mesh", None)
+    if kept is not None:
+        return kept
+    flat = np.asarray(obj.ExactTriangles, dtype=np.float64)
+    if not len(flat) or len(flat) % 3:
+        return None
+    vertices = np.array([(p.x, p.y, p.z) for p in obj.ExactVertices],
+                        dtype=np.float64).reshape(-1, 3)
+    triangles = flat.astype(np.int64).reshape(-1, 3)
+    if (len(triangles) != obj.TriangleCount or triangles.min() < 0
+            or triangles.max() >= len(vertices)):
+        return None
+    p0, p1, p2 = (vertices[triangles[:, k]] for k in range(3))
+    volume = float(np.einsum("ij,ij->", p0, np.cross(p1, p2))) / 6.0
+    # the document keeps Volume to 16 digits, and the sum's order differs from the library's
+    if abs(volume - obj.Volume) > 1e-9 * max(abs(obj.Volume), 1e-300):
+        FreeCAD.Console.PrintLog(f"mfgeom: {obj.Label}: the exact mesh is not this "
+                                 "result: not used\n")
+        return None
+    if proxy is not None:
+        proxy.last_mesh = (vertices, triangles)
+    return vertices, triangles
 
 
 # ---------------------------------------------------------------------------- make
