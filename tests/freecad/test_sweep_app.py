@@ -523,6 +523,29 @@ class Feature(DocumentTestCase):
         path = os.path.join(tempfile.mkdtemp(), "copies.FCStd")
         self.doc.saveAs(path)   # a copy's arrays never stop a save
 
+    def test_defaults_are_scaled_to_the_part(self):
+        """Without a tolerance or deflection both are a thousandth of the part's global
+        bounding-box diagonal rounded down to 1 / 2 / 5 x 10^k; given ones are kept."""
+        from mfgeom.geometry.sizes import round_down_125
+        obj = mfgeom.make_rotational_sweep(self.doc, self.box, (0, 0, 0), "Z", 30)
+        self.assert_clean(obj)
+        diagonal = math.sqrt(A * A + B * B + C * C)           # 5.39 mm: 0.005 mm
+        self.assertEqual((obj.Tolerance.Value, obj.Deflection.Value), (0.005, 0.005))
+        self.assertEqual(sf.part_defaults(self.box), (0.005, 0.005, diagonal))
+        big = self.doc.addObject("Part::Cylinder", "Big")
+        big.Radius, big.Height = 40.0, 150.0                    # 184 mm: 0.1 mm
+        big.Placement = App.Placement(App.Vector(500, 0, 0), App.Rotation(App.Vector(1, 0, 0), 45))
+        self.doc.recompute()
+        tol, defl, diag = sf.part_defaults(big)
+        self.assertAlmostEqual(diag, big.Shape.BoundBox.DiagonalLength, places=9)  # global
+        self.assertEqual((tol, defl), (round_down_125(diag / 1000),) * 2)
+        given = mfgeom.make_rotational_sweep(self.doc, self.box, (0, 0, 0), "Z", 30, 0.0123,
+                                             deflection="0.02 mm", name="Given")
+        self.assertEqual((given.Tolerance.Value, given.Deflection.Value), (0.0123, 0.02))
+        half = mfgeom.make_rotational_sweep(self.doc, self.box, (0, 0, 0), "Z", 30, 0.05,
+                                            name="Half")
+        self.assertEqual((half.Tolerance.Value, half.Deflection.Value), (0.05, 0.005))
+
     def test_bad_input_creates_nothing(self):
         face = self.doc.addObject("Part::Feature", "Face")
         face.Shape = Part.makePlane(2, 2)

@@ -69,6 +69,9 @@ VERSION = 2
 TYPE = "Mfgeom::RotationalSweep"
 REPRESENTATIONS = ["Mesh", "Solid"]
 DEFAULT_ANGLE = 90.0          # degrees
+# A new sweep's tolerance and deflection are scaled to its part (part_defaults); these
+# absolute values are only the properties' initial values before make_rotational_sweep
+# sets them.
 DEFAULT_TOLERANCE = 0.01      # mm
 DEFAULT_DEFLECTION = 0.01     # mm
 
@@ -405,6 +408,20 @@ def exact_mesh(obj):
 
 
 # ---------------------------------------------------------------------------- make
+def part_defaults(source):
+    """(tolerance, deflection, diagonal) for a sweep of ``source`` (a document object
+    with a solid Shape): both lengths a thousandth of the diagonal of its bounding box in
+    global coordinates, rounded down to 1, 2 or 5 times a power of ten
+    (:func:`mfgeom.geometry.sizes.part_default`; docs/sweep.md says why)."""
+    from mfgeom.app import gauss_map
+    from mfgeom.geometry.sizes import part_default
+    diagonal = float(gauss_map.shape_of(source, deep=False).BoundBox.DiagonalLength)
+    if not diagonal > 0.0:
+        raise SweepInputError(f"'{source.Label}' has no extent")
+    step = part_default(diagonal)
+    return step, step, diagonal
+
+
 def _vector3(value, what):
     if isinstance(value, str):
         axes = {"X": (1, 0, 0), "Y": (0, 1, 0), "Z": (0, 0, 1)}
@@ -452,8 +469,8 @@ def make_rotational_sweep(doc: "FreeCAD.Document", source: "FreeCAD.DocumentObje
                           axis_point: object = (0.0, 0.0, 0.0),
                           axis_dir: object = (0.0, 0.0, 1.0),
                           angle_deg: Quantity = DEFAULT_ANGLE,
-                          tolerance: Quantity = DEFAULT_TOLERANCE,
-                          deflection: Quantity = DEFAULT_DEFLECTION,
+                          tolerance: Quantity = None,
+                          deflection: Quantity = None,
                           representation: str = "Mesh", axis: object = None,
                           reverse: bool = False,
                           name: str = "RotationalSweep") -> "FreeCAD.DocumentObject":
@@ -462,8 +479,9 @@ def make_rotational_sweep(doc: "FreeCAD.Document", source: "FreeCAD.DocumentObje
     a vector, a 3-tuple or "X" / "Y" / "Z"), or ``axis`` = an object or ``(obj,
     "EdgeN")`` (a straight edge, a datum line, an origin axis) which then overrides
     them; ``reverse`` turns the other way.  ``angle_deg`` in (0, 360] (a number of
-    degrees, an angle Quantity or "90 deg"); ``tolerance`` and ``deflection`` in mm;
-    ``representation`` "Mesh" or "Solid".  Inputs are checked before anything is
+    degrees, an angle Quantity or "90 deg"); ``tolerance`` and ``deflection`` in mm
+    (None: a thousandth of the part's size, :func:`part_defaults`; a value given is
+    kept as it is); ``representation`` "Mesh" or "Solid".  Inputs are checked before anything is
     created; if the first recompute fails the object is removed again and the error
     (one line) raised.  Returns the new object."""
     if doc is None or not hasattr(doc, "addObject"):
@@ -478,6 +496,10 @@ def make_rotational_sweep(doc: "FreeCAD.Document", source: "FreeCAD.DocumentObje
     point = _vector3(axis_point if axis_point is not None else (0, 0, 0), "the axis point")
     direction = _vector3(axis_dir if axis_dir is not None else (0, 0, 1), "the axis direction")
     angle = _quantity(angle_deg, "deg", "the angle")
+    if tolerance is None or deflection is None:
+        scaled_tol, scaled_defl, _ = part_defaults(source)
+        tolerance = scaled_tol if tolerance is None else tolerance
+        deflection = scaled_defl if deflection is None else deflection
     tol = _quantity(tolerance, "mm", "the tolerance")
     defl = _quantity(deflection, "mm", "the deflection")
     # an axis object gives its own direction (checked below)
