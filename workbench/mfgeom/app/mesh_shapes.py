@@ -63,6 +63,28 @@ class MeshFaces:
     def _plane(self, loop, normal):
         return Part.Plane(FreeCAD.Vector(*self._points[loop[0]]), FreeCAD.Vector(*normal))
 
+    def triangle_faces(self, indices):
+        """One planar Part face per triangle of ``indices`` (of the given mesh; those that
+        collapsed when close vertices were merged are left out), made once and kept."""
+        if not hasattr(self, "_triangle_face"):
+            self._triangle_face = {}
+        out = []
+        for t in self.merged_index[np.asarray(indices, dtype=np.int64)].tolist():
+            if t < 0:
+                continue
+            face = self._triangle_face.get(t)
+            if face is None:
+                loop = self.triangles[t].tolist()
+                p = self.vertices[loop]
+                n = np.cross(p[1] - p[0], p[2] - p[0])
+                length = float(np.linalg.norm(n))
+                if length == 0.0:
+                    continue
+                face = self._triangle_face[t] = Part.Face(self._plane(loop, n / length),
+                                                          self._wire(loop))
+            out.append(face)
+        return out
+
     def faces(self, subset=None, split=()):
         """(faces, normals, groups): planar Part faces covering the triangles ``subset``
         (indices of the given mesh; all when None) with each group of coplanar neighbours
