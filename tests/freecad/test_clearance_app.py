@@ -377,6 +377,45 @@ class MacroApi(Base):
         with self.assertRaises(InputError):
             mfgeom.check_clearance(self.doc)
 
+    def test_the_sweep_is_found_by_type_whatever_the_order(self):
+        """The sweep feature given after an obstacle (as a selection made in the other
+        order) is still the sweep; two sweeps are refused naming both; without a sweep
+        feature the first object stands in only where the caller allows it."""
+        block = self.add("Block", Part.makeBox(A, B, C))
+        self.doc.recompute()
+        sweep = mfgeom.make_rotational_sweep(self.doc, block, (0, 0, 0), (0, 0, 1), 90.0,
+                                             SWEEP_TOL)
+        inside = self.add("Inside", Part.makeBox(1, 1, 1, V(-5, 12, 1)))  # in the box at 90
+        far = self.add("Far", Part.makeBox(1, 1, 1, V(A + 10, 0, 0)))
+        self.doc.recompute()
+        want = mfgeom.check_clearance(sweep, [inside, far], tolerance=TOL)
+        self.assertEqual([(r.name, r.status) for r in want],
+                         [("Inside", "interference"), ("Far", "clear")])
+        for first, rest in ((inside, [sweep, far]), (inside, [far, sweep]), (far, [sweep, inside])):
+            for call in (mfgeom.check_clearance, clearance.check_clearance):
+                got = by_label(call(first, rest, tolerance=TOL))
+                self.assertEqual(sorted(got), ["Far", "Inside"])
+                self.assertEqual(got["Inside"].status, "interference")
+                self.assertAlmostEqual(got["Inside"].interference_volume, 1.0, delta=1e-9)
+                self.assertAlmostEqual(got["Far"].min_distance,
+                                       by_label(want)["Far"].min_distance, delta=1e-12)
+        before = [o.Name for o in self.doc.Objects]
+        other = mfgeom.make_rotational_sweep(self.doc, block, (0, 0, 0), (1, 0, 0), 30.0,
+                                             SWEEP_TOL, name="Other")
+        before.append(other.Name)
+        for call in (mfgeom.check_clearance, clearance.check_clearance):
+            with self.assertRaisesRegex(InputError, "2 rotational sweeps selected") as ctx:
+                call(inside, [sweep, other], tolerance=TOL)
+            self.assertIn(sweep.Label, str(ctx.exception))
+            self.assertIn(other.Label, str(ctx.exception))
+        self.assertEqual([o.Name for o in self.doc.Objects], before)
+        # the command's rule: no stand-in
+        with self.assertRaisesRegex(InputError, "no rotational sweep selected .only Inside, Far"):
+            clearance.find_sweep([inside, far], stand_in=False)
+        self.assertEqual(clearance.find_sweep([inside, far]), (inside, [far]))
+        self.assertEqual(clearance.find_sweep([far, sweep, inside], stand_in=False),
+                         (sweep, [far, inside]))
+
     def test_document_with_one_sweep_feature(self):
         class FakeSweep:   # a FeaturePython whose proxy says it is a sweep
             Type = "Mfgeom::RotationalSweep"

@@ -416,7 +416,7 @@ def _check_one(sweep, obj, tolerance, sweep_faces=None, triangles=None):
 _CONTACT = 1e-7
 # The obstacle's tessellation for the distance's lower bounds: its deflection relative to
 # the obstacle's size (coarse is fine: it only prunes; OCCT gives the distance).
-_OBSTACLE_DEFLECTION = 2e-4
+_OBSTACLE_DEFLECTION = 5e-4
 
 
 class MeshSweep:
@@ -446,7 +446,17 @@ def _obstacle_triangles(solid):
     are not to be trusted)."""
     deflection = max(_OBSTACLE_DEFLECTION * solid.BoundBox.DiagonalLength, 1e-6)
     flat, round_, curved_faces, complete = [], [], [], True
-    for face in solid.copy().Faces:
+    copy = solid.copy()
+    try:
+        # the coarse angular deflection of the sweep's own source mesh: Face.tessellate
+        # alone also imposes a fine angle (a sphere of radius 2 at 0.002 mm did not
+        # finish in minutes); the bounds need the linear deflection only
+        import MeshPart
+        MeshPart.meshFromShape(Shape=copy, LinearDeflection=deflection,
+                               AngularDeflection=0.5, Relative=False)
+    except ImportError:
+        pass
+    for face in copy.Faces:
         try:
             points, tris = face.tessellate(deflection)
         except (Part.OCCError, RuntimeError):
@@ -700,7 +710,14 @@ def check_clearance(sweep_obj, others, tolerance=None):
     ``tolerance``: mm, a length Quantity or a string such as "0.01 mm" (default:
     :func:`default_tolerance`).  Returns one :class:`ClearanceResult` per object, in
     order; an object that is not a solid (or is the sweep itself) gets status INVALID
-    with a message.  Raises InputError when ``sweep_obj`` is missing or not a solid."""
+    with a message.  Raises InputError when ``sweep_obj`` is missing or not a solid.
+    The sweep is found by type (:func:`find_sweep`): a sweep feature among ``others``
+    is the sweep, and ``sweep_obj`` one of the objects checked against it."""
+    if sweep_obj is not None and not _is_sweep(sweep_obj) and \
+            any(_is_sweep(o) for o in others):
+        sweep_obj, others = find_sweep([sweep_obj] + list(others))
+    elif sweep_obj is not None and _is_sweep(sweep_obj):
+        find_sweep([sweep_obj] + list(others))     # two sweeps: say so
     check_volume_source(sweep_obj)
     tol = _tolerance(default_tolerance(sweep_obj) if tolerance is None else tolerance)
     try:
@@ -761,7 +778,10 @@ def valid_sweep(sweep):
 
 
 def _is_sweep(obj):
-    return "Sweep" in getattr(getattr(obj, "Proxy", None), "Type", "")
+    try:
+        return "Sweep" in getattr(getattr(obj, "Proxy", None), "Type", "")
+    except (AttributeError, RuntimeError, ReferenceError):   # a deleted object
+        return False
 
 
 def _has_volume(obj):
@@ -794,9 +814,43 @@ def document_obstacles(sweep_obj):
     return [o for o in candidates if not any(p.Name in names for p in o.InList)]
 
 
+def find_sweep(objects, stand_in=True):
+    """(sweep, others) of ``objects`` (a selection, in any order): the one rotational
+    sweep feature among them wherever it stands, and the others in their order (the
+    sweep left out).  Two or more sweep features: InputError naming them (which one
+    turns is not for us to guess).  None: with ``stand_in`` the first object stands for
+    the swept volume (a solid or a closed mesh from elsewhere, as the macro API allows);
+    without (the command, where the first-selected obstacle used to be taken for the
+    sweep silently) InputError."""
+    objects = [o for o in objects if o is not None]
+    sweeps, seen = [], set()
+    for o in objects:
+        if _is_sweep(o) and _name(o) not in seen:
+            seen.add(_name(o))
+            sweeps.append(o)
+    if len(sweeps) > 1:
+        raise InputError(f"{len(sweeps)} rotational sweeps selected "
+                         f"({', '.join(_label(o) for o in sweeps)}): select one sweep and "
+                         "the solids to check against it")
+    if sweeps:
+        sweep = sweeps[0]
+        first = next(i for i, o in enumerate(objects) if o is sweep)
+        return sweep, objects[:first] + objects[first + 1:]
+    if not stand_in or not objects:
+        labels = ", ".join(_label(o) for o in objects[:4]) + (", ..." if len(objects) > 4
+                                                              else "")
+        raise InputError("no rotational sweep selected" + (f" (only {labels})" if labels
+                                                           else "")
+                         + ": select the sweep made by Rotational sweep, and the solids to "
+                         "check against it")
+    return objects[0], objects[1:]
+
+
 def resolve(doc_or_sweep, others=None):
     """(sweep object, others) from the macro API's arguments: a document (its one sweep
-    feature) or the sweep object; ``others`` None: :func:`document_obstacles`."""
+    feature) or objects in any order (:func:`find_sweep`: the sweep feature among
+    ``doc_or_sweep`` and ``others``, else ``doc_or_sweep`` stands in for it); ``others``
+    None: :func:`document_obstacles`."""
     if doc_or_sweep is None:
         raise InputError("no sweep given")
     if isinstance(doc_or_sweep, FreeCAD.Document):
@@ -806,7 +860,11 @@ def resolve(doc_or_sweep, others=None):
                              "features: pass the sweep object instead")
         sweep_obj = sweeps[0]
     else:
-        sweep_obj = doc_or_sweep
+        given = None if others is None else (
+            [others] if hasattr(others, "TypeId") else list(others))
+        sweep_obj, rest = find_sweep([doc_or_sweep] + (given or []))
+        if given is not None:
+            return sweep_obj, rest
     if others is None:
         others = document_obstacles(sweep_obj)
     elif hasattr(others, "TypeId"):
