@@ -665,6 +665,81 @@ class Pruning(Base):
         self.assertAlmostEqual(res["Far"].min_distance, math.sqrt(3) * 10, delta=1e-9)
 
 
+class MeshEngine(Base):
+    """The mesh sweep's own engine (MeshSweep: numpy bounds, OCCT only near, General
+    Fuse of the obstacle) against analytic values on a cube mesh of many triangles, and
+    against OCCT's Boolean common and distance on the same cube as a Part solid."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.mesh = grid_box_mesh(10.0, 6)      # [0, 10]^3, 432 triangles
+
+    def setUp(self):
+        super().setUp()
+        self.sweep = self.add_mesh("Grid", self.mesh)
+
+    def test_films_contacts_and_curved_commons(self):
+        r = 2.0
+        objs = [self.add("Touch", Part.makeBox(5, 5, 5, V(10, 2, 2))),          # a face
+                self.add("Film", Part.makeBox(5, 5, 5, V(10 - 0.004, 2, 2))),   # < TOL
+                self.add("Thin", Part.makeBox(5, 5, 5, V(10 - 0.05, 2, 2))),    # > TOL
+                # a cylinder through the cube along x: common pi r^2 10
+                self.add("Rod", Part.makeCylinder(r, 30, V(-10, 5, 5), V(1, 0, 0))),
+                # a ball half in: common 2/3 pi r^3
+                self.add("Ball", Part.makeSphere(r, V(10, 5, 5))),
+                # a ball 0.5 above the top, a torus around the cube (it holds the cube's
+                # middle: the boundaries never meet, the distance is the gap to its tube)
+                self.add("Above", Part.makeSphere(1, V(5, 5, 11.5))),
+                self.add("Ring", Part.makeTorus(12, 1, V(5, 5, 5)))]
+        self.doc.recompute()
+        res = by_label(clearance.check_clearance(self.sweep, objs, TOL))
+        want = {"Touch": ("touching", 0.0, 0.0), "Film": ("touching", 0.0, 0.0),
+                "Thin": ("interference", 0.05 * 25, 0.0),
+                "Rod": ("interference", math.pi * r * r * 10, 0.0),
+                "Ball": ("interference", 2.0 / 3.0 * math.pi * r ** 3, 0.0),
+                "Above": ("clear", 0.0, 0.5),
+                "Ring": ("clear", 0.0, 11.0 - math.hypot(5, 5))}
+        for label, (status, volume, distance) in want.items():
+            with self.subTest(label=label):
+                got = res[label]
+                self.assertEqual(got.status, status, got)
+                # OCCT's volumes of curved solids hold ~1e-6 relative
+                self.assertAlmostEqual(got.interference_volume, volume,
+                                       delta=1e-6 * max(1.0, volume))
+                self.assertAlmostEqual(got.min_distance, distance, delta=1e-7)
+                if got.interferes:
+                    obj = self.doc.getObject(label).Shape
+                    self.assertTrue(obj.isInside(got.point_on_object, 1e-6, True))
+                    self.assertLess(got.common.Volume - got.interference_volume, 1e-9)
+
+    def test_the_same_answers_as_occt_on_the_part_solid(self):
+        """Random boxes and balls: the mesh engine and OCCT's Boolean common and
+        distance on the cube as a Part solid give the same status, volume and
+        distance."""
+        rng = np.random.default_rng(9)
+        cube = self.add("Cube", Part.makeBox(10, 10, 10))
+        objs = []
+        for k in range(14):
+            c = rng.uniform(-4, 14, 3)
+            size = rng.uniform(0.5, 4.0)
+            shape = (Part.makeSphere(size / 2, V(*c)) if k % 2 else
+                     Part.makeBox(size, 1.5 * size, size, V(*c)))
+            objs.append(self.add(f"O{k}", shape))
+        self.doc.recompute()
+        mesh = by_label(clearance.check_clearance(self.sweep, objs, TOL))
+        occt = by_label(clearance.check_clearance(cube, objs, TOL))
+        statuses = set()
+        for label, want in occt.items():
+            got = mesh[label]
+            with self.subTest(label=label):
+                self.assertEqual(got.status, want.status, (got, want))
+                self.assertAlmostEqual(got.interference_volume, want.interference_volume,
+                                       delta=1e-6 * max(1.0, want.interference_volume))
+                self.assertAlmostEqual(got.min_distance, want.min_distance, delta=1e-7)
+            statuses.add(want.status)
+        self.assertTrue({"interference", "clear"} <= statuses, statuses)
+
+
 class Sampling(unittest.TestCase):
     """The fallback for sweep solids OCCT finds invalid: parity of ray crossings and a
     sampled common volume, against a box mesh."""

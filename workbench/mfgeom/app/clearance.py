@@ -26,11 +26,11 @@ How, for a sweep that is a triangle mesh (the sweep feature's exact double-preci
 result, or a closed Mesh): :class:`MeshSweep`, without making the whole mesh a Part solid
 (minutes for 10^4 triangles, and OCCT's Booleans against it took minutes each).
 
-* Distance: exact, by OCCT (``distToShape``) between the solid's boundary and the
-  sweep's triangles that can hold the minimum: a branch and bound whose lower bound per
-  triangle is its box's gap to the boxes of the solid's tessellation (inflated by twice
-  the tessellation's deflection), so only the triangles near the closest place become
-  Part faces.
+* Distance: exact, a branch and bound on the solid's tessellation
+  (:func:`mesh_min_distance`): numpy's triangle distances are exact to its planar faces
+  and bound the distance to its curved ones; OCCT (``distToShape``) measures only the
+  sweep triangles whose bound to a curved face beats the best distance so far, so only
+  those become Part faces.
 * Apart boundaries (distance > 0): the solid is inside the sweep when a point of it is
   (the parity of a ray's crossings of the mesh, :mod:`mfgeom.geometry.trimesh`), the
   sweep inside the solid when a vertex of it is (OCCT's classifier); the common is then
