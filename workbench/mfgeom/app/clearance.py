@@ -35,10 +35,10 @@ result, or a closed Mesh): :class:`MeshSweep`, without making the whole mesh a P
   (the parity of a ray's crossings of the mesh, :mod:`mfgeom.geometry.trimesh`), the
   sweep inside the solid when a vertex of it is (OCCT's classifier); the common is then
   the inner one whole, else empty.
-* Meeting boundaries: the solid is split by the sweep's triangles whose boxes meet its
-  box (coplanar ones merged into planar faces, :mod:`mfgeom.app.mesh_shapes`; they hold
-  all of the sweep's boundary inside the solid, and their own boundary lies outside it)
-  with OCCT's General Fuse; a piece is inside the sweep when its faces on the sweep's
+* Meeting boundaries: the solid is split by the sweep's triangles in its box that may
+  meet its boundary or lie inside it (:func:`_patch`; coplanar ones merged into planar
+  faces, :mod:`mfgeom.app.mesh_shapes`; they hold all of the sweep's boundary inside
+  the solid, and their own boundary lies outside it) with OCCT's General Fuse; a piece is inside the sweep when its faces on the sweep's
   triangles face the same way as they (else by a point of it), and the common is the
   pieces inside.  Only the solid and the nearby triangles enter OCCT.
 
@@ -478,6 +478,11 @@ def _obstacle_triangles(solid):
             complete and bool(flat or round_))
 
 
+# Sweep triangles measured by numpy at a time (in the order of their boxes' gaps), so a
+# contact found early ends the search: 10^4 triangles inside an obstacle's box are common.
+_CHUNK = 2048
+
+
 def mesh_min_distance(msweep, solid):
     """(distance, point on the sweep, point on the solid) between the sweep's triangles
     and the solid's boundary, as exact as OCCT's distToShape over all of them.
@@ -488,39 +493,74 @@ def mesh_min_distance(msweep, solid):
     tessellation's deviation of the true one, a lower bound per sweep triangle.  OCCT
     then measures only the sweep triangles whose lower bound to a curved face beats the
     best distance so far, in that order and in doubling batches against the curved faces
-    near them, until the next bound exceeds the best (or the best is 0).  A parallel
-    planar face (the sweep's flat end above a plate: thousands of triangles at the same
-    distance) costs no OCCT call."""
-    from mfgeom.geometry.trimesh import box_gaps, mesh_distances
+    near them, until the next bound exceeds the best (or the best is 0).  The sweep's
+    triangles go to numpy in chunks in the order of their boxes' gaps to the solid's
+    box; a contact (distance 0) ends the search.  A parallel planar face (the sweep's
+    flat end above a plate: thousands of triangles at the same distance) costs no OCCT
+    call."""
+    from mfgeom.geometry.trimesh import mesh_distances
     mesh = msweep.mesh
     flat, curved, deviation, curved_faces, complete = _obstacle_triangles(solid)
     gaps = mesh.gaps(_box(solid.BoundBox))
     order = np.argsort(gaps, kind="stable")
-    best, best_pair = np.inf, None
-    if complete:
-        # a first bound: corners of the nearest triangles (by box) to the obstacle's
-        # tessellation corners, which lie on its surface (every 8th is enough)
-        seeds = mesh.corners[order[:_SEED_FACES]].reshape(-1, 3)
-        points = np.vstack([flat.reshape(-1, 3), curved.reshape(-1, 3)])[::8]
-        upper = float(np.sqrt(((seeds[:, None, :] - points[None, :, :]) ** 2)
-                              .sum(axis=2)).min())
-        cand = np.flatnonzero(gaps <= upper)
-        d, pa, pb = mesh_distances(mesh.corners[cand], flat, upper)
-        if len(cand) and np.isfinite(d).any():
-            k = int(np.argmin(d))
-            best, best_pair = float(d[k]), (FreeCAD.Vector(*pa[k]), FreeCAD.Vector(*pb[k]))
-        bound = mesh_distances(mesh.corners[cand], curved, min(upper, best) + deviation)[0] \
-            - deviation
-        need = bound < best
-        cand, bound = cand[need], np.maximum(bound[need], 0.0)
-        rank = np.argsort(bound, kind="stable")
-        cand, bound = cand[rank], bound[rank]
-        targets, target_boxes = curved_faces, np.array(
-            [_box(f.BoundBox) for f in curved_faces]).reshape(-1, 6)
-    else:   # some face did not tessellate: the boxes' gaps are the only bounds
-        cand, bound = order, gaps[order]
+    if not complete:   # some face did not tessellate: the boxes' gaps are the only bounds
         targets = list(solid.Faces)
-        target_boxes = np.array([_box(f.BoundBox) for f in targets]).reshape(-1, 6)
+        return _occt_search(msweep, order, gaps[order], np.inf, None, targets)
+    # a first bound: corners of the nearest triangles (by box) to the obstacle's
+    # tessellation corners, which lie on its surface (every 8th is enough)
+    seeds = mesh.corners[order[:_SEED_FACES]].reshape(-1, 3)
+    points = np.vstack([flat.reshape(-1, 3), curved.reshape(-1, 3)])[::8]
+    upper = float(np.sqrt(((seeds[:, None, :] - points[None, :, :]) ** 2)
+                          .sum(axis=2)).min())
+    best, best_pair = np.inf, None
+    kept, kept_bound = [], []
+    for start in range(0, len(order), _CHUNK):
+        limit = min(upper, best)
+        chunk = order[start:start + _CHUNK]
+        chunk = chunk[gaps[chunk] <= limit]
+        if not len(chunk):
+            break
+        d, pa, pb = mesh_distances(mesh.corners[chunk], flat, limit)
+        if np.isfinite(d).any():
+            k = int(np.argmin(d))
+            if d[k] < best:
+                best, best_pair = float(d[k]), (FreeCAD.Vector(*pa[k]), FreeCAD.Vector(*pb[k]))
+        near = mesh_distances(mesh.corners[chunk], curved, min(upper, best) + deviation)[0]
+        if np.isfinite(near).any():
+            upper = min(upper, float(near.min()) + deviation)
+        bound = near - deviation
+        kept.append(chunk[bound < best])
+        kept_bound.append(np.maximum(bound[bound < best], 0.0))
+        if best <= 0.0:
+            break
+        if (bound <= 0.0).any():
+            # the sweep may cut a curved face here: ask OCCT before measuring more
+            cand = np.concatenate(kept)
+            bnd = np.concatenate(kept_bound)
+            rank = np.argsort(bnd, kind="stable")[:4 * _SEED_FACES]
+            best, best_pair = _occt_search(msweep, cand[rank], bnd[rank], best, best_pair,
+                                           curved_faces, keep_going=False)
+            if best <= 0.0:
+                break
+    if best > 0.0 and kept:
+        cand, bound = np.concatenate(kept), np.concatenate(kept_bound)
+        rank = np.argsort(bound, kind="stable")
+        best, best_pair = _occt_search(msweep, cand[rank], bound[rank], best, best_pair,
+                                       curved_faces, keep_going=False)
+    if best_pair is None:   # nothing measured (cannot happen for a closed solid)
+        return _occt_search(msweep, order[:_SEED_FACES], np.zeros(_SEED_FACES), np.inf,
+                            None, [_boundary(solid)])
+    return best, best_pair[0], best_pair[1]
+
+
+def _occt_search(msweep, cand, bound, best, best_pair, targets, keep_going=True):
+    """OCCT's distance from the sweep triangles ``cand`` (ordered by their lower
+    ``bound``) to the faces ``targets`` near them, in doubling batches while a bound is
+    below the best distance: (best, pair), or (distance, point, point) when
+    ``keep_going`` (the search from scratch)."""
+    from mfgeom.geometry.trimesh import box_gaps
+    mesh = msweep.mesh
+    target_boxes = np.array([_box(f.BoundBox) for f in targets]).reshape(-1, 6)
     start, batch = 0, _SEED_FACES
     while start < len(cand) and bound[start] < best and best > 0.0:
         chunk = cand[start:start + batch][bound[start:start + batch] < best]
@@ -535,10 +575,9 @@ def mesh_min_distance(msweep, solid):
         dist, pairs, _ = msweep.compound(chunk).distToShape(target)
         if dist < best:
             best, best_pair = dist, pairs[0]
-    if best_pair is None:   # nothing measured (cannot happen for a closed solid)
-        best, pairs, _ = msweep.compound(order[:_SEED_FACES]).distToShape(_boundary(solid))
-        best_pair = pairs[0]
-    return best, best_pair[0], best_pair[1]
+    if keep_going:
+        return best, best_pair[0], best_pair[1]
+    return best, best_pair
 
 
 def _interior_point(solid, tries=400, seed=3):
@@ -569,6 +608,7 @@ def mesh_common(msweep, solid, margin):
     idx = msweep.mesh.near(_box(solid.BoundBox), margin)
     if not len(idx):
         return 0.0, 0.0, []
+    idx = _patch(msweep, solid, idx, margin)
     faces, normals, _ = msweep.maker.faces(idx)
     pieces_of, face_normal = solid.generalFuse(faces, 0.0)[1], {}
     for k, images in enumerate(pieces_of[1:]):
@@ -592,6 +632,36 @@ def mesh_common(msweep, solid, margin):
         if is_in:
             inside.append(piece)
     return (sum(p.Volume for p in inside), sum(p.Area for p in inside), inside)
+
+
+def _patch(msweep, solid, idx, margin):
+    """Of the sweep's triangles ``idx`` (those in the solid's box), the ones General Fuse
+    needs: those that may meet the solid's boundary (their boxes within ``margin`` of its
+    tessellation's boxes, grown by the tessellation's deviation) and those inside it.
+    The others lie wholly inside or outside; each edge-connected run of them is one or
+    the other, told by one point (ray parity against the tessellation, exact that far
+    from its surface).  The patch's own boundary then still lies outside the solid."""
+    from mfgeom.geometry import planar
+    from mfgeom.geometry.trimesh import TriangleMesh, min_box_gaps
+    flat, curved, deviation, _faces, complete = _obstacle_triangles(solid)
+    if not complete or len(idx) < 256:
+        return idx
+    corners = np.vstack([flat, curved])
+    boxes = np.hstack([corners.min(axis=1) - deviation, corners.max(axis=1) + deviation])
+    mesh = msweep.mesh
+    far = min_box_gaps(mesh.boxes[idx], boxes) > margin
+    rest = idx[far]
+    if not len(rest):
+        return idx
+    owner, twin, _ = planar.edge_pairs(mesh.triangles[rest])
+    pair = np.flatnonzero(twin > np.arange(len(twin)))
+    run = planar._label_components(len(rest), owner[pair], owner[twin[pair]])
+    first = np.unique(run, return_index=True)[1]
+    surface = TriangleMesh(corners.reshape(-1, 3), np.arange(3 * len(corners)).reshape(-1, 3))
+    inside = surface.contains(mesh.corners[rest[first]].mean(axis=1))
+    keep = ~far
+    keep[np.flatnonzero(far)] = inside[run]
+    return idx[keep]
 
 
 def _centre_vertex(shapes):
