@@ -72,6 +72,13 @@ def summary(obj):
         value = getattr(obj, name)
         if name in ("Label", "Label2", "ExpressionEngine", "Visibility"):
             continue
+        if name in ("ExactVertices", "ExactTriangles"):
+            # the sweep's exact mesh (10^5 numbers): by count and sums, so the JSON stays
+            # small and a mesh that did not survive the trip still shows
+            flat = [c for p in value for c in ((p.x, p.y, p.z) if hasattr(p, "x") else (p,))]
+            out[name] = {"count": len(value), "sum": math.fsum(flat),
+                         "sum_abs": math.fsum(abs(c) for c in flat)}
+            continue
         if ptype in _SCALAR:
             out[name] = list(value) if isinstance(value, (list, tuple)) else value
         elif ptype in _QUANTITY:

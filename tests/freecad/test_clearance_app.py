@@ -377,6 +377,45 @@ class MacroApi(Base):
         with self.assertRaises(InputError):
             mfgeom.check_clearance(self.doc)
 
+    def test_the_sweep_is_found_by_type_whatever_the_order(self):
+        """The sweep feature given after an obstacle (as a selection made in the other
+        order) is still the sweep; two sweeps are refused naming both; without a sweep
+        feature the first object stands in only where the caller allows it."""
+        block = self.add("Block", Part.makeBox(A, B, C))
+        self.doc.recompute()
+        sweep = mfgeom.make_rotational_sweep(self.doc, block, (0, 0, 0), (0, 0, 1), 90.0,
+                                             SWEEP_TOL)
+        inside = self.add("Inside", Part.makeBox(1, 1, 1, V(-5, 12, 1)))  # in the box at 90
+        far = self.add("Far", Part.makeBox(1, 1, 1, V(A + 10, 0, 0)))
+        self.doc.recompute()
+        want = mfgeom.check_clearance(sweep, [inside, far], tolerance=TOL)
+        self.assertEqual([(r.name, r.status) for r in want],
+                         [("Inside", "interference"), ("Far", "clear")])
+        for first, rest in ((inside, [sweep, far]), (inside, [far, sweep]), (far, [sweep, inside])):
+            for call in (mfgeom.check_clearance, clearance.check_clearance):
+                got = by_label(call(first, rest, tolerance=TOL))
+                self.assertEqual(sorted(got), ["Far", "Inside"])
+                self.assertEqual(got["Inside"].status, "interference")
+                self.assertAlmostEqual(got["Inside"].interference_volume, 1.0, delta=1e-9)
+                self.assertAlmostEqual(got["Far"].min_distance,
+                                       by_label(want)["Far"].min_distance, delta=1e-12)
+        before = [o.Name for o in self.doc.Objects]
+        other = mfgeom.make_rotational_sweep(self.doc, block, (0, 0, 0), (1, 0, 0), 30.0,
+                                             SWEEP_TOL, name="Other")
+        before.append(other.Name)
+        for call in (mfgeom.check_clearance, clearance.check_clearance):
+            with self.assertRaisesRegex(InputError, "2 rotational sweeps selected") as ctx:
+                call(inside, [sweep, other], tolerance=TOL)
+            self.assertIn(sweep.Label, str(ctx.exception))
+            self.assertIn(other.Label, str(ctx.exception))
+        self.assertEqual([o.Name for o in self.doc.Objects], before)
+        # the command's rule: no stand-in
+        with self.assertRaisesRegex(InputError, "no rotational sweep selected .only Inside, Far"):
+            clearance.find_sweep([inside, far], stand_in=False)
+        self.assertEqual(clearance.find_sweep([inside, far]), (inside, [far]))
+        self.assertEqual(clearance.find_sweep([far, sweep, inside], stand_in=False),
+                         (sweep, [far, inside]))
+
     def test_document_with_one_sweep_feature(self):
         class FakeSweep:   # a FeaturePython whose proxy says it is a sweep
             Type = "Mfgeom::RotationalSweep"
@@ -624,6 +663,81 @@ class Pruning(Base):
         self.assertAlmostEqual(res["Outer"].interference_volume, 1000.0, delta=1e-6)
         self.assertEqual(res["Far"].status, "clear")
         self.assertAlmostEqual(res["Far"].min_distance, math.sqrt(3) * 10, delta=1e-9)
+
+
+class MeshEngine(Base):
+    """The mesh sweep's own engine (MeshSweep: numpy bounds, OCCT only near, General
+    Fuse of the obstacle) against analytic values on a cube mesh of many triangles, and
+    against OCCT's Boolean common and distance on the same cube as a Part solid."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.mesh = grid_box_mesh(10.0, 6)      # [0, 10]^3, 432 triangles
+
+    def setUp(self):
+        super().setUp()
+        self.sweep = self.add_mesh("Grid", self.mesh)
+
+    def test_films_contacts_and_curved_commons(self):
+        r = 2.0
+        objs = [self.add("Touch", Part.makeBox(5, 5, 5, V(10, 2, 2))),          # a face
+                self.add("Film", Part.makeBox(5, 5, 5, V(10 - 0.004, 2, 2))),   # < TOL
+                self.add("Thin", Part.makeBox(5, 5, 5, V(10 - 0.05, 2, 2))),    # > TOL
+                # a cylinder through the cube along x: common pi r^2 10
+                self.add("Rod", Part.makeCylinder(r, 30, V(-10, 5, 5), V(1, 0, 0))),
+                # a ball half in: common 2/3 pi r^3
+                self.add("Ball", Part.makeSphere(r, V(10, 5, 5))),
+                # a ball 0.5 above the top, a torus around the cube (it holds the cube's
+                # middle: the boundaries never meet, the distance is the gap to its tube)
+                self.add("Above", Part.makeSphere(1, V(5, 5, 11.5))),
+                self.add("Ring", Part.makeTorus(12, 1, V(5, 5, 5)))]
+        self.doc.recompute()
+        res = by_label(clearance.check_clearance(self.sweep, objs, TOL))
+        want = {"Touch": ("touching", 0.0, 0.0), "Film": ("touching", 0.0, 0.0),
+                "Thin": ("interference", 0.05 * 25, 0.0),
+                "Rod": ("interference", math.pi * r * r * 10, 0.0),
+                "Ball": ("interference", 2.0 / 3.0 * math.pi * r ** 3, 0.0),
+                "Above": ("clear", 0.0, 0.5),
+                "Ring": ("clear", 0.0, 11.0 - math.hypot(5, 5))}
+        for label, (status, volume, distance) in want.items():
+            with self.subTest(label=label):
+                got = res[label]
+                self.assertEqual(got.status, status, got)
+                # OCCT's volumes of curved solids hold ~1e-6 relative
+                self.assertAlmostEqual(got.interference_volume, volume,
+                                       delta=1e-6 * max(1.0, volume))
+                self.assertAlmostEqual(got.min_distance, distance, delta=1e-7)
+                if got.interferes:
+                    obj = self.doc.getObject(label).Shape
+                    self.assertTrue(obj.isInside(got.point_on_object, 1e-6, True))
+                    self.assertLess(got.common.Volume - got.interference_volume, 1e-9)
+
+    def test_the_same_answers_as_occt_on_the_part_solid(self):
+        """Random boxes and balls: the mesh engine and OCCT's Boolean common and
+        distance on the cube as a Part solid give the same status, volume and
+        distance."""
+        rng = np.random.default_rng(9)
+        cube = self.add("Cube", Part.makeBox(10, 10, 10))
+        objs = []
+        for k in range(14):
+            c = rng.uniform(-4, 14, 3)
+            size = rng.uniform(0.5, 4.0)
+            shape = (Part.makeSphere(size / 2, V(*c)) if k % 2 else
+                     Part.makeBox(size, 1.5 * size, size, V(*c)))
+            objs.append(self.add(f"O{k}", shape))
+        self.doc.recompute()
+        mesh = by_label(clearance.check_clearance(self.sweep, objs, TOL))
+        occt = by_label(clearance.check_clearance(cube, objs, TOL))
+        statuses = set()
+        for label, want in occt.items():
+            got = mesh[label]
+            with self.subTest(label=label):
+                self.assertEqual(got.status, want.status, (got, want))
+                self.assertAlmostEqual(got.interference_volume, want.interference_volume,
+                                       delta=1e-6 * max(1.0, want.interference_volume))
+                self.assertAlmostEqual(got.min_distance, want.min_distance, delta=1e-7)
+            statuses.add(want.status)
+        self.assertTrue({"interference", "clear"} <= statuses, statuses)
 
 
 class Sampling(unittest.TestCase):

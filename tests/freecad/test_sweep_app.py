@@ -69,6 +69,11 @@ def mesh_centroid(vertices, triangles):
     return ((p0 + p1 + p2) * vol6[:, None]).sum(axis=0) / (4.0 * vol6.sum())
 
 
+def core_volume(vertices, triangles):
+    from mfgeom import core
+    return core.mesh_check(vertices, triangles).volume
+
+
 def result_mesh(obj):
     points, facets = obj.Mesh.Topology
     return (np.array([(p.x, p.y, p.z) for p in points]).reshape(-1, 3),
@@ -122,6 +127,94 @@ class ConservativeMesh(unittest.TestCase):
         vol = core.mesh_check(moved, t, require_closed=True).volume
         self.assertGreater(vol, math.pi * r * r * h)
         self.assertLess(vol - math.pi * r * r * h, 2 * math.pi * r * h * largest * 1.01)
+
+
+def motor_solids():
+    """The 17 solids of the corpus' motor assembly (tests/corpus/Motor-c.brep.gz)."""
+    sys.path.insert(0, os.path.join(REPO, "tests", "corpus"))
+    try:
+        import corpus
+    finally:
+        sys.path.pop(0)
+    part = next(p for p in corpus.PARTS if p.file.startswith("Motor-c"))
+    return corpus.load(part)[1]
+
+
+class RealPartMesh(unittest.TestCase):
+    """source_mesh on a real assembly: OCCT's per-face copies of an edge's nodes differ
+    by ulps on 12 of the motor's 17 solids, which an exact weld left open (the sweep
+    refused them: "mesh is not closed: 12 boundary edges")."""
+
+    def test_every_motor_solid_meshes_closed(self):
+        from mfgeom import core
+        solids = motor_solids()
+        self.assertEqual(len(solids), 17)
+        for i, solid in enumerate(solids):
+            with self.subTest(solid=i):
+                v, t, curved = sf.source_mesh(solid, 0.1)
+                self.assertEqual(len(curved), len(t))
+                rep = core.mesh_check(v, t, require_closed=True)
+                self.assertEqual((rep.boundary_edges, rep.nonmanifold_edges,
+                                  rep.nonmanifold_vertices, rep.components), (0, 0, 0, 1))
+                # chords cut in by at most the deflection over the curved area
+                self.assertLess(abs(rep.volume - solid.Volume), 0.1 * solid.Area)
+
+
+class MeshSolids(unittest.TestCase):
+    """mesh_shapes.solid_of_mesh, the Solid representation's builder: planar faces of
+    coplanar triangle groups on shared vertices and edges, no sewing."""
+
+    def test_faces_with_holes_and_a_t_junction(self):
+        from mfgeom.app import mesh_shapes
+        sys.path.insert(0, os.path.join(REPO, "tests", "python"))
+        try:
+            import test_planar
+        finally:
+            sys.path.pop(0)
+        v, t = test_planar.frame_mesh()
+        solid = mesh_shapes.solid_of_mesh(v, t, 12.0)
+        self.assertTrue(solid.isValid())
+        self.assertEqual(len(solid.Faces), 10)
+        self.assertEqual(sorted(len(f.Wires) for f in solid.Faces), [1] * 8 + [2, 2])
+        self.assertAlmostEqual(solid.Volume, 12.0, places=12)
+        # vertices closer than OCCT tells apart (a 1e-8 edge) are merged first
+        v2 = np.vstack([v, v[0] + [1e-8, 0, 0]])
+        t2 = t.copy()
+        k = int(np.flatnonzero((t2 == 0).any(axis=1))[0])
+        t2[k][t2[k] == 0] = len(v2) - 1
+        solid = mesh_shapes.solid_of_mesh(v2, t2, 12.0)
+        self.assertTrue(solid.isValid())
+        self.assertEqual(len(solid.Vertexes), 16)
+
+    def test_twenty_thousand_curved_triangles(self):
+        """20 480 triangles with no two coplanar (an icosphere): one face each, a valid
+        solid of the mesh's volume (the first Solid representation failed at 2e4)."""
+        import time as _time
+        from mfgeom import core
+        from mfgeom.app import mesh_shapes
+        from mfgeom.geometry import sphere
+        v, t = sphere.icosphere(5)
+        v = v * 25.0 + [3.0, -4.0, 5.0]
+        volume = core.mesh_check(v, t, require_closed=True).volume
+        start = _time.perf_counter()
+        solid = mesh_shapes.solid_of_mesh(v, t, volume)
+        took = _time.perf_counter() - start
+        self.assertEqual(len(solid.Faces), 20480)
+        self.assertTrue(solid.isValid())
+        self.assertAlmostEqual(solid.Volume / volume, 1.0, delta=1e-9)
+        self.assertLess(took, 120.0)
+
+    def test_an_open_mesh_is_refused(self):
+        from mfgeom.app import mesh_shapes
+        from mfgeom.errors import MfgeomError
+        sys.path.insert(0, os.path.join(REPO, "tests", "python"))
+        try:
+            from sweep_oracle import box_mesh
+        finally:
+            sys.path.pop(0)
+        v, t = box_mesh((0, 0, 0), (1, 2, 3))
+        with self.assertRaisesRegex(MfgeomError, "do not close"):
+            mesh_shapes.solid_of_mesh(v, t[1:], 6.0)
 
 
 class Axes(unittest.TestCase):
@@ -258,6 +351,36 @@ class Feature(DocumentTestCase):
         self.assertLessEqual(obj.Volume - reference, obj.Tolerance.Value * obj.Area)
         self.assertLess(len(shape.Faces), obj.TriangleCount)
 
+    def test_motor_part_as_solid(self):
+        """A part of the corpus motor (10 faces, cylinders) turned 90 deg about the motor's
+        axis at 0.05 mm as a Solid: ~1.7e4 triangles with the library's first sweep,
+        where the first Solid representation said "did not give one closed shell"."""
+        part = self.doc.addObject("Part::Feature", "MotorPart")
+        part.Shape = motor_solids()[5]
+        obj = mfgeom.make_rotational_sweep(self.doc, part, (0, 0, 0), "Z", 90, 0.05,
+                                           deflection=0.05, representation="Solid")
+        self.assert_clean(obj)
+        shape = obj.Shape
+        self.assertEqual(shape.ShapeType, "Solid")
+        self.assertTrue(shape.isValid())
+        self.assertAlmostEqual(shape.Volume / obj.Volume, 1.0, delta=1e-6)
+        self.assertLess(len(shape.Faces), obj.TriangleCount)
+        # it holds the part at 0, 45 and 90 deg: points inside the part are inside it
+        rng = np.random.default_rng(5)
+        box = part.Shape.BoundBox
+        pts = [App.Vector(*p) for p in rng.uniform((box.XMin, box.YMin, box.ZMin),
+                                                   (box.XMax, box.YMax, box.ZMax), (400, 3))]
+        inner = np.array([(p.x, p.y, p.z) for p in pts if part.Shape.isInside(p, 0.0, False)])
+        self.assertGreater(len(inner), 100)
+        v, t = sf.exact_mesh(obj)
+        for angle in (0, 45, 90):
+            c, s_ = math.cos(math.radians(angle)), math.sin(math.radians(angle))
+            turned = inner @ np.array([[c, s_, 0], [-s_, c, 0], [0, 0, 1]])
+            self.assertTrue(sweep_oracle.inside_solid(turned, v, t).all(), angle)
+            # and in the solid itself (OCCT's classifier: ~0.3 s a point on this solid)
+            for p in turned[:4]:
+                self.assertTrue(shape.isInside(App.Vector(*p), 1e-9, True), (angle, p))
+
     def test_placement_is_respected(self):
         obj = mfgeom.make_rotational_sweep(self.doc, self.box, None, None, 90, 0.01,
                                            axis=(self.box, "Edge1"))
@@ -317,6 +440,111 @@ class Feature(DocumentTestCase):
         self.doc.recompute()
         self.assert_clean(again)
         self.assertEqual(again.Volume, volume)
+
+    def test_exact_result_is_kept_with_the_document(self):
+        """ExactVertices / ExactTriangles hold the library's double-precision result: the
+        triangles of the float32 Mesh, closed, of the feature's Volume, with coordinates
+        float32 cannot hold; they come back bit for bit after save, close and reopen, and
+        a recompute after reopening gives them again."""
+        from mfgeom import core
+        obj = mfgeom.make_rotational_sweep(self.doc, self.box, (1, -2, 0), (0.3, 0.1, 1), 70,
+                                           0.05)
+        self.assert_clean(obj)
+        v, t = sf.exact_mesh(obj)
+        self.assertEqual((v.dtype, t.dtype), (np.float64, np.int64))
+        self.assertEqual(len(t), obj.TriangleCount)
+        rep = core.mesh_check(v, t, require_closed=True)
+        self.assertAlmostEqual(rep.volume / obj.Volume, 1.0, delta=1e-12)
+        self.assertTrue((v != v.astype(np.float32)).any())   # a turn about a slanted axis
+        # the float32 kernel holds the same points, rounded
+        fv, _ = result_mesh(obj)
+        near = np.array([np.abs(v - p).sum(axis=1).min() for p in fv[:200]])
+        self.assertLess(near.max(), 1e-5)
+        name, path = obj.Name, os.path.join(tempfile.mkdtemp(), "exact.FCStd")
+        self.doc.saveAs(path)
+        App.closeDocument(self.doc.Name)
+        self.doc = App.openDocument(path)
+        again = self.doc.getObject(name)
+        self.assertEqual(again.Version, sf.VERSION)
+        self.assertIsNone(again.Proxy.last_mesh)           # read from the file, not kept
+        v2, t2 = sf.exact_mesh(again)
+        np.testing.assert_array_equal(v2, v)
+        np.testing.assert_array_equal(t2, t)
+        again.touch()
+        self.doc.recompute()
+        self.assert_clean(again)
+        v3, t3 = sf.exact_mesh(again)
+        np.testing.assert_array_equal(v3, v)
+        np.testing.assert_array_equal(t3, t)
+
+    def test_version_1_document_opens_and_recomputes(self):
+        """A sweep saved before the exact mesh existed (version 1: no such properties)
+        opens, has no exact result until it recomputes, and then has it."""
+        obj = mfgeom.make_rotational_sweep(self.doc, self.box, (0, 0, 0), "Z", 60, 0.05)
+        volume, name = obj.Volume, obj.Name
+        obj.removeProperty("ExactVertices")
+        obj.removeProperty("ExactTriangles")
+        obj.Version = 1
+        path = os.path.join(tempfile.mkdtemp(), "v1.FCStd")
+        self.doc.saveAs(path)
+        App.closeDocument(self.doc.Name)
+        self.doc = App.openDocument(path)
+        old = self.doc.getObject(name)
+        self.assertEqual(old.Version, sf.VERSION)          # migrated on restore
+        self.assertIn("ExactTriangles", old.PropertiesList)
+        self.assertIsNone(sf.exact_mesh(old))
+        self.assertEqual(old.Volume, volume)
+        old.touch()
+        self.doc.recompute()
+        self.assert_clean(old)
+        v, t = sf.exact_mesh(old)
+        self.assertEqual(len(t), old.TriangleCount)
+        self.assertEqual(old.Volume, volume)
+
+    def test_copies_and_undo_keep_their_own_exact_result(self):
+        self.doc.UndoMode = 1
+        obj = mfgeom.make_rotational_sweep(self.doc, self.box, (0, 0, 0), "Z", 60, 0.05)
+        copy = self.doc.copyObject(obj)
+        self.doc.recompute()
+        self.doc.openTransaction("angle")   # as the task panel's Apply: edit + recompute
+        obj.Angle = 30
+        self.doc.recompute()
+        self.doc.commitTransaction()
+        self.assert_clean(obj)
+        for o in (obj, copy):
+            self.assertAlmostEqual(core_volume(*sf.exact_mesh(o)) / o.Volume, 1.0,
+                                   delta=1e-12)
+        self.assertLess(obj.Volume, copy.Volume)
+        self.assertLess(len(sf.exact_mesh(obj)[1]), len(sf.exact_mesh(copy)[1]))
+        self.doc.undo()      # back to 60 deg: the arrays come back with the other outputs
+        self.assertEqual(obj.Angle.Value, 60)
+        self.assertEqual(obj.Volume, copy.Volume)
+        np.testing.assert_array_equal(sf.exact_mesh(obj)[0], sf.exact_mesh(copy)[0])
+        path = os.path.join(tempfile.mkdtemp(), "copies.FCStd")
+        self.doc.saveAs(path)   # a copy's arrays never stop a save
+
+    def test_defaults_are_scaled_to_the_part(self):
+        """Without a tolerance or deflection both are a thousandth of the part's global
+        bounding-box diagonal rounded down to 1 / 2 / 5 x 10^k; given ones are kept."""
+        from mfgeom.geometry.sizes import round_down_125
+        obj = mfgeom.make_rotational_sweep(self.doc, self.box, (0, 0, 0), "Z", 30)
+        self.assert_clean(obj)
+        diagonal = math.sqrt(A * A + B * B + C * C)           # 5.39 mm: 0.005 mm
+        self.assertEqual((obj.Tolerance.Value, obj.Deflection.Value), (0.005, 0.005))
+        self.assertEqual(sf.part_defaults(self.box), (0.005, 0.005, diagonal))
+        big = self.doc.addObject("Part::Cylinder", "Big")
+        big.Radius, big.Height = 40.0, 150.0                    # 184 mm: 0.1 mm
+        big.Placement = App.Placement(App.Vector(500, 0, 0), App.Rotation(App.Vector(1, 0, 0), 45))
+        self.doc.recompute()
+        tol, defl, diag = sf.part_defaults(big)
+        self.assertAlmostEqual(diag, big.Shape.BoundBox.DiagonalLength, places=9)  # global
+        self.assertEqual((tol, defl), (round_down_125(diag / 1000),) * 2)
+        given = mfgeom.make_rotational_sweep(self.doc, self.box, (0, 0, 0), "Z", 30, 0.0123,
+                                             deflection="0.02 mm", name="Given")
+        self.assertEqual((given.Tolerance.Value, given.Deflection.Value), (0.0123, 0.02))
+        half = mfgeom.make_rotational_sweep(self.doc, self.box, (0, 0, 0), "Z", 30, 0.05,
+                                            name="Half")
+        self.assertEqual((half.Tolerance.Value, half.Deflection.Value), (0.05, 0.005))
 
     def test_bad_input_creates_nothing(self):
         face = self.doc.addObject("Part::Feature", "Face")

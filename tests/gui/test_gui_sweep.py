@@ -117,8 +117,11 @@ def _():
     assert "Box.Edge1" in panel["axis"].currentText()
     d = [panel[f"d{c}"].value() for c in "xyz"]
     assert d == [0.0, 0.0, 1.0] and not panel["dz"].isEnabled(), d
+    # the defaults scaled to the part: 1/1000 of its 5.39 mm diagonal, rounded down
+    assert (panel["tolerance"].value(), panel["deflection"].value()) == (0.005, 0.005)
+    assert "5.385 mm diagonal" in panel["defaultsNote"].text(), panel["defaultsNote"].text()
     panel["angle"].setValue(90.0)
-    panel["tolerance"].setValue(0.1)   # Solid below: OCCT takes ~0.4 ms per triangle
+    panel["tolerance"].setValue(0.1)   # the user's value goes into the call as it is
     press(panel["ok"])
     left = task_panel()
     assert left is None, "OK left the panel open: " + (left["message"].text() if left else "")
@@ -148,22 +151,16 @@ def _():
     assert panel is not None, "double click opened no panel"
     assert "Volume" in panel["result"].text(), panel["result"].text()
     undo = obj.Document.UndoCount
-    from mfgeom import core
-    flat = core.mesh_check(*obj.Proxy.last_mesh).degenerate_triangles
-    if flat:
-        # The library's first version leaves zero-area triangles, which OCCT takes for
-        # self-intersecting wires: Solid is refused with a recompute error (and its
-        # traceback in the log), so it is not tried here (test_sweep_app.py is).
-        print(f"NOTE: Solid not tried: the swept mesh has {flat} zero-area triangles")
-        undo -= 1   # nothing to undo below
-    else:
-        panel["representation"].setCurrentIndex(1)
-        press(panel["apply"])
-        assert obj.Representation == "Solid" and obj.isValid(), obj.getStatusString()
-        assert obj.Shape.isValid() and len(obj.Shape.Solids) == 1
-        assert abs(obj.Shape.Volume / obj.Volume - 1) < 1e-6
-        assert vobj.DisplayMode == "Flat Lines", vobj.DisplayMode
-        assert obj.Document.UndoCount == undo + 1
+    # Solid: planar faces of the exact mesh's coplanar triangles (zero-area ones join a
+    # neighbour), a valid solid of the library's volume, Part's display mode
+    panel["representation"].setCurrentIndex(1)
+    press(panel["apply"])
+    assert obj.Representation == "Solid" and obj.isValid(), obj.getStatusString()
+    assert obj.Shape.isValid() and len(obj.Shape.Solids) == 1
+    assert abs(obj.Shape.Volume / obj.Volume - 1) < 1e-6
+    assert len(obj.Shape.Faces) < obj.TriangleCount
+    assert vobj.DisplayMode == "Flat Lines", vobj.DisplayMode
+    assert obj.Document.UndoCount == undo + 1
     # a custom axis with a zero direction: the message, the sweep unchanged
     volume = obj.Volume
     panel["axis"].setCurrentIndex(panel["axis"].findData("custom"))
@@ -198,7 +195,7 @@ def _():
              + mw.findChildren(QtGui.QTextEdit) if w.objectName() == "Python console"]
     call = ("mfgeom.make_rotational_sweep(App.getDocument('SweepGui'), "
             "App.getDocument('SweepGui').getObject('Box'), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), "
-            "90.0, 0.1, deflection=0.01, axis=(App.getDocument('SweepGui').getObject('Box'), "
+            "90.0, 0.1, deflection=0.005, axis=(App.getDocument('SweepGui').getObject('Box'), "
             "'Edge1'))")
     assert texts and call in texts[0], texts[0][-600:] if texts else "no console"
 

@@ -194,6 +194,61 @@ def test_offset_is_capped_on_a_sharp_curved_crease():
     assert np.linalg.norm(moved - v, axis=1).max() == pytest.approx(largest)
 
 
+# --------------------------------------------------------------------------- near vertices
+def face_soup_cube(jitter):
+    """A unit cube meshed face by face as OCCT does (each face its own copy of the
+    corner nodes), the copies moved by ``jitter`` (a function of the face index): an
+    exact weld leaves it open when the copies differ."""
+    quads = [((0, 0, 0), (0, 1, 0), (1, 1, 0), (1, 0, 0)), ((0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)),
+             ((0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1)), ((0, 1, 0), (0, 1, 1), (1, 1, 1), (1, 1, 0)),
+             ((0, 0, 0), (0, 0, 1), (0, 1, 1), (0, 1, 0)), ((1, 0, 0), (1, 1, 0), (1, 1, 1), (1, 0, 1))]
+    v, t = [], []
+    for f, q in enumerate(quads):
+        base = len(v)
+        v += [np.array(c, float) * 26.0 + jitter(f) for c in q]
+        t += [(base, base + 1, base + 2), (base, base + 2, base + 3)]
+    return np.array(v), np.array(t)
+
+
+def test_merge_near_vertices_closes_a_mesh_whose_face_copies_differ_by_ulps():
+    ulp = np.spacing(26.0)
+    v, t = face_soup_cube(lambda f: (f % 3) * ulp * np.array([1.0, -1.0, 2.0]))
+    welded, wt = core.weld(v[t].reshape(-1, 9))
+    assert core.mesh_check(welded, wt).boundary_edges > 0          # the exact weld fails
+    mv, mt, kept = gm.merge_near_vertices(v, t)
+    assert len(mv) == 8 and kept.all() and len(mt) == 12
+    report = core.mesh_check(mv, mt, require_closed=True)
+    assert report.volume == pytest.approx(26.0 ** 3, rel=1e-12)
+    # each merged vertex is one of its cluster's own points (the lowest index)
+    assert all(np.isin(mv, v).all(axis=1))
+
+
+def test_merge_near_vertices_keeps_points_apart_and_drops_collapsed_triangles():
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1e-9, 0, 0], [0, 0, 1]], float)
+    t = np.array([[0, 1, 2], [0, 3, 4], [1, 2, 4]])
+    mv, mt, kept = gm.merge_near_vertices(v, t, eps=1e-8)
+    assert len(mv) == 4 and kept.tolist() == [True, False, True]
+    np.testing.assert_array_equal(mt, [[0, 1, 2], [1, 2, 3]])
+    # 1e-9 apart, eps 1e-10: nothing merges, nothing changes
+    mv, mt, kept = gm.merge_near_vertices(v, t, eps=1e-10)
+    np.testing.assert_array_equal(mv, v)
+    np.testing.assert_array_equal(mt, t)
+    assert kept.all()
+
+
+def test_merge_near_vertices_merges_every_pair_within_eps_wherever_the_grid_lies():
+    eps = 1e-6
+    base = RNG.uniform(-50, 50, (400, 3))
+    # the partners straddle cell boundaries of every shifted grid as often as not
+    offsets = random_directions(400) * RNG.uniform(0.0, eps, 400)[:, None]
+    v = np.vstack([base, base + offsets])
+    mv, _, _ = gm.merge_near_vertices(v, np.zeros((0, 3), int), eps)
+    assert len(mv) == 400
+    # and points 100 eps apart never merge
+    far = np.vstack([base, base + random_directions(400) * 100 * eps])
+    assert len(gm.merge_near_vertices(far, np.zeros((0, 3), int), eps)[0]) == 800
+
+
 # --------------------------------------------------------------------------- boundary loops
 def grid_with_hole(k):
     """A k x k grid of unit squares (two counter-clockwise triangles each, seen from +z)

@@ -83,12 +83,13 @@ def check_clearance(doc_or_sweep, others=None, tolerance=None):
 
 @needs_library
 def make_rotational_sweep(doc, source, axis_point=(0.0, 0.0, 0.0), axis_dir=(0.0, 0.0, 1.0),
-                          angle_deg=90.0, tolerance=0.01, **kwargs):
+                          angle_deg=90.0, tolerance=None, **kwargs):
     """Create the parametric volume swept by ``source`` (a solid) turning by 0 ..
     ``angle_deg`` about the axis through ``axis_point`` along ``axis_dir`` (global),
-    within ``tolerance`` mm.  Keywords: ``deflection`` (mm, curved faces), ``representation``
-    ("Mesh" or "Solid"), ``axis`` (an edge ``(obj, "EdgeN")``, datum line or origin axis
-    instead of point and direction), ``reverse``, ``name``.
+    within ``tolerance`` mm (None: a thousandth of the part's size, rounded down to 1, 2
+    or 5 x 10^k).  Keywords: ``deflection`` (mm, curved faces; None: as the tolerance),
+    ``representation`` ("Mesh" or "Solid"), ``axis`` (an edge ``(obj, "EdgeN")``, datum
+    line or origin axis instead of point and direction), ``reverse``, ``name``.
     See :func:`mfgeom.app.sweep_feature.make_rotational_sweep`."""
     from mfgeom.app.sweep_feature import make_rotational_sweep as _make
     return _make(doc, source, axis_point, axis_dir, angle_deg, tolerance, **kwargs)

@@ -20,10 +20,24 @@ with Part's own display modes.
 * Mesh (default): ``Mesh`` holds the result, ``Shape`` is empty.  FreeCAD's mesh kernel
   stores single-precision coordinates (~1e-7 relative); Volume, Area and the bounding box
   are the library's, in double precision.
-* Solid: ``Shape`` is a Part solid of the same triangles with coplanar ones merged into
-  faces (``makeShapeFromMesh``, ``removeSplitter``, ``Part.Solid``); it must be valid
-  and its volume must agree with the library's (an error otherwise).  Building it costs
-  OCCT time per triangle: seconds for ~10^4 triangles.
+* Always: ``ExactVertices`` (App::PropertyVectorList) and ``ExactTriangles``
+  (App::PropertyFloatList, three vertex indices a triangle), hidden, keep the library's
+  result in double precision; FreeCAD saves both as binary doubles in the FCStd (0.20
+  and 1.0 alike).  :func:`exact_mesh` reads them.  Rounded to single precision the mesh
+  of a curved part gets non-manifold edges and zero-area triangles (FreeCAD's mesh
+  kernel merges corners that became equal), so the clearance check, the Solid
+  representation and the view use the exact mesh; the Mesh property stays for other
+  tools and export.  An App::PropertyFileIncluded was tried first and dropped: FreeCAD
+  0.20 copies a new result into the file it made read-only (a failure for a user who is
+  not root), and ``copyObject`` shares that file between original and copy until a
+  recompute of one deletes it, after which the document cannot be saved.  A document
+  of version 1 has no exact mesh until its next recompute (the clearance check then
+  falls back to the Mesh).
+* Solid: ``Shape`` is a Part solid of the exact triangles with coplanar neighbours
+  merged into planar faces built on shared vertices and edges
+  (:mod:`mfgeom.app.mesh_shapes`: no sewing); it must be valid and its volume must
+  agree with the library's (an error otherwise).  Seconds for 2e4 triangles, about a
+  minute for 1.4e5.
 
 Inputs are in global coordinates: the source's global placement (containers included)
 is applied to its shape, so the answer moves with the part; an AxisObject (a straight
@@ -49,17 +63,17 @@ from mfgeom.errors import InputError, MfgeomError
 # names stay importable from here.
 from mfgeom.geometry.mesh import MAX_OFFSET_FACTOR, conservative_offset  # noqa: F401
 
-# 1: first release.  Bump when properties change and migrate in _upgrade().
-VERSION = 1
+# 1: first release.  2: ExactVertices, ExactTriangles.  Bump when properties change and
+# migrate in _upgrade().
+VERSION = 2
 TYPE = "Mfgeom::RotationalSweep"
 REPRESENTATIONS = ["Mesh", "Solid"]
 DEFAULT_ANGLE = 90.0          # degrees
+# A new sweep's tolerance and deflection are scaled to its part (part_defaults); these
+# absolute values are only the properties' initial values before make_rotational_sweep
+# sets them.
 DEFAULT_TOLERANCE = 0.01      # mm
 DEFAULT_DEFLECTION = 0.01     # mm
-# Solid representation: sewing tolerance of the mesh's vertices (they are shared exactly)
-# and the largest relative difference between the solid's and the library's volume.
-_SEWING = 1e-7
-_VOLUME_AGREEMENT = 1e-6
 
 
 class SweepInputError(InputError):
@@ -87,9 +101,12 @@ def _meshed_copy(shape, deflection):
 def source_mesh(shape, deflection):
     """(vertices (n, 3), triangles (t, 3), curved (t,) bool) of the solids of ``shape``
     (global coordinates as the shape is placed): its faces tessellated one by one at
-    ``deflection`` (planar faces exactly) and welded where corners coincide exactly
-    (OCCT meshes a shared edge once, so neighbouring faces share its nodes)."""
+    ``deflection`` (planar faces exactly), welded where corners coincide (OCCT meshes a
+    shared edge once, so neighbouring faces share its nodes) and then where they differ
+    by a few ulps (each face's copy of those nodes is moved by the face's own location:
+    :func:`mfgeom.geometry.mesh.merge_near_vertices`)."""
     from mfgeom import core
+    from mfgeom.geometry.mesh import merge_near_vertices
     shape = _meshed_copy(shape, deflection)
     soup, curved = [], []
     for solid in shape.Solids:
@@ -104,7 +121,8 @@ def source_mesh(shape, deflection):
     if not soup:
         raise SweepInputError("the source has no faces to mesh")
     vertices, triangles = core.weld(np.vstack(soup))
-    return vertices, triangles, np.concatenate(curved)
+    vertices, triangles, kept = merge_near_vertices(vertices, triangles)
+    return vertices, triangles, np.concatenate(curved)[kept]
 
 
 def axis_of(axis_object, sub=""):
@@ -233,53 +251,16 @@ def mesh_of(vertices, triangles):
         os.remove(path)
 
 
-def _zero_area_count(vertices, triangles):
-    """The mesh's zero-area triangles: their collinear corners are what OCCT's sewing and
-    solid checks trip over (a known gap of the library's sweep), named in the messages."""
-    from mfgeom import core
-    return core.mesh_check(vertices, triangles).degenerate_triangles
-
-
 def solid_of_mesh(vertices, triangles, volume):
-    """The Solid representation: a Part solid of the triangles (double precision) with
-    coplanar neighbours merged into faces (OCCT's refine, ``removeSplitter``).  It must
-    be valid before and after merging and its volume must agree with ``volume`` (the
-    library's) to 1e-6 relative; MfgeomError says which check failed otherwise (e.g.
-    zero-area triangles, whose collinear corners OCCT takes for a self-intersecting
-    wire).  makeShapeFromMesh costs ~0.4 ms per triangle in FreeCAD 0.20."""
-    import Part
-    points = [FreeCAD.Vector(*p) for p in np.asarray(vertices).tolist()]
-    facets = [tuple(t) for t in np.asarray(triangles, dtype=np.int64).tolist()]
-    shell = Part.Shape()
-    shell.makeShapeFromMesh((points, facets), _SEWING)
-    if len(shell.Shells) != 1 or not shell.Shells[0].isClosed():
-        flat = _zero_area_count(vertices, triangles)
-        raise MfgeomError(f"the swept mesh did not give one closed shell "
-                          f"({len(shell.Shells)} shells"
-                          + (f", {flat} zero-area triangles" if flat else "")
-                          + "); use the Mesh representation")
-    solid = Part.Solid(shell.Shells[0])
-    if solid.Volume < 0:
-        solid.reverse()
-    if not solid.isValid():
-        flat = _zero_area_count(vertices, triangles)
-        raise MfgeomError("the solid of the swept mesh's triangles is not valid"
-                          + (f" ({flat} zero-area triangles)" if flat else "")
-                          + "; use the Mesh representation")
+    """The Solid representation: a valid Part solid of the triangles (double precision)
+    with coplanar neighbours merged into planar faces that share their edges
+    (:func:`mfgeom.app.mesh_shapes.solid_of_mesh`); its volume agrees with ``volume``
+    (the library's) to 1e-6 relative.  MfgeomError says which check failed."""
+    from mfgeom.app import mesh_shapes
     try:
-        refined = solid.removeSplitter()
-    except Part.OCCError as exc:
-        raise MfgeomError(f"merging the coplanar triangles failed ({exc}); use the Mesh "
-                          "representation") from None
-    if refined.ShapeType != "Solid" and len(refined.Solids) == 1:
-        refined = refined.Solids[0]
-    if refined.ShapeType != "Solid" or not refined.isValid():
-        raise MfgeomError("the solid with coplanar triangles merged is not valid; use the "
-                          "Mesh representation")
-    if abs(refined.Volume - volume) > _VOLUME_AGREEMENT * max(abs(volume), 1e-300):
-        raise MfgeomError(f"the solid built from the swept mesh has volume "
-                          f"{refined.Volume:.9g}, the mesh {volume:.9g}")
-    return refined
+        return mesh_shapes.solid_of_mesh(vertices, triangles, volume)
+    except MfgeomError as exc:
+        raise MfgeomError(f"{exc}; use the Mesh representation") from None
 
 
 # ---------------------------------------------------------------------------- feature
@@ -340,7 +321,16 @@ class RotationalSweep(FeatureProxy):
              "Version of this object's properties, for migrating old documents", True),
         ]
         add_properties(obj, spec)
-        add_mesh_property(obj, "The swept volume as a closed triangle mesh (global)")
+        add_mesh_property(obj, "The swept volume as a closed triangle mesh (global, single "
+                               "precision)")
+        for ptype, name, tip in (
+                ("App::PropertyVectorList", "ExactVertices",
+                 "The swept volume's vertices in double precision (the library's result)"),
+                ("App::PropertyFloatList", "ExactTriangles",
+                 "The swept volume's triangles: three indices into ExactVertices each")):
+            if name not in obj.PropertiesList:
+                obj.addProperty(ptype, name, "Result", tip, 8, True)
+                obj.setEditorMode(name, 2)
 
     def _execute(self, obj):
         import Part
@@ -357,8 +347,8 @@ class RotationalSweep(FeatureProxy):
         if obj.Representation == "Solid":
             solid = solid_of_mesh(result.vertices, result.triangles, result.volume)
         t3 = time.perf_counter()
-        # the double-precision result stays on the proxy (not saved) for the view
-        self.last_mesh = (result.vertices, result.triangles)
+        obj.ExactVertices = [tuple(p) for p in result.vertices.tolist()]
+        obj.ExactTriangles = result.triangles.ravel().astype(np.float64).tolist()
         obj.Mesh = mesh_of(result.vertices, result.triangles)
         obj.Shape = solid if solid is not None else Part.Shape()
         obj.Placement = FreeCAD.Placement()
@@ -366,6 +356,8 @@ class RotationalSweep(FeatureProxy):
         obj.SourceOffset = float(offset)
         obj.TriangleCount = len(result.triangles)
         obj.Area = result.area
+        # the arrays stay on the proxy (onChanged of the Exact* properties drops them)
+        self.last_mesh = (result.vertices, result.triangles)
         obj.Volume = result.volume  # last: the view redraws on it
         FreeCAD.Console.PrintLog(
             f"mfgeom: {obj.Label}: {len(triangles)} source triangles (offset "
@@ -375,8 +367,61 @@ class RotationalSweep(FeatureProxy):
     def _restored(self):
         self.last_mesh = None
 
+    def onChanged(self, obj, prop):
+        # an undo or a restore brings other arrays: convert them again when asked
+        if prop in ("ExactVertices", "ExactTriangles"):
+            self.last_mesh = None
+
+
+# ---------------------------------------------------------------------------- exact mesh
+def exact_mesh(obj):
+    """(vertices (n, 3) float64, triangles (t, 3) int64) of the sweep ``obj``'s result in
+    double precision, or None when it has none (a document of version 1 not recomputed
+    yet, an object that is not a sweep) or when the arrays are not its result (their
+    triangle count and volume must be the object's).  Converted once: the proxy keeps
+    the arrays until the properties change."""
+    if "ExactTriangles" not in getattr(obj, "PropertiesList", ()):
+        return None
+    proxy = getattr(obj, "Proxy", None)
+    kept = getattr(proxy, "last_mesh", None)
+    if kept is not None:
+        return kept
+    flat = np.asarray(obj.ExactTriangles, dtype=np.float64)
+    if not len(flat) or len(flat) % 3:
+        return None
+    vertices = np.array([(p.x, p.y, p.z) for p in obj.ExactVertices],
+                        dtype=np.float64).reshape(-1, 3)
+    triangles = flat.astype(np.int64).reshape(-1, 3)
+    if (len(triangles) != obj.TriangleCount or triangles.min() < 0
+            or triangles.max() >= len(vertices)):
+        return None
+    p0, p1, p2 = (vertices[triangles[:, k]] for k in range(3))
+    volume = float(np.einsum("ij,ij->", p0, np.cross(p1, p2))) / 6.0
+    # the document keeps Volume to 16 digits, and the sum's order differs from the library's
+    if abs(volume - obj.Volume) > 1e-9 * max(abs(obj.Volume), 1e-300):
+        FreeCAD.Console.PrintLog(f"mfgeom: {obj.Label}: the exact mesh is not this "
+                                 "result: not used\n")
+        return None
+    if proxy is not None:
+        proxy.last_mesh = (vertices, triangles)
+    return vertices, triangles
+
 
 # ---------------------------------------------------------------------------- make
+def part_defaults(source):
+    """(tolerance, deflection, diagonal) for a sweep of ``source`` (a document object
+    with a solid Shape): both lengths a thousandth of the diagonal of its bounding box in
+    global coordinates, rounded down to 1, 2 or 5 times a power of ten
+    (:func:`mfgeom.geometry.sizes.part_default`; docs/sweep.md says why)."""
+    from mfgeom.app import gauss_map
+    from mfgeom.geometry.sizes import part_default
+    diagonal = float(gauss_map.shape_of(source, deep=False).BoundBox.DiagonalLength)
+    if not diagonal > 0.0:
+        raise SweepInputError(f"'{source.Label}' has no extent")
+    step = part_default(diagonal)
+    return step, step, diagonal
+
+
 def _vector3(value, what):
     if isinstance(value, str):
         axes = {"X": (1, 0, 0), "Y": (0, 1, 0), "Z": (0, 0, 1)}
@@ -424,8 +469,8 @@ def make_rotational_sweep(doc: "FreeCAD.Document", source: "FreeCAD.DocumentObje
                           axis_point: object = (0.0, 0.0, 0.0),
                           axis_dir: object = (0.0, 0.0, 1.0),
                           angle_deg: Quantity = DEFAULT_ANGLE,
-                          tolerance: Quantity = DEFAULT_TOLERANCE,
-                          deflection: Quantity = DEFAULT_DEFLECTION,
+                          tolerance: Quantity = None,
+                          deflection: Quantity = None,
                           representation: str = "Mesh", axis: object = None,
                           reverse: bool = False,
                           name: str = "RotationalSweep") -> "FreeCAD.DocumentObject":
@@ -434,8 +479,9 @@ def make_rotational_sweep(doc: "FreeCAD.Document", source: "FreeCAD.DocumentObje
     a vector, a 3-tuple or "X" / "Y" / "Z"), or ``axis`` = an object or ``(obj,
     "EdgeN")`` (a straight edge, a datum line, an origin axis) which then overrides
     them; ``reverse`` turns the other way.  ``angle_deg`` in (0, 360] (a number of
-    degrees, an angle Quantity or "90 deg"); ``tolerance`` and ``deflection`` in mm;
-    ``representation`` "Mesh" or "Solid".  Inputs are checked before anything is
+    degrees, an angle Quantity or "90 deg"); ``tolerance`` and ``deflection`` in mm
+    (None: a thousandth of the part's size, :func:`part_defaults`; a value given is
+    kept as it is); ``representation`` "Mesh" or "Solid".  Inputs are checked before anything is
     created; if the first recompute fails the object is removed again and the error
     (one line) raised.  Returns the new object."""
     if doc is None or not hasattr(doc, "addObject"):
@@ -450,6 +496,10 @@ def make_rotational_sweep(doc: "FreeCAD.Document", source: "FreeCAD.DocumentObje
     point = _vector3(axis_point if axis_point is not None else (0, 0, 0), "the axis point")
     direction = _vector3(axis_dir if axis_dir is not None else (0, 0, 1), "the axis direction")
     angle = _quantity(angle_deg, "deg", "the angle")
+    if tolerance is None or deflection is None:
+        scaled_tol, scaled_defl, _ = part_defaults(source)
+        tolerance = scaled_tol if tolerance is None else tolerance
+        deflection = scaled_defl if deflection is None else deflection
     tol = _quantity(tolerance, "mm", "the tolerance")
     defl = _quantity(deflection, "mm", "the deflection")
     # an axis object gives its own direction (checked below)

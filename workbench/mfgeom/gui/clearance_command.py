@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The "Clearance check" command (issue 8): will the rotating part hit anything?
 
-Select the swept volume first, then the solids to check (only the sweep: every other
-solid of the document).  The check runs through the Python console
+Select the rotational sweep and the solids to check, in any order (only the sweep: every
+other solid of the document); the sweep is found among them by type.  The check runs through the Python console
 (``mfgeom.check_clearance(...)``, so a recorded macro repeats it), the table goes to the
 Report view, the interfering solids turn the palette's INTERFERENCE colour, and a task
 panel shows the table with "Save CSV..." and "Restore colours".
@@ -120,27 +120,32 @@ def check_call(sweep, others, tolerance=None):
 
 
 def run(objects, tolerance=None, show_panel=True):
-    """The command on ``objects`` (the sweep first): restores an earlier highlight, runs
-    the check through the console, prints the table, colours the interfering solids and
-    shows the panel.  Returns the results, or None after a message."""
+    """The command on ``objects``, selected in any order: the rotational sweep among
+    them (by type, :func:`mfgeom.app.clearance.find_sweep`) against the others.  Restores
+    an earlier highlight, runs the check through the console, prints the table, colours
+    the interfering solids and shows the panel.  Returns the results, or None after a
+    message; a refused selection (no sweep, two sweeps, a sweep that is no solid)
+    changes nothing: no colour, no panel, no console line."""
     doc = objects[0].Document if objects else FreeCAD.ActiveDocument
-    restored = restore_colours(doc) if doc is not None else 0
     if not objects:
+        restored = restore_colours(doc) if doc is not None else 0
         if restored:
             FreeCAD.Console.PrintMessage(
                 f"{TITLE}: colours of {restored} object(s) restored.\n")
         else:
-            _warn("Select the swept volume first, then the solids to check against it "
-                  "(Ctrl+click), or only the sweep to check every other solid.")
+            _warn("Select the rotational sweep and the solids to check against it "
+                  "(Ctrl+click, in any order), or only the sweep to check every other "
+                  "solid.")
         return None
-    sweep, others = objects[0], list(objects[1:]) or None
     try:   # the user's mistakes as a message here, not a traceback in the console
+        sweep, others = clearance.find_sweep(objects, stand_in=False)
         clearance.check_volume_source(sweep)
     except InputError as exc:
         text = str(exc)
-        _warn(f"{text[:1].upper()}{text[1:]}.\nSelect the swept volume first, then the "
-              "solids to check against it.")
+        _warn(f"{text[:1].upper()}{text[1:]}.")
         return None
+    others = others or None
+    restore_colours(doc)
     call = check_call(sweep, others, tolerance)
     import __main__
     try:
@@ -239,9 +244,9 @@ class ClearanceCheckCommand:
 
     def GetResources(self):
         return {"Pixmap": paths.icon("ClearanceCheck.svg"), "MenuText": TITLE,
-                "ToolTip": ("Will the rotating part hit anything?  Select the swept volume "
-                            "first, then the solids to check (or only the sweep: every "
-                            "other solid).\nReports each solid's interference volume and "
+                "ToolTip": ("Will the rotating part hit anything?  Select the rotational "
+                            "sweep and the solids to check, in any order (or only the "
+                            "sweep: every other solid).\nReports each solid's interference volume and "
                             "minimum distance (Report view, optional CSV) and colours the "
                             "interfering solids magenta;\nrun it again (or with nothing "
                             "selected) to restore their colours.")}
@@ -253,6 +258,6 @@ class ClearanceCheckCommand:
         if FreeCADGui.Control.activeDialog():
             _warn("A task panel is open: close it first.")
             return
-        # in the order picked: the sweep first
+        # in any order: run() finds the sweep among them
         objects = [s.Object for s in FreeCADGui.Selection.getSelectionEx()]
         run(objects)

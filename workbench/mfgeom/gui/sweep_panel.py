@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The task panel of "Rotational sweep": the axis (the selected straight edge or datum
 line, a global axis X / Y / Z through an editable point, or a custom point and
-direction), reverse, angle (deg), tolerance and deflection (mm), representation (Mesh /
-Solid); the result after each recompute.  For a new sweep (from the command) or an
+direction), reverse, angle (deg), tolerance and deflection (mm: for a new sweep a
+thousandth of the part's size, rounded down to 1, 2 or 5 x 10^k, which the user may
+change), representation (Mesh / Solid); the result after each recompute.  For a new sweep (from the command) or an
 existing one (double click: setEdit).
 
 OK (and Apply) run the change through the Python console (``Gui.doCommand``), so the
@@ -17,7 +18,7 @@ from PySide import QtGui
 
 from mfgeom.app.sweep_feature import (DEFAULT_ANGLE, DEFAULT_DEFLECTION, DEFAULT_TOLERANCE,
                                       REPRESENTATIONS, TYPE, SweepInputError, axis_of,
-                                      check_parameters)
+                                      check_parameters, part_defaults)
 from mfgeom.gui.panel_base import TaskPanel, combo, spin
 
 TITLE = "Rotational sweep"
@@ -164,6 +165,22 @@ class SweepPanel(TaskPanel):
                                    "mesh pushed out by it (conservative); planar faces are "
                                    "exact")
         layout.addRow("Deflection", self.deflection)
+        # a new sweep starts from a thousandth of its part's size (the user may change it)
+        self.scaled = None
+        if obj is None:
+            try:
+                self.scaled = part_defaults(self.source)
+            except SweepInputError:   # no extent: the absolute values stay
+                self.scaled = None
+        self.defaults_note = QtGui.QLabel("")
+        self.defaults_note.setObjectName("defaultsNote")
+        self.defaults_note.setWordWrap(True)
+        if self.scaled is not None:
+            tol, defl, diagonal = self.scaled
+            self.defaults_note.setText(
+                f"Tolerance and deflection start at 1/1000 of the part's size "
+                f"({diagonal:.4g} mm diagonal), rounded down: {tol:g} mm.")
+        layout.addRow(self.defaults_note)
         self.representation = combo("representation", [(r, r) for r in REPRESENTATIONS],
                                     "Mesh: fast for any size; Solid: a Part solid "
                                     "(coplanar triangles merged) for Part tools")
@@ -198,6 +215,9 @@ class SweepPanel(TaskPanel):
         else:
             point, direction = (0.0, 0.0, 0.0), GLOBAL_AXES["Z"]
             choice = "object" if self.axis is not None else "Z"
+            if self.scaled is not None:
+                self.tolerance.setValue(self.scaled[0])
+                self.deflection.setValue(self.scaled[1])
         self._set_vector(self.point, point)
         self._set_vector(self.direction, direction)
         self.axis_choice.setCurrentIndex(self.axis_choice.findData(choice))

@@ -142,10 +142,11 @@ class ViewProviderRotationalSweep(PanelViewProvider):
     def _draw(self, obj):
         if getattr(self, "_coords", None) is None or "Mesh" not in obj.PropertiesList:
             return
-        last = getattr(getattr(obj, "Proxy", None), "last_mesh", None)
+        from mfgeom.app.sweep_feature import exact_mesh
+        last = exact_mesh(obj)
         if last is not None:
             pts, tri = last
-        else:   # a restored document: the saved mesh (single precision)
+        else:   # a document of version 1: the saved mesh (single precision)
             points, facets = obj.Mesh.Topology
             pts = np.array([(p.x, p.y, p.z) for p in points], dtype=np.float64).reshape(-1, 3)
             tri = np.asarray(facets, dtype=np.int64).reshape(-1, 3)
