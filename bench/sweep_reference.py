@@ -348,7 +348,6 @@ class Oracle:
         i1 = np.clip(((self.rhi - self.r0) / cell).astype(np.int64), 0, self.nr - 1)
         j0 = np.clip(((self.zlo - self.z0) / cell).astype(np.int64), 0, self.nz - 1)
         j1 = np.clip(((self.zhi - self.z0) / cell).astype(np.int64), 0, self.nz - 1)
-        cells, tris = [], []
         ni, nj = i1 - i0 + 1, j1 - j0 + 1
         cnt = ni * nj
         tid = np.repeat(np.arange(len(t)), cnt)
@@ -359,7 +358,6 @@ class Oracle:
         order = np.argsort(key, kind="stable")
         self.bin_tri = tid[order]
         self.bin_start = np.searchsorted(key[order], np.arange(self.nr * self.nz + 1))
-        del cells, tris
 
     def _candidates(self, r, z):
         ci = np.clip(((r - self.r0) / self.cell).astype(np.int64), 0, self.nr - 1)
