@@ -348,9 +348,12 @@ static int ring_of(split *S, int64_t t, int64_t *n)
     for (int k = 0; k < 3; k++) {
         int64_t edge = S->eid[3 * t + k];
         int64_t lo = S->estart[edge], hi = S->estart[edge + 1];
-        if (!mfg_grow((void **)&S->ring, &S->capring, m + (hi - lo) + 4, sizeof *S->ring) ||
-            !(S->rside = realloc(S->rside, (size_t)S->capring)))
+        if (!mfg_grow((void **)&S->ring, &S->capring, m + (hi - lo) + 4, sizeof *S->ring))
             return 0;
+        int8_t *rs = realloc(S->rside, (size_t)S->capring); /* the old block stays on failure */
+        if (!rs)
+            return 0;
+        S->rside = rs;
         S->ring[m] = V[k];
         S->rside[m++] = S->sgn[3 * t + k];
         int fwd = V[k] == S->ea[edge];
@@ -592,9 +595,12 @@ static int emit_polygon(split *S, int64_t t, const int64_t *poly, int64_t n, int
         if (fabs(nn[k]) > fabs(nn[ax]))
             ax = k;
     int flip = nn[ax] < 0;
-    if (!mfg_grow((void **)&S->xy, &S->capxy, 2 * n + 2, sizeof *S->xy) ||
-        !(S->tris = realloc(S->tris, (size_t)(3 * n + 3) * sizeof *S->tris)))
+    if (!mfg_grow((void **)&S->xy, &S->capxy, 2 * n + 2, sizeof *S->xy))
         return nomem(e);
+    int64_t *tris = realloc(S->tris, (size_t)(3 * n + 3) * sizeof *S->tris);
+    if (!tris) /* S->tris stays valid for split_free */
+        return nomem(e);
+    S->tris = tris;
     for (int64_t i = 0; i < n; i++) {
         int64_t p = poly[flip ? n - 1 - i : i];
         S->xy[2 * i] = e->x[3 * p + (ax + 1) % 3];
@@ -659,8 +665,10 @@ static int emit_pieces(split *S)
         }
         int64_t nc = S->cstart[t + 1] - S->cstart[t];
         const chord_pt *cp = S->cp + S->cstart[t];
-        if (!mfg_grow((void **)&poly, &cappoly, m + nc + 2, sizeof *poly))
+        if (!mfg_grow((void **)&poly, &cappoly, m + nc + 2, sizeof *poly)) {
+            free(poly);
             return nomem(e);
+        }
         /* F: the arc from -> to, then the cut line back (its points run to -> from) */
         int64_t n = 0;
         for (int64_t i = from;; i = (i + 1) % m) {

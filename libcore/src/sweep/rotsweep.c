@@ -100,7 +100,7 @@ static mfg_status output_mesh(const double *ox, int64_t nox, const int64_t *ot, 
     free(map);
     m->nvertices = nused;
     m->ntriangles = not_;
-    if (stats) {
+    {
         memset(stats, 0, sizeof *stats);
         for (int k = 0; k < 3; k++) {
             stats->bbox[k] = INFINITY;
@@ -274,8 +274,9 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     }
     ok = ok && (mfg_prog_stage(&prog, "sweep: output", 0.9, 1.0, 1) || (e.st_code = MFG_ERR_CANCELLED, 0));
     mfg_mesh *m = NULL;
+    mfg_sweep_stats stats; /* the caller's copy is written only on success */
     if (ok) {
-        st = output_mesh(ox, nox, ot, not_, unit_point, scale_exp, &m, out_stats);
+        st = output_mesh(ox, nox, ot, not_, unit_point, scale_exp, &m, &stats);
         if (st != MFG_OK) {
             e.st_code = st;
             ok = 0;
@@ -290,8 +291,11 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     st = ok ? MFG_OK : e.st_code;
     if (st == MFG_ERR_CANCELLED)
         st = mfg_prog_fail(&prog);
-    if (ok)
+    if (ok) {
         *out_mesh = m;
+        if (out_stats)
+            *out_stats = stats;
+    }
     free(ox);
     free(ot);
     env_free(&e);
