@@ -32,6 +32,10 @@
 #ifndef MFG_ARRANGE_ARRANGE_H
 #define MFG_ARRANGE_ARRANGE_H
 
+#ifdef ARR_DEBUG /* the debugging prints of arrange/ and sweep/ */
+#include <stdio.h>
+#include <stdlib.h>
+#endif
 #include <stdint.h>
 
 #include "arrange/implicit.h"

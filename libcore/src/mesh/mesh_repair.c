@@ -464,9 +464,37 @@ done:
     return ok;
 }
 
+#ifdef ARR_DEBUG
+#include <stdio.h>
+static void say_closed(const mfg_rmesh *m, const char *after)
+{
+    mfg_mesh_report r;
+    mfg_status s = mfg_mesh_check_closed(m->x, m->nv, m->t, m->nt, &r);
+    fprintf(stderr, "  repair: after %s: %lld triangles, %s\n", after, (long long)m->nt,
+            s == MFG_OK ? "closed" : mfg_last_error());
+}
+#define SAY(m, what) say_closed(m, what)
+#else
+#define SAY(m, what) ((void)0)
+#endif
+
 int mfg_mesh_repair(mfg_rmesh *m, double eps)
 {
-    return weld(m, eps, 0) && remove_needles(m, eps) && separate_sheets(m);
+    if (!weld(m, eps, 0))
+        return 0;
+    SAY(m, "weld");
+    if (!remove_needles(m, eps))
+        return 0;
+    SAY(m, "needles");
+    if (!separate_sheets(m))
+        return 0;
+    SAY(m, "sheets");
+    return 1;
+}
+
+int mfg_mesh_separate_sheets(mfg_rmesh *m)
+{
+    return separate_sheets(m);
 }
 
 int mfg_chain_weld(mfg_rmesh *m, double eps)

@@ -36,6 +36,10 @@ typedef struct mfg_rmesh {
  */
 int mfg_mesh_repair(mfg_rmesh *m, double eps);
 
+/* Step 3 alone: the sheets that touch at edges and vertices separated (combinatorially;
+ * no point moves).  1, or 0 when out of memory. */
+int mfg_mesh_separate_sheets(mfg_rmesh *m);
+
 /* Step 1 alone for a closed 2-chain (triangles counted with their orientation): points
  * closer than eps welded into the smallest-numbered one (whose coordinates stay), the
  * triangles that lose their area dropped, equal triangles of opposite orientations

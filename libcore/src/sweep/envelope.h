@@ -32,6 +32,10 @@
 #ifndef MFG_SWEEP_ENVELOPE_H
 #define MFG_SWEEP_ENVELOPE_H
 
+#ifdef ARR_DEBUG /* the debugging prints of arrange/ and sweep/ */
+#include <stdio.h>
+#include <stdlib.h>
+#endif
 #include <stdint.h>
 
 #include "arrange/arrange.h"

@@ -55,11 +55,44 @@ static int sweep_scale_exponent(const double *xyz, int64_t nv, const double axis
     return e;
 }
 
+/* The axis frame: rows u1, u2, kh (right-handed, kh the unit axis).  The sweep works in
+ * it, so the axis is exactly the z axis: a point is on it when its x and y are 0, k x p
+ * is exact, and a turn changes x and y only.  About a coordinate axis the frame is a
+ * signed permutation, so nothing is rounded and the input's planes stay where they are. */
+static void axis_frame(const double d[3], double F[3][3])
+{
+    for (int i = 0; i < 3; i++)
+        if (d[(i + 1) % 3] == 0 && d[(i + 2) % 3] == 0) {
+            memset(F, 0, 9 * sizeof(double));
+            int sg = d[i] > 0 ? 1 : -1;
+            /* +e_i: u1 = e_(i+1), u2 = e_(i+2); -e_i: the two swapped */
+            F[0][sg > 0 ? (i + 1) % 3 : (i + 2) % 3] = 1;
+            F[1][sg > 0 ? (i + 2) % 3 : (i + 1) % 3] = 1;
+            F[2][i] = sg;
+            return;
+        }
+    double kh[3], ref[3] = {0, 0, 0}, u1[3], u2[3];
+    mfg_unit3(d, kh);
+    int small = 0; /* the coordinate axis farthest from kh */
+    for (int i = 1; i < 3; i++)
+        if (fabs(kh[i]) < fabs(kh[small]))
+            small = i;
+    ref[small] = 1;
+    mfg_cross3(kh, ref, u1);
+    mfg_unit3(u1, u1);
+    mfg_cross3(kh, u1, u2);
+    for (int k = 0; k < 3; k++) {
+        F[0][k] = u1[k];
+        F[1][k] = u2[k];
+        F[2][k] = kh[k];
+    }
+}
+
 /* The result in the caller's frame (unit scale about the axis point -> caller's units):
  * only the vertices the triangles use, numbered in order of first use. */
 static mfg_status output_mesh(const double *ox, int64_t nox, const int64_t *ot, int64_t not_,
-                              const double unit_point[3], int scale_exp, mfg_mesh **out,
-                              mfg_sweep_stats *stats)
+                              const double unit_point[3], double F[3][3], int scale_exp,
+                              mfg_mesh **out, mfg_sweep_stats *stats)
 {
     mfg_mesh *m = calloc(1, sizeof *m);
     int64_t *map = malloc((size_t)(nox + 1) * sizeof *map);
@@ -80,8 +113,10 @@ static mfg_status output_mesh(const double *ox, int64_t nox, const int64_t *ot, 
         int64_t w = ot[i];
         if (map[w] < 0) {
             map[w] = nused;
+            const double *q = ox + 3 * w; /* F^T q: back from the axis frame */
             for (int k = 0; k < 3; k++)
-                m->vertices[3 * nused + k] = ldexp(ox[3 * w + k] + unit_point[k], scale_exp);
+                m->vertices[3 * nused + k] =
+                    ldexp(q[0] * F[0][k] + q[1] * F[1][k] + q[2] * F[2][k] + unit_point[k], scale_exp);
             nused++;
         }
         m->triangles[i] = map[w];
@@ -211,14 +246,22 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     /* a tolerance comparable to the part is met by computing to 1/16 of the unit extent
      * (a tighter result keeps the contract) */
     e.tol = fmin(tolerance, SW_TOL_MAX_UNIT);
-    for (int k = 0; k < 3; k++)
-        e.k[k] = axis_direction[k];
+    double F[3][3];
+    axis_frame(axis_direction, F);
+    e.k[0] = e.k[1] = 0;
+    e.k[2] = 1;
     int ok = hmap_init(&e.turned, 4 * nvertices + 64);
-    /* the input about the axis point, on the arrangement's grid */
+    /* the input about the axis point in the axis frame, on the arrangement's grid; a
+     * vertex closer to the axis than SW_ON_AXIS is put on it (a vertex on the axis of a
+     * moved part is off it by rounding, and its turns would be circles of ulps) */
     for (int64_t i = 0; ok && i < nvertices; i++) {
-        double p[3];
+        double d[3], p[3];
         for (int k = 0; k < 3; k++)
-            p[k] = cx[3 * i + k] - unit_point[k];
+            d[k] = cx[3 * i + k] - unit_point[k];
+        for (int r = 0; r < 3; r++)
+            p[r] = mfg_dot3(F[r], d);
+        if (hypot(p[0], p[1]) < SW_ON_AXIS)
+            p[0] = p[1] = 0;
         ok = sw_add_vertex(&e, p) >= 0;
     }
     if (!ok)
@@ -276,7 +319,7 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     mfg_mesh *m = NULL;
     mfg_sweep_stats stats; /* the caller's copy is written only on success */
     if (ok) {
-        st = output_mesh(ox, nox, ot, not_, unit_point, scale_exp, &m, &stats);
+        st = output_mesh(ox, nox, ot, not_, unit_point, F, scale_exp, &m, &stats);
         if (st != MFG_OK) {
             e.st_code = st;
             ok = 0;

@@ -34,10 +34,6 @@ static void uf_join(int64_t *uf, int64_t a, int64_t b)
         uf[a] = b;
 }
 
-/* Points closer than this (unit scale; the tolerance is at least 2^-24) are welded and
- * needles thinner than it removed (mesh/mesh_repair.h): the surface moves by at most
- * this, far inside the tolerance's headroom. */
-#define SW_REPAIR_EPS 0x1p-40
 /* Points of the chain closer than this are welded before the arrangement: turns of
  * different vertices onto one position (a part symmetric about the axis, whose strips
  * coincide when the steps line up) come out of the rounding a few ulps apart, and as
@@ -45,19 +41,24 @@ static void uf_join(int64_t *uf, int64_t a, int64_t b)
  * slivers; welded, the sheets are one plane's (a cluster) and add up exactly. */
 #define SW_SOUP_WELD 0x1p-36
 
-/* How often the rounded boundary is arranged again: rounding the arrangement's implicit
- * points (and the welds of the repair) can make faces that met only along an edge cross
- * by an ulp, or fold a sliver; arranged again, the rounded surface's crossings become
- * points of their own and its boundary of {w >= 1} is taken once more.  Every pass moves
- * points by less than the last; a surface whose arrangement has no new point has no
- * crossing and is the result. */
-#define SW_ROUND_PASSES 4
+/* How often the boundary is arranged again after its points were rounded: rounding the
+ * arrangement's implicit points can make faces that met only along an edge cross by an
+ * ulp, fold a sliver over or leave a triangle without area.  Arranged again, the rounded
+ * surface's crossings become points of their own and its boundary of {w >= 1} is taken
+ * once more (a triangle without area drops out).  Each pass rounds fewer, smaller
+ * features; a surface whose arrangement makes no point and drops no face has no crossing
+ * and no zero-area triangle: it is the result.  No weld and no needle removal here: they
+ * move points by more than the rounding and undo what the exact pass decided. */
+#define SW_ROUND_PASSES 6
+/* Rounded points closer than this are welded between passes (unit scale: 2^-40 of the
+ * part, far below the smallest tolerance, 2^-24; the chain stays closed, mesh_repair.h). */
+#define SW_ROUND_WELD 0x1p-40
 
-/* One arrangement of the closed chain (x, nv; tri, nt; grp: per triangle a planar group
- * below G or -1; NULL: none), its boundary rounded to the grid, repaired and closed-checked, each
- * plane's pieces merged.  *clean = 1 when the arrangement made no point of its own (the
- * chain was already free of crossings: the output is then the chain's own surface).
- * Returns MFG_OK with the new mesh in *out (grp: its planar groups). */
+/* One arrangement of the closed chain (x0, nv0; tri0, nt0; grp0: per triangle a planar
+ * group below G or -1; NULL: none), its boundary's points rounded to the grid and each
+ * plane's pieces merged.  *clean = 1 when the arrangement made no point of its own and
+ * dropped no face (the chain was already free of crossings and of zero-area triangles:
+ * it is then its own boundary).  MFG_OK with the new surface in *out. */
 static mfg_status round_pass(sw_env *e, const double *x0, int64_t nv0, const int64_t *tri0,
                              int64_t nt0, const int64_t *grp0, int64_t G, mfg_rmesh *out,
                              int *clean)
@@ -91,42 +92,49 @@ static mfg_status round_pass(sw_env *e, const double *x0, int64_t nv0, const int
         for (int64_t f = 0; f < nf; f++) {
             for (int k = 0; k < 3; k++) {
                 int64_t p = F[f].v[k];
+                if (p >= nv0) {
+#ifdef ARR_DEBUG
+                    if (*clean || getenv("MFG_SWEEP_NEWPTS")) {
+                        double q[3];
+                        arr_coords(&P, p, q);
+                        fprintf(stderr, "  new point %lld (face %lld of cluster %lld): %.17g %.17g %.17g\n",
+                                (long long)p, (long long)f, (long long)F[f].cluster, q[0], q[1], q[2]);
+                    }
+#endif
+                    *clean = 0;
+                }
                 if (map[p] < 0) {
                     map[p] = nv;
                     arr_coords(&P, p, x + 3 * nv);
-                    for (int j = 0; j < 3; j++)
+                    for (int j = 0; j < 3; j++) /* the next pass's input is on the grid */
                         x[3 * nv + j] = sw_snap(x[3 * nv + j]);
                     nv++;
                 }
-                if (p >= nv0)
-                    *clean = 0;
                 tri[3 * f + k] = map[p];
             }
             grp[f] = uf_find(uf, G + F[f].cluster);
         }
-        mfg_rmesh rm = {x, nv, 3 * nf + 1, tri, nf, nf + 1, grp};
-        int repaired = mfg_mesh_repair(&rm, SW_REPAIR_EPS);
+        int64_t ntri = nf;
+        int merge = !*clean;
+#ifdef ARR_DEBUG
+        if (getenv("MFG_SWEEP_NOMERGE"))
+            merge = 0;
+#endif
+        if (merge && !mfg_merge_planar_groups(x, nv, tri, &ntri, grp, NULL))
+            st = MFG_ERR_NOMEM;
+        mfg_rmesh rm = {x, nv, 3 * nf + 1, tri, ntri, nf + 1, NULL};
+        /* points the rounding brought within SW_ROUND_WELD of each other are one, needles
+         * thinner than it go (mesh_repair.h): the next pass would otherwise cut the folds
+         * between them finer and finer (measured: a box about its long diagonal went from
+         * 10^3 to 10^4 triangles in three passes) */
+        if (st == MFG_OK && !*clean && !mfg_mesh_repair(&rm, SW_ROUND_WELD))
+            st = MFG_ERR_NOMEM;
         x = rm.x;
         tri = rm.t;
-        grp = rm.g;
-        mfg_mesh_report rep;
-        st = repaired ? mfg_mesh_check_closed(rm.x, rm.nv, rm.t, rm.nt, &rep) : MFG_ERR_NOMEM;
-        if (st == MFG_OK) {
-            int64_t ntri = rm.nt;
-            if (!*clean && !mfg_merge_planar_groups(rm.x, rm.nv, rm.t, &ntri, rm.g, NULL))
-                st = MFG_ERR_NOMEM;
-            rm.nt = ntri;
-        } else if (st != MFG_ERR_NOMEM) {
-            char why[256];
-            snprintf(why, sizeof why, "%s", mfg_last_error());
-            st = mfg_fail(MFG_ERR_INTERNAL, "rotational sweep: the boundary is not a closed "
-                          "2-manifold (%s); please report this input", why);
-        }
         if (st == MFG_OK) {
             *out = rm;
             x = NULL;
             tri = NULL;
-            grp = NULL;
         }
     }
     if (st == MFG_ERR_NOMEM)
@@ -140,6 +148,14 @@ static mfg_status round_pass(sw_env *e, const double *x0, int64_t nv0, const int
     free(tcl);
     arr_table_free(&T);
     return st;
+}
+
+static void rmesh_free(mfg_rmesh *m)
+{
+    free(m->x);
+    free(m->t);
+    free(m->g);
+    memset(m, 0, sizeof *m);
 }
 
 int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_)
@@ -170,23 +186,42 @@ int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_
     mfg_status st = round_pass(e, e->x, e->nv, e->st, e->nst, e->sgroup, e->ngroups, &cur, &clean);
     for (int pass = 1; st == MFG_OK; pass++) {
         st = round_pass(e, cur.x, cur.nv, cur.t, cur.nt, NULL, 0, &next, &clean);
-        if (st != MFG_OK)
-            break;
-        if (clean) { /* cur had no crossing: it is the result */
-            free(next.x);
-            free(next.t);
-            free(next.g);
+#ifdef ARR_DEBUG
+        fprintf(stderr, "round pass %d: %lld -> %lld triangles, clean %d\n", pass,
+                (long long)cur.nt, (long long)next.nt, clean);
+#endif
+        if (st != MFG_OK || clean) { /* clean: cur had no crossing, it is the result */
+            rmesh_free(&next);
             break;
         }
-        free(cur.x);
-        free(cur.t);
-        free(cur.g);
+        int growing = next.nt > cur.nt + cur.nt / 4 + 64;
+        rmesh_free(&cur);
         cur = next;
         memset(&next, 0, sizeof next);
+        /* a pass that cuts the surface finer by a quarter is a cascade of folds, not the
+         * last few crossings of the rounding: another build of the soup is faster */
+        if (growing && pass > 1) {
+            st = mfg_fail(MFG_ERR_INTERNAL, "rotational sweep: the rounded boundary's "
+                          "crossings multiply (pass %d); please report this input", pass + 1);
+            break;
+        }
         if (pass + 1 >= SW_ROUND_PASSES) {
             st = mfg_fail(MFG_ERR_INTERNAL, "rotational sweep: the rounded boundary still "
                           "crosses itself after %d passes; please report this input", pass + 1);
             break;
+        }
+    }
+    /* where the solid touches itself (along an edge, at a point) its sheets are told apart */
+    if (st == MFG_OK && !mfg_mesh_separate_sheets(&cur))
+        st = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
+    if (st == MFG_OK) {
+        mfg_mesh_report rep;
+        st = mfg_mesh_check_closed(cur.x, cur.nv, cur.t, cur.nt, &rep);
+        if (st != MFG_OK && st != MFG_ERR_NOMEM) {
+            char why[256];
+            snprintf(why, sizeof why, "%s", mfg_last_error());
+            st = mfg_fail(MFG_ERR_INTERNAL, "rotational sweep: the boundary is not a closed "
+                          "2-manifold (%s); please report this input", why);
         }
     }
     if (st == MFG_OK) {
@@ -197,9 +232,7 @@ int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_
         free(cur.g);
         return 1;
     }
-    free(cur.x);
-    free(cur.t);
-    free(cur.g);
+    rmesh_free(&cur);
     e->st_code = st;
     return 0;
 }
