@@ -84,6 +84,9 @@ typedef struct sw_env {
     int64_t nt;
     const int64_t *nb;      /* input triangle neighbours (mfg_mesh_require_closed) */
     double k[3];            /* the axis direction as given (exact predicates) */
+    double frame[3][3];     /* rows u1, u2, axis: the axis frame (rotsweep.c) */
+    double origin[3];       /* the axis point at unit scale: frame -> caller's = F^T x + it */
+    int out_exp;            /* the result's grid: caller's unit coordinates times 2^-out_exp */
     double kh[3];           /* unit axis (rotations) */
     double theta, tol;
     int full_turn;

@@ -91,8 +91,7 @@ static void axis_frame(const double d[3], double F[3][3])
 /* The result in the caller's frame (unit scale about the axis point -> caller's units):
  * only the vertices the triangles use, numbered in order of first use. */
 static mfg_status output_mesh(const double *ox, int64_t nox, const int64_t *ot, int64_t not_,
-                              const double unit_point[3], double F[3][3], int scale_exp,
-                              mfg_mesh **out, mfg_sweep_stats *stats)
+                              int scale_exp, mfg_mesh **out, mfg_sweep_stats *stats)
 {
     mfg_mesh *m = calloc(1, sizeof *m);
     int64_t *map = malloc((size_t)(nox + 1) * sizeof *map);
@@ -113,18 +112,19 @@ static mfg_status output_mesh(const double *ox, int64_t nox, const int64_t *ot, 
         int64_t w = ot[i];
         if (map[w] < 0) {
             map[w] = nused;
-            const double *q = ox + 3 * w; /* F^T q: back from the axis frame */
-            for (int k = 0; k < 3; k++)
-                m->vertices[3 * nused + k] =
-                    ldexp(q[0] * F[0][k] + q[1] * F[1][k] + q[2] * F[2][k] + unit_point[k], scale_exp);
+            for (int k = 0; k < 3; k++) /* the caller's axes already (surface.c): exact */
+                m->vertices[3 * nused + k] = ldexp(ox[3 * w + k], scale_exp);
             nused++;
         }
         m->triangles[i] = map[w];
     }
     for (int64_t t = 0; t < not_; t++) {
-        /* about the axis point, at unit scale: sums of small numbers, scaled back exactly */
-        const double *a = ox + 3 * ot[3 * t], *b = ox + 3 * ot[3 * t + 1], *c = ox + 3 * ot[3 * t + 2];
-        double e1[3], e2[3], n[3], bc[3];
+        /* about the first vertex (the part may lie far from the origin), scaled back
+         * exactly */
+        double a[3], b[3], c[3], e1[3], e2[3], n[3], bc[3];
+        mfg_sub3(ox + 3 * ot[3 * t], ox, a);
+        mfg_sub3(ox + 3 * ot[3 * t + 1], ox, b);
+        mfg_sub3(ox + 3 * ot[3 * t + 2], ox, c);
         mfg_sub3(b, a, e1);
         mfg_sub3(c, a, e2);
         mfg_cross3(e1, e2, n);
@@ -248,6 +248,8 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     e.tol = fmin(tolerance, SW_TOL_MAX_UNIT);
     double F[3][3];
     axis_frame(axis_direction, F);
+    memcpy(e.frame, F, sizeof F);
+    memcpy(e.origin, unit_point, sizeof unit_point);
     e.k[0] = e.k[1] = 0;
     e.k[2] = 1;
     int ok = hmap_init(&e.turned, 4 * nvertices + 64);
@@ -319,7 +321,7 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     mfg_mesh *m = NULL;
     mfg_sweep_stats stats; /* the caller's copy is written only on success */
     if (ok) {
-        st = output_mesh(ox, nox, ot, not_, unit_point, F, scale_exp, &m, &stats);
+        st = output_mesh(ox, nox, ot, not_, scale_exp + e.out_exp, &m, &stats);
         if (st != MFG_OK) {
             e.st_code = st;
             ok = 0;

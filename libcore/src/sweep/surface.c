@@ -150,6 +150,35 @@ static mfg_status round_pass(sw_env *e, const double *x0, int64_t nv0, const int
     return st;
 }
 
+/* The surface from the axis frame to the caller's axes at unit scale, scaled by a power
+ * of two to |x| < 1 and snapped to the grid: the passes after this one decide
+ * crossings on the very numbers the caller gets (times 2^out_exp, exact), so turning the
+ * result back cannot make faces cross by an ulp after the last check. */
+static void to_caller_axes(sw_env *e, mfg_rmesh *m)
+{
+    double big = 0;
+    for (int64_t i = 0; i < m->nv; i++) {
+        const double *q = m->x + 3 * i;
+        for (int k = 0; k < 3; k++) {
+            double w = q[0] * e->frame[0][k] + q[1] * e->frame[1][k] + q[2] * e->frame[2][k] +
+                       e->origin[k];
+            big = fmax(big, fabs(w));
+        }
+    }
+    int ex = 0;
+    if (big > 0)
+        (void)frexp(big, &ex); /* big < 2^ex */
+    e->out_exp = ex; /* |x| < 1, as the unit scale (cdt.c's enclosing triangle) */
+    for (int64_t i = 0; i < m->nv; i++) {
+        double *q = m->x + 3 * i, w[3];
+        for (int k = 0; k < 3; k++)
+            w[k] = q[0] * e->frame[0][k] + q[1] * e->frame[1][k] + q[2] * e->frame[2][k] +
+                   e->origin[k];
+        for (int k = 0; k < 3; k++)
+            q[k] = sw_snap(ldexp(w[k], -e->out_exp));
+    }
+}
+
 static void rmesh_free(mfg_rmesh *m)
 {
     free(m->x);
@@ -184,6 +213,8 @@ int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_
     mfg_rmesh cur = {0}, next = {0};
     int clean = 0;
     mfg_status st = round_pass(e, e->x, e->nv, e->st, e->nst, e->sgroup, e->ngroups, &cur, &clean);
+    if (st == MFG_OK)
+        to_caller_axes(e, &cur);
     for (int pass = 1; st == MFG_OK; pass++) {
         st = round_pass(e, cur.x, cur.nv, cur.t, cur.nt, NULL, 0, &next, &clean);
 #ifdef ARR_DEBUG
