@@ -56,9 +56,11 @@ static void uf_join(int64_t *uf, int64_t a, int64_t b)
 
 /* One arrangement of the closed chain (x0, nv0; tri0, nt0; grp0: per triangle a planar
  * group below G or -1; NULL: none), its boundary's points rounded to the grid and each
- * plane's pieces merged.  *clean = 1 when the arrangement made no point of its own and
- * dropped no face (the chain was already free of crossings and of zero-area triangles:
- * it is then its own boundary).  MFG_OK with the new surface in *out. */
+ * plane's pieces merged.  *clean = 1 when the arrangement made no point of its own: its
+ * faces then lie on the chain's own points, nothing was rounded, and they are the exact
+ * boundary (free of crossings, no zero-area face): *out holds them as they are, unmerged
+ * (merging would move nothing but could fold a piece again).  MFG_OK with the new
+ * surface in *out. */
 static mfg_status round_pass(sw_env *e, const double *x0, int64_t nv0, const int64_t *tri0,
                              int64_t nt0, const int64_t *grp0, int64_t G, mfg_rmesh *out,
                              int *clean)
@@ -87,7 +89,7 @@ static mfg_status round_pass(sw_env *e, const double *x0, int64_t nv0, const int
         for (int64_t i = 0; i < T.npts; i++)
             map[i] = -1;
         int64_t nv = 0;
-        *clean = nf == nt0;
+        *clean = 1;
         arr_points P = arr_view(&T);
         for (int64_t f = 0; f < nf; f++) {
             for (int k = 0; k < 3; k++) {
@@ -221,8 +223,11 @@ int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_
         fprintf(stderr, "round pass %d: %lld -> %lld triangles, clean %d\n", pass,
                 (long long)cur.nt, (long long)next.nt, clean);
 #endif
-        if (st != MFG_OK || clean) { /* clean: cur had no crossing, it is the result */
-            rmesh_free(&next);
+        if (st != MFG_OK)
+            break;
+        if (clean) { /* next: the exact boundary on cur's points, the result */
+            rmesh_free(&cur);
+            cur = next;
             break;
         }
         int growing = next.nt > cur.nt + cur.nt / 4 + 64;
