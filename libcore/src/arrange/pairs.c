@@ -103,7 +103,14 @@ static int side_of_plane(const arr_ctx *c, const int64_t *A, int64_t v)
 {
     if (v == A[0] || v == A[1] || v == A[2])
         return 0;
-    return mfg_orient3d(X(c, A[0]), X(c, A[1]), X(c, A[2]), X(c, v));
+    const double *a = X(c, A[0]), *b = X(c, A[1]), *d = X(c, A[2]), *x = X(c, v);
+    /* a plane x_k = const (a cap perpendicular to a coordinate axis, a box's face) holds
+     * v exactly when v's x_k is that constant: the zero without the exact stage, which
+     * the thousands of coplanar pairs of a revolved cap would otherwise all reach */
+    for (int k = 0; k < 3; k++)
+        if (a[k] == b[k] && a[k] == d[k] && x[k] == a[k])
+            return 0;
+    return mfg_orient3d(a, b, d, x);
 }
 
 /* 1 when the signs (one per corner) are all > 0 or all < 0, ignoring the corners of a
