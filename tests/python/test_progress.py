@@ -8,6 +8,8 @@ equal results without."""
 import math
 
 import numpy as np
+import time
+
 import pytest
 
 from medial_solids import l_bracket
@@ -183,7 +185,10 @@ def test_sigint_during_a_call_without_progress_cancels():
     timer.start()
     try:
         with pytest.raises(KeyboardInterrupt):
-            for _ in range(200):  # several seconds in all: the signal comes during one
+            # calls until the signal comes during one: by time, not by count (on a loaded
+            # machine the timer thread ran after 200 calls of ~1 ms each, CI of 2026-12-06)
+            end = time.monotonic() + 60
+            while time.monotonic() < end:
                 core.rotational_sweep(v, t, [25, 0, 0], [0.1, 0.2, 1], 1.2, 0.02)
     finally:
         timer.cancel()
