@@ -51,6 +51,8 @@ typedef struct bt_mesh {
 int64_t bt_add_vertex(bt_mesh *m, double x, double y, double z);
 void bt_add_tri(bt_mesh *m, int64_t a, int64_t b, int64_t c);
 void bt_mesh_free(bt_mesh *m);
+/* A rotation drawn uniformly (a random unit quaternion's), row-major. */
+void bt_random_rotation(bt_rng *r, double R[9]);
 bt_mesh bt_mesh_copy(const bt_mesh *m);
 /* appends src's vertices and triangles (another shell) */
 void bt_mesh_append(bt_mesh *dst, const bt_mesh *src);

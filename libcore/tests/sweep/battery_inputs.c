@@ -556,8 +556,8 @@ static void pick_angle(bt_rng *r, bt_problem *p, char *what, size_t n)
     }
 }
 
-/* the rotation of a unit quaternion drawn uniformly */
-static void random_rotation(bt_rng *r, double R[9])
+/* the rotation of a unit quaternion drawn uniformly (battery.h) */
+void bt_random_rotation(bt_rng *r, double R[9])
 {
     double q[4], n;
     do {
@@ -613,7 +613,7 @@ int bt_make(const char *family, uint64_t seed, bt_problem *p)
     int pk = (int)bt_int(r, 0, 3);
     const char *pose = pk <= 1 ? "random" : pk == 2 ? "exact" : "quarter";
     if (pk <= 1) {
-        random_rotation(r, R);
+        bt_random_rotation(r, R);
         for (int c = 0; c < 3; c++)
             T[c] = bt_unif(r, -SHIFT_SIZES, SHIFT_SIZES) * size;
     } else {

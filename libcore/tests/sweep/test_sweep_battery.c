@@ -313,20 +313,7 @@ static void apply_rigid(const double R[9], const double T[3], const double *x, d
 
 static void random_rigid(bt_rng *r, double size, double R[9], double T[3])
 {
-    double q[4], n;
-    do {
-        n = 0;
-        for (int i = 0; i < 4; i++) {
-            q[i] = bt_unif(r, -1, 1);
-            n += q[i] * q[i];
-        }
-    } while (n > 1 || n < 0.01);
-    n = sqrt(n);
-    double w = q[0] / n, x = q[1] / n, y = q[2] / n, z = q[3] / n;
-    double M[9] = {1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w),
-                   2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
-                   2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)};
-    memcpy(R, M, sizeof M);
+    bt_random_rotation(r, R);
     for (int c = 0; c < 3; c++)
         T[c] = bt_unif(r, -2, 2) * size;
 }
