@@ -51,6 +51,7 @@ import numpy as np
 
 from mfgeom import core
 from mfgeom import progress
+from mfgeom.geometry.planar import label_components
 
 # The angular tolerance (rad): 0.01 degree.  CAD data of walls that are vertical by design
 # carries normals 1e-6 .. 1e-4 rad off the wall's plane (B-spline fits, STEP round trips);
@@ -101,15 +102,7 @@ def concave_surfaces(nfaces, adjacency):
     concave or tangent edges (union-find).  ``adjacency``: iterable of (i, j, kind).
     Returns (groups, has_concave): groups as sorted lists of face indices, ordered by
     their smallest face; has_concave[g] is True if a concave edge joins two faces of g."""
-    parent = list(range(nfaces))
-
-    def find(i):
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
-    concave_roots_edges = []
+    pairs, concave_faces = [], []
     for i, j, kind in adjacency:
         if kind not in EDGE_KINDS:
             raise ValueError(f"unknown edge kind {kind!r}")
@@ -117,19 +110,18 @@ def concave_surfaces(nfaces, adjacency):
             raise ValueError(f"adjacency ({i}, {j}) outside 0..{nfaces - 1}")
         if kind == "convex" or i == j:
             continue
-        a, b = find(i), find(j)
-        if a != b:
-            parent[max(a, b)] = min(a, b)
+        pairs.append((i, j))
         if kind == "concave":
-            concave_roots_edges.append(i)
-    members = {}
+            concave_faces.append(i)
+    ij = np.array(pairs, dtype=np.int64).reshape(-1, 2)
+    # labels numbered in order of each component's smallest face (geometry.planar)
+    label = label_components(nfaces, ij[:, 0], ij[:, 1]) if nfaces else np.zeros(0, np.int64)
+    groups = [[] for _ in range(int(label.max()) + 1 if nfaces else 0)]
     for f in range(nfaces):
-        members.setdefault(find(f), []).append(f)
-    groups = sorted(members.values(), key=lambda g: g[0])
-    index = {find(g[0]): k for k, g in enumerate(groups)}
+        groups[label[f]].append(f)
     has_concave = [False] * len(groups)
-    for i in concave_roots_edges:
-        has_concave[index[find(i)]] = True
+    for i in concave_faces:
+        has_concave[label[i]] = True
     return groups, has_concave
 
 

@@ -655,7 +655,7 @@ def _patch(msweep, solid, idx, margin):
         return idx
     owner, twin, _ = planar.edge_pairs(mesh.triangles[rest])
     pair = np.flatnonzero(twin > np.arange(len(twin)))
-    run = planar._label_components(len(rest), owner[pair], owner[twin[pair]])
+    run = planar.label_components(len(rest), owner[pair], owner[twin[pair]])
     first = np.unique(run, return_index=True)[1]
     surface = TriangleMesh(corners.reshape(-1, 3), np.arange(3 * len(corners)).reshape(-1, 3))
     inside = surface.contains(mesh.corners[rest[first]].mean(axis=1))

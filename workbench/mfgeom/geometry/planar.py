@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike
 PLANE_RELATIVE = 1e-9
 
 
-def _label_components(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def label_components(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Component labels (0 .. k-1) of n nodes joined by the pairs (a[i], b[i]): a
     union-find with path halving (numpy's ufunc.at propagation took seconds on the
     long strips of a sweep's planar faces)."""
@@ -99,7 +99,7 @@ def planar_groups(vertices: ArrayLike, triangles: ArrayLike, eps: float = None
     off_b = np.abs(np.einsum("ij,ij->i", far_b - p[a, 0], normal[a]))
     off_a = np.abs(np.einsum("ij,ij->i", far_a - p[b, 0], normal[b]))
     ok &= (off_a <= eps) & (off_b <= eps)
-    group = _label_components(t, a[ok], b[ok])
+    group = label_components(t, a[ok], b[ok])
     # slivers: the group across the longest edge, repeatedly (a sliver beside a sliver)
     pending = np.flatnonzero(sliver)
     for _ in range(8):
