@@ -519,60 +519,103 @@ int sw_add_contour_piece(sw_env *e, int64_t u, int64_t v, int kind)
     return 1;
 }
 
-/* Each contour edge in pieces whose strip quads twist within the tolerance's share; the
- * new points go onto its side (or its triangle's cut line) for the pieces beside it. */
+/* Where the contour edge u -> v passes the axis (x = y = 0 in the axis frame) closer
+ * than SW_ON_AXIS, between its ends: the parameter along it, else -1.  The line f = 0 of
+ * a triangle the axis pierces runs through the piercing point exactly (f vanishes on the
+ * axis), so the rounded contour passes it by ulps; its strip quads would then turn a
+ * segment about a point of itself into bow ties crossing each other at the axis, and the
+ * arrangement would make thousands of distinct points within 1e-13 of it (a torus
+ * pierced by the axis: 56 million exact comparisons).  Split there, on the axis, the
+ * strips are fans about one explicit point that a turn leaves in place. */
+static double axis_crossing(const sw_env *e, const double *u, const double *v)
+{
+    if (sw_radius(e, u) < SW_ON_AXIS || sw_radius(e, v) < SW_ON_AXIS)
+        return -1;
+    double dx = v[0] - u[0], dy = v[1] - u[1], l2 = dx * dx + dy * dy;
+    if (!(l2 > 0))
+        return -1;
+    double f = -(u[0] * dx + u[1] * dy) / l2;
+    if (!(f > 0 && f < 1))
+        return -1;
+    return hypot(u[0] + f * dx, u[1] + f * dy) < SW_ON_AXIS ? f : -1;
+}
+
+/* A new point at f along contour edge c (u -> v), recorded on its side or its
+ * triangle's cut line (order: its rank along the line) for the pieces beside it;
+ * on_axis puts it exactly on the axis. */
+static int64_t contour_point(split *S, const cedge *c, double f, int64_t order, int on_axis)
+{
+    sw_env *e = S->e;
+    const double *u = e->x + 3 * c->u, *v = e->x + 3 * c->v;
+    double p[3];
+    for (int k = 0; k < 3; k++)
+        p[k] = u[k] + f * (v[k] - u[k]);
+    if (on_axis)
+        p[0] = p[1] = 0;
+    int64_t id = sw_add_vertex(e, p);
+    if (id < 0)
+        return -1;
+    if (c->edge >= 0)
+        return add_edge_pt(S, c->edge, c->s0 + f * (c->s1 - c->s0), id) ? id : -1;
+    if (!mfg_grow((void **)&S->cp, &S->capcp, S->ncp + 1, sizeof *S->cp))
+        return -1;
+    S->cp[S->ncp].tri = c->tri;
+    S->cp[S->ncp].order = order;
+    S->cp[S->ncp].id = id;
+    S->ncp++;
+    return id;
+}
+
+/* Each contour edge split where it passes the axis, then in pieces whose strip quads
+ * twist within the tolerance's share; the new points go onto its side (or its
+ * triangle's cut line) for the pieces beside it. */
 static int split_contour(split *S)
 {
     sw_env *e = S->e;
-    int64_t nep0 = S->nep;
     for (int64_t i = 0; i < S->nce; i++) {
         const cedge *c = &S->ce[i];
-        const double *u = e->x + 3 * c->u, *v = e->x + 3 * c->v;
         double d[3];
-        mfg_sub3(v, u, d);
+        mfg_sub3(e->x + 3 * c->v, e->x + 3 * c->u, d);
         int up = mfg_dot3_sign(d, e->k);
         int kind = up > 0 ? SW_TANGENT : up < 0 ? SW_CHORD : -1;
-        int64_t pieces = 1;
-        if (kind >= 0) {
-            double h = twist_of(e, u, v, kind);
-            double allowed = 2 * SW_SHARE_TWIST * e->tol;
-            double m = ceil(h / allowed);
-            if (m > 1)
-                pieces = m > 1e6 ? 1000000 : (int64_t)m;
-        }
-        int64_t prev = c->u;
-        for (int64_t j = 1; j <= pieces; j++) {
-            int64_t cur = c->v;
-            if (j < pieces) {
-                double f = (double)j / (double)pieces, p[3];
-                for (int k = 0; k < 3; k++)
-                    p[k] = u[k] + f * (v[k] - u[k]);
-                cur = sw_add_vertex(e, p);
-                if (cur < 0)
+        /* the parts [0, fa], [fa, 1] (one part when the edge does not pass the axis) */
+        double fa = axis_crossing(e, e->x + 3 * c->u, e->x + 3 * c->v);
+        double lo[2] = {0, fa}, hi[2] = {fa, 1};
+        int parts = fa > 0 ? 2 : 1;
+        if (parts == 1)
+            hi[0] = 1;
+        /* ranks along a cut line: part 0's points 1 .. 10^6, the axis point 2^21, part
+         * 1's 2^22 + j */
+        int64_t prev = c->u, end = -1;
+        for (int part = 0; part < parts; part++) {
+            if (part + 1 < parts) {
+                end = contour_point(S, c, hi[part], (int64_t)1 << 21, 1);
+                if (end < 0)
                     return nomem(e);
-                u = e->x + 3 * c->u; /* the vertex array may have moved */
-                v = e->x + 3 * c->v;
-                int ok;
-                if (c->edge >= 0) {
-                    ok = add_edge_pt(S, c->edge, c->s0 + f * (c->s1 - c->s0), cur);
-                } else {
-                    ok = mfg_grow((void **)&S->cp, &S->capcp, S->ncp + 1, sizeof *S->cp);
-                    if (ok) {
-                        S->cp[S->ncp].tri = c->tri;
-                        S->cp[S->ncp].order = j;
-                        S->cp[S->ncp].id = cur;
-                        S->ncp++;
-                    }
-                }
-                if (!ok)
-                    return nomem(e);
+            } else {
+                end = c->v;
             }
-            if (!sw_add_contour_piece(e, prev, cur, kind))
-                return nomem(e);
-            prev = cur;
+            int64_t pieces = 1;
+            if (kind >= 0) {
+                double h = twist_of(e, e->x + 3 * prev, e->x + 3 * end, kind);
+                double m = ceil(h / (2 * SW_SHARE_TWIST * e->tol));
+                if (m > 1)
+                    pieces = m > 1e6 ? 1000000 : (int64_t)m;
+            }
+            for (int64_t j = 1; j <= pieces; j++) {
+                int64_t cur = end;
+                if (j < pieces) {
+                    double f = lo[part] + (hi[part] - lo[part]) * (double)j / (double)pieces;
+                    cur = contour_point(S, c, f, part == 0 ? j : ((int64_t)1 << 22) + j, 0);
+                    if (cur < 0)
+                        return nomem(e);
+                }
+                if (!sw_add_contour_piece(e, prev, cur, kind))
+                    return nomem(e);
+                prev = cur;
+            }
         }
     }
-    (void)nep0;
     return index_edge_points(S) && index_chord_points(S) ? 1 : nomem(e);
 }
 
