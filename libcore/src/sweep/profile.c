@@ -45,11 +45,14 @@ static int add_seg(prof *P, double ar, double az, double br, double bz)
 {
     if (!mfg_grow((void **)&P->s, &P->caps, P->ns + 1, sizeof *P->s))
         return 0;
-    seg2 *g = &P->s[P->ns++];
+    seg2 *g = &P->s[P->ns];
     g->a[0] = sw_snap(ar);
     g->a[1] = sw_snap(az);
     g->b[0] = sw_snap(br);
     g->b[1] = sw_snap(bz);
+    /* a segment of no length adds nothing to the chain (a clipped polygon's corner) */
+    if (g->a[0] != g->b[0] || g->a[1] != g->b[1])
+        P->ns++;
     return 1;
 }
 
@@ -244,6 +247,235 @@ static int cmp_i64(const void *x, const void *y)
     return a < b ? -1 : a > b;
 }
 
+/* The outline of {w >= 1} of a 2-D chain's arrangement (faces F of T): the sides of its
+ * counter-clockwise faces whose reverse is not a side of one, each with the region on
+ * its left. */
+static int outline_of(arr_table *T, const arr_face *F, int64_t nf, bedge **out, int64_t *nout)
+{
+    arr_points AP = arr_view(T);
+    hmap sides;
+    bedge *be = NULL;
+    int64_t nbe = 0, capbe = 0;
+    int ok = hmap_init(&sides, 3 * nf + 1);
+    for (int pass = 0; pass < 2 && ok; pass++)
+        for (int64_t f = 0; ok && f < nf; f++) {
+            int o = arr_orient2d(&AP, F[f].v[0], F[f].v[1], F[f].v[2], 2);
+            if (F[f].mult * o < 1)
+                continue;
+            for (int k = 0; k < 3 && ok; k++) {
+                int64_t a = F[f].v[k], b = F[f].v[(k + 1) % 3];
+                if (pass == 0) {
+                    hkey key = mkkey(a, b, 0, 0);
+                    ok = hmap_put(&sides, &key, f);
+                    continue;
+                }
+                hkey rev = mkkey(b, a, 0, 0);
+                if (hmap_get(&sides, &rev) >= 0)
+                    continue;
+                ok = mfg_grow((void **)&be, &capbe, nbe + 1, sizeof *be);
+                if (ok) {
+                    be[nbe].a = a;
+                    be[nbe].b = b;
+                    nbe++;
+                }
+            }
+        }
+    hmap_free(&sides);
+    if (!ok) {
+        free(be);
+        return 0;
+    }
+    *out = be;
+    *nout = nbe;
+    return 1;
+}
+
+/* The outline with the corners between two collinear sides dropped (exact orient2d; a
+ * point with other than one side in and one out stays): the images of a face's
+ * contour edges all lie on the profile's outline where the face is perpendicular to the
+ * axis, and every one of their ends would otherwise ring the result (a box about its
+ * edge: 141 outline pieces for a rectangle). */
+static int merge_collinear(arr_table *T, bedge *be, int64_t *nbe_io)
+{
+    int64_t nbe = *nbe_io;
+    arr_points AP = arr_view(T);
+    hmap at;
+    int64_t *io = NULL, nio = 0, capio = 0; /* 3 per point: out side, #in, #out */
+    int ok = hmap_init(&at, 2 * nbe + 1);
+    for (int64_t i = 0; ok && i < nbe; i++)
+        for (int q = 0; q < 2 && ok; q++) {
+            int64_t p = q ? be[i].b : be[i].a;
+            hkey key = mkkey(p, 0, 0, 0);
+            int64_t j = hmap_get(&at, &key);
+            if (j < 0) {
+                ok = mfg_grow((void **)&io, &capio, 3 * (nio + 1), sizeof *io) &&
+                     hmap_put(&at, &key, nio);
+                if (!ok)
+                    break;
+                j = nio++;
+                io[3 * j] = -1;
+                io[3 * j + 1] = io[3 * j + 2] = 0;
+            }
+            if (q == 0)
+                io[3 * j] = i;
+            io[3 * j + 1 + (q ? 0 : 1)]++;
+        }
+    if (!ok) {
+        hmap_free(&at);
+        free(io);
+        return 0;
+    }
+    /* drop[i]: side i starts at a corner that goes */
+    int8_t *drop = calloc((size_t)nbe + 1, 1);
+    if (!drop) {
+        hmap_free(&at);
+        free(io);
+        return 0;
+    }
+    for (int64_t i = 0; i < nbe; i++) {
+        hkey key = mkkey(be[i].b, 0, 0, 0);
+        int64_t j = hmap_get(&at, &key);
+        if (io[3 * j + 1] != 1 || io[3 * j + 2] != 1)
+            continue;
+        int64_t o = io[3 * j];
+        if (o != i && be[o].b != be[i].a && arr_orient2d(&AP, be[i].a, be[i].b, be[o].b, 2) == 0) {
+            /* collinear and going on (not back): the corner goes */
+            double a[3], b[3], c[3];
+            arr_coords(&AP, be[i].a, a);
+            arr_coords(&AP, be[i].b, b);
+            arr_coords(&AP, be[o].b, c);
+            if ((b[0] - a[0]) * (c[0] - b[0]) + (b[1] - a[1]) * (c[1] - b[1]) > 0)
+                drop[o] = 1;
+        }
+    }
+    /* the merged sides: their ends first (the walk reads be), then compacted */
+    int64_t *ends = malloc((size_t)(nbe + 1) * sizeof *ends);
+    if (!ends) {
+        free(drop);
+        hmap_free(&at);
+        free(io);
+        return 0;
+    }
+    for (int64_t i = 0; i < nbe; i++) {
+        ends[i] = be[i].b;
+        if (drop[i])
+            continue;
+        bedge m = be[i];
+        for (int64_t guard = 0; guard < nbe; guard++) {
+            hkey key = mkkey(m.b, 0, 0, 0);
+            int64_t o = io[3 * hmap_get(&at, &key)];
+            if (o < 0 || !drop[o])
+                break;
+            m.b = be[o].b;
+        }
+        ends[i] = m.b;
+    }
+    int64_t n = 0;
+    for (int64_t i = 0; i < nbe; i++)
+        if (!drop[i]) {
+            be[n].a = be[i].a;
+            be[n++].b = ends[i];
+        }
+    *nbe_io = n;
+    free(ends);
+    free(drop);
+    hmap_free(&at);
+    free(io);
+    return 1;
+}
+
+/* P swept by eps along +r (the Minkowski sum with the segment [0, eps] e_r), as a sum of
+ * closed counter-clockwise chains whose region {w >= 1} is the union: P's outline and,
+ * for each outline side that rises (dz > 0: P on its left is at smaller r, the side faces
+ * away from the axis), the parallelogram it sweeps - a point of the sum outside P left P
+ * moving in +r through such a side.  Sides perpendicular to the axis sweep nothing: the
+ * faces of the part perpendicular to the axis stay on their planes.
+ * Why: revolved with chords at the steps t_i (strips.c), the outline of P' bounds the
+ * image of P's exact solid of revolution under x -> x h(phi), a scaling of the radius by
+ * a factor h in [cos(delta/2), 1] that depends on the angle only - a homeomorphism, so
+ * the result has no self-intersection by construction (no tangent polylines, no fins,
+ * nothing for the arrangement to cut) - and it holds the solid of revolution of P when
+ * a point (r, z) of P has (r / h, z) in P', i.e. when eps >= rmax (sec(delta/2) - 1). */
+static int grown_chain(prof *P, const arr_points *AP, const bedge *be, int64_t nbe, double eps)
+{
+    int ok = 1;
+    for (int64_t i = 0; ok && i < nbe; i++) {
+        double a[3], b[3];
+        arr_coords(AP, be[i].a, a);
+        arr_coords(AP, be[i].b, b);
+        ok = add_seg(P, a[0], a[1], b[0], b[1]);
+        if (ok && arr_cmp(AP, be[i].b, be[i].a, 1) > 0)
+            ok = add_seg(P, a[0], a[1], a[0] + eps, a[1]) && /* counter-clockwise */
+                 add_seg(P, a[0] + eps, a[1], b[0] + eps, b[1]) &&
+                 add_seg(P, b[0] + eps, b[1], b[0], b[1]) && add_seg(P, b[0], b[1], a[0], a[1]);
+    }
+    return ok;
+}
+
+/* One arrangement of the 2-D chain P->s and the outline of its {w >= 1}; P->s freed. */
+static mfg_status chain_outline(prof *P, arr_table *T, arr_face **F, bedge **be, int64_t *nbe)
+{
+    int64_t np = 2 * P->ns;
+    double *xy = malloc((size_t)(3 * np + 3) * sizeof *xy);
+    int64_t *seg = malloc((size_t)(2 * P->ns + 2) * sizeof *seg);
+    if (!xy || !seg) {
+        free(xy);
+        free(seg);
+        return MFG_ERR_NOMEM;
+    }
+    for (int64_t i = 0; i < P->ns; i++) {
+        for (int q = 0; q < 2; q++) {
+            const double *c = q ? P->s[i].b : P->s[i].a;
+            xy[3 * (2 * i + q)] = c[0];
+            xy[3 * (2 * i + q) + 1] = c[1];
+            xy[3 * (2 * i + q) + 2] = 0;
+            seg[2 * i + q] = 2 * i + q;
+        }
+    }
+    int64_t nseg = P->ns;
+#ifdef ARR_DEBUG
+    if (getenv("MFG_SWEEP_PROFILE")) {
+        static int callno = 0;
+        char fn[64];
+        snprintf(fn, sizeof fn, "/tmp/s2/chain%d.txt", callno++);
+        FILE *fp = fopen(fn, "w");
+        for (int64_t i = 0; i < P->ns; i++)
+            fprintf(fp, "%.17g %.17g %.17g %.17g\n", P->s[i].a[0], P->s[i].a[1], P->s[i].b[0], P->s[i].b[1]);
+        fclose(fp);
+    }
+#endif
+    free(P->s);
+    P->s = NULL;
+    P->ns = P->caps = 0;
+    /* equal 2-D points of different segments are one point of the arrangement (its
+     * exact merge), so the chain's pieces join */
+    int64_t nf = 0;
+    mfg_status st = arr_chain2d_faces(xy, np, seg, nseg, P->e->prog, T, F, &nf);
+    free(xy);
+    free(seg);
+    if (st != MFG_OK)
+        return st;
+    int okk = outline_of(T, *F, nf, be, nbe);
+#ifdef ARR_DEBUG
+    if (okk && getenv("MFG_SWEEP_PROFILE")) {
+        arr_points AQ = arr_view(T);
+        for (int64_t i = 0; i < *nbe; i++) {
+            double a[3], b[3];
+            arr_coords(&AQ, (*be)[i].a, a);
+            arr_coords(&AQ, (*be)[i].b, b);
+            fprintf(stderr, "outline %lld: %lld %lld (%.6g %.6g) -> (%.6g %.6g)\n", (long long)i, (long long)(*be)[i].a, (long long)(*be)[i].b, a[0], a[1], b[0], b[1]);
+        }
+    }
+#endif
+    if (!okk || !merge_collinear(T, *be, nbe)) {
+        free(*F);
+        *F = NULL;
+        arr_table_free(T);
+        return MFG_ERR_NOMEM;
+    }
+    return MFG_OK;
+}
+
 int sw_build_profile(sw_env *e)
 {
     prof P;
@@ -271,74 +503,28 @@ int sw_build_profile(sw_env *e)
         e->st_code = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
         return 0;
     }
-    /* the chain in the plane z = 0 of (r, z, 0) */
-    int64_t np = 2 * P.ns;
-    double *xy = malloc((size_t)(3 * np + 3) * sizeof *xy);
-    int64_t *seg = malloc((size_t)(2 * P.ns + 2) * sizeof *seg);
-    if (!xy || !seg) {
-        free(P.s);
-        free(xy);
-        free(seg);
-        e->st_code = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
-        return 0;
-    }
-    for (int64_t i = 0; i < P.ns; i++) {
-        for (int q = 0; q < 2; q++) {
-            const double *c = q ? P.s[i].b : P.s[i].a;
-            xy[3 * (2 * i + q)] = c[0];
-            xy[3 * (2 * i + q) + 1] = c[1];
-            xy[3 * (2 * i + q) + 2] = 0;
-            seg[2 * i + q] = 2 * i + q;
-        }
-    }
-    int64_t nseg = P.ns;
-    free(P.s);
-    /* equal 2-D points of different segments are one point of the arrangement (its
-     * exact merge), so the chain's pieces join */
+    /* P, then P grown by eps (grown_chain) */
     arr_table T;
     arr_face *F = NULL;
-    int64_t nf = 0;
-    mfg_status st = arr_chain2d_faces(xy, np, seg, nseg, e->prog, &T, &F, &nf);
-    free(xy);
-    free(seg);
+    bedge *be = NULL;
+    int64_t nbe = 0;
+    mfg_status st = chain_outline(&P, &T, &F, &be, &nbe);
+    if (st == MFG_OK) {
+        arr_points AP0 = arr_view(&T);
+        ok = grown_chain(&P, &AP0, be, nbe, SW_SHARE_APEX * e->tol);
+        free(be);
+        free(F);
+        arr_table_free(&T);
+        be = NULL;
+        F = NULL;
+        st = ok ? chain_outline(&P, &T, &F, &be, &nbe) : MFG_ERR_NOMEM;
+    }
     if (st != MFG_OK) {
-        e->st_code = st;
+        free(P.s);
+        e->st_code = st == MFG_ERR_NOMEM ? mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory") : st;
         return 0;
     }
-    /* the faces of P (winding >= 1, counter-clockwise in (r, z)); its outline: their
-     * sides whose reverse is not a side of P */
     arr_points AP = arr_view(&T);
-    hmap sides;
-    bedge *be = NULL;
-    int64_t nbe = 0, capbe = 0;
-    ok = hmap_init(&sides, 3 * nf + 1);
-    for (int64_t f = 0; ok && f < nf; f++) {
-        int o = arr_orient2d(&AP, F[f].v[0], F[f].v[1], F[f].v[2], 2);
-        if (F[f].mult * o < 1)
-            continue;
-        for (int k = 0; k < 3 && ok; k++) {
-            hkey key = mkkey(F[f].v[k], F[f].v[(k + 1) % 3], 0, 0);
-            ok = hmap_put(&sides, &key, f);
-        }
-    }
-    for (int64_t f = 0; ok && f < nf; f++) {
-        int o = arr_orient2d(&AP, F[f].v[0], F[f].v[1], F[f].v[2], 2);
-        if (F[f].mult * o < 1)
-            continue;
-        for (int k = 0; k < 3 && ok; k++) {
-            int64_t a = F[f].v[k], b = F[f].v[(k + 1) % 3];
-            hkey rev = mkkey(b, a, 0, 0);
-            if (hmap_get(&sides, &rev) >= 0)
-                continue;
-            ok = mfg_grow((void **)&be, &capbe, nbe + 1, sizeof *be);
-            if (ok) {
-                be[nbe].a = a;
-                be[nbe].b = b;
-                nbe++;
-            }
-        }
-    }
-    hmap_free(&sides);
     /* the outline's points as soup vertices: (r, z) -> r u1 + z kh */
     int64_t *pts = malloc((size_t)(2 * nbe + 1) * sizeof *pts);
     int64_t npts = 0;
@@ -357,24 +543,26 @@ int sw_build_profile(sw_env *e)
                 continue;
             double c[3], x[3];
             arr_coords(&AP, pts[i], c);
-            double r = c[0] < 0 ? 0 : c[0];
+            double r = c[0] < SW_ON_AXIS ? 0 : c[0];
             for (int k = 0; k < 3; k++)
                 x[k] = r * P.u1[k] + c[1] * e->kh[k];
             int64_t id = sw_add_vertex(e, x);
             hkey key = mkkey(pts[i], 0, 0, 0);
             ok = id >= 0 && hmap_put(&vid, &key, id);
         }
-        /* each outline side a contour piece: its strip faces out of P; the kind by the
-         * same rule as any contour edge (rising: tangents) */
+        /* each outline side a contour piece revolved by chords (grown_chain says why) */
         for (int64_t i = 0; ok && i < nbe; i++) {
             hkey ka = mkkey(be[i].a, 0, 0, 0), kb = mkkey(be[i].b, 0, 0, 0);
             int64_t u = hmap_get(&vid, &ka), v = hmap_get(&vid, &kb);
             if (u == v)
                 continue;
-            double d[3];
-            mfg_sub3(e->x + 3 * v, e->x + 3 * u, d);
-            int up = mfg_dot3_sign(d, e->k);
-            ok = sw_add_contour_piece(e, u, v, up > 0 ? SW_TANGENT : up < 0 ? SW_CHORD : -1);
+#ifdef ARR_DEBUG
+            if (getenv("MFG_SWEEP_PROFILE"))
+                fprintf(stderr, "profile piece %lld -> %lld: (%.17g %.17g %.17g) -> (%.17g %.17g %.17g)\n",
+                        (long long)u, (long long)v, e->x[3 * u], e->x[3 * u + 1], e->x[3 * u + 2],
+                        e->x[3 * v], e->x[3 * v + 1], e->x[3 * v + 2]);
+#endif
+            ok = sw_add_contour_piece(e, u, v, SW_CHORD);
         }
     }
     hmap_free(&vid);

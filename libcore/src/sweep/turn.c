@@ -170,10 +170,22 @@ void sw_setup_steps(sw_env *e)
     e->rmax = 0;
     for (int64_t v = 0; v < e->nin; v++)
         e->rmax = fmax(e->rmax, sw_radius(e, e->x + 3 * v));
+    /* An angle short of a full turn by less than the push's share of the tolerance at
+     * rmax is a full turn: the full sweep holds SV(theta) and no point of it is farther
+     * from SV(theta) than the missing arc (rmax (2 pi - theta)), while a sweep to
+     * 2 pi - 1e-9 would meet its own start face at t = 0 as a nearly coplanar sheet all
+     * round (the battery's octahedron and frame at 2 pi - 1e-9: no result in 60 s). */
+    if (!e->full_turn && (MFG_TWO_PI - e->theta) * e->rmax <= SW_SHARE_PUSH * e->tol) {
+        e->full_turn = 1;
+        e->theta = MFG_TWO_PI;
+    }
     /* the apex height r (sec(delta/2) - 1) within its share of the tolerance at rmax */
     double step = MFG_PI / 2;
     if (e->rmax > 0) {
-        double sec = 1 + SW_SHARE_APEX * e->tol / e->rmax;
+        /* a full turn revolves the profile grown by SW_SHARE_APEX tol (profile.c), whose
+         * radii reach rmax + 1.082 of that: the chords' sag there within the growth */
+        double r = e->full_turn ? e->rmax + e->tol : e->rmax;
+        double sec = 1 + SW_SHARE_APEX * e->tol / r;
         step = fmin(step, 2 * acos(1 / sec));
     }
     /* steps of 2 pi / (m q) for a part with an m-fold symmetry about the axis: the last
