@@ -18,9 +18,13 @@
  *     faces away from the axis - and as tangents (below it) where it falls, so the
  *     polylines lie on the fronts, as the 3-D strips do, and P grows only.
  * The exact arrangement of the 2-D chain (arrange/: arr_chain2d_faces) gives every face of
- * the plane its winding; the faces with w >= 1 are P, and P's outline, each edge with P on its left, becomes the contour of a full turn
- * (strips.c revolves it; no F or B faces): tangent polylines where P's outward normal
- * points away from the axis, chords where it points towards it. */
+ * the plane its winding; the faces with w >= 1 are P.  P is then grown by the chords' sag
+ * along +r (grown_chain: a second arrangement) and the outline of the grown P', corners
+ * between collinear sides dropped, becomes the contour of a full turn: strips.c revolves
+ * it by chords alone (no F or B faces, no tangent polylines, no fins).  The result is the
+ * image of P's solid of revolution under a radial scaling that depends on the angle only,
+ * so it has no self-intersection by construction, and it holds SV (grown_chain says why);
+ * the arrangement of the 3-D chain then only confirms that rounding made no crossing. */
 #include "sweep/envelope.h"
 
 /* A 2-D segment a -> b of the chain (points on the arrangement's grid). */
@@ -433,17 +437,6 @@ static mfg_status chain_outline(prof *P, arr_table *T, arr_face **F, bedge **be,
         }
     }
     int64_t nseg = P->ns;
-#ifdef ARR_DEBUG
-    if (getenv("MFG_SWEEP_PROFILE")) {
-        static int callno = 0;
-        char fn[64];
-        snprintf(fn, sizeof fn, "/tmp/s2/chain%d.txt", callno++);
-        FILE *fp = fopen(fn, "w");
-        for (int64_t i = 0; i < P->ns; i++)
-            fprintf(fp, "%.17g %.17g %.17g %.17g\n", P->s[i].a[0], P->s[i].a[1], P->s[i].b[0], P->s[i].b[1]);
-        fclose(fp);
-    }
-#endif
     free(P->s);
     P->s = NULL;
     P->ns = P->caps = 0;
@@ -455,19 +448,7 @@ static mfg_status chain_outline(prof *P, arr_table *T, arr_face **F, bedge **be,
     free(seg);
     if (st != MFG_OK)
         return st;
-    int okk = outline_of(T, *F, nf, be, nbe);
-#ifdef ARR_DEBUG
-    if (okk && getenv("MFG_SWEEP_PROFILE")) {
-        arr_points AQ = arr_view(T);
-        for (int64_t i = 0; i < *nbe; i++) {
-            double a[3], b[3];
-            arr_coords(&AQ, (*be)[i].a, a);
-            arr_coords(&AQ, (*be)[i].b, b);
-            fprintf(stderr, "outline %lld: %lld %lld (%.6g %.6g) -> (%.6g %.6g)\n", (long long)i, (long long)(*be)[i].a, (long long)(*be)[i].b, a[0], a[1], b[0], b[1]);
-        }
-    }
-#endif
-    if (!okk || !merge_collinear(T, *be, nbe)) {
+    if (!outline_of(T, *F, nf, be, nbe) || !merge_collinear(T, *be, nbe)) {
         free(*F);
         *F = NULL;
         arr_table_free(T);
@@ -556,12 +537,6 @@ int sw_build_profile(sw_env *e)
             int64_t u = hmap_get(&vid, &ka), v = hmap_get(&vid, &kb);
             if (u == v)
                 continue;
-#ifdef ARR_DEBUG
-            if (getenv("MFG_SWEEP_PROFILE"))
-                fprintf(stderr, "profile piece %lld -> %lld: (%.17g %.17g %.17g) -> (%.17g %.17g %.17g)\n",
-                        (long long)u, (long long)v, e->x[3 * u], e->x[3 * u + 1], e->x[3 * u + 2],
-                        e->x[3 * v], e->x[3 * v + 1], e->x[3 * v + 2]);
-#endif
             ok = sw_add_contour_piece(e, u, v, SW_CHORD);
         }
     }
