@@ -449,6 +449,8 @@ static mfg_status chain_outline(prof *P, arr_table *T, arr_face **F, bedge **be,
     if (st != MFG_OK)
         return st;
     if (!outline_of(T, *F, nf, be, nbe) || !merge_collinear(T, *be, nbe)) {
+        free(*be);
+        *be = NULL;
         free(*F);
         *F = NULL;
         arr_table_free(T);
