@@ -467,7 +467,8 @@ int arr_cdt_cluster(arr_ctx *c, int64_t cl, const int64_t *pts, int64_t npts,
             return 0;
         }
     }
-    qsort(ord, (size_t)npts, sizeof *ord, cmp_order);
+    if (npts > 1)
+        qsort(ord, (size_t)npts, sizeof *ord, cmp_order);
     int broken = 0;
     for (int64_t i = 0; i < npts; i++)
         if (!insert_point(D, ord[i].v, &broken)) {

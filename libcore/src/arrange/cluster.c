@@ -106,7 +106,8 @@ static void merge_segs(lists *L)
             s->delta = -s->delta;
         }
     }
-    qsort(L->segs, (size_t)L->nsegs, sizeof *L->segs, cmp_seg);
+    if (L->nsegs > 1)
+        qsort(L->segs, (size_t)L->nsegs, sizeof *L->segs, cmp_seg);
     int64_t n = 0;
     for (int64_t i = 0; i < L->nsegs;) {
         arr_seg m = L->segs[i];
@@ -134,7 +135,8 @@ static void merge_segs(lists *L)
 
 static void unique_pts(lists *L)
 {
-    qsort(L->pts, (size_t)L->npts, sizeof *L->pts, mfg_cmp_i64);
+    if (L->npts > 1)
+        qsort(L->pts, (size_t)L->npts, sizeof *L->pts, mfg_cmp_i64);
     int64_t n = 0;
     for (int64_t i = 0; i < L->npts; i++)
         if (n == 0 || L->pts[n - 1] != L->pts[i])
@@ -268,7 +270,8 @@ static int crossings(arr_ctx *c, int64_t cl, lists *L, seg_box **boxes, int64_t 
         }
         B[i].s = i;
     }
-    qsort(B, (size_t)L->nsegs, sizeof *B, cmp_box);
+    if (L->nsegs > 1)
+        qsort(B, (size_t)L->nsegs, sizeof *B, cmp_box);
     arr_points P = arr_view(&c->T);
     for (int64_t i = 0; i < L->nsegs; i++) {
         for (int64_t j = i + 1; j < L->nsegs && B[j].lo[0] <= B[i].hi[0]; j++) {
@@ -336,7 +339,8 @@ static int split_segments(arr_ctx *c, int64_t cl, lists *L, pt_sort **ps, int64_
         S[i].u = L->uv[2 * i];
         S[i].i = i;
     }
-    qsort(S, (size_t)L->npts, sizeof *S, cmp_ptsort);
+    if (L->npts > 1)
+        qsort(S, (size_t)L->npts, sizeof *S, cmp_ptsort);
     arr_points P = arr_view(&c->T);
     int64_t nseg0 = L->nsegs;
     for (int64_t si = 0; si < nseg0; si++) {

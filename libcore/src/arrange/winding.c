@@ -487,7 +487,8 @@ int arr_boundary_faces(arr_ctx *c, const arr_bvh *bvh, uint8_t *keep)
         state[f] = -1;
         pw[f] = INT64_MIN;
     }
-    qsort(pairs, (size_t)nf, 2 * sizeof *pairs, cmp_patch);
+    if (nf > 1)
+        qsort(pairs, (size_t)nf, 2 * sizeof *pairs, cmp_patch);
     int ok = 1;
     by_area cand[RAY_TRIES];
     for (int64_t i = 0; i < nf && ok;) {

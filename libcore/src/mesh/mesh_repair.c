@@ -107,7 +107,8 @@ static int weld(mfg_rmesh *m, double eps, int chain)
         keys[n].sign = sign;
         n++;
     }
-    qsort(keys, (size_t)n, sizeof *keys, cmp_tri_key);
+    if (n > 1)
+        qsort(keys, (size_t)n, sizeof *keys, cmp_tri_key);
     int64_t nk = 0;
     for (int64_t i = 0; i < n;) {
         int64_t j = i, net = 0;
@@ -123,7 +124,8 @@ static int weld(mfg_rmesh *m, double eps, int chain)
             }
         i = j;
     }
-    qsort(keep, (size_t)nk, sizeof *keep, mfg_cmp_i64); /* the original order */
+    if (nk > 1)
+        qsort(keep, (size_t)nk, sizeof *keep, mfg_cmp_i64); /* the original order */
     for (int64_t i = 0; i < nk; i++) {
         memmove(m->t + 3 * i, m->t + 3 * keep[i], 3 * sizeof *m->t);
         if (m->g)
@@ -343,7 +345,8 @@ static void pair_round_edge(const mfg_rmesh *m, side_ref *r, int64_t n, int64_t 
         double ang = atan2(mfg_dot3(d, ref2), mfg_dot3(d, ref));
         r[i].angle = ang < 0 ? ang + MFG_TWO_PI : ang;
     }
-    qsort(r, (size_t)n, sizeof *r, cmp_angle);
+    if (n > 1)
+        qsort(r, (size_t)n, sizeof *r, cmp_angle);
     for (int64_t i = 0; i < n; i++) {
         int64_t j = (i + 1) % n;
         if (r[i].dir < 0 && r[j].dir > 0 && partner[r[i].s] < 0 && partner[r[j].s] < 0) {
@@ -377,7 +380,8 @@ static int separate_sheets(mfg_rmesh *m)
         partner[s] = -1;
         uf[s] = s;
     }
-    qsort(pairs, (size_t)ns, 3 * sizeof *pairs, cmp_i64_pair);
+    if (ns > 1)
+        qsort(pairs, (size_t)ns, 3 * sizeof *pairs, cmp_i64_pair);
     for (int64_t i = 0, j; i < ns && ok; i = j) {
         for (j = i + 1; j < ns && pairs[3 * j] == pairs[3 * i] && pairs[3 * j + 1] == pairs[3 * i + 1]; j++)
             ;

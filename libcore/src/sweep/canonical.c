@@ -98,7 +98,8 @@ int sw_canonical_input(const double *xyz, int64_t nv, const int64_t *tris, int64
         ct[3 * t + 1] = b;
         ct[3 * t + 2] = c;
     }
-    qsort(ct, (size_t)nt, 3 * sizeof *ct, cmp_triangle);
+    if (nt > 1)
+        qsort(ct, (size_t)nt, 3 * sizeof *ct, cmp_triangle);
     free(ids);
     free(tmp);
     *out_xyz = cx;

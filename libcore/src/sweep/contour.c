@@ -288,7 +288,8 @@ static int cmp_ep(const void *pa, const void *pb)
 /* Sorts the side points and indexes them by edge. */
 static int index_edge_points(split *S)
 {
-    qsort(S->ep, (size_t)S->nep, sizeof *S->ep, cmp_ep);
+    if (S->nep > 1) /* qsort of no array is undefined (UBSan) */
+        qsort(S->ep, (size_t)S->nep, sizeof *S->ep, cmp_ep);
     free(S->estart);
     S->estart = calloc((size_t)(S->ne + 2), sizeof *S->estart);
     if (!S->estart)
@@ -310,7 +311,8 @@ static int cmp_cp(const void *pa, const void *pb)
 
 static int index_chord_points(split *S)
 {
-    qsort(S->cp, (size_t)S->ncp, sizeof *S->cp, cmp_cp);
+    if (S->ncp > 1)
+        qsort(S->cp, (size_t)S->ncp, sizeof *S->cp, cmp_cp);
     free(S->cstart);
     S->cstart = calloc((size_t)(S->e->nt + 2), sizeof *S->cstart);
     if (!S->cstart)

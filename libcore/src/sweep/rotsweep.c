@@ -112,8 +112,10 @@ static mfg_status output_mesh(const double *ox, int64_t nox, const int64_t *ot, 
         int64_t w = ot[i];
         if (map[w] < 0) {
             map[w] = nused;
-            for (int k = 0; k < 3; k++) /* the caller's axes already (surface.c): exact */
-                m->vertices[3 * nused + k] = ldexp(ox[3 * w + k], scale_exp);
+            /* the caller's axes already (surface.c): exact; + 0.0 makes a -0 (a turned
+             * coordinate that came out as zero) +0, as the stats' bounding box has it */
+            for (int k = 0; k < 3; k++)
+                m->vertices[3 * nused + k] = ldexp(ox[3 * w + k], scale_exp) + 0.0;
             nused++;
         }
         m->triangles[i] = map[w];

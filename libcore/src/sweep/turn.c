@@ -122,7 +122,8 @@ static int symmetry_order(const sw_env *e)
         v[n].phi = atan2(mfg_dot3(p, u2), mfg_dot3(p, u1));
         n++;
     }
-    qsort(v, (size_t)n, sizeof *v, cmp_rz);
+    if (n > 1)
+        qsort(v, (size_t)n, sizeof *v, cmp_rz);
     /* the angle differences within groups, as fractions of a turn */
     double *diff = malloc((size_t)(n + 1) * sizeof *diff);
     int64_t nd = 0;
