@@ -15,8 +15,8 @@ import pytest
 from medial_solids import l_bracket
 from mfgeom import core
 
-SWEEP_STAGES = ["sweep: setup", "sweep: cells", "sweep: polygons", "sweep: walls",
-                "sweep: check", "sweep: output", "sweep: done"]
+SWEEP_STAGES = ["sweep: setup", "sweep: contour", "sweep: strips", "sweep: intersections",
+                "sweep: faces", "sweep: boundary", "sweep: output", "sweep: done"]
 MEDIAL_STAGES = ["medial: elements", "medial: octree", "medial: sheets", "medial: junctions",
                  "medial: assembly", "medial: done"]
 AXIS_STAGES = ["axis: setup", "axis: branches", "axis: output", "axis: done"]
