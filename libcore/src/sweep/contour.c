@@ -709,7 +709,7 @@ static int emit_pieces(split *S)
             return 0;
         }
         int64_t nc = S->cstart[t + 1] - S->cstart[t];
-        const chord_pt *cp = S->cp + S->cstart[t];
+        const chord_pt *cp = nc > 0 ? S->cp + S->cstart[t] : NULL; /* S->cp may be NULL */
         if (!mfg_grow((void **)&poly, &cappoly, m + nc + 2, sizeof *poly)) {
             free(poly);
             return nomem(e);
