@@ -67,25 +67,6 @@ typedef struct pass1 {
     int nomem;
 } pass1;
 
-static int64_t uf_find(int64_t *uf, int64_t i)
-{
-    while (uf[i] != i) {
-        uf[i] = uf[uf[i]];
-        i = uf[i];
-    }
-    return i;
-}
-
-static void uf_join(int64_t *uf, int64_t a, int64_t b)
-{
-    a = uf_find(uf, a);
-    b = uf_find(uf, b);
-    if (a < b)
-        uf[b] = a;
-    else if (b < a)
-        uf[a] = b;
-}
-
 static const double *X(const arr_ctx *c, int64_t v)
 {
     return c->T.xyz + 3 * v;
@@ -144,14 +125,14 @@ static int pass1_pair(void *user, int64_t i, int64_t j)
         nshared += bshared[k];
     }
     if (nshared == 3) { /* the same corners: one plane (they add up or cancel) */
-        uf_join(P->uf, i, j);
+        mfg_uf_union(P->uf, i, j);
         return 1;
     }
     if (nshared == 2) {
         /* a common edge: one plane (a cluster) or they meet in that edge only */
         for (int k = 0; k < 3; k++)
             if (!bshared[k] && side_of_plane(c, A, B[k]) == 0)
-                uf_join(P->uf, i, j);
+                mfg_uf_union(P->uf, i, j);
         return 1;
     }
     int sb[3], sa[3];
@@ -160,7 +141,7 @@ static int pass1_pair(void *user, int64_t i, int64_t j)
     if (sb[0] == 0 && sb[1] == 0 && sb[2] == 0) {
         /* one plane: touching or overlapping is resolved in the cluster's arrangement
          * (boxes that overlap are enough: a cluster may hold pieces that do not touch) */
-        uf_join(P->uf, i, j);
+        mfg_uf_union(P->uf, i, j);
         return 1;
     }
     /* B's other corners strictly on one side of A's plane: they meet at most at the
@@ -361,7 +342,7 @@ int arr_pairs(arr_ctx *c, arr_bvh *bvh)
     for (int64_t t = 0; t < nt; t++) {
         if (c->tcluster[t] < 0)
             continue;
-        int64_t root = uf_find(P.uf, t);
+        int64_t root = mfg_uf_find(P.uf, t);
         if (id[root] < 0) {
             id[root] = c->ncl;
             arr_cluster *K = &c->cl[c->ncl++];

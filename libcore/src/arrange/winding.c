@@ -17,15 +17,6 @@
 #define RAY_TRIES 16
 
 
-static int64_t uf_find(int64_t *uf, int64_t i)
-{
-    while (uf[i] != i) {
-        uf[i] = uf[uf[i]];
-        i = uf[i];
-    }
-    return i;
-}
-
 /* Sign of orient2d(p, q, r) on doubles with r perturbed by (eps, eps^2) along (x, y):
  * never 0 unless p and q coincide. */
 static int orient_perturbed(const double *p, const double *q, const double *r)
@@ -472,7 +463,7 @@ int arr_boundary_faces(arr_ctx *c, const arr_bvh *bvh, uint8_t *keep)
         int64_t f0 = s0 / 3, f1 = s1 / 3;
         if (side_dir(c, s0) == side_dir(c, s1) || c->face[f0].mult != c->face[f1].mult)
             continue;
-        int64_t a = uf_find(uf, f0), b = uf_find(uf, f1);
+        int64_t a = mfg_uf_find(uf, f0), b = mfg_uf_find(uf, f1);
         if (a < b)
             uf[b] = a;
         else if (b < a)
@@ -480,7 +471,7 @@ int arr_boundary_faces(arr_ctx *c, const arr_bvh *bvh, uint8_t *keep)
     }
     arr_points P = arr_view(&c->T);
     for (int64_t f = 0; f < nf; f++) {
-        pairs[2 * f] = uf_find(uf, f);
+        pairs[2 * f] = mfg_uf_find(uf, f);
         pairs[2 * f + 1] = f;
         area[f] = approx_area(&P, &c->face[f]);
         uf[f] = pairs[2 * f];

@@ -98,7 +98,7 @@ static inline int mfg_coord_ok(double v)
 
 /* Union-find over 0 .. n-1 (parent[i] = i initially) with path halving; the smaller index
  * becomes the root, so results do not depend on the order of the unions.  Shared by the
- * closed-mesh check (fans, components) and the sweep's pinch resolution. */
+ * closed-mesh check (fans, components), the arrangement and the sweep. */
 static inline int64_t mfg_uf_find(int64_t *parent, int64_t x)
 {
     while (parent[x] != x) {

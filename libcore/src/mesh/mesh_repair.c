@@ -10,25 +10,6 @@
 #include "common/vec3.h"
 #include "mesh/mesh_repair.h"
 
-static int64_t uf_find(int64_t *uf, int64_t i)
-{
-    while (uf[i] != i) {
-        uf[i] = uf[uf[i]];
-        i = uf[i];
-    }
-    return i;
-}
-
-static void uf_join(int64_t *uf, int64_t a, int64_t b)
-{
-    a = uf_find(uf, a);
-    b = uf_find(uf, b);
-    if (a < b)
-        uf[b] = a;
-    else if (b < a)
-        uf[a] = b;
-}
-
 /* ---- 1. Welds ------------------------------------------------------------------------- */
 
 typedef struct tri_key {
@@ -75,7 +56,7 @@ static int weld(mfg_rmesh *m, double eps, int chain)
                 if (j > i && fabs(m->x[3 * j] - m->x[3 * i]) <= eps &&
                     fabs(m->x[3 * j + 1] - m->x[3 * i + 1]) <= eps &&
                     fabs(m->x[3 * j + 2] - m->x[3 * i + 2]) <= eps)
-                    uf_join(uf, i, j);
+                    mfg_uf_union(uf, i, j);
         }
     if (!ok) {
         free(uf);
@@ -90,7 +71,7 @@ static int weld(mfg_rmesh *m, double eps, int chain)
     for (int64_t t = 0; t < nt; t++) {
         int64_t v[3];
         for (int k = 0; k < 3; k++)
-            v[k] = m->t[3 * t + k] = uf_find(uf, m->t[3 * t + k]);
+            v[k] = m->t[3 * t + k] = mfg_uf_find(uf, m->t[3 * t + k]);
         if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0])
             continue;
         int sign = 1;
@@ -416,9 +397,9 @@ static int separate_sheets(mfg_rmesh *m)
         for (int q = 0; q < 3; q++) {
             int64_t slot = 3 * u + q, v = m->t[slot];
             if (v == a)
-                uf_join(uf, s, slot);
+                mfg_uf_union(uf, s, slot);
             else if (v == b)
-                uf_join(uf, 3 * t + (k + 1) % 3, slot);
+                mfg_uf_union(uf, 3 * t + (k + 1) % 3, slot);
         }
         (void)j;
     }
@@ -437,7 +418,7 @@ static int separate_sheets(mfg_rmesh *m)
         for (int64_t s = 0; s < ns; s++)
             copy[s] = -1;
         for (int64_t s = 0; s < ns && ok; s++) {
-            int64_t v = m->t[s], root = uf_find(uf, s);
+            int64_t v = m->t[s], root = mfg_uf_find(uf, s);
             if (first[v] < 0)
                 first[v] = root;
             if (root == first[v])

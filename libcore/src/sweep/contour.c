@@ -77,15 +77,6 @@ static int nomem(sw_env *e)
 
 /* ---- Edges and planar groups ---------------------------------------------------------- */
 
-static int64_t uf_find(int64_t *uf, int64_t i)
-{
-    while (uf[i] != i) {
-        uf[i] = uf[uf[i]];
-        i = uf[i];
-    }
-    return i;
-}
-
 static int build_edges(split *S)
 {
     sw_env *e = S->e;
@@ -133,7 +124,7 @@ static int build_edges(split *S)
             }
             if (d >= 0 && mfg_orient3d(e->x + 3 * V[0], e->x + 3 * V[1], e->x + 3 * V[2],
                                        e->x + 3 * d) == 0) {
-                int64_t a = uf_find(S->group, t), b = uf_find(S->group, u);
+                int64_t a = mfg_uf_find(S->group, t), b = mfg_uf_find(S->group, u);
                 if (a < b)
                     S->group[b] = a;
                 else if (b < a)
@@ -148,7 +139,7 @@ static int build_edges(split *S)
     for (int64_t t = 0; t < nt; t++)
         id[t] = -1;
     for (int64_t t = 0; t < nt; t++) {
-        int64_t r = uf_find(S->group, t);
+        int64_t r = mfg_uf_find(S->group, t);
         if (id[r] < 0)
             id[r] = S->ngroups++;
         S->group[t] = r;

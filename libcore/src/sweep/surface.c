@@ -15,25 +15,6 @@
 #include "mesh/mesh_repair.h"
 #include "mesh/planar_merge.h"
 
-static int64_t uf_find(int64_t *uf, int64_t i)
-{
-    while (uf[i] != i) {
-        uf[i] = uf[uf[i]];
-        i = uf[i];
-    }
-    return i;
-}
-
-static void uf_join(int64_t *uf, int64_t a, int64_t b)
-{
-    a = uf_find(uf, a);
-    b = uf_find(uf, b);
-    if (a < b)
-        uf[b] = a;
-    else if (b < a)
-        uf[a] = b;
-}
-
 /* Points of the chain closer than this are welded before the arrangement: turns of
  * different vertices onto one position (a part symmetric about the axis, whose strips
  * coincide when the steps line up) come out of the rounding a few ulps apart, and as
@@ -85,7 +66,7 @@ static mfg_status round_pass(sw_env *e, const double *x0, int64_t nv0, const int
             uf[i] = i;
         for (int64_t t = 0; t < nt0; t++)
             if (grp0 && grp0[t] >= 0 && tcl[t] >= 0)
-                uf_join(uf, grp0[t], G + tcl[t]);
+                mfg_uf_union(uf, grp0[t], G + tcl[t]);
         for (int64_t i = 0; i < T.npts; i++)
             map[i] = -1;
         int64_t nv = 0;
@@ -114,7 +95,7 @@ static mfg_status round_pass(sw_env *e, const double *x0, int64_t nv0, const int
                 }
                 tri[3 * f + k] = map[p];
             }
-            grp[f] = uf_find(uf, G + F[f].cluster);
+            grp[f] = mfg_uf_find(uf, G + F[f].cluster);
         }
         int64_t ntri = nf;
         int merge = !*clean;
