@@ -15,6 +15,7 @@ import subprocess
 
 import pytest
 
+from build_tree import build_dir
 from mfgeom import core, paths
 
 HEADER = os.path.join(paths.REPO_DIR, "libcore", "include", "mfgeom.h")
@@ -80,22 +81,9 @@ def test_every_ctypes_structure_of_the_binding_is_a_twin():
     assert found == set(TWINS.values())
 
 
-def _build_dir():
-    """The build tree of the library the binding loads, or None for a library that is
-    not in one (installed): the directory holding CMakeCache.txt above it."""
-    directory = os.path.dirname(os.path.realpath(core.library_path))
-    while True:
-        if os.path.isfile(os.path.join(directory, "CMakeCache.txt")):
-            return directory
-        parent = os.path.dirname(directory)
-        if parent == directory:
-            return None
-        directory = parent
-
-
 @pytest.fixture(scope="module")
 def c_layout():
-    build = _build_dir()
+    build = build_dir()
     if build is None:
         pytest.skip(f"{core.library_path} is not in a CMake build tree: no abi_layout to run")
     program = os.path.join(build, "libcore", "tests", "api", "abi_layout")

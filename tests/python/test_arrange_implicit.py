@@ -18,23 +18,12 @@ from fractions import Fraction
 
 import pytest
 
+from build_tree import build_dir
 from mfgeom import core
 
 EXPLICIT, LPI, TPI, SSI, LIFT = range(5)
 NVERTS = {EXPLICIT: 1, LPI: 5, TPI: 9, SSI: 4, LIFT: 3}
 CASES = 900
-
-
-def _build_dir():
-    """The CMake build tree of the library the binding loads, or None (installed)."""
-    directory = os.path.dirname(os.path.realpath(core.library_path))
-    while True:
-        if os.path.isfile(os.path.join(directory, "CMakeCache.txt")):
-            return directory
-        parent = os.path.dirname(directory)
-        if parent == directory:
-            return None
-        directory = parent
 
 
 def sub(a, b):
@@ -195,7 +184,7 @@ class Checker:
 
 @pytest.fixture(scope="module")
 def replay():
-    build = _build_dir()
+    build = build_dir()
     if build is None:
         pytest.skip(f"{core.library_path} is not in a CMake build tree: no test_implicit")
     program = os.path.join(build, "libcore", "tests", "arrange", "test_implicit")
