@@ -734,50 +734,62 @@ static double winding(const mfg_mesh *m, const double p[3])
     return sum / (4 * M_PI);
 }
 
-/* Distance from p to the closed triangle abc (the nearest point by regions, Ericson). */
-static double tri_dist(const double *p, const double *a, const double *b, const double *c)
+/* Distance from p to the segment ab. */
+static double seg_dist(const double *p, const double *a, const double *b)
 {
-    double ab[3], ac[3], ap[3], q[3];
+    double ab[3], ap[3], e[3];
     for (int i = 0; i < 3; i++) {
         ab[i] = b[i] - a[i];
-        ac[i] = c[i] - a[i];
         ap[i] = p[i] - a[i];
     }
-#define DOT(u, v) ((u)[0] * (v)[0] + (u)[1] * (v)[1] + (u)[2] * (v)[2])
-    double d1 = DOT(ab, ap), d2 = DOT(ac, ap);
-    if (d1 <= 0 && d2 <= 0) {
-        memcpy(q, a, sizeof q);
-    } else {
-        double bp[3] = {p[0] - b[0], p[1] - b[1], p[2] - b[2]};
-        double d3 = DOT(ab, bp), d4 = DOT(ac, bp);
-        double cp[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
-        double d5 = DOT(ab, cp), d6 = DOT(ac, cp);
-        double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
-        if (d3 >= 0 && d4 <= d3) {
-            memcpy(q, b, sizeof q);
-        } else if (d6 >= 0 && d5 <= d6) {
-            memcpy(q, c, sizeof q);
-        } else if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-            double v = d1 / (d1 - d3);
-            for (int i = 0; i < 3; i++)
-                q[i] = a[i] + v * ab[i];
-        } else if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-            double w = d2 / (d2 - d6);
-            for (int i = 0; i < 3; i++)
-                q[i] = a[i] + w * ac[i];
-        } else if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-            double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-            for (int i = 0; i < 3; i++)
-                q[i] = b[i] + w * (c[i] - b[i]);
-        } else {
-            double den = 1 / (va + vb + vc), v = vb * den, w = vc * den;
-            for (int i = 0; i < 3; i++)
-                q[i] = a[i] + ab[i] * v + ac[i] * w;
-        }
-    }
-#undef DOT
-    double e[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+    double l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+    double s = l2 > 0 ? (ab[0] * ap[0] + ab[1] * ap[1] + ab[2] * ap[2]) / l2 : 0;
+    s = s < 0 ? 0 : s > 1 ? 1 : s;
+    for (int i = 0; i < 3; i++)
+        e[i] = ap[i] - s * ab[i];
     return sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+}
+
+/* Distance from p to the closed triangle abc: the distance to its plane when p projects
+ * inside it, else to the nearest side.  Written for slivers (the sweep's strips are
+ * 1e-6 wide and metres long): the normal is the cross product at the corner between the
+ * two shortest sides, and "projects inside" is the sign of (side x (p - corner)) . n per
+ * side, both well conditioned there; Ericson's region test by differences of dot
+ * products is not (2026-12-06: a point 3e-16 off a 1.8 x 2e-6 strip came out 2.5e-5
+ * from it, and the battery called a conservative result "outside by 1e-5 tol"). */
+static double tri_dist(const double *p, const double *a, const double *b, const double *c)
+{
+    const double *V[3] = {a, b, c};
+    double len[3]; /* len[i]: the side opposite V[i] */
+    for (int i = 0; i < 3; i++) {
+        const double *x = V[(i + 1) % 3], *y = V[(i + 2) % 3];
+        len[i] = (x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) + (x[2] - y[2]) * (x[2] - y[2]);
+    }
+    int o = 0; /* the corner opposite the longest side: between the two shortest */
+    for (int i = 1; i < 3; i++)
+        if (len[i] > len[o])
+            o = i;
+    const double *q0 = V[o], *q1 = V[(o + 1) % 3], *q2 = V[(o + 2) % 3];
+    double e1[3], e2[3], n[3];
+    for (int i = 0; i < 3; i++) {
+        e1[i] = q1[i] - q0[i];
+        e2[i] = q2[i] - q0[i];
+    }
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    int inside = nn > 0;
+    for (int i = 0; i < 3 && inside; i++) {
+        const double *x = V[i], *y = V[(i + 1) % 3];
+        double s[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
+        double w[3] = {p[0] - x[0], p[1] - x[1], p[2] - x[2]};
+        double cx[3] = {s[1] * w[2] - s[2] * w[1], s[2] * w[0] - s[0] * w[2], s[0] * w[1] - s[1] * w[0]};
+        inside = cx[0] * n[0] + cx[1] * n[1] + cx[2] * n[2] >= 0;
+    }
+    if (inside)
+        return fabs((p[0] - q0[0]) * n[0] + (p[1] - q0[1]) * n[1] + (p[2] - q0[2]) * n[2]) / nn;
+    return fmin(seg_dist(p, a, b), fmin(seg_dist(p, b, c), seg_dist(p, c, a)));
 }
 
 static double mesh_dist(const mfg_mesh *m, const double p[3])
