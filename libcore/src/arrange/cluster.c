@@ -320,7 +320,8 @@ typedef struct on_seg {
     const arr_points *P;
 } on_seg;
 
-/* Splits every segment at the cluster's points strictly inside it. */
+/* Splits every segment at the cluster's points strictly inside it: 1, 0 when out of
+ * memory, -1 when the progress callback asked to stop. */
 static int split_segments(arr_ctx *c, int64_t cl, lists *L, pt_sort **ps, int64_t *capps,
                           int64_t **inside, int64_t *capin)
 {
@@ -344,6 +345,12 @@ static int split_segments(arr_ctx *c, int64_t cl, lists *L, pt_sort **ps, int64_
     arr_points P = arr_view(&c->T);
     int64_t nseg0 = L->nsegs;
     for (int64_t si = 0; si < nseg0; si++) {
+        /* one cluster can hold most of the work (the rounded passes of a sweep: 10^4
+         * segments among near-collinear points, tens of seconds): a cancel is heard here
+         * too, not only between clusters */
+        if ((si & 63) == 63 &&
+            !mfg_prog_poll(c->prog, 0.3 * (double)c->ncl + 0.7 * (double)cl, (double)c->ncl))
+            return -1;
         arr_seg s = L->segs[si];
         int64_t lp = local_of(L, s.p), lq = local_of(L, s.q);
         double ulo = fmin(L->uv[2 * lp], L->uv[2 * lq]) - BOX_PAD;
@@ -510,7 +517,10 @@ int arr_clusters(arr_ctx *c)
                 goto nomem;
             continue;
         }
-        if (!split_segments(c, cl, &w.L, &w.ps, &w.capps, &w.inside, &w.capin))
+        int sp = split_segments(c, cl, &w.L, &w.ps, &w.capps, &w.inside, &w.capin);
+        if (sp < 0)
+            goto cancelled;
+        if (!sp)
             goto nomem;
 #ifdef ARR_DEBUG
         if (getenv("ARR_DEBUG_CL") && atoll(getenv("ARR_DEBUG_CL")) == cl) {
@@ -587,7 +597,13 @@ int arr_planar_chain(arr_ctx *c, const int64_t *seg, int64_t nseg)
                 goto nomem;
         }
     }
-    if (!split_segments(c, 0, &w.L, &w.ps, &w.capps, &w.inside, &w.capin))
+    int sp = split_segments(c, 0, &w.L, &w.ps, &w.capps, &w.inside, &w.capin);
+    if (sp < 0) {
+        c->st = MFG_ERR_CANCELLED;
+        work_free(&w);
+        return 0;
+    }
+    if (!sp)
         goto nomem;
     if (!arr_cdt_cluster(c, 0, w.L.pts, w.L.npts, w.L.segs, w.L.nsegs)) {
         work_free(&w);

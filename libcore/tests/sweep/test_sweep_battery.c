@@ -16,6 +16,9 @@
  *   MFG_BATTERY_TIMEOUT=s    cancel a sweep after s seconds (a failure "timeout")
  *   MFG_BATTERY_VERBOSE=1    one line per input with its sizes and times
  *   MFG_BATTERY_VARIANTS=0   no invariance variants (half the inputs get one)
+ *   MFG_BATTERY_KNOWN_REFUSED=n, MFG_BATTERY_KNOWN_TIMEOUTS=n  exit 0 with up to n refused
+ *                            / timed-out inputs (the known gaps' ratchets; a result that
+ *                            fails a check always exits 1)
  *
  * The checks (eps: the rounding allowance, BT_EPS_REL = 1e-9 of the part's size about the
  * axis; the sample counts and query budgets are battery.h's BT_*):
@@ -462,6 +465,7 @@ static void run_variant(const bt_problem *p, const mfg_mesh *m, int variant, ver
 
 typedef struct totals {
     long inputs, failing, refused, undecided, undecided_inputs, arcs, coarse_arcs, points;
+    long wrong; /* inputs with a result that fails a check (not refused, not timed out) */
     long by_check[F_COUNT];
     /* per family (bt_families' order): inputs, failing, and failures by check */
     long fam_inputs[MAX_FAMILIES], fam_failing[MAX_FAMILIES], fam_check[MAX_FAMILIES][F_COUNT];
@@ -559,6 +563,8 @@ static void run_input(const char *family, uint64_t seed, totals *tot)
             tot->refused++;
         if (v.fails & ~(1u << F_REFUSED))
             tot->failing++;
+        if (v.fails & ~((1u << F_REFUSED) | (1u << F_TIMEOUT)))
+            tot->wrong++;
         tot->fam_failing[fam]++;
         for (int c = 0; c < F_COUNT; c++) {
             tot->by_check[c] += (v.fails >> c) & 1;
@@ -670,5 +676,17 @@ int main(int argc, char **argv)
     for (int k = 0; k < 5 && tot.slowest[k].s > 0; k++)
         printf(" %.2f s %s%s", tot.slowest[k].s, tot.slowest[k].what, k < 4 ? "," : "");
     printf("\n");
-    return tot.refused || tot.failing ? 1 : 0;
+    /* The known gaps of issue 20 as ratchets (CI, tests/run_all.sh): refusals by the
+     * rounding passes and sweeps slower than the timeout are allowed up to these counts;
+     * a result that fails a check never is.  Unset: every refusal and timeout fails. */
+    long known_refused = 0, known_timeouts = 0;
+    if ((e = getenv("MFG_BATTERY_KNOWN_REFUSED")) && *e)
+        known_refused = strtol(e, NULL, 0);
+    if ((e = getenv("MFG_BATTERY_KNOWN_TIMEOUTS")) && *e)
+        known_timeouts = strtol(e, NULL, 0);
+    long timeouts = tot.by_check[F_TIMEOUT];
+    if (known_refused || known_timeouts)
+        printf("battery: known gaps allowed: %ld refused (%ld now), %ld timeouts (%ld now); results failing a check: "
+               "%ld (none allowed)\n", known_refused, tot.refused, known_timeouts, timeouts, tot.wrong);
+    return tot.wrong || tot.refused > known_refused || timeouts > known_timeouts ? 1 : 0;
 }
