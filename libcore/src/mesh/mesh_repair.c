@@ -169,24 +169,50 @@ static int add_triangle(mfg_rmesh *m, int64_t a, int64_t b, int64_t c, int64_t g
     return 1;
 }
 
-/* The live triangle with directed side a -> b (from the map, checked), or -1. */
-static int64_t with_side(const mfg_rmesh *m, const hmap *dir, const uint8_t *dead, int64_t a, int64_t b)
+/* The directed sides of the live triangles: the map holds, per directed side, the last
+ * triangle given it, and prev[3 t + k] the triangle that held that side before t (-1: none)
+ * - a side of a non-manifold edge (sheets touching) belongs to two or more triangles, and
+ * a needle along such an edge must still find a live neighbour (2026-12-06: with one
+ * triangle per side, a cube's sweep kept 55 needles of height 4e-16 along an edge of four
+ * triangles, which the turn to the caller's axes folded into 188 crossing pairs). */
+typedef struct side_map {
+    hmap dir;
+    int64_t *prev;
+    int64_t cap;
+} side_map;
+
+/* A live triangle with directed side a -> b, or -1. */
+static int64_t with_side(const mfg_rmesh *m, const side_map *S, const uint8_t *dead, int64_t a, int64_t b)
 {
     hkey key = mkkey(a, b, 0, 0);
-    int64_t t = hmap_get(dir, &key);
-    if (t < 0 || dead[t])
-        return -1;
-    for (int k = 0; k < 3; k++)
-        if (m->t[3 * t + k] == a && m->t[3 * t + (k + 1) % 3] == b)
+    for (int64_t t = hmap_get(&S->dir, &key); t >= 0;) {
+        int k = 0;
+        while (k < 3 && !(m->t[3 * t + k] == a && m->t[3 * t + (k + 1) % 3] == b))
+            k++;
+        if (k == 3)
+            return -1; /* not reached: triangles are never rewritten while mapped */
+        if (!dead[t])
             return t;
+        t = S->prev[3 * t + k];
+    }
     return -1;
 }
 
-static int map_sides(hmap *dir, const mfg_rmesh *m, int64_t t)
+static int map_sides(side_map *S, const mfg_rmesh *m, int64_t t)
 {
+    if (3 * t + 3 > S->cap) {
+        int64_t cap = mfg_grown_cap(S->cap, 3 * t + 3, 64);
+        int64_t *n = realloc(S->prev, (size_t)cap * sizeof *n);
+        if (!n)
+            return 0;
+        S->prev = n;
+        S->cap = cap;
+    }
     for (int k = 0; k < 3; k++) {
         hkey key = mkkey(m->t[3 * t + k], m->t[3 * t + (k + 1) % 3], 0, 0);
-        if (!hmap_put(dir, &key, t))
+        int64_t before = hmap_get(&S->dir, &key);
+        S->prev[3 * t + k] = before == t ? -1 : before;
+        if (!hmap_put(&S->dir, &key, t))
             return 0;
     }
     return 1;
@@ -194,18 +220,18 @@ static int map_sides(hmap *dir, const mfg_rmesh *m, int64_t t)
 
 static int remove_needles(mfg_rmesh *m, double eps)
 {
-    hmap dir;
+    side_map S = {{0}, NULL, 0};
     int64_t cap = 2 * m->nt + 16, top = 0;
     uint8_t *dead = calloc((size_t)cap, 1);
     int64_t *stack = malloc((size_t)cap * sizeof *stack);
-    if (!dead || !stack || !hmap_init(&dir, 3 * m->nt + 1)) {
+    if (!dead || !stack || !hmap_init(&S.dir, 3 * m->nt + 1)) {
         free(dead);
         free(stack);
         return 0;
     }
     int ok = 1;
     for (int64_t t = 0; t < m->nt && ok; t++) {
-        ok = map_sides(&dir, m, t);
+        ok = map_sides(&S, m, t);
         stack[top++] = t;
     }
     /* every operation removes a needle and makes two triangles of its neighbour: bound the
@@ -220,17 +246,24 @@ static int remove_needles(mfg_rmesh *m, double eps)
         if (h > eps)
             continue;
         int64_t a = m->t[3 * t + k], b = m->t[3 * t + (k + 1) % 3], c = m->t[3 * t + (k + 2) % 3];
-        int64_t u = with_side(m, &dir, dead, b, a);
+        int64_t u = with_side(m, &S, dead, b, a);
         if (u < 0)
             continue;
         int j = 0;
         while (m->t[3 * u + j] != b)
             j++;
         int64_t d = m->t[3 * u + (j + 2) % 3];
-        if (d == c)
-            continue; /* a flat pocket of two triangles: left to the check */
-        /* t = (a, b, c) goes; u = (b, a, d) becomes (b, c, d) and (c, a, d) */
-        if (m->nt + 1 > cap) {
+        if (d == c) {
+            /* a flat pocket: u is t reversed, every side of one cancels a side of the
+             * other, so both go and the mesh stays closed (a run of needles along an
+             * edge of touching sheets leaves these behind) */
+            dead[t] = 1;
+            dead[u] = 1;
+            continue;
+        }
+        /* t = (a, b, c) and u = (b, a, d) go, (b, c, d) and (c, a, d) come: appended, not
+         * written over u, so that the side map's chains through u stay valid */
+        if (m->nt + 2 > cap) {
             int64_t nc = 2 * cap;
             uint8_t *nd = realloc(dead, (size_t)nc);
             int64_t *ns = nd ? realloc(stack, (size_t)nc * sizeof *ns) : NULL;
@@ -245,14 +278,13 @@ static int remove_needles(mfg_rmesh *m, double eps)
             cap = nc;
         }
         dead[t] = 1;
+        dead[u] = 1;
         int64_t g = m->g ? m->g[u] : 0;
-        m->t[3 * u] = b;
-        m->t[3 * u + 1] = c;
-        m->t[3 * u + 2] = d;
-        int64_t w = m->nt;
-        ok = add_triangle(m, c, a, d, g) && map_sides(&dir, m, u) && map_sides(&dir, m, w);
+        int64_t v = m->nt, w = m->nt + 1;
+        ok = add_triangle(m, b, c, d, g) && add_triangle(m, c, a, d, g) && map_sides(&S, m, v) &&
+             map_sides(&S, m, w);
         if (ok && top + 2 <= cap) {
-            stack[top++] = u;
+            stack[top++] = v;
             stack[top++] = w;
         }
     }
@@ -268,7 +300,8 @@ static int remove_needles(mfg_rmesh *m, double eps)
         }
         m->nt = n;
     }
-    hmap_free(&dir);
+    hmap_free(&S.dir);
+    free(S.prev);
     free(dead);
     free(stack);
     return ok;

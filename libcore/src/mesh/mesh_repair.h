@@ -25,8 +25,9 @@ typedef struct mfg_rmesh {
  *  1. welds points closer than eps (each coordinate) and drops the triangles that lose
  *     their area; pairs of opposite triangles on the same three points cancel;
  *  2. removes needles: a triangle whose height over its longest side is below eps is
- *     dropped and its neighbour across that side is split at its far corner (the surface
- *     moves by less than eps, the mesh stays closed);
+ *     dropped and its neighbour across that side (any live one, where sheets touch along
+ *     it) is split at its far corner - or dropped too when it is the needle reversed (a
+ *     flat pocket) - so the surface moves by less than eps and the mesh stays closed;
  *  3. separates the sheets that touch: at an edge of 2k triangles they are paired round
  *     the edge so that each pair bounds one wedge of the solid, and every vertex gets one
  *     copy per fan of triangles joined through its (paired) edges.
