@@ -162,6 +162,25 @@ static void to_caller_axes(sw_env *e, mfg_rmesh *m)
     }
 }
 
+#ifdef ARR_DEBUG
+/* Writes the mesh to the file the environment variable names, if it does: "nv nt", the
+ * points, the triangles (MFG_SWEEP_DUMP: the soup; MFG_SWEEP_DUMP1: the first pass's
+ * surface in the caller's axes, before the second pass). */
+static void debug_dump(const char *var, const double *x, int64_t nv, const int64_t *t, int64_t nt)
+{
+    const char *path = getenv(var);
+    FILE *fp = path ? fopen(path, "w") : NULL;
+    if (!fp)
+        return;
+    fprintf(fp, "%lld %lld\n", (long long)nv, (long long)nt);
+    for (int64_t i = 0; i < nv; i++)
+        fprintf(fp, "%.17g %.17g %.17g\n", x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    for (int64_t i = 0; i < nt; i++)
+        fprintf(fp, "%lld %lld %lld\n", (long long)t[3 * i], (long long)t[3 * i + 1], (long long)t[3 * i + 2]);
+    fclose(fp);
+}
+#endif
+
 static void rmesh_free(mfg_rmesh *m)
 {
     free(m->x);
@@ -179,16 +198,7 @@ int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_
     }
     e->nst = soup.nt;
 #ifdef ARR_DEBUG
-    if (getenv("MFG_SWEEP_DUMP")) {
-        FILE *fp = fopen(getenv("MFG_SWEEP_DUMP"), "w");
-        fprintf(fp, "%lld %lld\n", (long long)e->nv, (long long)e->nst);
-        for (int64_t i = 0; i < e->nv; i++)
-            fprintf(fp, "%.17g %.17g %.17g\n", e->x[3 * i], e->x[3 * i + 1], e->x[3 * i + 2]);
-        for (int64_t t = 0; t < e->nst; t++)
-            fprintf(fp, "%lld %lld %lld\n", (long long)e->st[3 * t], (long long)e->st[3 * t + 1],
-                    (long long)e->st[3 * t + 2]);
-        fclose(fp);
-    }
+    debug_dump("MFG_SWEEP_DUMP", e->x, e->nv, e->st, e->nst);
 #endif
     /* the first pass arranges the soup; later ones the previous pass's rounded surface,
      * whose pieces of one plane are merged only where they are still exactly one plane
@@ -198,6 +208,10 @@ int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_
     mfg_status st = round_pass(e, e->x, e->nv, e->st, e->nst, e->sgroup, e->ngroups, &cur, &clean);
     if (st == MFG_OK)
         to_caller_axes(e, &cur);
+#ifdef ARR_DEBUG
+    if (st == MFG_OK)
+        debug_dump("MFG_SWEEP_DUMP1", cur.x, cur.nv, cur.t, cur.nt);
+#endif
     for (int pass = 1; st == MFG_OK; pass++) {
         st = round_pass(e, cur.x, cur.nv, cur.t, cur.nt, NULL, 0, &next, &clean);
 #ifdef ARR_DEBUG
