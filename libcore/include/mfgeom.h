@@ -490,6 +490,9 @@ MFG_API mfg_status mfg_ray_blocked_p(const double *xyz, int64_t nvertices,
  *              2^-24 of E), E = the largest |coordinate - axis point|: what the
  *              coordinates cannot resolve, or work without bound.  Above E / 16 it is
  *              computed to about E / 16 (a tighter result meets the request).
+ * A part whose own extent (the largest side of its bounding box) is below 2^-36 of E is
+ * refused (MFG_ERR_INVALID): the computation cannot resolve it (choose an axis point
+ * nearer the part).
  *
  * The computation runs at unit scale (everything divided by the power of two of E) on a
  * canonically numbered copy of the mesh, so the input scaled by 2^k gives the result

@@ -41,7 +41,7 @@
 #define VOLUME_REL 0.0
 /* (c) vertices bit-identical after scaling by 2^k */
 #define SCALE_EXACT 1
-/* (d) MFG_ERR_INTERNAL ("could not be made a closed 2-manifold") allowed */
+/* (d) MFG_ERR_INTERNAL (the rounding passes' refusal, issue 20 known gap) allowed */
 #define ALLOW_INTERNAL 1
 
 static void fail(const char *what, double value)

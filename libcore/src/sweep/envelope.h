@@ -49,6 +49,11 @@
  * resolve, or for work without bound). */
 #define SW_TOL_MIN_ULPS_LOG2 12
 #define SW_TOL_MIN_REL_LOG2 (-24)
+/* A part smaller than 2^-36 of its extent about the axis point (the unit) is refused: the
+ * arrangement's grid (2^-50 of the unit) would resolve it by fewer than 2^14 steps, and
+ * far below that it collapses to a point (the fuzzer: an octahedron of size 3 with its
+ * axis point 1.6e60 away came out with no triangles). */
+#define SW_PART_MIN_REL_LOG2 (-36)
 /* A tolerance above 1/16 of the unit extent is computed to 1/16 (a tighter result keeps
  * the contract; coarser strips would leave the apexes far outside the unit box). */
 #define SW_TOL_MAX_UNIT 0.0625

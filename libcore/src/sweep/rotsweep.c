@@ -180,6 +180,28 @@ static mfg_status check_tolerance(const double *cx, int64_t nv, const double uni
     return MFG_OK;
 }
 
+/* Refuses a part the unit scale cannot resolve: its own extent (the largest side of its
+ * bounding box) below 2^SW_PART_MIN_REL_LOG2 of its extent about the axis point. */
+static mfg_status check_part_size(const double *cx, int64_t nv, int scale_exp)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t i = 0; i < nv; i++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], cx[3 * i + k]);
+            hi[k] = fmax(hi[k], cx[3 * i + k]);
+        }
+    double size = 0;
+    for (int k = 0; k < 3; k++)
+        size = fmax(size, hi[k] - lo[k]);
+    if (nv > 0 && size < ldexp(1.0, SW_PART_MIN_REL_LOG2))
+        return mfg_fail(MFG_ERR_INVALID, "rotational sweep: the part (%g across) is too small "
+                        "against its distance from the axis point (up to %g): below 2^%d of it "
+                        "the sweep cannot resolve the part; give an axis point nearer the part "
+                        "(any point of the axis will do) or move the part nearer the axis",
+                        ldexp(size, scale_exp), ldexp(1.0, scale_exp), SW_PART_MIN_REL_LOG2);
+    return MFG_OK;
+}
+
 static void env_free(sw_env *e)
 {
     free(e->x);
@@ -229,7 +251,9 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     for (int k = 0; k < 3; k++)
         unit_point[k] = ldexp(axis_point[k], -scale_exp);
     tolerance = ldexp(tolerance, -scale_exp);
-    st = check_tolerance(cx, nvertices, unit_point, tolerance, scale_exp);
+    st = check_part_size(cx, nvertices, scale_exp);
+    if (st == MFG_OK)
+        st = check_tolerance(cx, nvertices, unit_point, tolerance, scale_exp);
     if (st != MFG_OK) {
         free(cx);
         free(ct);
