@@ -70,8 +70,15 @@
 #define SW_TRIG_SNAP 1e-15
 /* A vertex closer than this to the axis (unit scale) is on it: its turns are itself. */
 #define SW_ON_AXIS 0x1p-40
-/* Builds of the soup tried before a broken invariant is reported (rotsweep.c). */
+/* Heights along the axis this close are one (rotsweep.c, level_heights), in runs no
+ * wider than SW_LEVEL_SPAN (unit scale; far below the smallest tolerance, 2^-24). */
+#define SW_LEVEL 0x1p-40
+#define SW_LEVEL_SPAN 0x1p-38
+/* Builds of the soup tried before a broken invariant is reported (rotsweep.c): the
+ * first SW_ATTEMPTS arrange in the axis frame, the last SW_CALLER_ATTEMPTS in the
+ * caller's axes from the first pass (surface.c, sw_env.caller_first). */
 #define SW_ATTEMPTS 3
+#define SW_CALLER_ATTEMPTS 2
 /* The most soup triangles a sweep may build (strips x steps): beyond, the tolerance is
  * refused as needing work without bound. */
 #define SW_MAX_SOUP 40000000
@@ -99,6 +106,8 @@ typedef struct sw_env {
     double delta;           /* the step: t_i = i delta for i < N, t_N = theta */
     int symmetry;           /* the part's symmetry about the axis the steps follow (1: none) */
     int attempt;            /* 0, then 1, 2 when the soup is built again (one step more each) */
+    int caller_first;       /* the soup is turned to the caller's axes before the first pass */
+    const double *cx;       /* the input's vertices at unit scale in the caller's axes */
     double rmax;
     hmap turned;            /* (vertex, code) -> turned vertex */
     /* the soup: triangles and their planar group (-1: none) */

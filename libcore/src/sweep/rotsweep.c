@@ -202,6 +202,47 @@ static mfg_status check_part_size(const double *cx, int64_t nv, int scale_exp)
     return MFG_OK;
 }
 
+/* Orders (height, vertex) records. */
+static int cmp_height(const void *pa, const void *pb)
+{
+    const double *a = pa, *b = pb;
+    return a[0] < b[0] ? -1 : a[0] > b[0] ? 1 : (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+/* Heights along the axis that differ by rounding only are made one (p: n points in the
+ * axis frame, 3 each).  A face perpendicular to the axis is one plane in the caller's
+ * axes, but its corners turned into the axis frame get heights a few ulps apart; the
+ * turns keep each height exactly, so its turned copies and the strips of its rim become
+ * faces at grazing angles of 1e-15 instead of one plane, and the rounded boundary's
+ * passes never end there (a star prism about an axis along its own: 77 crossing pairs,
+ * all in that plane, after every pass; 6 of the battery's 8 refusals).  Heights within
+ * SW_LEVEL of their neighbour in sorted order form a run; a run no wider than
+ * SW_LEVEL_SPAN takes its middle height (a wider run is a surface, not a rounded plane,
+ * and is left as it is).  The same for the coordinates across the axis (edges parallel
+ * to it) changed none of the refusals left and is not done. */
+static int level_heights(double *p, int64_t n)
+{
+    double *h = malloc((size_t)(2 * n + 2) * sizeof *h);
+    if (!h)
+        return 0;
+    for (int64_t i = 0; i < n; i++) {
+        h[2 * i] = p[3 * i + 2];
+        h[2 * i + 1] = (double)i;
+    }
+    qsort(h, (size_t)n, 2 * sizeof *h, cmp_height);
+    for (int64_t i = 0, j; i < n; i = j) {
+        for (j = i + 1; j < n && h[2 * j] - h[2 * (j - 1)] <= SW_LEVEL; j++)
+            ;
+        if (j - i < 2 || h[2 * (j - 1)] - h[2 * i] > SW_LEVEL_SPAN)
+            continue;
+        double mid = h[2 * ((i + j - 1) / 2)];
+        for (int64_t q = i; q < j; q++)
+            p[3 * (int64_t)h[2 * q + 1] + 2] = mid;
+    }
+    free(h);
+    return 1;
+}
+
 static void env_free(sw_env *e)
 {
     free(e->x);
@@ -282,16 +323,21 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     /* the input about the axis point in the axis frame, on the arrangement's grid; a
      * vertex closer to the axis than SW_ON_AXIS is put on it (a vertex on the axis of a
      * moved part is off it by rounding, and its turns would be circles of ulps) */
+    double *pa = ok ? malloc((size_t)(3 * nvertices) * sizeof *pa) : NULL;
+    ok = pa != NULL;
     for (int64_t i = 0; ok && i < nvertices; i++) {
-        double d[3], p[3];
+        double d[3], *p = pa + 3 * i;
         for (int k = 0; k < 3; k++)
             d[k] = cx[3 * i + k] - unit_point[k];
         for (int r = 0; r < 3; r++)
             p[r] = mfg_dot3(F[r], d);
         if (hypot(p[0], p[1]) < SW_ON_AXIS)
             p[0] = p[1] = 0;
-        ok = sw_add_vertex(&e, p) >= 0;
     }
+    ok = ok && level_heights(pa, nvertices);
+    for (int64_t i = 0; ok && i < nvertices; i++)
+        ok = sw_add_vertex(&e, pa + 3 * i) >= 0;
+    free(pa);
     if (!ok)
         e.st_code = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
     e.nin = nvertices;
@@ -302,8 +348,19 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
      * another build can avoid it: the soup is built again with one step more (other
      * turned points, other crossings), up to SW_ATTEMPTS times, before the call reports
      * MFG_ERR_INTERNAL. */
-    for (int attempt = 0; ok && attempt < SW_ATTEMPTS; attempt++) {
+    e.cx = cx;
+    /* the input's points in the axis frame, for the builds after one that turned them to
+     * the caller's axes in place (surface.c) */
+    double *xin = ok ? malloc((size_t)(3 * nvertices) * sizeof *xin) : NULL;
+    if (ok && !xin) {
+        e.st_code = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
+        ok = 0;
+    }
+    if (ok)
+        memcpy(xin, e.x, (size_t)(3 * nvertices) * sizeof *xin);
+    for (int attempt = 0; ok && attempt < SW_ATTEMPTS + SW_CALLER_ATTEMPTS; attempt++) {
         if (attempt > 0) {
+            memcpy(e.x, xin, (size_t)(3 * nvertices) * sizeof *xin);
             e.nv = e.nin;
             e.nst = 0;
             e.nce = 0;
@@ -315,7 +372,8 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
             }
             e.st_code = MFG_OK;
         }
-        e.attempt = attempt;
+        e.caller_first = attempt >= SW_ATTEMPTS;
+        e.attempt = e.caller_first ? attempt - SW_ATTEMPTS : attempt;
         sw_setup_steps(&e);
         int built = (mfg_prog_stage(&prog, "sweep: contour", 0.05, 0.15, 1024) ||
                      (e.st_code = MFG_ERR_CANCELLED, 0)) &&
@@ -340,7 +398,7 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
             ok = built;
         if (built || e.st_code != MFG_ERR_INTERNAL)
             break;
-        if (attempt + 1 == SW_ATTEMPTS)
+        if (attempt + 1 == SW_ATTEMPTS + SW_CALLER_ATTEMPTS)
             ok = 0;
     }
     ok = ok && (mfg_prog_stage(&prog, "sweep: output", 0.9, 1.0, 1) || (e.st_code = MFG_ERR_CANCELLED, 0));
@@ -369,6 +427,7 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     }
     free(ox);
     free(ot);
+    free(xin);
     env_free(&e);
     free(cx);
     free(ct);

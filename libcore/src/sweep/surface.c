@@ -133,18 +133,21 @@ static mfg_status round_pass(sw_env *e, const double *x0, int64_t nv0, const int
     return st;
 }
 
-/* The surface from the axis frame to the caller's axes at unit scale, scaled by a power
- * of two to |x| < 1 and snapped to the grid: the passes after this one decide
- * crossings on the very numbers the caller gets (times 2^out_exp, exact), so turning the
- * result back cannot make faces cross by an ulp after the last check. */
-static void to_caller_axes(sw_env *e, mfg_rmesh *m)
+/* Points from the axis frame to the caller's axes at unit scale, scaled by a power of
+ * two to |x| < 1 and snapped to the grid: the passes after the turn decide crossings on
+ * the very numbers the caller gets (times 2^out_exp, exact), so turning the result back
+ * cannot make faces cross by an ulp after the last check.  The first nexact points are
+ * the input's: they are taken from the caller's own coordinates (e->cx), not turned
+ * there and back. */
+static void to_caller_axes(sw_env *e, double *x, int64_t nv, int64_t nexact)
 {
     double big = 0;
-    for (int64_t i = 0; i < m->nv; i++) {
-        const double *q = m->x + 3 * i;
+    for (int64_t i = 0; i < nv; i++) {
+        const double *q = x + 3 * i;
         for (int k = 0; k < 3; k++) {
-            double w = q[0] * e->frame[0][k] + q[1] * e->frame[1][k] + q[2] * e->frame[2][k] +
-                       e->origin[k];
+            double w = i < nexact ? e->cx[3 * i + k]
+                                  : q[0] * e->frame[0][k] + q[1] * e->frame[1][k] +
+                                        q[2] * e->frame[2][k] + e->origin[k];
             big = fmax(big, fabs(w));
         }
     }
@@ -152,24 +155,22 @@ static void to_caller_axes(sw_env *e, mfg_rmesh *m)
     if (big > 0)
         (void)frexp(big, &ex); /* big < 2^ex */
     e->out_exp = ex; /* |x| < 1, as the unit scale (cdt.c's enclosing triangle) */
-    for (int64_t i = 0; i < m->nv; i++) {
-        double *q = m->x + 3 * i, w[3];
+    for (int64_t i = 0; i < nv; i++) {
+        double *q = x + 3 * i, w[3];
         for (int k = 0; k < 3; k++)
-            w[k] = q[0] * e->frame[0][k] + q[1] * e->frame[1][k] + q[2] * e->frame[2][k] +
-                   e->origin[k];
+            w[k] = i < nexact ? e->cx[3 * i + k]
+                              : q[0] * e->frame[0][k] + q[1] * e->frame[1][k] +
+                                    q[2] * e->frame[2][k] + e->origin[k];
         for (int k = 0; k < 3; k++)
             q[k] = sw_snap(ldexp(w[k], -e->out_exp));
     }
 }
 
 #ifdef ARR_DEBUG
-/* Writes the mesh to the file the environment variable names, if it does: "nv nt", the
- * points, the triangles (MFG_SWEEP_DUMP: the soup; MFG_SWEEP_DUMP1: the first pass's
- * surface in the caller's axes, before the second pass). */
-static void debug_dump(const char *var, const double *x, int64_t nv, const int64_t *t, int64_t nt)
+/* Writes the mesh to a file: "nv nt", the points, the triangles. */
+static void debug_dump_path(const char *path, const double *x, int64_t nv, const int64_t *t, int64_t nt)
 {
-    const char *path = getenv(var);
-    FILE *fp = path ? fopen(path, "w") : NULL;
+    FILE *fp = fopen(path, "w");
     if (!fp)
         return;
     fprintf(fp, "%lld %lld\n", (long long)nv, (long long)nt);
@@ -178,6 +179,21 @@ static void debug_dump(const char *var, const double *x, int64_t nv, const int64
     for (int64_t i = 0; i < nt; i++)
         fprintf(fp, "%lld %lld %lld\n", (long long)t[3 * i], (long long)t[3 * i + 1], (long long)t[3 * i + 2]);
     fclose(fp);
+}
+
+/* The mesh to the file the environment variable names, if it does (MFG_SWEEP_DUMP: the
+ * soup; MFG_SWEEP_DUMP1: the first pass's surface in the caller's axes, before the second
+ * pass; with MFG_SWEEP_DUMP_KEEP an existing file, the first build's, is kept). */
+static void debug_dump(const char *var, const double *x, int64_t nv, const int64_t *t, int64_t nt)
+{
+    const char *path = getenv(var);
+    FILE *fp = path && getenv("MFG_SWEEP_DUMP_KEEP") ? fopen(path, "r") : NULL;
+    if (fp) {
+        fclose(fp);
+        return;
+    }
+    if (path)
+        debug_dump_path(path, x, nv, t, nt);
 }
 #endif
 
@@ -191,6 +207,12 @@ static void rmesh_free(mfg_rmesh *m)
 
 int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_)
 {
+    /* the fallback builds (rotsweep.c) arrange the soup in the caller's axes from the
+     * first pass: the input's points exact, the soup's own rounded once, and no turn of
+     * the arranged surface (whose grazing sheets an ulp of the turn can make cross: a torus
+     * turned 0.02 rad about its own axis had 0 crossings before the turn and 178 after) */
+    if (e->caller_first)
+        to_caller_axes(e, e->x, e->nv, e->nin);
     mfg_rmesh soup = {e->x, e->nv, e->capv, e->st, e->nst, e->capst, e->sgroup};
     if (!mfg_chain_weld(&soup, SW_SOUP_WELD)) {
         e->st_code = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
@@ -206,8 +228,8 @@ int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_
     mfg_rmesh cur = {0}, next = {0};
     int clean = 0;
     mfg_status st = round_pass(e, e->x, e->nv, e->st, e->nst, e->sgroup, e->ngroups, &cur, &clean);
-    if (st == MFG_OK)
-        to_caller_axes(e, &cur);
+    if (st == MFG_OK && !e->caller_first)
+        to_caller_axes(e, cur.x, cur.nv, 0);
 #ifdef ARR_DEBUG
     if (st == MFG_OK)
         debug_dump("MFG_SWEEP_DUMP1", cur.x, cur.nv, cur.t, cur.nt);
@@ -220,6 +242,14 @@ int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_
 #endif
         if (st != MFG_OK)
             break;
+#ifdef ARR_DEBUG
+        if (getenv("MFG_SWEEP_DUMPP")) { /* every pass: PREFIX.build.pass */
+            char path[512];
+            snprintf(path, sizeof path, "%s.%d.%d", getenv("MFG_SWEEP_DUMPP"),
+                     e->attempt + 10 * e->caller_first, pass);
+            debug_dump_path(path, next.x, next.nv, next.t, next.nt);
+        }
+#endif
         if (clean) { /* next: the exact boundary on cur's points, the result */
             rmesh_free(&cur);
             cur = next;
