@@ -26,6 +26,7 @@
  * 2^-900 (only from features a few grid steps wide) always go to the exact stage. */
 #include <math.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "arrange/implicit.h"
 #include "common/expansion.h"
@@ -248,6 +249,7 @@ static void round_expansion(int n, const double *e, double *v, double *err)
 
 int arr_point_prepare(const double *xyz, arr_point *p)
 {
+    p->xok = 0;
     if (!arr_point_valid(xyz, p))
         return 0;
     fv X[4];
@@ -496,12 +498,16 @@ int arr_same(const arr_points *P, int64_t p, int64_t q)
 
 void arr_coords(const arr_points *P, int64_t p, double out[3])
 {
-    const arr_point *pt = &P->pts[p];
+    arr_point *pt = &P->pts[p];
     if (pt->kind == ARR_EXPLICIT) {
         const double *a = vtx(P->xyz, pt->v[0]);
         out[0] = a[0];
         out[1] = a[1];
         out[2] = a[2];
+        return;
+    }
+    if (pt->xok) {
+        memcpy(out, pt->x, sizeof pt->x);
         return;
     }
     /* The rounded quotient when both terms are known to u / 4 (see COORD_REL_ERR). */
@@ -512,4 +518,6 @@ void arr_coords(const arr_points *P, int64_t p, double out[3])
     if (trusted || !arr_coords_exact(P, p, out))
         for (int k = 0; k < 3; k++)
             out[k] = pt->h[k] / pt->h[3];
+    memcpy(pt->x, out, sizeof pt->x);
+    pt->xok = 1;
 }

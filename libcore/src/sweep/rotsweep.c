@@ -1,6 +1,10 @@
 /* SPDX-License-Identifier: LGPL-2.1-or-later */
 /* sweep/rotsweep.c - Entry point: mfg_rotational_sweep / mfg_rotational_sweep_p.  The
  * design and the file map: sweep/envelope.h. */
+#ifdef ARR_DEBUG
+#include <stdio.h>
+#include <time.h>
+#endif
 #include "sweep/envelope.h"
 #include "mesh/mesh.h"
 
@@ -390,7 +394,7 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
                           (e.st_code = MFG_ERR_CANCELLED, 0)) &&
                 sw_build_strips(&e);
 #ifdef ARR_DEBUG
-        fprintf(stderr, "faces F/B: soup 0..%lld, strips and fins after; steps %d, contour pieces %lld\n",
+        fprintf(stderr, "faces F/B (%.2f s of CPU): soup 0..%lld, strips and fins after; steps %d, contour pieces %lld\n", (double)clock() / CLOCKS_PER_SEC,
                 (long long)nfaces_soup, e.nsteps, (long long)e.nce);
 #endif
         built = built && sw_surface(&e, &ox, &nox, &ot, &not_);

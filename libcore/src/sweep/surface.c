@@ -9,6 +9,9 @@
  * with such a face: all of them form one group (union-find over the input's planar
  * groups and the clusters). */
 #include <stdio.h>
+#ifdef ARR_DEBUG
+#include <time.h>
+#endif
 
 #include "sweep/envelope.h"
 #include "mesh/mesh.h"
@@ -237,7 +240,7 @@ int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_
     for (int pass = 1; st == MFG_OK; pass++) {
         st = round_pass(e, cur.x, cur.nv, cur.t, cur.nt, NULL, 0, &next, &clean);
 #ifdef ARR_DEBUG
-        fprintf(stderr, "round pass %d: %lld -> %lld triangles, clean %d\n", pass,
+        fprintf(stderr, "round pass %d (%.2f s of CPU): %lld -> %lld triangles, clean %d\n", pass, (double)clock() / CLOCKS_PER_SEC,
                 (long long)cur.nt, (long long)next.nt, clean);
 #endif
         if (st != MFG_OK)
