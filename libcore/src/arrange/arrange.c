@@ -27,6 +27,15 @@ static int zero_area(const arr_points *P, const int64_t *V)
 }
 
 /* The pipeline; every_face: stop after the clusters' faces (all of them, no winding). */
+int arr_over_budget(arr_ctx *c)
+{
+    if (c->max_points <= 0 || c->T.npts <= c->max_points)
+        return 0;
+    c->st = mfg_fail(MFG_ERR_INTERNAL, "arrangement: more than %lld points, the caller's bound",
+                     (long long)c->max_points);
+    return 1;
+}
+
 static mfg_status run(const double *xyz, int64_t nv, const int64_t *tri, int64_t ntri,
                       mfg_prog *prog, const arr_stages *stages, arr_table *table,
                       arr_face **out_faces, int64_t *nfaces, int64_t **out_tcluster,
@@ -37,6 +46,7 @@ static mfg_status run(const double *xyz, int64_t nv, const int64_t *tri, int64_t
     c.prog = prog;
     c.tri = tri;
     c.ntri = ntri;
+    c.max_points = stages->max_points;
     c.st = MFG_OK;
     for (int a = 0; a < 3; a++)
         for (int k = 0; k < 3; k++)

@@ -57,6 +57,7 @@ typedef struct arr_table {
     hmap keys;          /* construction key -> point id */
     int64_t *canon;     /* after arr_dedupe: the representative of each point's position */
     int64_t ncanon;     /* points covered by canon (the rest are their own) */
+    arr_exact_cache *xc; /* exact coordinates last computed (NULL: none) */
 } arr_table;
 
 /* Key kinds of implicit points (first word of the key). */
@@ -67,7 +68,7 @@ void arr_table_free(arr_table *T);
 /* The arr_points view predicates take (valid until the table grows). */
 static inline arr_points arr_view(const arr_table *T)
 {
-    arr_points P = {T->xyz, T->nxyz, T->pts, T->npts};
+    arr_points P = {T->xyz, T->nxyz, T->pts, T->npts, T->xc};
     return P;
 }
 /* The point of segment a-b (explicit) crossing the plane of triangle (p0, p1, p2); the
@@ -145,6 +146,10 @@ typedef struct arr_cluster {
 typedef struct arr_stages {
     const char *name[3]; /* the pairs, the clusters' faces, the winding numbers */
     double at[4];
+    /* the most points the table may hold (0: no bound): beyond, the run stops with
+     * MFG_ERR_INTERNAL ("more points than the caller's bound"), for a caller that knows
+     * its input should make few and would rather try another way than wait */
+    int64_t max_points;
 } arr_stages;
 
 typedef struct arr_ctx {
@@ -165,8 +170,12 @@ typedef struct arr_ctx {
     int64_t nface, capface;
     int64_t super[3][3]; /* point ids of the enclosing triangle's corners, per axis */
     void *cdt_scratch;   /* cdt.c's buffers, kept between clusters */
+    int64_t max_points;  /* arr_stages.max_points */
     mfg_status st;
 } arr_ctx;
+
+/* 1 when the table holds more points than the caller's bound, with ctx->st set. */
+int arr_over_budget(arr_ctx *c);
 
 /* Records point p as a vertex of cluster cl's arrangement (pairs.c).  0: out of memory. */
 int arr_add_point_record(arr_ctx *c, int64_t cl, int64_t p);

@@ -494,6 +494,8 @@ int arr_clusters(arr_ctx *c)
         if (!gather(c, cl, &members, &segrec, &ptrec, &w.L) ||
             !crossings(c, cl, &w.L, &w.boxes, &w.capboxes))
             goto nomem;
+        if (arr_over_budget(c))
+            goto fail;
     }
     csr_free(&ptrec);
     dd = arr_dedupe(&c->T, c->prog);

@@ -94,11 +94,15 @@ typedef struct arr_point {
 
 /* The points of one arrangement: the explicit coordinates and the points (explicit
  * vertices may appear as ARR_EXPLICIT points; the predicates take point indices). */
+/* The last exact coordinates computed, by point id (implicit_exact.c). */
+typedef struct arr_exact_cache arr_exact_cache;
+
 typedef struct arr_points {
     const double *xyz;  /* 3 per explicit vertex, on the grid (see above) */
     int64_t nxyz;
     arr_point *pts;
     int64_t npts;
+    arr_exact_cache *xc; /* NULL: none */
 } arr_points;
 
 /* Fills p->h and p->herr from the construction (call once after setting kind, axis, v,
@@ -163,6 +167,16 @@ typedef struct arr_exact {
     int n[4];
     double c[4][ARR_EXP_CAP(7)];
 } arr_exact;
+
+/* A cache of exact coordinates for the predicates' exact stage: the segments of one
+ * cluster are compared pairwise, so the same few implicit points are expanded again and
+ * again (a star prism's second rounding pass spent over 60 % of its time there).  The
+ * predicates use it through arr_points.xc; its slots take memory only once used (a few
+ * MB).  arr_exact_cache_drop forgets the points from id on (arr_truncate: the ids are
+ * given again). */
+arr_exact_cache *arr_exact_cache_new(void);
+void arr_exact_cache_free(arr_exact_cache *xc);
+void arr_exact_cache_drop(arr_exact_cache *xc, int64_t id);
 
 /* 1 when p's kind and axis are valid and every coordinate (and lift) its construction
  * reads is on the grid: the precondition of exactness. */

@@ -19,6 +19,7 @@
  * The largest frames: arr_orient2d_exact of three TPIs keeps their 12 coordinates
  * (40 KB) while each is built (tpi: about 70 KB with its products) and then the
  * determinant (about 65 KB): about 110 KB of stack at most. */
+#include <stdlib.h>
 #include <string.h>
 
 #include "arrange/implicit.h"
@@ -259,6 +260,79 @@ int arr_point_exact(const double *xyz, const arr_point *p, arr_exact *out)
     return 1;
 }
 
+/* ---- The cache ---------------------------------------------------------------------- */
+
+/* Direct-mapped by point id: slots are few and large (13 KB), and the exact stage meets
+ * the points of one cluster in runs. */
+#define XC_SLOTS 256
+
+struct arr_exact_cache {
+    int64_t id[XC_SLOTS]; /* -1: empty */
+    arr_exact *x;         /* XC_SLOTS, allocated on first use (NULL: not yet, or no memory) */
+    int tried;            /* the allocation was tried */
+};
+
+arr_exact_cache *arr_exact_cache_new(void)
+{
+    arr_exact_cache *xc = malloc(sizeof *xc);
+    if (!xc)
+        return NULL;
+    for (int i = 0; i < XC_SLOTS; i++)
+        xc->id[i] = -1;
+    xc->x = NULL;
+    xc->tried = 0;
+    return xc;
+}
+
+void arr_exact_cache_free(arr_exact_cache *xc)
+{
+    if (!xc)
+        return;
+    free(xc->x);
+    free(xc);
+}
+
+void arr_exact_cache_drop(arr_exact_cache *xc, int64_t id)
+{
+    if (!xc)
+        return;
+    for (int i = 0; i < XC_SLOTS; i++)
+        if (xc->id[i] >= id)
+            xc->id[i] = -1;
+}
+
+static void copy_exact(arr_exact *to, const arr_exact *from)
+{
+    for (int k = 0; k < 4; k++) {
+        to->n[k] = from->n[k];
+        memcpy(to->c[k], from->c[k], (size_t)from->n[k] * sizeof(double));
+    }
+}
+
+/* arr_point_exact for point p of P, through P's cache when it has one. */
+static int point_exact(const arr_points *P, int64_t p, arr_exact *out)
+{
+    arr_exact_cache *xc = P->xc;
+    if (!xc || P->pts[p].kind == ARR_EXPLICIT)
+        return arr_point_exact(P->xyz, &P->pts[p], out);
+    int slot = (int)(((uint64_t)p * 0x9E3779B97F4A7C15u) >> 56) % XC_SLOTS;
+    if (xc->x && xc->id[slot] == p) {
+        copy_exact(out, &xc->x[slot]);
+        return 1;
+    }
+    if (!arr_point_exact(P->xyz, &P->pts[p], out))
+        return 0;
+    if (!xc->x && !xc->tried) {
+        xc->tried = 1;
+        xc->x = malloc(XC_SLOTS * sizeof *xc->x);
+    }
+    if (xc->x) {
+        copy_exact(&xc->x[slot], out);
+        xc->id[slot] = p;
+    }
+    return 1;
+}
+
 /* ---- The predicates ---------------------------------------------------------------- */
 
 static int wsign(const arr_exact *x)
@@ -273,7 +347,7 @@ int arr_orient3d_exact(const arr_points *P, int64_t a, int64_t b, int64_t c, int
         if (!arr_on_grid(pa[k]) || !arr_on_grid(pb[k]) || !arr_on_grid(pc[k]))
             return ARR_NOT_EXACT;
     arr_exact x;
-    if (!arr_point_exact(P->xyz, &P->pts[q], &x))
+    if (!point_exact(P, q, &x))
         return ARR_NOT_EXACT;
     /* orient3d(a, b, c, q) = det[a - q, b - q, c - q] = -n . (q - a), n = (b-a) x (c-a);
      * with q = X / W: -sign(W) sign(n . (X - W a)). */
@@ -313,9 +387,9 @@ static NOINLINE int det3_sign(const arr_exact *x[3], int i, int j)
 int arr_orient2d_exact(const arr_points *P, int64_t p, int64_t q, int64_t r, int axis)
 {
     arr_exact x[3];
-    if (!arr_point_exact(P->xyz, &P->pts[p], &x[0]) ||
-        !arr_point_exact(P->xyz, &P->pts[q], &x[1]) ||
-        !arr_point_exact(P->xyz, &P->pts[r], &x[2]))
+    if (!point_exact(P, p, &x[0]) ||
+        !point_exact(P, q, &x[1]) ||
+        !point_exact(P, r, &x[2]))
         return ARR_NOT_EXACT;
     /* det[(X_i, X_j, W) rows] = Wp Wq Wr orient2d(p, q, r). */
     const arr_exact *rows[3] = {&x[0], &x[1], &x[2]};
@@ -335,7 +409,7 @@ static int cmp_coords(const arr_exact *xp, const arr_exact *xq, int k)
 int arr_cmp_exact(const arr_points *P, int64_t p, int64_t q, int axis)
 {
     arr_exact xp, xq;
-    if (!arr_point_exact(P->xyz, &P->pts[p], &xp) || !arr_point_exact(P->xyz, &P->pts[q], &xq))
+    if (!point_exact(P, p, &xp) || !point_exact(P, q, &xq))
         return ARR_NOT_EXACT;
     return cmp_coords(&xp, &xq, axis);
 }
@@ -343,7 +417,7 @@ int arr_cmp_exact(const arr_points *P, int64_t p, int64_t q, int axis)
 int arr_same_exact(const arr_points *P, int64_t p, int64_t q)
 {
     arr_exact xp, xq;
-    if (!arr_point_exact(P->xyz, &P->pts[p], &xp) || !arr_point_exact(P->xyz, &P->pts[q], &xq))
+    if (!point_exact(P, p, &xp) || !point_exact(P, q, &xq))
         return ARR_NOT_EXACT;
     for (int k = 0; k < 3; k++)
         if (cmp_coords(&xp, &xq, k) != 0)
@@ -369,7 +443,7 @@ static double exact_quotient(int nx, const double *X, int nw, const double *W)
 int arr_coords_exact(const arr_points *P, int64_t p, double out[3])
 {
     arr_exact x;
-    if (!arr_point_exact(P->xyz, &P->pts[p], &x) || wsign(&x) == 0)
+    if (!point_exact(P, p, &x) || wsign(&x) == 0)
         return 0;
     for (int k = 0; k < 3; k++)
         out[k] = exact_quotient(x.n[k], x.c[k], x.n[3], x.c[3]);

@@ -378,6 +378,10 @@ int arr_pairs(arr_ctx *c, arr_bvh *bvh)
             c->st = MFG_ERR_CANCELLED;
             return 0;
         }
+        if ((k & 255) == 0 && arr_over_budget(c)) {
+            free(P.keep);
+            return 0;
+        }
         if (!meet(c, P.keep[k].i, P.keep[k].j)) {
             free(P.keep);
             c->st = mfg_fail(MFG_ERR_NOMEM, "arrangement: out of memory");

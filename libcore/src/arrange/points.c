@@ -10,9 +10,11 @@ int arr_table_init(arr_table *T, const double *xyz, int64_t nv)
     T->cappts = 2 * nv + 64;
     T->xyz = malloc((size_t)T->capxyz * 3 * sizeof *T->xyz);
     T->pts = malloc((size_t)T->cappts * sizeof *T->pts);
-    if (!T->xyz || !T->pts || !hmap_init(&T->keys, nv + 64)) {
+    T->xc = arr_exact_cache_new();
+    if (!T->xyz || !T->pts || !T->xc || !hmap_init(&T->keys, nv + 64)) {
         free(T->xyz);
         free(T->pts);
+        arr_exact_cache_free(T->xc);
         memset(T, 0, sizeof *T);
         return 0;
     }
@@ -34,6 +36,7 @@ void arr_table_free(arr_table *T)
     free(T->xyz);
     free(T->pts);
     free(T->canon);
+    arr_exact_cache_free(T->xc);
     hmap_free(&T->keys);
     memset(T, 0, sizeof *T);
 }
@@ -181,8 +184,10 @@ int64_t arr_lift(arr_table *T, const int64_t tri[3], int axis, double u, double 
 /* Keys of the dropped points stay in the map; keyed() checks them (same_construction). */
 void arr_truncate(arr_table *T, int64_t npts)
 {
-    if (npts < T->npts)
+    if (npts < T->npts) {
         T->npts = npts;
+        arr_exact_cache_drop(T->xc, npts);
+    }
 }
 
 /* ---- Exact merge of equal positions ------------------------------------------------- */

@@ -64,7 +64,7 @@ static mfg_status run(const boxset *B, mfg_mesh *out)
     soup_of(B, xyz, tri);
     mfg_prog prog;
     mfg_prog_init(&prog, NULL, "test");
-    static const arr_stages S = {{"a", "b", "c"}, {0, 0.3, 0.6, 1}};
+    static const arr_stages S = {{"a", "b", "c"}, {0, 0.3, 0.6, 1}, 0};
     arr_table T;
     arr_face *F = NULL;
     int64_t nf = 0;

@@ -73,7 +73,7 @@ static void pool_reset(pool *P)
 
 static arr_points view(const pool *P)
 {
-    arr_points v = {P->xyz, P->nv, (arr_point *)P->pts, P->np};
+    arr_points v = {P->xyz, P->nv, (arr_point *)P->pts, P->np, NULL};
     return v;
 }
 
