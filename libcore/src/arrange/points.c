@@ -50,6 +50,7 @@ static int grow_pts(arr_table *T)
     arr_point *np = realloc(T->pts, (size_t)cap * sizeof *np);
     if (!np)
         return 0;
+    mfg_huge_pages(np, (size_t)cap * sizeof *np);
     T->pts = np;
     T->cappts = cap;
     return 1;

@@ -10,6 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* common/memory.c: a large table asks for huge pages (its growth faults in fresh memory). */
+void mfg_huge_pages(void *p, size_t bytes);
+
 /* Open-addressing map from a 4-word key to an int64 value. */
 typedef struct hkey {
     int64_t w[4];
@@ -46,6 +49,8 @@ static inline int hmap_init(hmap *m, int64_t want)
         m->vals = NULL;
         return 0;
     }
+    mfg_huge_pages(m->keys, (size_t)c * sizeof *m->keys);
+    mfg_huge_pages(m->vals, (size_t)c * sizeof *m->vals);
     for (int64_t i = 0; i < c; i++)
         m->vals[i] = -1;
     m->cap = c;

@@ -118,6 +118,10 @@ static inline void mfg_uf_union(int64_t *parent, int64_t a, int64_t b)
         parent[a] = b;
 }
 
+/* Advises the system to back a large table (bytes of it from p) by huge pages, where it can
+ * (common/memory.c); small tables and other systems: nothing. */
+void mfg_huge_pages(void *p, size_t bytes);
+
 /* The capacity for need items: cap (or first, when cap is 0) doubled until it holds them
  * (need itself once doubling would overflow).  The one doubling rule of the growable
  * buffers, including those that grow several arrays together (mfg_resize). */
@@ -142,6 +146,7 @@ static inline int mfg_grow(void **p, int64_t *cap, int64_t need, size_t size)
     void *q = realloc(*p, (size_t)c * size);
     if (!q)
         return 0;
+    mfg_huge_pages(q, (size_t)c * size);
     *p = q;
     *cap = c;
     return 1;
