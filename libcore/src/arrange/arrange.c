@@ -26,7 +26,6 @@ static int zero_area(const arr_points *P, const int64_t *V)
     return 1;
 }
 
-/* The pipeline; every_face: stop after the clusters' faces (all of them, no winding). */
 int arr_over_budget(arr_ctx *c)
 {
     if (c->max_points <= 0 || c->T.npts <= c->max_points)
@@ -36,6 +35,7 @@ int arr_over_budget(arr_ctx *c)
     return 1;
 }
 
+/* The pipeline; every_face: stop after the clusters' faces (all of them, no winding). */
 static mfg_status run(const double *xyz, int64_t nv, const int64_t *tri, int64_t ntri,
                       mfg_prog *prog, const arr_stages *stages, arr_table *table,
                       arr_face **out_faces, int64_t *nfaces, int64_t **out_tcluster,

@@ -92,11 +92,11 @@ typedef struct arr_point {
     double x[3];
 } arr_point;
 
-/* The points of one arrangement: the explicit coordinates and the points (explicit
- * vertices may appear as ARR_EXPLICIT points; the predicates take point indices). */
 /* The last exact coordinates computed, by point id (implicit_exact.c). */
 typedef struct arr_exact_cache arr_exact_cache;
 
+/* The points of one arrangement: the explicit coordinates and the points (explicit
+ * vertices may appear as ARR_EXPLICIT points; the predicates take point indices). */
 typedef struct arr_points {
     const double *xyz;  /* 3 per explicit vertex, on the grid (see above) */
     int64_t nxyz;

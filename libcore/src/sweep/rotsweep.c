@@ -327,7 +327,7 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     /* the input about the axis point in the axis frame, on the arrangement's grid; a
      * vertex closer to the axis than SW_ON_AXIS is put on it (a vertex on the axis of a
      * moved part is off it by rounding, and its turns would be circles of ulps) */
-    double *pa = ok ? malloc((size_t)(3 * nvertices) * sizeof *pa) : NULL;
+    double *pa = ok ? malloc((size_t)(3 * nvertices + 3) * sizeof *pa) : NULL;
     ok = pa != NULL;
     for (int64_t i = 0; ok && i < nvertices; i++) {
         double d[3], *p = pa + 3 * i;
@@ -350,12 +350,13 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     /* A broken invariant of the arrangement or of the repair of its rounded boundary
      * (a bug, or a configuration rounding defeats) is not the caller's problem while
      * another build can avoid it: the soup is built again with one step more (other
-     * turned points, other crossings), up to SW_ATTEMPTS times, before the call reports
+     * turned points, other crossings), up to SW_ATTEMPTS times in the axis frame and then
+     * SW_CALLER_ATTEMPTS times in the caller's axes (envelope.h), before the call reports
      * MFG_ERR_INTERNAL. */
     e.cx = cx;
     /* the input's points in the axis frame, for the builds after one that turned them to
      * the caller's axes in place (surface.c) */
-    double *xin = ok ? malloc((size_t)(3 * nvertices) * sizeof *xin) : NULL;
+    double *xin = ok ? malloc((size_t)(3 * nvertices + 3) * sizeof *xin) : NULL;
     if (ok && !xin) {
         e.st_code = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
         ok = 0;

@@ -9,6 +9,7 @@
  * with such a face: all of them form one group (union-find over the input's planar
  * groups and the clusters). */
 #include <stdio.h>
+#include <string.h>
 #ifdef ARR_DEBUG
 #include <time.h>
 #endif
@@ -247,7 +248,7 @@ int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_
          * triangles from 28 962 */
         st = round_pass(e, cur.x, cur.nv, cur.t, cur.nt, NULL, 0,
                         cur.nv + cur.nv / SW_PASS_POINTS_DIV + 1024, &next, &clean);
-        if (st == MFG_ERR_INTERNAL) {
+        if (st == MFG_ERR_INTERNAL && strstr(mfg_last_error(), "the caller's bound")) {
             char why[256];
             snprintf(why, sizeof why, "%s", mfg_last_error());
             st = mfg_fail(MFG_ERR_INTERNAL, "rotational sweep: the rounded boundary's "
