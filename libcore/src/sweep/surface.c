@@ -106,6 +106,14 @@ static mfg_status round_pass(sw_env *e, const double *x0, int64_t nv0, const int
             grp[f] = mfg_uf_find(uf, G + F[f].cluster);
         }
         int64_t ntri = nf;
+#ifdef ARR_DEBUG
+        if (getenv("MFG_SWEEP_CHECK_RAW")) {
+            mfg_mesh_report rep0;
+            mfg_status c0 = mfg_mesh_check_closed(x, nv, tri, nf, &rep0);
+            fprintf(stderr, "  arrangement's boundary, rounded: %lld faces, %s\n", (long long)nf,
+                    c0 == MFG_OK ? "closed" : mfg_last_error());
+        }
+#endif
         int merge = !*clean;
 #ifdef ARR_DEBUG
         if (getenv("MFG_SWEEP_NOMERGE"))
