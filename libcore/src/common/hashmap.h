@@ -10,8 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* common/memory.c: a large table asks for huge pages (its growth faults in fresh memory). */
-void mfg_huge_pages(void *p, size_t bytes);
+#include "common/mfg_internal.h" /* mfg_huge_pages */
 
 /* Open-addressing map from a 4-word key to an int64 value. */
 typedef struct hkey {

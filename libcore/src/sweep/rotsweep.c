@@ -326,11 +326,13 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     int ok = hmap_init(&e.turned, 4 * nvertices + 64);
     /* the input about the axis point in the axis frame, on the arrangement's grid; a
      * vertex closer to the axis than SW_ON_AXIS is put on it (a vertex on the axis of a
-     * moved part is off it by rounding, and its turns would be circles of ulps) */
-    double *pa = ok ? malloc((size_t)(3 * nvertices + 3) * sizeof *pa) : NULL;
-    ok = pa != NULL;
+     * moved part is off it by rounding, and its turns would be circles of ulps).  xin
+     * keeps them for the builds after one that turned them to the caller's axes in place
+     * (surface.c). */
+    double *xin = ok ? malloc((size_t)(3 * nvertices + 3) * sizeof *xin) : NULL;
+    ok = xin != NULL;
     for (int64_t i = 0; ok && i < nvertices; i++) {
-        double d[3], *p = pa + 3 * i;
+        double d[3], *p = xin + 3 * i;
         for (int k = 0; k < 3; k++)
             d[k] = cx[3 * i + k] - unit_point[k];
         for (int r = 0; r < 3; r++)
@@ -338,10 +340,12 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
         if (hypot(p[0], p[1]) < SW_ON_AXIS)
             p[0] = p[1] = 0;
     }
-    ok = ok && level_heights(pa, nvertices);
-    for (int64_t i = 0; ok && i < nvertices; i++)
-        ok = sw_add_vertex(&e, pa + 3 * i) >= 0;
-    free(pa);
+    ok = ok && level_heights(xin, nvertices);
+    for (int64_t i = 0; ok && i < nvertices; i++) {
+        for (int k = 0; k < 3; k++)
+            xin[3 * i + k] = sw_snap(xin[3 * i + k]); /* as sw_add_vertex stores them */
+        ok = sw_add_vertex(&e, xin + 3 * i) >= 0;
+    }
     if (!ok)
         e.st_code = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
     e.nin = nvertices;
@@ -354,15 +358,6 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
      * SW_CALLER_ATTEMPTS times in the caller's axes (envelope.h), before the call reports
      * MFG_ERR_INTERNAL. */
     e.cx = cx;
-    /* the input's points in the axis frame, for the builds after one that turned them to
-     * the caller's axes in place (surface.c) */
-    double *xin = ok ? malloc((size_t)(3 * nvertices + 3) * sizeof *xin) : NULL;
-    if (ok && !xin) {
-        e.st_code = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
-        ok = 0;
-    }
-    if (ok)
-        memcpy(xin, e.x, (size_t)(3 * nvertices) * sizeof *xin);
     for (int attempt = 0; ok && attempt < SW_ATTEMPTS + SW_CALLER_ATTEMPTS; attempt++) {
         if (attempt > 0) {
             memcpy(e.x, xin, (size_t)(3 * nvertices) * sizeof *xin);

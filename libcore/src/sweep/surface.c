@@ -158,28 +158,23 @@ static mfg_status round_pass(sw_env *e, const double *x0, int64_t nv0, const int
 static void to_caller_axes(sw_env *e, double *x, int64_t nv, int64_t nexact)
 {
     double big = 0;
-    for (int64_t i = 0; i < nv; i++) {
-        const double *q = x + 3 * i;
+    for (int64_t i = 0; i < nv; i++) { /* turned in place, then scaled once the extent is known */
+        double *q = x + 3 * i, w[3];
+        for (int k = 0; k < 3; k++)
+            w[k] = i < nexact ? e->cx[3 * i + k]
+                              : q[0] * e->frame[0][k] + q[1] * e->frame[1][k] +
+                                    q[2] * e->frame[2][k] + e->origin[k];
         for (int k = 0; k < 3; k++) {
-            double w = i < nexact ? e->cx[3 * i + k]
-                                  : q[0] * e->frame[0][k] + q[1] * e->frame[1][k] +
-                                        q[2] * e->frame[2][k] + e->origin[k];
-            big = fmax(big, fabs(w));
+            q[k] = w[k];
+            big = fmax(big, fabs(w[k]));
         }
     }
     int ex = 0;
     if (big > 0)
         (void)frexp(big, &ex); /* big < 2^ex */
     e->out_exp = ex; /* |x| < 1, as the unit scale (cdt.c's enclosing triangle) */
-    for (int64_t i = 0; i < nv; i++) {
-        double *q = x + 3 * i, w[3];
-        for (int k = 0; k < 3; k++)
-            w[k] = i < nexact ? e->cx[3 * i + k]
-                              : q[0] * e->frame[0][k] + q[1] * e->frame[1][k] +
-                                    q[2] * e->frame[2][k] + e->origin[k];
-        for (int k = 0; k < 3; k++)
-            q[k] = sw_snap(ldexp(w[k], -e->out_exp));
-    }
+    for (int64_t i = 0; i < 3 * nv; i++)
+        x[i] = sw_snap(ldexp(x[i], -e->out_exp));
 }
 
 #ifdef ARR_DEBUG
