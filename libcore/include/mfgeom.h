@@ -492,7 +492,8 @@ MFG_API mfg_status mfg_ray_blocked_p(const double *xyz, int64_t nvertices,
  *              computed to about E / 16 (a tighter result meets the request).
  * A part whose own extent (the largest side of its bounding box) is below 2^-36 of E is
  * refused (MFG_ERR_INVALID): the computation cannot resolve it (choose an axis point
- * nearer the part).
+ * nearer the part); so is one below 2^(14 - 49) of the largest |coordinate| (the result
+ * is rounded to about 2^-49 of it: move the part nearer the origin).
  *
  * The computation runs at unit scale (everything divided by the power of two of E) on a
  * canonically numbered copy of the mesh, so the input scaled by 2^k gives the result

@@ -916,15 +916,6 @@ def _case(name="L-axis-along-edge", deg=180.0):
         math.radians(deg)
 
 
-# Known gap of the second design (issue 20, docs/known-gaps.md): the rounded boundary of
-# this input still crosses itself after the passes, and the call reports MFG_ERR_INTERNAL
-# instead of a result; strict=True makes a fix show up as XPASS.  (The moved L bracket of
-# test_rigid_motion_moves_the_result was the other, until the heights along the axis were
-# levelled, 2026-12-06.)
-_ROUNDING_GAP = pytest.mark.xfail(raises=MfgError, strict=True,
-                                  reason="issue 20: rounding passes end in MFG_ERR_INTERNAL")
-
-
 def test_rigid_motion_moves_the_result():
     v, t, point, direction, theta = _case()
     tol = 3e-2
@@ -972,15 +963,26 @@ def test_unit_cube_at_1e55_is_exact_in_volume():
     assert res.volume / s ** 3 == pytest.approx(ref.volume, rel=1e-12)
 
 
-@_ROUNDING_GAP
 def test_tolerance_below_the_coordinates_resolution_is_refused():
     """A unit cube at 1e15 (ulp 0.125) with tol 0.02 was accepted and not met."""
     v, t = box_mesh((1e15, 1e15, 0), (1e15 + 1, 1e15 + 1, 1))
     with pytest.raises(MfgError, match="smallest accepted"):
         core.rotational_sweep(v, t, (1e15, 1e15, 0), (0, 0, 1), 1.0, 0.02)
-    # 2^12 ulps of 2e15 (0.25 each) is accepted
-    res = core.rotational_sweep(v, t, (1e15, 1e15, 0), (0, 0, 1), 1.0, 2048.0)
-    assert res.volume > 1.0
+    # 2^12 ulps of 2e15 (0.25 each) is a tolerance the coordinates resolve, but the cube
+    # is one cell of the grid the result is rounded to there (2^-49 of 1e15): it came out
+    # with no triangles and "please report this input"; it is refused with what to do
+    with pytest.raises(MfgError, match="move the part and the axis point nearer"):
+        core.rotational_sweep(v, t, (1e15, 1e15, 0), (0, 0, 1), 1.0, 2048.0)
+    # 2^16 cells across is resolved: the same checks as everywhere
+    s = 65536.0
+    v, t = box_mesh((1e15, 1e15, 0), (1e15 + s, 1e15 + s, s))
+    res = sweep(v, t, (1e15, 1e15, 0), (0, 0, 1), 1.0, 2048.0)
+    check_result(res, 2048.0)
+    # the same cube at the origin (a translation: the result moves with the part, rounded
+    # to the grid of 2 units there)
+    u, t = box_mesh((0, 0, 0), (1, 1, 1))
+    ref = sweep(u, t, (0, 0, 0), (0, 0, 1), 1.0, 2048.0 / s)
+    assert res.volume / s ** 3 == pytest.approx(ref.volume, rel=1e-3)
 
 
 def test_tolerance_far_below_the_part_is_refused_not_run():

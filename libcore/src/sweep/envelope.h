@@ -54,6 +54,9 @@
  * far below that it collapses to a point (the fuzzer: an octahedron of size 3 with its
  * axis point 1.6e60 away came out with no triangles). */
 #define SW_PART_MIN_REL_LOG2 (-36)
+/* ... and one smaller than 2^14 cells of the caller's grid (2^-50 of its largest
+ * coordinate, where the passes after the turn round) likewise. */
+#define SW_PART_MIN_CELLS_LOG2 14
 /* A tolerance above 1/16 of the unit extent is computed to 1/16 (a tighter result keeps
  * the contract; coarser strips would leave the apexes far outside the unit box). */
 #define SW_TOL_MAX_UNIT 0.0625

@@ -184,16 +184,25 @@ static mfg_status check_tolerance(const double *cx, int64_t nv, const double uni
     return MFG_OK;
 }
 
-/* Refuses a part the unit scale cannot resolve: its own extent (the largest side of its
- * bounding box) below 2^SW_PART_MIN_REL_LOG2 of its extent about the axis point. */
-static mfg_status check_part_size(const double *cx, int64_t nv, int scale_exp)
+/* Refuses a part the grids cannot resolve: its own extent (the largest side of its
+ * bounding box) below 2^SW_PART_MIN_REL_LOG2 of its extent about the axis point (the
+ * axis frame's grid), or below 2^SW_PART_MIN_CELLS_LOG2 cells of the caller's grid: the
+ * passes after the turn round to 2^-ARR_GRID_LOG2 of the largest coordinate (to_caller_axes
+ * in surface.c), and a unit cube at 1e15 was one such cell and came out with no
+ * triangles. */
+static mfg_status check_part_size(const double *cx, int64_t nv, const double unit_point[3],
+                                  int scale_exp)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double maxabs = 0;
     for (int64_t i = 0; i < nv; i++)
         for (int k = 0; k < 3; k++) {
             lo[k] = fmin(lo[k], cx[3 * i + k]);
             hi[k] = fmax(hi[k], cx[3 * i + k]);
+            maxabs = fmax(maxabs, fabs(cx[3 * i + k]));
         }
+    for (int k = 0; k < 3; k++)
+        maxabs = fmax(maxabs, fabs(unit_point[k]));
     double size = 0;
     for (int k = 0; k < 3; k++)
         size = fmax(size, hi[k] - lo[k]);
@@ -203,6 +212,18 @@ static mfg_status check_part_size(const double *cx, int64_t nv, int scale_exp)
                         "the sweep cannot resolve the part; give an axis point nearer the part "
                         "(any point of the axis will do) or move the part nearer the axis",
                         ldexp(size, scale_exp), ldexp(1.0, scale_exp), SW_PART_MIN_REL_LOG2);
+    /* the result reaches at most twice the largest coordinate: its grid is at most
+     * 2^(me + 1 - ARR_GRID_LOG2) */
+    int me = 0;
+    (void)frexp(maxabs, &me);
+    double min_size = ldexp(1.0, me + 1 - ARR_GRID_LOG2 + SW_PART_MIN_CELLS_LOG2);
+    if (nv > 0 && size < min_size)
+        return mfg_fail(MFG_ERR_INVALID, "rotational sweep: the part (%g across) is too small "
+                        "for its coordinates (up to %g): the result's points are resolved to "
+                        "2^-%d of them, and the part must be at least %g across; move the part "
+                        "and the axis point nearer the origin",
+                        ldexp(size, scale_exp), ldexp(maxabs, scale_exp),
+                        ARR_GRID_LOG2 - 1, ldexp(min_size, scale_exp));
     return MFG_OK;
 }
 
@@ -296,9 +317,9 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     for (int k = 0; k < 3; k++)
         unit_point[k] = ldexp(axis_point[k], -scale_exp);
     tolerance = ldexp(tolerance, -scale_exp);
-    st = check_part_size(cx, nvertices, scale_exp);
+    st = check_tolerance(cx, nvertices, unit_point, tolerance, scale_exp);
     if (st == MFG_OK)
-        st = check_tolerance(cx, nvertices, unit_point, tolerance, scale_exp);
+        st = check_part_size(cx, nvertices, unit_point, scale_exp);
     if (st != MFG_OK) {
         free(cx);
         free(ct);
