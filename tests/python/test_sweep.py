@@ -26,7 +26,6 @@ rest is exact (the box about its edge), only the curved area counts.
 """
 
 import math
-import os
 
 import numpy as np
 import pytest
@@ -42,32 +41,6 @@ SLACK = 1.05
 # --------------------------------------------------------------------------- #
 # Calling the sweep                                                          #
 # --------------------------------------------------------------------------- #
-
-# Issue 8 requirements the algorithm does not meet yet (docs/known-gaps.md, "Rotational
-# sweep"): the explicit refusal (MFG_ERR_INTERNAL, never an open surface) on some skew
-# axes, planar faces of the result a cell's size off the input's planes, self-intersecting
-# slivers, zero-area triangles, a dependence on triangle order within the tolerance, float32
-# STL.  A test that meets one records it in GAPS (named) and ends; the ratchet
-# test_known_gaps_do_not_grow (the last of this file) fails when more than MAX_GAPS were
-# met.  MFG_SWEEP_STRICT=1 makes every gap a failure (the same switch as test_rotsweep.c).
-STRICT = os.environ.get("MFG_SWEEP_STRICT", "") not in ("", "0")
-# The ratchet: the known gaps this file meets today (none since the second design,
-# 2026-12-06; the first design had self-intersecting slivers in three cases of
-# test_no_self_intersection).  This number may only go down: lower it when a gap is
-# closed, never raise it.
-MAX_GAPS = 0
-GAPS = []   # (test, what) of every gap met in this run
-
-
-def gap_check(ok, what):
-    """Asserts ok; a known gap of issue 8 is recorded for the ratchet (a failure with
-    MFG_SWEEP_STRICT=1)."""
-    if ok:
-        return
-    if STRICT:
-        raise AssertionError(what)
-    GAPS.append((os.environ.get("PYTEST_CURRENT_TEST", "?").split(" ")[0], what))
-
 
 def sweep(v, t, point, direction, angle, tol):
     """core.rotational_sweep (its refusal, MfgError, fails the test)."""
@@ -867,8 +840,8 @@ def test_no_self_intersection(name, deg):
     res = sweep(mesh[0], mesh[1], point, direction, theta, 0.1)
     check_result(res, 0.1)
     bad = self_intersections(res.vertices, res.triangles)
-    gap_check(not bad, f"{len(bad)} crossing triangle pairs of {len(res.triangles)} triangles, "
-                       f"e.g. {bad[:3]}")
+    assert not bad, (f"{len(bad)} crossing triangle pairs of {len(res.triangles)} triangles, "
+                     f"e.g. {bad[:3]}")
 
 
 def test_self_intersection_helper_finds_crossings():
@@ -1048,8 +1021,8 @@ def test_no_degenerate_triangles_or_unused_vertices(name, deg):
     res = sweep(mesh[0], mesh[1], point, direction, theta, 5e-2)
     rep = core.mesh_check(res.vertices, res.triangles)
     assert rep.unused_vertices == 0, f"{rep.unused_vertices} unused vertices of {rep.nvertices}"
-    gap_check(rep.degenerate_triangles == 0,
-              f"{rep.degenerate_triangles} zero-area triangles of {rep.ntriangles}")
+    assert rep.degenerate_triangles == 0, \
+        f"{rep.degenerate_triangles} zero-area triangles of {rep.ntriangles}"
 
 
 # Found by the random battery with an interior-wall check: results whose surface had
@@ -1126,14 +1099,3 @@ def test_tessellated_torus(nu, nv, deg, most):
     p, got, want = membership(res, (v, t), point, direction, theta, tol, n=1500)
     assert len(p) > 1000 and 0 < want.sum() < len(p)
     assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
-
-
-def test_known_gaps_do_not_grow(capsys):
-    """The ratchet on the known gaps met above (gap_check): at most MAX_GAPS, a number
-    that may only go down.  Prints the current count and the gaps."""
-    with capsys.disabled():
-        print(f"\nknown gaps of issue 8 in test_sweep.py: {len(GAPS)} (at most {MAX_GAPS})")
-        for test, what in GAPS:
-            print(f"  known gap: {test}: {what}")
-    assert len(GAPS) <= MAX_GAPS, (
-        f"{len(GAPS)} known gaps met, more than the {MAX_GAPS} allowed: {GAPS}")
