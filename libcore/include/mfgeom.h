@@ -500,8 +500,10 @@ MFG_API mfg_status mfg_ray_blocked_p(const double *xyz, int64_t nvertices,
  * scaled by 2^k bit for bit, and any reordering of the triangles, their start corners or
  * the vertex numbers gives the same result arrays.
  *
- * On MFG_OK, *out_mesh is a closed, outward oriented triangle mesh of SV (released with
- * mfg_mesh_free) and, when out_stats is not NULL, *out_stats holds its volume, area and
+ * On MFG_OK, *out_mesh is a closed, outward oriented triangle mesh of SV without
+ * self-intersections (released with mfg_mesh_free), its points on the grid of 2^-50 of
+ * the power of two of its largest coordinate (a planar face of the input comes out on its
+ * plane to that grid: z = 0.6 may come out as 0.59999999999999964), and, when out_stats is not NULL, *out_stats holds its volume, area and
  * bounding box.  Errors: MFG_ERR_NULL, MFG_ERR_INVALID (NaN/Inf, axis direction of zero
  * length, angle or tolerance out of range, an open / non-manifold / inconsistently
  * oriented mesh: the detail says what and how many, as mfg_mesh_check_closed does),
