@@ -482,9 +482,11 @@ MFG_API mfg_status mfg_ray_blocked_p(const double *xyz, int64_t nvertices,
  *
  *   angle      radians, 0 < angle <= 2*pi (values within 1e-12 of 2*pi mean a full turn:
  *              the solid of revolution)
- *   tolerance  absolute, in model units, > 0: the result's boundary lies within tolerance
- *              of the boundary of SV (chords of the swept curves, cells of the meridian
- *              decomposition; see rotsweep.c for what is exact and what is not).
+ *   tolerance  absolute, in model units, > 0: the result contains SV and its boundary
+ *              lies within tolerance of the boundary of SV, up to the rounding of its
+ *              points (to the output grid below; where the rounding passes weld points a
+ *              few grid cells apart, by at most 2^-30 of the power of two of E, far below
+ *              the smallest tolerance accepted; docs/design/sweep.md).
  *              Refused (MFG_ERR_INVALID, the message names the smallest accepted value)
  *              below max(2^12 ulps of the largest |coordinate| of the mesh and axis point,
  *              2^-24 of E), E = the largest |coordinate - axis point|: what the

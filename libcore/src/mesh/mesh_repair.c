@@ -9,6 +9,9 @@
 #include "common/mfg_internal.h"
 #include "common/vec3.h"
 #include "mesh/mesh_repair.h"
+#ifdef ARR_DEBUG
+#include <stdio.h>
+#endif
 
 /* ---- 1. Welds ------------------------------------------------------------------------- */
 
@@ -122,6 +125,19 @@ static int weld(mfg_rmesh *m, double eps, int chain)
 
 /* ---- 2. Needles ------------------------------------------------------------------------ */
 
+/* The height of the triangle (a, b, c) over its longest side. */
+static double tri_height(const mfg_rmesh *m, int64_t a, int64_t b, int64_t c)
+{
+    const double *p[3] = {m->x + 3 * a, m->x + 3 * b, m->x + 3 * c};
+    double best = 0, e1[3], e2[3], n[3];
+    for (int i = 0; i < 3; i++)
+        best = fmax(best, mfg_dist3(p[i], p[(i + 1) % 3]));
+    mfg_sub3(p[1], p[0], e1);
+    mfg_sub3(p[2], p[0], e2);
+    mfg_cross3(e1, e2, n);
+    return best > 0 ? mfg_norm3(n) / best : 0;
+}
+
 /* The longest side of triangle t (0 .. 2: from corner k to corner k + 1) and its height
  * over that side. */
 static int longest_side(const mfg_rmesh *m, int64_t t, double *height)
@@ -136,11 +152,7 @@ static int longest_side(const mfg_rmesh *m, int64_t t, double *height)
             k = i;
         }
     }
-    double e1[3], e2[3], n[3];
-    mfg_sub3(m->x + 3 * V[1], m->x + 3 * V[0], e1);
-    mfg_sub3(m->x + 3 * V[2], m->x + 3 * V[0], e2);
-    mfg_cross3(e1, e2, n);
-    *height = best > 0 ? mfg_norm3(n) / best : 0;
+    *height = tri_height(m, V[0], V[1], V[2]);
     return k;
 }
 
@@ -221,10 +233,12 @@ static int map_sides(side_map *S, const mfg_rmesh *m, int64_t t)
 static int remove_needles(mfg_rmesh *m, double eps)
 {
     side_map S = {{0}, NULL, 0};
+    hmap gone = {0}; /* the edges flips took away (smaller id first) */
     int64_t cap = 2 * m->nt + 16, top = 0;
     uint8_t *dead = calloc((size_t)cap, 1);
     int64_t *stack = malloc((size_t)cap * sizeof *stack);
-    if (!dead || !stack || !hmap_init(&S.dir, 3 * m->nt + 1)) {
+    if (!dead || !stack || !hmap_init(&S.dir, 3 * m->nt + 1) || !hmap_init(&gone, 64)) {
+        hmap_free(&S.dir);
         free(dead);
         free(stack);
         return 0;
@@ -260,6 +274,19 @@ static int remove_needles(mfg_rmesh *m, double eps)
             dead[t] = 1;
             dead[u] = 1;
             continue;
+        }
+        /* never make an edge again that a flip took away: each flip removes an edge for
+         * good, so the loop ends by itself.  (2026-12-06: a needle of height 8e-17 whose
+         * neighbour's apex lay on its line too flipped into one of 6e-13 and back until
+         * the budget was spent, and the 37 other needles of that mesh were never
+         * reached.) */
+        hkey cd = mkkey(c < d ? c : d, c < d ? d : c, 0, 0);
+        if (hmap_get(&gone, &cd) >= 0)
+            continue;
+        hkey ab = mkkey(a < b ? a : b, a < b ? b : a, 0, 0);
+        if (!hmap_put(&gone, &ab, 1)) {
+            ok = 0;
+            break;
         }
         /* t = (a, b, c) and u = (b, a, d) go, (b, c, d) and (c, a, d) come: appended, not
          * written over u, so that the side map's chains through u stay valid */
@@ -301,6 +328,7 @@ static int remove_needles(mfg_rmesh *m, double eps)
         m->nt = n;
     }
     hmap_free(&S.dir);
+    hmap_free(&gone);
     free(S.prev);
     free(dead);
     free(stack);

@@ -34,10 +34,20 @@
  * features; a surface whose arrangement makes no point and drops no face has no crossing
  * and no zero-area triangle: it is the result.  No weld and no needle removal here: they
  * move points by more than the rounding and undo what the exact pass decided. */
-#define SW_ROUND_PASSES 6
+#define SW_ROUND_PASSES 10 /* 6 until the growing weld below made the late passes converge */
 /* Rounded points closer than this are welded between passes (unit scale: 2^-40 of the
  * part, far below the smallest tolerance, 2^-24; the chain stays closed, mesh_repair.h). */
 #define SW_ROUND_WELD 0x1p-40
+/* From the third pass on, the weld grows by 2^SW_WELD_STEP_LOG2 per pass up to
+ * SW_ROUND_WELD_MAX: crossings that the rounding makes again and again are features a
+ * few grid cells across (a star prism: three points 3e-11 apart on one line, the triangles
+ * round them crossing every time, a pass giving the same surface back); welded, they are
+ * gone (the passes at 2^-40 gave the same surface back up to the tenth).  2^-30 of the
+ * unit box, reached at the sixth pass, moves a point by at most 1/64 of the smallest
+ * tolerance (2^-24); most sweeps are clean after one or two passes and never weld more
+ * than 2^-40. */
+#define SW_WELD_STEP_LOG2 3
+#define SW_ROUND_WELD_MAX 0x1p-30
 /* A pass after the first may make at most nv / SW_PASS_POINTS_DIV + 1024 points of its
  * own (nv: its input's): the last crossings of the rounding make a handful. */
 #define SW_PASS_POINTS_DIV 2
@@ -51,7 +61,7 @@
  * surface in *out. */
 static mfg_status round_pass(sw_env *e, const double *x0, int64_t nv0, const int64_t *tri0,
                              int64_t nt0, const int64_t *grp0, int64_t G, int64_t max_points,
-                             mfg_rmesh *out, int *clean)
+                             double weld, mfg_rmesh *out, int *clean)
 {
     const arr_stages stages = {{"sweep: intersections", "sweep: faces", "sweep: boundary"},
                                {0.3, 0.55, 0.8, 0.9},
@@ -126,7 +136,7 @@ static mfg_status round_pass(sw_env *e, const double *x0, int64_t nv0, const int
          * thinner than it go (mesh_repair.h): the next pass would otherwise cut the folds
          * between them finer and finer (measured: a box about its long diagonal went from
          * 10^3 to 10^4 triangles in three passes) */
-        if (st == MFG_OK && !*clean && !mfg_mesh_repair(&rm, SW_ROUND_WELD))
+        if (st == MFG_OK && !*clean && !mfg_mesh_repair(&rm, weld))
             st = MFG_ERR_NOMEM;
         x = rm.x;
         tri = rm.t;
@@ -238,7 +248,8 @@ int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_
      * (a cluster of that pass) */
     mfg_rmesh cur = {0}, next = {0};
     int clean = 0;
-    mfg_status st = round_pass(e, e->x, e->nv, e->st, e->nst, e->sgroup, e->ngroups, 0, &cur, &clean);
+    mfg_status st = round_pass(e, e->x, e->nv, e->st, e->nst, e->sgroup, e->ngroups, 0,
+                               SW_ROUND_WELD, &cur, &clean);
     if (st == MFG_OK && !e->caller_first)
         to_caller_axes(e, cur.x, cur.nv, 0);
 #ifdef ARR_DEBUG
@@ -249,8 +260,10 @@ int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_
         /* a pass whose arrangement makes many points is a cascade (see below) found
          * before it ends: a star prism's second pass went on for minutes to 230 172
          * triangles from 28 962 */
+        double weld = ldexp(SW_ROUND_WELD, SW_WELD_STEP_LOG2 * (pass > 2 ? pass - 2 : 0));
         st = round_pass(e, cur.x, cur.nv, cur.t, cur.nt, NULL, 0,
-                        cur.nv + cur.nv / SW_PASS_POINTS_DIV + 1024, &next, &clean);
+                        cur.nv + cur.nv / SW_PASS_POINTS_DIV + 1024, fmin(weld, SW_ROUND_WELD_MAX),
+                        &next, &clean);
         if (st == MFG_ERR_INTERNAL && strstr(mfg_last_error(), "the caller's bound")) {
             char why[256];
             snprintf(why, sizeof why, "%s", mfg_last_error());
