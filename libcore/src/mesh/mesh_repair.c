@@ -230,6 +230,9 @@ static int map_sides(side_map *S, const mfg_rmesh *m, int64_t t)
     return 1;
 }
 
+/* How often an edge may be taken away by flips and made again (remove_needles). */
+#define FLIP_AGAIN 2
+
 static int remove_needles(mfg_rmesh *m, double eps)
 {
     side_map S = {{0}, NULL, 0};
@@ -275,16 +278,18 @@ static int remove_needles(mfg_rmesh *m, double eps)
             dead[u] = 1;
             continue;
         }
-        /* never make an edge again that a flip took away: each flip removes an edge for
-         * good, so the loop ends by itself.  (2026-12-06: a needle of height 8e-17 whose
-         * neighbour's apex lay on its line too flipped into one of 6e-13 and back until
-         * the budget was spent, and the 37 other needles of that mesh were never
-         * reached.) */
+        /* an edge that flips took away FLIP_AGAIN times is not made again: each edge
+         * goes at most that often, so the loop ends by itself.  (2026-12-06: a needle of
+         * height 8e-17 whose neighbour's apex lay on its line too flipped into one of
+         * 6e-13 and back until the budget was spent, and the 37 other needles of that
+         * mesh were never reached; never making an edge again left a crossing in the
+         * arrangement test's turned boxes that one more flip resolves.) */
         hkey cd = mkkey(c < d ? c : d, c < d ? d : c, 0, 0);
-        if (hmap_get(&gone, &cd) >= 0)
+        if (hmap_get(&gone, &cd) >= FLIP_AGAIN)
             continue;
         hkey ab = mkkey(a < b ? a : b, a < b ? b : a, 0, 0);
-        if (!hmap_put(&gone, &ab, 1)) {
+        int64_t times = hmap_get(&gone, &ab);
+        if (!hmap_put(&gone, &ab, times < 0 ? 1 : times + 1)) {
             ok = 0;
             break;
         }
