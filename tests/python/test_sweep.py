@@ -1099,3 +1099,51 @@ def test_tessellated_torus(nu, nv, deg, most):
     p, got, want = membership(res, (v, t), point, direction, theta, tol, n=1500)
     assert len(p) > 1000 and 0 < want.sum() < len(p)
     assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
+
+
+# A part with an m-fold symmetry about the axis swept past 2 pi / m sweeps its solid of
+# revolution; swept as it is, the turned copies of its faces and strips meet as nearly
+# coincident sheets in other phases: a regular octahedron about its threefold axis by
+# 4.29 or 6 rad was refused (MFG_ERR_INTERNAL, the rounding passes multiplied; found by
+# the fuzzer's sweep inputs).
+OCTA_C, OCTA_R = -2.90625, 1.125
+OCTA_V = np.array([[OCTA_C + OCTA_R, OCTA_C, OCTA_C], [OCTA_C - OCTA_R, OCTA_C, OCTA_C],
+                   [OCTA_C, OCTA_C + OCTA_R, OCTA_C], [OCTA_C, OCTA_C - OCTA_R, OCTA_C],
+                   [OCTA_C, OCTA_C, OCTA_C + OCTA_R], [OCTA_C, OCTA_C, OCTA_C - OCTA_R]])
+OCTA_T = np.array([[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5],
+                   [0, 3, 5]])
+
+
+@pytest.mark.parametrize("theta", [1.0, 2.0, 2.2, 4.29350995990605, 6.0])
+def test_symmetric_part_about_its_axis(theta):
+    """Below the period 2 pi / 3 the sweep proper, from it on the revolution: closed and
+    classified as the per-circle oracle classifies points farther than 2 tol from it."""
+    point, direction, tol = (-11.625,) * 3, (-11.625,) * 3, 0.1
+    res = sweep(OCTA_V, OCTA_T, point, direction, theta, tol)
+    check_result(res, tol)
+    p, got, want = membership(res, (OCTA_V, OCTA_T), np.array(point), np.array(direction),
+                              theta, tol, n=3000)
+    assert len(p) > 1500 and 0 < want.sum() < len(p)
+    assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
+    if theta > TWO_PI / 3:  # the solid of revolution: as the full turn gives it
+        full = sweep(OCTA_V, OCTA_T, point, direction, TWO_PI, tol)
+        assert res.volume == full.volume
+
+
+def test_hexagonal_prism_about_its_axis_is_a_cylinder():
+    """A hexagonal prism (circumradius 2, 1 high) turned 70 degrees about its axis (past
+    its period, 60) sweeps the cylinder of radius 2: volume 4 pi to tol * area."""
+    v, t = prism_mesh((0.0, 0.0, 0.0), 2.0, 1.0, 6)
+    tol = 0.01
+    res = sweep(v, t, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), math.radians(70), tol)
+    check_result(res, tol)
+    assert_volume(res, 4.0 * math.pi, tol)
+    # short of the period the sweep proper: at radius 1.95 the hexagon spans +-2.6 degrees
+    # about each corner, so 50 degrees cover polar angles -2.6 .. 52.6 (mod 60) and the
+    # point at 56 degrees (0.048 from SV) is outside it, inside the cylinder
+    part = sweep(v, t, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), math.radians(50), tol)
+    check_result(part, tol)
+    q = np.array([[1.95 * math.cos(math.radians(a)), 1.95 * math.sin(math.radians(a)), 0.5]
+                  for a in (56.0, 30.0)])
+    assert inside_mesh(q, part.vertices, part.triangles).tolist() == [False, True]
+    assert inside_mesh(q, res.vertices, res.triangles).tolist() == [True, True]

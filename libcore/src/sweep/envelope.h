@@ -104,6 +104,7 @@ typedef struct sw_env {
     int out_exp;            /* the result's grid: caller's unit coordinates times 2^-out_exp */
     double kh[3];           /* unit axis (rotations) */
     double theta, tol;
+    double theta_asked;     /* the angle asked for (theta may become a full turn) */
     int full_turn;
     int nsteps;             /* N: chord polylines have N segments, tangent ones N + 1 */
     double delta;           /* the step: t_i = i delta for i < N, t_N = theta */

@@ -335,6 +335,7 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     e.nb = nb;
     e.full_turn = angle >= MFG_TWO_PI - SW_FULL_TURN_EPS;
     e.theta = e.full_turn ? MFG_TWO_PI : angle;
+    e.theta_asked = e.theta;
     /* a tolerance comparable to the part is met by computing to 1/16 of the unit extent
      * (a tighter result keeps the contract) */
     e.tol = fmin(tolerance, SW_TOL_MAX_UNIT);

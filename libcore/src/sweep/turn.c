@@ -93,17 +93,15 @@ static int cmp_rz(const void *pa, const void *pb)
     return (a->phi > b->phi) - (a->phi < b->phi);
 }
 
-/* The order m of the part's symmetry about the axis as its vertices show it: the smallest
- * m <= SYM_MAX such that any two vertices at the same distance from the axis and height
- * along it lie a multiple of 2 pi / m apart (1 when no vertices pair up, 0 when some do
- * but no such m exists).  Strips of symmetric contour edges then coincide exactly when the
- * steps are multiples of 2 pi / m (their points are welded, surface.c); otherwise they
- * are polyhedral copies of one surface in different phases, which cross everywhere. */
-static int symmetry_order(const sw_env *e)
+/* The input's vertices off the axis as (distance from it, height along it, angle about
+ * it), sorted by height and distance: malloc'd *out (NULL when out of memory), their
+ * count returned. */
+static int64_t rz_records(const sw_env *e, rzphi **out)
 {
     rzphi *v = malloc((size_t)(e->nin + 1) * sizeof *v);
+    *out = v;
     if (!v)
-        return 1; /* only an optimisation */
+        return 0;
     double ref[3] = {1, 0, 0};
     if (fabs(e->kh[0]) > 0.9)
         ref[0] = 0, ref[1] = 1;
@@ -124,6 +122,30 @@ static int symmetry_order(const sw_env *e)
     }
     if (n > 1)
         qsort(v, (size_t)n, sizeof *v, cmp_rz);
+    return n;
+}
+
+/* Records i .. j - 1 of a sorted rz_records array: one (distance, height) group. */
+static int64_t rz_group_end(const rzphi *v, int64_t n, int64_t i)
+{
+    int64_t j = i + 1;
+    while (j < n && fabs(v[j].z - v[i].z) <= SYM_RZ && fabs(v[j].r - v[i].r) <= SYM_RZ)
+        j++;
+    return j;
+}
+
+/* The order m of the part's symmetry about the axis as its vertices show it: the smallest
+ * m <= SYM_MAX such that any two vertices at the same distance from the axis and height
+ * along it lie a multiple of 2 pi / m apart (1 when no vertices pair up, 0 when some do
+ * but no such m exists).  Strips of symmetric contour edges then coincide exactly when the
+ * steps are multiples of 2 pi / m (their points are welded, surface.c); otherwise they
+ * are polyhedral copies of one surface in different phases, which cross everywhere. */
+static int symmetry_order(const sw_env *e)
+{
+    rzphi *v;
+    int64_t n = rz_records(e, &v);
+    if (!v)
+        return 1; /* only an optimisation */
     /* the angle differences within groups, as fractions of a turn */
     double *diff = malloc((size_t)(n + 1) * sizeof *diff);
     int64_t nd = 0;
@@ -132,9 +154,7 @@ static int symmetry_order(const sw_env *e)
         return 1;
     }
     for (int64_t i = 0; i < n;) {
-        int64_t j = i + 1;
-        while (j < n && fabs(v[j].z - v[i].z) <= SYM_RZ && fabs(v[j].r - v[i].r) <= SYM_RZ)
-            j++;
+        int64_t j = rz_group_end(v, n, i);
         for (int64_t k = i + 1; k < j; k++) {
             double f = (v[k].phi - v[i].phi) / MFG_TWO_PI;
             diff[nd++] = f - floor(f);
@@ -156,6 +176,111 @@ static int symmetry_order(const sw_env *e)
     return m;
 }
 
+/* Cell of a point in the grid of spacing h (27 neighbours: d = 0 .. 26, 13 itself). */
+static hkey sym_cell(const double *p, double h, int d)
+{
+    return mkkey((int64_t)floor(p[0] / h) + d % 3 - 1, (int64_t)floor(p[1] / h) + d / 3 % 3 - 1,
+                 (int64_t)floor(p[2] / h) + d / 9 - 1, 0);
+}
+
+/* A triangle's key: its vertices rotated to the smallest first (orientation kept). */
+static hkey tri_key(int64_t a, int64_t b, int64_t c)
+{
+    if (b < a && b < c)
+        return mkkey(b, c, a, 1);
+    if (c < a && c < b)
+        return mkkey(c, a, b, 1);
+    return mkkey(a, b, c, 1);
+}
+
+/* 1 when the turn by 2 pi / m maps the part's surface onto itself: every input vertex
+ * onto one within h, every triangle onto a triangle of the same orientation; 0 when not
+ * (or out of memory: only a shortcut).  The vertex symmetry (symmetry_order) is not
+ * enough: a symmetric point set can carry a surface that is not. */
+static int surface_symmetric(const sw_env *e, int m, double h)
+{
+    int64_t n = e->nin;
+    int64_t *next = malloc((size_t)(n + 1) * sizeof *next), *img = malloc((size_t)(n + 1) * sizeof *img);
+    hmap grid = {0}, tris = {0};
+    int ok = next && img && hmap_init(&grid, n + 1) && hmap_init(&tris, e->nt + 1);
+    for (int64_t v = 0; ok && v < n; v++) {
+        hkey key = sym_cell(e->x + 3 * v, h, 13);
+        next[v] = hmap_get(&grid, &key);
+        ok = hmap_put(&grid, &key, v);
+    }
+    for (int64_t v = 0; ok && v < n; v++) {
+        double q[3];
+        turn(e, e->x + 3 * v, MFG_TWO_PI / m, 1.0, q);
+        img[v] = -1;
+        for (int d = 0; d < 27 && img[v] < 0; d++) {
+            hkey key = sym_cell(q, h, d);
+            for (int64_t w = hmap_get(&grid, &key); w >= 0 && img[v] < 0; w = next[w]) {
+                const double *x = e->x + 3 * w;
+                if (fabs(x[0] - q[0]) <= h && fabs(x[1] - q[1]) <= h && fabs(x[2] - q[2]) <= h)
+                    img[v] = w;
+            }
+        }
+        ok = img[v] >= 0;
+    }
+    for (int64_t t = 0; ok && t < e->nt; t++) {
+        const int64_t *V = e->tri + 3 * t;
+        hkey key = tri_key(V[0], V[1], V[2]);
+        ok = hmap_put(&tris, &key, t);
+    }
+    for (int64_t t = 0; ok && t < e->nt; t++) {
+        const int64_t *V = e->tri + 3 * t;
+        hkey key = tri_key(img[V[0]], img[V[1]], img[V[2]]);
+        ok = hmap_get(&tris, &key) >= 0;
+    }
+    hmap_free(&grid);
+    hmap_free(&tris);
+    free(next);
+    free(img);
+    return ok;
+}
+
+/* A part with an n-fold symmetry about the axis swept by theta >= 2 pi / n sweeps its
+ * solid of revolution: SV(theta) holds R(2 pi / n) O = O turned on through every angle.
+ * The sweep itself would meet the turned copies of each face and strip as nearly
+ * coincident sheets in other phases, crossing everywhere (a regular octahedron about its
+ * threefold axis by 4.29 or 6 rad was refused: the rounding passes multiplied; the
+ * fuzzer).  The turns that can map the part onto itself take a vertex to one at the same
+ * distance and height: the candidates are the angles from a vertex of the smallest such
+ * group to the others (a rectangle's corners are two orbits of its half turn, so not
+ * every angle within a group is a symmetry), each 2 pi / d for a whole d, tried up to
+ * theta.  The surface is checked to within SW_SHARE_PUSH tol (the shares' headroom: the
+ * revolution of a surface that far from symmetric is that far from SV). */
+static void revolve_if_symmetric(sw_env *e)
+{
+    rzphi *v;
+    int64_t n = rz_records(e, &v);
+    if (!v || n < 2) {
+        free(v);
+        return;
+    }
+    int64_t best = -1, bestn = 0;
+    for (int64_t i = 0; i < n;) {
+        int64_t j = rz_group_end(v, n, i);
+        if (j - i >= 2 && (best < 0 || j - i < bestn)) {
+            best = i;
+            bestn = j - i;
+        }
+        i = j;
+    }
+    double h = fmin(SW_SHARE_PUSH * e->tol, SYM_RZ);
+    for (int64_t k = best + 1; best >= 0 && k < best + bestn && !e->full_turn; k++) {
+        double f = (v[k].phi - v[best].phi) / MFG_TWO_PI;
+        f -= floor(f);
+        double d = f > 0 ? nearbyint(1 / f) : 0;
+        if (d >= 2 && d <= SYM_MAX && fabs(f * d - 1) < SYM_ANGLE * d &&
+            e->theta >= MFG_TWO_PI / d && surface_symmetric(e, (int)d, h)) {
+            e->full_turn = 1;
+            e->theta = MFG_TWO_PI;
+        }
+    }
+    free(v);
+}
+
 void sw_setup_steps(sw_env *e)
 {
     double len = mfg_norm3(e->k);
@@ -168,6 +293,8 @@ void sw_setup_steps(sw_env *e)
             e->kh[k] = e->k[k] > 0 ? 1 : -1;
             e->kh[(k + 1) % 3] = e->kh[(k + 2) % 3] = 0;
         }
+    e->theta = e->theta_asked; /* a build before this one may have made it a full turn */
+    e->full_turn = e->theta >= MFG_TWO_PI;
     e->rmax = 0;
     for (int64_t v = 0; v < e->nin; v++)
         e->rmax = fmax(e->rmax, sw_radius(e, e->x + 3 * v));
@@ -180,6 +307,14 @@ void sw_setup_steps(sw_env *e)
         e->full_turn = 1;
         e->theta = MFG_TWO_PI;
     }
+    /* the first build of a symmetric part revolves it; the builds after a refused one
+     * sweep it by the angle asked (both are SV: a torus about its own axis by pi was
+     * refused as a revolution and is clean as a sweep, a regular octahedron about its
+     * threefold axis the other way round) */
+    if (!e->full_turn && e->attempt == 0 && !e->caller_first)
+        revolve_if_symmetric(e);
+    int m = symmetry_order(e);
+    e->symmetry = m;
     /* the apex height r (sec(delta/2) - 1) within its share of the tolerance at rmax */
     double step = MFG_PI / 2;
     if (e->rmax > 0) {
@@ -191,8 +326,6 @@ void sw_setup_steps(sw_env *e)
     }
     /* steps of 2 pi / (m q) for a part with an m-fold symmetry about the axis: the last
      * step ends at theta and may be shorter */
-    int m = symmetry_order(e);
-    e->symmetry = m;
     if (m >= 2) {
         double q = ceil(MFG_TWO_PI / (m * step)) + e->attempt;
         e->delta = MFG_TWO_PI / (m * q);
