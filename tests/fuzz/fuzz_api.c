@@ -707,31 +707,34 @@ static void fuzz_sweep(reader *r)
     if (!structural)
         closed = mfg_mesh_check_closed(xyzp, nv, trip, nt, &in_rep);
 
+    if (getenv("FUZZ_DUMP") && !structural) { /* the input, to reproduce it outside */
+        fprintf(stderr, "sweep input: %lld %lld\n", (long long)nv, (long long)nt);
+        for (int64_t k = 0; k < nv; k++)
+            fprintf(stderr, "%.17g %.17g %.17g\n", xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]);
+        for (int64_t k = 0; k < nt; k++)
+            fprintf(stderr, "%lld %lld %lld\n", (long long)tri[3 * k], (long long)tri[3 * k + 1],
+                    (long long)tri[3 * k + 2]);
+        fprintf(stderr, "axis %.17g %.17g %.17g  %.17g %.17g %.17g angle %.17g tol %.17g\n", ap[0], ap[1],
+                ap[2], ad[0], ad[1], ad[2], angle, tol);
+    }
     mfg_mesh *sentinel = (mfg_mesh *)(uintptr_t)&sentinel, *res = sentinel;
     mfg_sweep_stats stats;
     memset(&stats, SENTINEL, sizeof stats);
     mfg_sweep_stats *statsp = (nulls & 32) ? NULL : &stats;
     mfg_status st = mfg_rotational_sweep(xyzp, nv, trip, nt, app, adp, angle, tol, (nulls & 16) ? NULL : &res, statsp);
-    /* the MFG_ERR_INTERNAL the sweep may give (issue 20 known gap, ratcheted by the
-     * battery): its rounding passes' refusal ("the rounded boundary's crossings multiply" /
-     * "the rounded boundary still crosses itself") */
-    if (st == MFG_ERR_INTERNAL)
-        CHECK(strstr(mfg_last_error(), "the rounded boundary") != NULL,
-              "an internal error other than the sweep's refusal");
-    else
-        check_status(st);
-    /* the documented refusal of a part the unit scale cannot resolve (rotsweep.c) */
-    int too_small = st == MFG_ERR_INVALID && strstr(mfg_last_error(), "too small against") != NULL;
+    check_status(st);
+    /* the documented refusals of a part the grids cannot resolve (rotsweep.c: too small
+     * against its distance from the axis point, or for its coordinates) */
+    int too_small = st == MFG_ERR_INVALID && (strstr(mfg_last_error(), "too small against") != NULL ||
+                                              strstr(mfg_last_error(), "too small for its coordinates") != NULL);
     if (structural)
         CHECK(st != MFG_OK, "a structurally invalid input was accepted");
     if (hostile)
         CHECK(st != MFG_ERR_NOMEM, "an impossible count reported as out of memory");
-    /* A valid solid may still be refused with MFG_ERR_INTERNAL (issue 20 known gap: the
-     * rounding passes) or as too small against its distance from the axis point; what
-     * must never happen is an accepted invalid mesh or a returned invalid surface
-     * (checked below). */
+    /* A valid solid may only be refused as too small for the grids (above); an accepted
+     * invalid mesh or a returned invalid surface (checked below) must never happen. */
     if (!structural)
-        CHECK(st == closed || st == MFG_ERR_NOMEM || (closed == MFG_OK && (st == MFG_ERR_INTERNAL || too_small)),
+        CHECK(st == closed || st == MFG_ERR_NOMEM || (closed == MFG_OK && too_small),
               "the sweep and mfg_mesh_check_closed disagree on the mesh");
     if (st != MFG_OK) {
         CHECK(res == sentinel, "out_mesh written on failure");

@@ -13,11 +13,9 @@
  *  (d) no refusal:  a closed solid is never refused with MFG_ERR_INTERNAL unless the
  *                   allowance below says so.
  *
- * Known gaps of the first sweep design (docs/known-gaps.md#rotational-sweep) are the
- * allowances in the table below: a check fails only beyond them, so CI (run_fuzz.sh,
- * deterministic mode) is green on main and red when a result gets worse.  Tighten them
- * as the gaps close; the second design must pass with every allowance at its strict
- * value (CONTAIN_SLACK 0 up to rounding, VOLUME_REL 0, SCALE_EXACT 1, ALLOW_INTERNAL 0).
+ * The allowances below were the first design's known gaps (docs/known-gaps.md); the
+ * second design passes at the strict values the issue asked for: no distance outside
+ * beyond rounding, exact volume and vertices after scaling by 2^k, no MFG_ERR_INTERNAL.
  *
  * Build and run: tests/fuzz/run_fuzz.sh (with fuzz_pointclass and fuzz_api).
  */
@@ -33,16 +31,16 @@
 #include "sweep_checks.h" /* libcore/tests/sweep: the checks test_rotsweep.c uses */
 
 /* ---- allowances (the ratchet: may only get stricter) ---------------------- */
-/* (b) distance outside the result, in tolerances, of a turned input point: the first
- * design leaves points up to ~tol/2 outside (its chords); 3.9 units at tol 2.2 was
- * found when tolerances comparable to the part were allowed */
-#define CONTAIN_SLACK 0.75
+/* (b) distance outside the result, in tolerances, of a turned input point: rounding only
+ * (the result's points are on a grid of 2^-50 of its coordinates; the tolerance here is
+ * at least 1/8 of the part) */
+#define CONTAIN_SLACK 1e-9
 /* (c) relative volume difference after scaling by 2^k */
 #define VOLUME_REL 0.0
 /* (c) vertices bit-identical after scaling by 2^k */
 #define SCALE_EXACT 1
-/* (d) MFG_ERR_INTERNAL (the rounding passes' refusal, issue 20 known gap) allowed */
-#define ALLOW_INTERNAL 1
+/* (d) MFG_ERR_INTERNAL allowed: no (the first design refused some closed solids) */
+#define ALLOW_INTERNAL 0
 
 static void fail(const char *what, double value)
 {
