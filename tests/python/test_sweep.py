@@ -1147,3 +1147,22 @@ def test_hexagonal_prism_about_its_axis_is_a_cylinder():
                   for a in (56.0, 30.0)])
     assert inside_mesh(q, part.vertices, part.triangles).tolist() == [False, True]
     assert inside_mesh(q, res.vertices, res.triangles).tolist() == [True, True]
+
+
+@pytest.mark.parametrize("deg", [180, 360])
+def test_tessellated_torus_about_its_own_axis(deg):
+    """A 36 x 18 torus about its own axis (a rotating shaft's clearance): its revolution
+    was refused ("the rounded boundary's crossings multiply"); it sweeps as its period,
+    10 degrees.  Closed, classified as the per-circle oracle classifies points farther
+    than 2 tol from it, and the same at half and full turn (SV is the same)."""
+    v, t = torus_mesh(20.0, 6.0, 36, 18)
+    tol = 0.5
+    theta = TWO_PI if deg == 360 else math.pi
+    res = sweep(v, t, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), theta, tol)
+    check_result(res, tol)
+    p, got, want = membership(res, (v, t), np.zeros(3), np.array([1.0, 0.0, 0.0]), theta, tol,
+                              n=1500)
+    assert len(p) > 500 and 0 < want.sum() < len(p)
+    assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
+    # between the polyhedron and the torus of revolution through its vertices
+    assert volume_area(v, t)[0] < res.volume < 2 * math.pi ** 2 * 20.0 * 6.0 ** 2 + tol * res.area

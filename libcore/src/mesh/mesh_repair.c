@@ -9,9 +9,6 @@
 #include "common/mfg_internal.h"
 #include "common/vec3.h"
 #include "mesh/mesh_repair.h"
-#ifdef ARR_DEBUG
-#include <stdio.h>
-#endif
 
 /* ---- 1. Welds ------------------------------------------------------------------------- */
 

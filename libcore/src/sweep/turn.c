@@ -239,24 +239,25 @@ static int surface_symmetric(const sw_env *e, int m, double h)
     return ok;
 }
 
-/* A part with an n-fold symmetry about the axis swept by theta >= 2 pi / n sweeps its
- * solid of revolution: SV(theta) holds R(2 pi / n) O = O turned on through every angle.
- * The sweep itself would meet the turned copies of each face and strip as nearly
- * coincident sheets in other phases, crossing everywhere (a regular octahedron about its
- * threefold axis by 4.29 or 6 rad was refused: the rounding passes multiplied; the
- * fuzzer).  The turns that can map the part onto itself take a vertex to one at the same
- * distance and height: the candidates are the angles from a vertex of the smallest such
- * group to the others (a rectangle's corners are two orbits of its half turn, so not
- * every angle within a group is a symmetry), each 2 pi / d for a whole d, tried up to
- * theta.  The surface is checked to within SW_SHARE_PUSH tol (the shares' headroom: the
- * revolution of a surface that far from symmetric is that far from SV). */
-static void revolve_if_symmetric(sw_env *e)
+/* The largest d such that the turn by 2 pi / d <= theta maps the part onto itself (0:
+ * none).  Then SV(theta) = SV(2 pi / d) = the solid of revolution: any t in [0, theta] is
+ * 2 pi k / d + s with s in [0, 2 pi / d), and R(t) O = R(s) O.  The sweep by theta itself
+ * would meet the turned copies of each face and strip as nearly coincident sheets in other
+ * phases, crossing everywhere (a regular octahedron about its threefold axis by 4.29 or 6
+ * rad was refused: the rounding passes multiplied; the fuzzer).  The turns that can map
+ * the part onto itself take a vertex to one at the same distance and height: the
+ * candidates are the angles from a vertex of the smallest such group to the others (a
+ * rectangle's corners are two orbits of its half turn, so not every angle within a group
+ * is a symmetry), each 2 pi / d for a whole d.  The surface is checked to within
+ * SW_SHARE_PUSH tol (the shares' headroom: the sweep of a surface that far from symmetric
+ * is that far from SV). */
+static int symmetric_period(const sw_env *e)
 {
     rzphi *v;
     int64_t n = rz_records(e, &v);
     if (!v || n < 2) {
         free(v);
-        return;
+        return 0;
     }
     int64_t best = -1, bestn = 0;
     for (int64_t i = 0; i < n;) {
@@ -268,17 +269,17 @@ static void revolve_if_symmetric(sw_env *e)
         i = j;
     }
     double h = fmin(SW_SHARE_PUSH * e->tol, SYM_RZ);
-    for (int64_t k = best + 1; best >= 0 && k < best + bestn && !e->full_turn; k++) {
+    int found = 0;
+    for (int64_t k = best + 1; best >= 0 && k < best + bestn; k++) {
         double f = (v[k].phi - v[best].phi) / MFG_TWO_PI;
         f -= floor(f);
         double d = f > 0 ? nearbyint(1 / f) : 0;
-        if (d >= 2 && d <= SYM_MAX && fabs(f * d - 1) < SYM_ANGLE * d &&
-            e->theta >= MFG_TWO_PI / d && surface_symmetric(e, (int)d, h)) {
-            e->full_turn = 1;
-            e->theta = MFG_TWO_PI;
-        }
+        if (d > found && d <= SYM_MAX && fabs(f * d - 1) < SYM_ANGLE * d &&
+            e->theta >= MFG_TWO_PI / d && surface_symmetric(e, (int)d, h))
+            found = (int)d;
     }
     free(v);
+    return found;
 }
 
 void sw_setup_steps(sw_env *e)
@@ -307,12 +308,15 @@ void sw_setup_steps(sw_env *e)
         e->full_turn = 1;
         e->theta = MFG_TWO_PI;
     }
-    /* the first build of a symmetric part revolves it; the builds after a refused one
-     * sweep it by the angle asked (both are SV: a torus about its own axis by pi was
-     * refused as a revolution and is clean as a sweep, a regular octahedron about its
-     * threefold axis the other way round) */
-    if (!e->full_turn && e->attempt == 0 && !e->caller_first)
-        revolve_if_symmetric(e);
+    /* a part with a d-fold symmetry swept by 2 pi / d or more: its first build revolves
+     * it, the builds after a refused one sweep it by 2 pi / d (both are SV; a torus about
+     * its own axis was refused as a revolution, a regular octahedron about its threefold
+     * axis by 4.29 rad as a sweep by that angle) */
+    int d = symmetric_period(e);
+    if (d >= 2) {
+        e->full_turn = e->attempt == 0 && !e->caller_first;
+        e->theta = e->full_turn ? MFG_TWO_PI : MFG_TWO_PI / d;
+    }
     int m = symmetry_order(e);
     e->symmetry = m;
     /* the apex height r (sec(delta/2) - 1) within its share of the tolerance at rmax */
