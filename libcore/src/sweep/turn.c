@@ -81,20 +81,29 @@ static void turn(const sw_env *e, const double p[3], double t, double f, double 
 
 typedef struct rzphi {
     double r, z, phi;
+    int64_t zc, rc; /* the run of heights, then of distances within it, this one is in */
 } rzphi;
 
-static int cmp_rz(const void *pa, const void *pb)
+static int cmp_z(const void *pa, const void *pb)
 {
     const rzphi *a = pa, *b = pb;
     if (a->z != b->z)
         return a->z < b->z ? -1 : 1;
+    return (a->phi > b->phi) - (a->phi < b->phi);
+}
+
+static int cmp_zc_r(const void *pa, const void *pb)
+{
+    const rzphi *a = pa, *b = pb;
+    if (a->zc != b->zc)
+        return a->zc < b->zc ? -1 : 1;
     if (a->r != b->r)
         return a->r < b->r ? -1 : 1;
     return (a->phi > b->phi) - (a->phi < b->phi);
 }
 
 /* The input's vertices off the axis as (distance from it, height along it, angle about
- * it), sorted by height and distance: malloc'd *out (NULL when out of memory), their
+ * it), grouped by height and distance: malloc'd *out (NULL when out of memory), their
  * count returned. */
 static int64_t rz_records(const sw_env *e, rzphi **out)
 {
@@ -120,8 +129,17 @@ static int64_t rz_records(const sw_env *e, rzphi **out)
         v[n].phi = atan2(mfg_dot3(p, u2), mfg_dot3(p, u1));
         n++;
     }
+    /* runs of heights no farther than SYM_RZ apart, then of distances within each: sorted
+     * by height and distance at once, two rings at one height (a torus about its own
+     * axis) interleave when their heights carry noise, and no group is whole */
     if (n > 1)
-        qsort(v, (size_t)n, sizeof *v, cmp_rz);
+        qsort(v, (size_t)n, sizeof *v, cmp_z);
+    for (int64_t i = 0; i < n; i++)
+        v[i].zc = i > 0 && v[i].z - v[i - 1].z <= SYM_RZ ? v[i - 1].zc : i;
+    if (n > 1)
+        qsort(v, (size_t)n, sizeof *v, cmp_zc_r);
+    for (int64_t i = 0; i < n; i++)
+        v[i].rc = i > 0 && v[i].zc == v[i - 1].zc && v[i].r - v[i - 1].r <= SYM_RZ ? v[i - 1].rc : i;
     return n;
 }
 
@@ -129,7 +147,7 @@ static int64_t rz_records(const sw_env *e, rzphi **out)
 static int64_t rz_group_end(const rzphi *v, int64_t n, int64_t i)
 {
     int64_t j = i + 1;
-    while (j < n && fabs(v[j].z - v[i].z) <= SYM_RZ && fabs(v[j].r - v[i].r) <= SYM_RZ)
+    while (j < n && v[j].rc == v[i].rc)
         j++;
     return j;
 }
@@ -308,13 +326,14 @@ void sw_setup_steps(sw_env *e)
         e->full_turn = 1;
         e->theta = MFG_TWO_PI;
     }
-    /* a part with a d-fold symmetry swept by 2 pi / d or more: its first build revolves
-     * it, the builds after a refused one sweep it by 2 pi / d (both are SV; a torus about
-     * its own axis was refused as a revolution, a regular octahedron about its threefold
-     * axis by 4.29 rad as a sweep by that angle) */
+    /* a part with a d-fold symmetry swept by 2 pi / d or more: its builds sweep it by
+     * 2 pi / d, the last one in the axis frame revolves it (both are SV; a torus about
+     * its own axis was refused as a revolution, and with 1e-9 of noise on its vertices
+     * the revolution ran for minutes; a regular octahedron about its threefold axis by
+     * 4.29 rad was refused as a sweep by that angle) */
     int d = symmetric_period(e);
     if (d >= 2) {
-        e->full_turn = e->attempt == 0 && !e->caller_first;
+        e->full_turn = e->attempt == SW_ATTEMPTS - 1 && !e->caller_first;
         e->theta = e->full_turn ? MFG_TWO_PI : MFG_TWO_PI / d;
     }
     int m = symmetry_order(e);
