@@ -7,6 +7,7 @@
 #define MFG_HASHMAP_H
 
 #include <stdint.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -107,6 +108,14 @@ static inline hkey mkkey(int64_t a, int64_t b, int64_t c, int64_t d)
 {
     hkey k = {{a, b, c, d}};
     return k;
+}
+
+/* The key of the cell of point p in the grid of spacing h, or of its neighbour d (0 .. 26;
+ * 13: the cell itself): points within h of p lie in p's 27 cells. */
+static inline hkey hmap_cell_key(const double *p, double h, int d)
+{
+    return mkkey((int64_t)floor(p[0] / h) + d % 3 - 1, (int64_t)floor(p[1] / h) + d / 3 % 3 - 1,
+                 (int64_t)floor(p[2] / h) + d / 9 - 1, 0);
 }
 
 #endif

@@ -27,12 +27,6 @@ static int cmp_tri_key(const void *pa, const void *pb)
     return a->t < b->t ? -1 : a->t > b->t;
 }
 
-static hkey cell_key(const double *p, double eps, int d)
-{
-    return mkkey((int64_t)floor(p[0] / eps) + d % 3 - 1, (int64_t)floor(p[1] / eps) + d / 3 % 3 - 1,
-                 (int64_t)floor(p[2] / eps) + d / 9 - 1, 0);
-}
-
 static int weld(mfg_rmesh *m, double eps, int chain)
 {
     int64_t nv = m->nv, nt = m->nt;
@@ -45,13 +39,13 @@ static int weld(mfg_rmesh *m, double eps, int chain)
     int ok = uf && next && keys && keep && hmap_init(&grid, nv + 1);
     for (int64_t i = 0; ok && i < nv; i++) {
         uf[i] = i;
-        hkey key = cell_key(m->x + 3 * i, eps, 13);
+        hkey key = hmap_cell_key(m->x + 3 * i, eps, 13);
         next[i] = hmap_get(&grid, &key);
         ok = hmap_put(&grid, &key, i);
     }
     for (int64_t i = 0; ok && i < nv; i++)
         for (int d = 0; d < 27; d++) {
-            hkey key = cell_key(m->x + 3 * i, eps, d);
+            hkey key = hmap_cell_key(m->x + 3 * i, eps, d);
             for (int64_t j = hmap_get(&grid, &key); j >= 0; j = next[j])
                 if (j > i && fabs(m->x[3 * j] - m->x[3 * i]) <= eps &&
                     fabs(m->x[3 * j + 1] - m->x[3 * i + 1]) <= eps &&

@@ -164,14 +164,21 @@ static mfg_status output_mesh(const double *ox, int64_t nox, const int64_t *ot, 
  * ulps of the largest coordinate; and at least 2^-24 of the part's extent about the axis
  * point, which bounds the work (1e-9 of the part ran 5 minutes and 2 GB in the first
  * design). */
-static mfg_status check_tolerance(const double *cx, int64_t nv, const double unit_point[3],
-                                  double tol, int scale_exp)
+/* The largest |coordinate| of the mesh and the axis point. */
+static double max_abs_coordinate(const double *cx, int64_t nv, const double unit_point[3])
 {
     double maxabs = 0;
     for (int64_t i = 0; i < 3 * nv; i++)
         maxabs = fmax(maxabs, fabs(cx[i]));
     for (int k = 0; k < 3; k++)
         maxabs = fmax(maxabs, fabs(unit_point[k]));
+    return maxabs;
+}
+
+static mfg_status check_tolerance(const double *cx, int64_t nv, const double unit_point[3],
+                                  double tol, int scale_exp)
+{
+    double maxabs = max_abs_coordinate(cx, nv, unit_point);
     int me = 0;
     (void)frexp(maxabs, &me);
     double min_tol = fmax(ldexp(1.0, me - 53 + SW_TOL_MIN_ULPS_LOG2), ldexp(1.0, SW_TOL_MIN_REL_LOG2));
@@ -194,15 +201,12 @@ static mfg_status check_part_size(const double *cx, int64_t nv, const double uni
                                   int scale_exp)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    double maxabs = 0;
+    double maxabs = max_abs_coordinate(cx, nv, unit_point);
     for (int64_t i = 0; i < nv; i++)
         for (int k = 0; k < 3; k++) {
             lo[k] = fmin(lo[k], cx[3 * i + k]);
             hi[k] = fmax(hi[k], cx[3 * i + k]);
-            maxabs = fmax(maxabs, fabs(cx[3 * i + k]));
         }
-    for (int k = 0; k < 3; k++)
-        maxabs = fmax(maxabs, fabs(unit_point[k]));
     double size = 0;
     for (int k = 0; k < 3; k++)
         size = fmax(size, hi[k] - lo[k]);

@@ -158,19 +158,15 @@ static int64_t rz_group_end(const rzphi *v, int64_t n, int64_t i)
  * but no such m exists).  Strips of symmetric contour edges then coincide exactly when the
  * steps are multiples of 2 pi / m (their points are welded, surface.c); otherwise they
  * are polyhedral copies of one surface in different phases, which cross everywhere. */
-static int symmetry_order(const sw_env *e)
+static int symmetry_order(const rzphi *v, int64_t n)
 {
-    rzphi *v;
-    int64_t n = rz_records(e, &v);
     if (!v)
         return 1; /* only an optimisation */
     /* the angle differences within groups, as fractions of a turn */
     double *diff = malloc((size_t)(n + 1) * sizeof *diff);
     int64_t nd = 0;
-    if (!diff) {
-        free(v);
+    if (!diff)
         return 1;
-    }
     for (int64_t i = 0; i < n;) {
         int64_t j = rz_group_end(v, n, i);
         for (int64_t k = i + 1; k < j; k++) {
@@ -189,16 +185,8 @@ static int symmetry_order(const sw_env *e)
         if (ok)
             m = cand;
     }
-    free(v);
     free(diff);
     return m;
-}
-
-/* Cell of a point in the grid of spacing h (27 neighbours: d = 0 .. 26, 13 itself). */
-static hkey sym_cell(const double *p, double h, int d)
-{
-    return mkkey((int64_t)floor(p[0] / h) + d % 3 - 1, (int64_t)floor(p[1] / h) + d / 3 % 3 - 1,
-                 (int64_t)floor(p[2] / h) + d / 9 - 1, 0);
 }
 
 /* A triangle's key: its vertices rotated to the smallest first (orientation kept). */
@@ -222,7 +210,7 @@ static int surface_symmetric(const sw_env *e, int m, double h)
     hmap grid = {0}, tris = {0};
     int ok = next && img && hmap_init(&grid, n + 1) && hmap_init(&tris, e->nt + 1);
     for (int64_t v = 0; ok && v < n; v++) {
-        hkey key = sym_cell(e->x + 3 * v, h, 13);
+        hkey key = hmap_cell_key(e->x + 3 * v, h, 13);
         next[v] = hmap_get(&grid, &key);
         ok = hmap_put(&grid, &key, v);
     }
@@ -231,7 +219,7 @@ static int surface_symmetric(const sw_env *e, int m, double h)
         turn(e, e->x + 3 * v, MFG_TWO_PI / m, 1.0, q);
         img[v] = -1;
         for (int d = 0; d < 27 && img[v] < 0; d++) {
-            hkey key = sym_cell(q, h, d);
+            hkey key = hmap_cell_key(q, h, d);
             for (int64_t w = hmap_get(&grid, &key); w >= 0 && img[v] < 0; w = next[w]) {
                 const double *x = e->x + 3 * w;
                 if (fabs(x[0] - q[0]) <= h && fabs(x[1] - q[1]) <= h && fabs(x[2] - q[2]) <= h)
@@ -269,14 +257,10 @@ static int surface_symmetric(const sw_env *e, int m, double h)
  * is a symmetry), each 2 pi / d for a whole d.  The surface is checked to within
  * SW_SHARE_PUSH tol (the shares' headroom: the sweep of a surface that far from symmetric
  * is that far from SV). */
-static int symmetric_period(const sw_env *e)
+static int symmetric_period(const sw_env *e, const rzphi *v, int64_t n)
 {
-    rzphi *v;
-    int64_t n = rz_records(e, &v);
-    if (!v || n < 2) {
-        free(v);
+    if (!v || n < 2)
         return 0;
-    }
     int64_t best = -1, bestn = 0;
     for (int64_t i = 0; i < n;) {
         int64_t j = rz_group_end(v, n, i);
@@ -296,7 +280,6 @@ static int symmetric_period(const sw_env *e)
             e->theta >= MFG_TWO_PI / d && surface_symmetric(e, (int)d, h))
             found = (int)d;
     }
-    free(v);
     return found;
 }
 
@@ -331,12 +314,15 @@ void sw_setup_steps(sw_env *e)
      * its own axis was refused as a revolution, and with 1e-9 of noise on its vertices
      * the revolution ran for minutes; a regular octahedron about its threefold axis by
      * 4.29 rad was refused as a sweep by that angle) */
-    int d = symmetric_period(e);
+    rzphi *rz;
+    int64_t nrz = rz_records(e, &rz);
+    int d = symmetric_period(e, rz, nrz);
     if (d >= 2) {
         e->full_turn = e->attempt == SW_ATTEMPTS - 1 && !e->caller_first;
         e->theta = e->full_turn ? MFG_TWO_PI : MFG_TWO_PI / d;
     }
-    int m = symmetry_order(e);
+    int m = symmetry_order(rz, nrz);
+    free(rz);
     e->symmetry = m;
     /* the apex height r (sec(delta/2) - 1) within its share of the tolerance at rmax */
     double step = MFG_PI / 2;
