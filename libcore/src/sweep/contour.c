@@ -212,13 +212,26 @@ static int classify(split *S)
         mfg_sub3(c, a, w);
         mfg_cross3(u, w, n);
         int neg = 0, pos = 0;
+        /* f = p . (n x k): its gradient n x k lies in the plane, so |f| / |n x k| is a
+         * corner's distance from the line f = 0 */
+        double grad = hypot(n[0] * e->k[1] - n[1] * e->k[0],
+                            hypot(n[1] * e->k[2] - n[2] * e->k[1], n[2] * e->k[0] - n[0] * e->k[2]));
         for (int k = 0; k < 3; k++) {
             const double *p = e->x + 3 * V[k];
             int s = mfg_cross_dot_sign(e->k, p, u, w);
             double tau[3];
             mfg_cross3(e->k, p, tau);
-            S->sgn[3 * t + k] = (int8_t)s;
             S->fv[3 * t + k] = mfg_dot3(tau, n);
+            /* a line f = 0 within SW_CUT_SNAP of a corner goes through it: cut where
+             * the line is, the side would get a point 1e-15 from the corner, and the
+             * strips of the contour there become sheets 1e-15 above a face
+             * perpendicular to the axis that cross its turned copies at grazing angles
+             * (a plate with a hole about the hole's axis: the passes never ended).
+             * What moves is a sliver of the face narrower than SW_CUT_SNAP, the error
+             * of its classification as F or B no larger. */
+            if (s != 0 && fabs(S->fv[3 * t + k]) <= SW_CUT_SNAP * grad)
+                s = 0;
+            S->sgn[3 * t + k] = (int8_t)s;
             neg += s < 0;
             pos += s > 0;
         }

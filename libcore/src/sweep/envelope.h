@@ -77,6 +77,10 @@
  * wider than SW_LEVEL_SPAN (unit scale; far below the smallest tolerance, 2^-24). */
 #define SW_LEVEL 0x1p-40
 #define SW_LEVEL_SPAN 0x1p-38
+/* A corner closer than this to its triangle's line f = 0 (unit scale) is on it
+ * (contour.c, classify): the line is taken through the corner instead of cutting the
+ * sides an ulp-sized sliver away from it. */
+#define SW_CUT_SNAP 0x1p-40
 /* Builds of the soup tried before a broken invariant is reported (rotsweep.c): the
  * first SW_ATTEMPTS arrange in the axis frame, the last SW_CALLER_ATTEMPTS in the
  * caller's axes from the first pass (surface.c, sw_env.caller_first). */
