@@ -37,14 +37,10 @@ ctest_asan() {
 }
 # The rotational sweep's random battery (issue 20; libcore/tests/sweep/test_sweep_battery.c):
 # 308 seeded inputs, every result checked for the whole contract.  A result that fails a
-# check fails the suite, and so does a refusal (none since 2026-12-06); sweeps slower than
-# the 30 s limit are a ratchet (docs/known-gaps.md: one plate with a hole): lower it as
-# they close.
-SWEEP_BATTERY_KNOWN_REFUSED=${SWEEP_BATTERY_KNOWN_REFUSED:-0}
-SWEEP_BATTERY_KNOWN_TIMEOUTS=${SWEEP_BATTERY_KNOWN_TIMEOUTS:-1}
+# check fails the suite, and so do a refusal and a sweep slower than the 30 s limit (none
+# since 2026-12-06: the known-gap ratchets are gone).
 sweep_battery() {
-  MFG_BATTERY_TIMEOUT=30 MFG_BATTERY_KNOWN_REFUSED=$SWEEP_BATTERY_KNOWN_REFUSED \
-    MFG_BATTERY_KNOWN_TIMEOUTS=$SWEEP_BATTERY_KNOWN_TIMEOUTS build/libcore/tests/sweep/test_sweep_battery
+  MFG_BATTERY_TIMEOUT=30 build/libcore/tests/sweep/test_sweep_battery
 }
 pytest_binding() {
   MFGEOM_LIBRARY="$ROOT/build/libmfgeom.so" PYTHONPATH="$ROOT/workbench" \

@@ -16,9 +16,6 @@
  *   MFG_BATTERY_TIMEOUT=s    cancel a sweep after s seconds (a failure "timeout")
  *   MFG_BATTERY_VERBOSE=1    one line per input with its sizes and times
  *   MFG_BATTERY_VARIANTS=0   no invariance variants (half the inputs get one)
- *   MFG_BATTERY_KNOWN_REFUSED=n, MFG_BATTERY_KNOWN_TIMEOUTS=n  exit 0 with up to n refused
- *                            / timed-out inputs (the known gaps' ratchets; a result that
- *                            fails a check always exits 1)
  *
  * The checks (eps: the rounding allowance, BT_EPS_REL = 1e-9 of the part's size about the
  * axis; the sample counts and query budgets are battery.h's BT_*):
@@ -676,17 +673,7 @@ int main(int argc, char **argv)
     for (int k = 0; k < 5 && tot.slowest[k].s > 0; k++)
         printf(" %.2f s %s%s", tot.slowest[k].s, tot.slowest[k].what, k < 4 ? "," : "");
     printf("\n");
-    /* The known gaps of issue 20 as ratchets (CI, tests/run_all.sh): refusals by the
-     * rounding passes and sweeps slower than the timeout are allowed up to these counts;
-     * a result that fails a check never is.  Unset: every refusal and timeout fails. */
-    long known_refused = 0, known_timeouts = 0;
-    if ((e = getenv("MFG_BATTERY_KNOWN_REFUSED")) && *e)
-        known_refused = strtol(e, NULL, 0);
-    if ((e = getenv("MFG_BATTERY_KNOWN_TIMEOUTS")) && *e)
-        known_timeouts = strtol(e, NULL, 0);
-    long timeouts = tot.by_check[F_TIMEOUT];
-    if (known_refused || known_timeouts)
-        printf("battery: known gaps allowed: %ld refused (%ld now), %ld timeouts (%ld now); results failing a check: "
-               "%ld (none allowed)\n", known_refused, tot.refused, known_timeouts, timeouts, tot.wrong);
-    return tot.wrong || tot.refused > known_refused || timeouts > known_timeouts ? 1 : 0;
+    /* every refusal, timeout and failed check fails the run (issue 20: 0 refused, 0
+     * failing; the known-gap ratchets are gone since 2026-12-06) */
+    return tot.wrong || tot.refused || tot.by_check[F_TIMEOUT] ? 1 : 0;
 }
