@@ -109,6 +109,7 @@ typedef struct sw_env {
     double kh[3];           /* unit axis (rotations) */
     double theta, tol;
     double theta_asked;     /* the angle asked for (theta may become a full turn) */
+    double tol_asked;       /* the tolerance asked for (tol may be less: turn.c) */
     int full_turn;
     int nsteps;             /* N: chord polylines have N segments, tangent ones N + 1 */
     double delta;           /* the step: t_i = i delta for i < N, t_N = theta */

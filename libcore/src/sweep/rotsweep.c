@@ -343,6 +343,7 @@ mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
     /* a tolerance comparable to the part is met by computing to 1/16 of the unit extent
      * (a tighter result keeps the contract) */
     e.tol = fmin(tolerance, SW_TOL_MAX_UNIT);
+    e.tol_asked = e.tol;
     double F[3][3];
     axis_frame(axis_direction, F);
     memcpy(e.frame, F, sizeof F);

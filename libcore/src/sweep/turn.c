@@ -103,9 +103,9 @@ static int cmp_zc_r(const void *pa, const void *pb)
 }
 
 /* The input's vertices off the axis as (distance from it, height along it, angle about
- * it), grouped by height and distance: malloc'd *out (NULL when out of memory), their
- * count returned. */
-static int64_t rz_records(const sw_env *e, rzphi **out)
+ * it), grouped by height and distance (runs of values at most apart): malloc'd *out (NULL
+ * when out of memory), their count returned. */
+static int64_t rz_records(const sw_env *e, double apart, rzphi **out)
 {
     rzphi *v = malloc((size_t)(e->nin + 1) * sizeof *v);
     *out = v;
@@ -129,17 +129,17 @@ static int64_t rz_records(const sw_env *e, rzphi **out)
         v[n].phi = atan2(mfg_dot3(p, u2), mfg_dot3(p, u1));
         n++;
     }
-    /* runs of heights no farther than SYM_RZ apart, then of distances within each: sorted
+    /* runs of heights no farther than apart, then of distances within each: sorted
      * by height and distance at once, two rings at one height (a torus about its own
      * axis) interleave when their heights carry noise, and no group is whole */
     if (n > 1)
         qsort(v, (size_t)n, sizeof *v, cmp_z);
     for (int64_t i = 0; i < n; i++)
-        v[i].zc = i > 0 && v[i].z - v[i - 1].z <= SYM_RZ ? v[i - 1].zc : i;
+        v[i].zc = i > 0 && v[i].z - v[i - 1].z <= apart ? v[i - 1].zc : i;
     if (n > 1)
         qsort(v, (size_t)n, sizeof *v, cmp_zc_r);
     for (int64_t i = 0; i < n; i++)
-        v[i].rc = i > 0 && v[i].zc == v[i - 1].zc && v[i].r - v[i - 1].r <= SYM_RZ ? v[i - 1].rc : i;
+        v[i].rc = i > 0 && v[i].zc == v[i - 1].zc && v[i].r - v[i - 1].r <= apart ? v[i - 1].rc : i;
     return n;
 }
 
@@ -199,10 +199,14 @@ static hkey tri_key(int64_t a, int64_t b, int64_t c)
     return mkkey(a, b, c, 1);
 }
 
-/* 1 when the turn by 2 pi / m maps the part's surface onto itself: every input vertex
+/* 1 when the turns by 2 pi k / m map the part's surface onto itself: every input vertex
  * onto one within h, every triangle onto a triangle of the same orientation; 0 when not
  * (or out of memory: only a shortcut).  The vertex symmetry (symmetry_order) is not
- * enough: a symmetric point set can carry a surface that is not. */
+ * enough: a symmetric point set can carry a surface that is not.  Every k, not only
+ * k = 1: each vertex's orbit under the vertex map is followed round, its k-th member
+ * within h of the vertex turned by 2 pi k / m (a surface within h of its turn by 2 pi / m
+ * may drift by h at each turn, a twisted one), so the turned surfaces all lie within h
+ * of the part. */
 static int surface_symmetric(const sw_env *e, int m, double h)
 {
     int64_t n = e->nin;
@@ -227,6 +231,23 @@ static int surface_symmetric(const sw_env *e, int m, double h)
             }
         }
         ok = img[v] >= 0;
+    }
+    /* the orbits: next[] is free now, it marks the vertices already on one */
+    for (int64_t v = 0; ok && v < n; v++)
+        next[v] = 0;
+    for (int64_t v = 0; ok && v < n; v++) {
+        if (next[v])
+            continue;
+        int64_t w = v;
+        for (int k = 1; ok && k <= m; k++) {
+            w = img[w];
+            next[w] = 1;
+            double q[3];
+            turn(e, e->x + 3 * v, MFG_TWO_PI * k / m, 1.0, q);
+            const double *x = e->x + 3 * w;
+            ok = fabs(x[0] - q[0]) <= h && fabs(x[1] - q[1]) <= h && fabs(x[2] - q[2]) <= h;
+        }
+        ok = ok && w == v;
     }
     for (int64_t t = 0; ok && t < e->nt; t++) {
         const int64_t *V = e->tri + 3 * t;
@@ -257,7 +278,7 @@ static int surface_symmetric(const sw_env *e, int m, double h)
  * is a symmetry), each 2 pi / d for a whole d.  The surface is checked to within
  * SW_SHARE_PUSH tol (the shares' headroom: the sweep of a surface that far from symmetric
  * is that far from SV). */
-static int symmetric_period(const sw_env *e, const rzphi *v, int64_t n)
+static int symmetric_period(const sw_env *e, const rzphi *v, int64_t n, double h)
 {
     if (!v || n < 2)
         return 0;
@@ -270,13 +291,14 @@ static int symmetric_period(const sw_env *e, const rzphi *v, int64_t n)
         }
         i = j;
     }
-    double h = fmin(SW_SHARE_PUSH * e->tol, SYM_RZ);
     int found = 0;
+    /* the angle may be off by the vertices' own deviation: h at distance r */
+    double slack = fmax(SYM_ANGLE, h / (MFG_TWO_PI * fmax(v[best > 0 ? best : 0].r, SW_ON_AXIS)));
     for (int64_t k = best + 1; best >= 0 && k < best + bestn; k++) {
         double f = (v[k].phi - v[best].phi) / MFG_TWO_PI;
         f -= floor(f);
         double d = f > 0 ? nearbyint(1 / f) : 0;
-        if (d > found && d <= SYM_MAX && fabs(f * d - 1) < SYM_ANGLE * d &&
+        if (d > found && d <= SYM_MAX && fabs(f * d - 1) < slack * d &&
             e->theta >= MFG_TWO_PI / d && surface_symmetric(e, (int)d, h))
             found = (int)d;
     }
@@ -296,6 +318,7 @@ void sw_setup_steps(sw_env *e)
             e->kh[(k + 1) % 3] = e->kh[(k + 2) % 3] = 0;
         }
     e->theta = e->theta_asked; /* a build before this one may have made it a full turn */
+    e->tol = e->tol_asked;
     e->full_turn = e->theta >= MFG_TWO_PI;
     e->rmax = 0;
     for (int64_t v = 0; v < e->nin; v++)
@@ -315,11 +338,31 @@ void sw_setup_steps(sw_env *e)
      * the revolution ran for minutes; a regular octahedron about its threefold axis by
      * 4.29 rad was refused as a sweep by that angle) */
     rzphi *rz;
-    int64_t nrz = rz_records(e, &rz);
-    int d = symmetric_period(e, rz, nrz);
+    int64_t nrz = rz_records(e, SYM_RZ, &rz);
+    int d = symmetric_period(e, rz, nrz, fmin(SW_SHARE_PUSH * e->tol, SYM_RZ));
     if (d >= 2) {
         e->full_turn = e->attempt == SW_ATTEMPTS - 1 && !e->caller_first;
         e->theta = e->full_turn ? MFG_TWO_PI : MFG_TWO_PI / d;
+    } else if (!e->full_turn) {
+        /* Nearly symmetric: every turn by 2 pi k / d maps the surface within
+         * h = SW_SHARE_PUSH tol of itself (a surface of revolution tessellated with noise,
+         * from a float STL: a shaft about its own axis), theta >= 2 pi / d.  Then any
+         * R(t) p, t = 2 pi k / d + s with s < 2 pi / d, is R(s) of a point within h of
+         * the part, so the solid of revolution holds SV(theta) and lies within h of it:
+         * the part is revolved at tol - h.  Swept by theta, every face of such a surface
+         * is nearly neutral to the motion, and the strips of its contour lie on the
+         * surface itself (a 36 x 18 torus with 1e-6 of noise about its own axis by 90
+         * degrees ran over 200 s; revolved: 4 s).  The exactly symmetric part keeps the
+         * period above (its revolution has folds on flat rings). */
+        rzphi *near;
+        double h = SW_SHARE_PUSH * e->tol;
+        int64_t nnear = rz_records(e, h, &near);
+        if (symmetric_period(e, near, nnear, h) >= 2) {
+            e->full_turn = 1;
+            e->theta = MFG_TWO_PI;
+            e->tol = e->tol_asked - h;
+        }
+        free(near);
     }
     int m = symmetry_order(rz, nrz);
     free(rz);
