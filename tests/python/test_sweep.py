@@ -1186,3 +1186,27 @@ def test_noisy_torus_about_its_own_axis(noise, deg):
     assert len(p) > 500 and 0 < want.sum() < len(p)
     assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
     assert volume_area(v, t)[0] < res.volume < 2 * math.pi ** 2 * 20.0 * 6.0 ** 2 + tol * res.area
+
+
+@pytest.mark.parametrize("scale", [1e-6, 1.0, 1e6])
+def test_noisy_torus_moved_and_scaled(scale):
+    """The nearly symmetric path where its answers must move and scale with the part: the
+    noisy torus scaled, turned and moved, about its own (moved) axis by 90 degrees.
+    Classified as the per-circle oracle classifies the moved part's SV, and its volume
+    the unmoved unit-scale result's times scale^3 (both within tol x area of SV)."""
+    v, t = torus_mesh(20.0, 6.0, 36, 18)
+    v = v + np.random.default_rng(7).uniform(-1e-4, 1e-4, v.shape)
+    tol, theta = 0.5, math.radians(90)
+    base = sweep(v, t, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), theta, tol)
+    rng = np.random.default_rng(11)
+    rot = random_rotation(rng)
+    shift = rng.uniform(-50.0, 50.0, 3) * scale
+    vm = (v * scale) @ rot.T + shift
+    axis = rot @ np.array([1.0, 0.0, 0.0])
+    res = sweep(vm, t, tuple(shift), tuple(axis), theta, tol * scale)
+    check_result(res, tol * scale)
+    p, got, want = membership(res, (vm, t), shift, axis, theta, tol * scale, n=1200)
+    assert len(p) > 400 and 0 < want.sum() < len(p)
+    assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
+    slack = tol * (base.area + res.area / scale ** 2)
+    assert abs(res.volume / scale ** 3 - base.volume) <= slack

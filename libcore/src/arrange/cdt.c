@@ -9,6 +9,16 @@
  * Delaunay: only for speed - the multiplicities are the same on any triangulation. */
 #include "arrange/arrange.h"
 
+/* The rounded tests that only steer (never decide validity): a walk steps across an edge
+ * when the point is outside it by more than CDT_WALK_CLEAR of the two vectors' sizes, and
+ * a flip is tried when its quadrilateral's diagonal makes angles above CDT_FLIP_CLEAR
+ * radians with the other two corners; at most CDT_FLIPS_PER_POINT flips per point (and
+ * CDT_FLIPS_SPARE) per cluster, a bound on a rounded heuristic that could cycle. */
+#define CDT_WALK_CLEAR 0x1p-40
+#define CDT_FLIP_CLEAR 0x1p-30
+#define CDT_FLIPS_PER_POINT 32
+#define CDT_FLIPS_SPARE 1024
+
 typedef struct cdt {
     const arr_points *P;
     int axis;
@@ -139,7 +149,7 @@ static int64_t locate(cdt *D, int64_t v, int *edge)
             double o = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
             double scale = (fabs(b[0] - a[0]) + fabs(b[1] - a[1])) *
                            (fabs(p[0] - a[0]) + fabs(p[1] - a[1]));
-            if (o < -0x1p-40 * scale)
+            if (o < -CDT_WALK_CLEAR * scale)
                 next = D->tn[t][e];
         }
         if (next < 0)
@@ -184,7 +194,7 @@ static int in_circle(const cdt *D, int64_t a, int64_t b, int64_t c, int64_t d)
 }
 
 /* x and y clearly on either side of the line v -> d by the rounded positions (angles
- * above 2^-30 rad): a quadrilateral nearly degenerate there is not flipped, so that the
+ * above CDT_FLIP_CLEAR): a quadrilateral nearly degenerate there is not flipped, so that the
  * exact test that confirms a flip is rarely needed beyond its filter (the exact
  * orientations of nearly collinear implicit points were 12 % of a torus's arrangement). */
 static int clearly_convex(const cdt *D, int64_t v, int64_t d, int64_t x, int64_t y)
@@ -194,8 +204,8 @@ static int clearly_convex(const cdt *D, int64_t v, int64_t d, int64_t x, int64_t
     double ax = px[0] - pv[0], ay = px[1] - pv[1], bx = py[0] - pv[0], by = py[1] - pv[1];
     double ox = ex * ay - ey * ax, oy = ex * by - ey * bx;
     double le = hypot(ex, ey);
-    return ox * oy < 0 && fabs(ox) > 0x1p-30 * le * hypot(ax, ay) &&
-           fabs(oy) > 0x1p-30 * le * hypot(bx, by);
+    return ox * oy < 0 && fabs(ox) > CDT_FLIP_CLEAR * le * hypot(ax, ay) &&
+           fabs(oy) > CDT_FLIP_CLEAR * le * hypot(bx, by);
 }
 
 /* Lawson's flips round the new vertex v, from the triangles on the stack (n of them):
@@ -203,9 +213,9 @@ static int clearly_convex(const cdt *D, int64_t v, int64_t d, int64_t x, int64_t
  * without it the points inserted in order of their first coordinate make fans of
  * needles that every later walk and segment crosses: a plate with a hole swept 5 rad
  * spent 85 % of its 18 s arrangement walking them, 3 s with the flips (perf,
- * 2026-12-06; the battery 185 -> 117 s).  The circle
- * test is rounded, so a flip may be "wrong" (any flip of a convex quadrilateral, decided
- * exactly, keeps the triangulation valid) and the flips are bounded per cluster. */
+ * 2026-12-06; the battery 185 -> 117 s).  The circle test is rounded, so a flip may be
+ * "wrong" (any flip of a quadrilateral the exact orientations find convex keeps the
+ * triangulation valid) and the flips are bounded per cluster. */
 static void legalise(cdt *D, int64_t v, int64_t n)
 {
     while (n > 0 && D->flips > 0) {
@@ -570,7 +580,7 @@ int arr_cdt_cluster(arr_ctx *c, int64_t cl, const int64_t *pts, int64_t npts,
         D->capuv = cap;
         D->capstack = cap + 8;
     }
-    D->flips = 32 * npts + 1024;
+    D->flips = CDT_FLIPS_PER_POINT * npts + CDT_FLIPS_SPARE;
     for (int64_t i = 0; i < npts; i++)
         D->gid[i] = pts[i];
     for (int k = 0; k < 3; k++) {
