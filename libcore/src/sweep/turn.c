@@ -207,12 +207,12 @@ static hkey tri_key(int64_t a, int64_t b, int64_t c)
  * within h of the vertex turned by 2 pi k / m (a surface within h of its turn by 2 pi / m
  * may drift by h at each turn, a twisted one), so the turned surfaces all lie within h
  * of the part. */
-static int surface_symmetric(const sw_env *e, int m, double h)
+static int surface_symmetric(const sw_env *e, const hmap *tris, int m, double h)
 {
     int64_t n = e->nin;
     int64_t *next = malloc((size_t)(n + 1) * sizeof *next), *img = malloc((size_t)(n + 1) * sizeof *img);
-    hmap grid = {0}, tris = {0};
-    int ok = next && img && hmap_init(&grid, n + 1) && hmap_init(&tris, e->nt + 1);
+    hmap grid = {0};
+    int ok = next && img && hmap_init(&grid, n + 1);
     for (int64_t v = 0; ok && v < n; v++) {
         hkey key = hmap_cell_key(e->x + 3 * v, h, 13);
         next[v] = hmap_get(&grid, &key);
@@ -251,16 +251,10 @@ static int surface_symmetric(const sw_env *e, int m, double h)
     }
     for (int64_t t = 0; ok && t < e->nt; t++) {
         const int64_t *V = e->tri + 3 * t;
-        hkey key = tri_key(V[0], V[1], V[2]);
-        ok = hmap_put(&tris, &key, t);
-    }
-    for (int64_t t = 0; ok && t < e->nt; t++) {
-        const int64_t *V = e->tri + 3 * t;
         hkey key = tri_key(img[V[0]], img[V[1]], img[V[2]]);
-        ok = hmap_get(&tris, &key) >= 0;
+        ok = hmap_get(tris, &key) >= 0;
     }
     hmap_free(&grid);
-    hmap_free(&tris);
     free(next);
     free(img);
     return ok;
@@ -291,17 +285,33 @@ static int symmetric_period(const sw_env *e, const rzphi *v, int64_t n, double h
         }
         i = j;
     }
+    if (best < 0)
+        return 0;
+    /* the triangles by their vertices, for the candidates' checks (out of memory: no
+     * symmetry, only a shortcut) */
+    hmap tris;
+    if (!hmap_init(&tris, e->nt + 1))
+        return 0;
+    for (int64_t t = 0; t < e->nt; t++) {
+        const int64_t *V = e->tri + 3 * t;
+        hkey key = tri_key(V[0], V[1], V[2]);
+        if (!hmap_put(&tris, &key, t)) {
+            hmap_free(&tris);
+            return 0;
+        }
+    }
     int found = 0;
     /* the angle may be off by the vertices' own deviation: h at distance r */
-    double slack = fmax(SYM_ANGLE, h / (MFG_TWO_PI * fmax(v[best > 0 ? best : 0].r, SW_ON_AXIS)));
-    for (int64_t k = best + 1; best >= 0 && k < best + bestn; k++) {
+    double slack = fmax(SYM_ANGLE, h / (MFG_TWO_PI * fmax(v[best].r, SW_ON_AXIS)));
+    for (int64_t k = best + 1; k < best + bestn; k++) {
         double f = (v[k].phi - v[best].phi) / MFG_TWO_PI;
         f -= floor(f);
         double d = f > 0 ? nearbyint(1 / f) : 0;
         if (d > found && d <= SYM_MAX && fabs(f * d - 1) < slack * d &&
-            e->theta >= MFG_TWO_PI / d && surface_symmetric(e, (int)d, h))
+            e->theta >= MFG_TWO_PI / d && surface_symmetric(e, &tris, (int)d, h))
             found = (int)d;
     }
+    hmap_free(&tris);
     return found;
 }
 
