@@ -27,8 +27,10 @@ from gui_harness import DialogCloser, check, finish, press, pump, qt, state  # n
 
 WORKBENCH = "MfgeomWorkbench"
 COMMAND = "Mfgeom_RotationalSweep"
-TOL = 0.005  # mm: the torus sweep then takes several seconds (second sweep design, 2026-12-06:
-             # 24 794 triangles -> 27 886 in ~6 s; 0.02 took 0.6-0.9 s, too short to click Cancel)
+TOL = 0.002  # mm, and ANGLE degrees: the torus sweep then takes several seconds (45 384
+ANGLE = 270.0  # triangles, ~4.5 s of library work, 2026-12-07; at 0.005 and 90 degrees it took
+               # ~6 s before the arrangement's flips, 0.7 s after: the sweep ended before Esc)
+
 
 dialogs = DialogCloser()
 
@@ -111,7 +113,7 @@ def open_panel(doc, torus):
     Gui.runCommand(COMMAND)
     panel = task_panel()
     assert panel is not None, "no task panel"
-    panel["angle"].setValue(90.0)
+    panel["angle"].setValue(ANGLE)
     panel["tolerance"].setValue(TOL)
     panel["deflection"].setValue(TOL)
     return panel
