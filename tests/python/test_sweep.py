@@ -1149,64 +1149,72 @@ def test_hexagonal_prism_about_its_axis_is_a_cylinder():
     assert inside_mesh(q, res.vertices, res.triangles).tolist() == [True, True]
 
 
+TORUS_R, TORUS_r = 20.0, 6.0
+
+
+def torus_about_its_own_axis(noise=0.0):
+    """The 36 x 18 torus of the tests below (a rotating shaft's clearance), its vertices
+    moved by uniform noise in [-noise, noise] (a float STL of it)."""
+    v, t = torus_mesh(TORUS_R, TORUS_r, 36, 18)
+    if noise:
+        v = v + np.random.default_rng(7).uniform(-noise, noise, v.shape)
+    return v, t
+
+
+def check_torus_about_own_axis(v, t, theta, tol, point=(0.0, 0.0, 0.0), axis=(1.0, 0.0, 0.0),
+                               n=1500):
+    """Sweeps (v, t) about its own axis by theta and checks the result: closed, classified as
+    the per-circle membership oracle classifies points farther than 2 tol from it.  Returns
+    the result."""
+    res = sweep(v, t, tuple(point), tuple(axis), theta, tol)
+    check_result(res, tol)
+    p, got, want = membership(res, (v, t), np.asarray(point, float), np.asarray(axis, float),
+                              theta, tol, n=n)
+    assert len(p) > n // 3 and 0 < want.sum() < len(p)
+    assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
+    return res
+
+
+def assert_between_torus_and_polyhedron(res, v, t, tol):
+    """Between the polyhedron and the torus of revolution through its vertices."""
+    torus = 2 * math.pi ** 2 * TORUS_R * TORUS_r ** 2
+    assert volume_area(v, t)[0] < res.volume < torus + tol * res.area
+
+
 @pytest.mark.parametrize("deg", [180, 360])
 def test_tessellated_torus_about_its_own_axis(deg):
-    """A 36 x 18 torus about its own axis (a rotating shaft's clearance): its revolution
-    was refused ("the rounded boundary's crossings multiply"); it sweeps as its period,
-    10 degrees.  Closed, classified as the per-circle oracle classifies points farther
-    than 2 tol from it, and the same at half and full turn (SV is the same)."""
-    v, t = torus_mesh(20.0, 6.0, 36, 18)
-    tol = 0.5
-    theta = TWO_PI if deg == 360 else math.pi
-    res = sweep(v, t, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), theta, tol)
-    check_result(res, tol)
-    p, got, want = membership(res, (v, t), np.zeros(3), np.array([1.0, 0.0, 0.0]), theta, tol,
-                              n=1500)
-    assert len(p) > 500 and 0 < want.sum() < len(p)
-    assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
-    # between the polyhedron and the torus of revolution through its vertices
-    assert volume_area(v, t)[0] < res.volume < 2 * math.pi ** 2 * 20.0 * 6.0 ** 2 + tol * res.area
+    """A 36 x 18 torus about its own axis: its revolution was refused ("the rounded
+    boundary's crossings multiply"); it sweeps as its period, 10 degrees.  The same at half
+    and full turn (SV is the same)."""
+    v, t = torus_about_its_own_axis()
+    res = check_torus_about_own_axis(v, t, TWO_PI if deg == 360 else math.pi, 0.5)
+    assert_between_torus_and_polyhedron(res, v, t, 0.5)
 
 
 @pytest.mark.parametrize("noise,deg", [(1e-5, 90), (1e-3, 90), (1e-3, 200)])
 def test_noisy_torus_about_its_own_axis(noise, deg):
-    """The same torus with noise on its vertices (a float STL of a shaft): no symmetry to
-    the exact test, and swept by the angle every face is nearly neutral to the motion (the
-    sweep ran over 200 s at 90 degrees).  Within tol / 16 of symmetric under every turn by
-    10 degrees k, so it is revolved at 15/16 tol: conservative and within tol of SV
-    (turn.c).  Classified as the per-circle oracle classifies the noisy part's SV."""
-    v, t = torus_mesh(20.0, 6.0, 36, 18)
-    v = v + np.random.default_rng(7).uniform(-noise, noise, v.shape)
-    tol = 0.5
-    theta = math.radians(deg)
-    res = sweep(v, t, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), theta, tol)
-    check_result(res, tol)
-    p, got, want = membership(res, (v, t), np.zeros(3), np.array([1.0, 0.0, 0.0]), theta, tol,
-                              n=1500)
-    assert len(p) > 500 and 0 < want.sum() < len(p)
-    assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
-    assert volume_area(v, t)[0] < res.volume < 2 * math.pi ** 2 * 20.0 * 6.0 ** 2 + tol * res.area
+    """The same torus with noise on its vertices: no symmetry to the exact test, and swept
+    by the angle every face is nearly neutral to the motion (the sweep ran over 200 s at 90
+    degrees).  Within tol / 16 of symmetric under every turn by 10 degrees k, so it is
+    revolved at 15/16 tol: conservative and within tol of SV (turn.c)."""
+    v, t = torus_about_its_own_axis(noise)
+    res = check_torus_about_own_axis(v, t, math.radians(deg), 0.5)
+    assert_between_torus_and_polyhedron(res, v, t, 0.5)
 
 
 @pytest.mark.parametrize("scale", [1e-6, 1.0, 1e6])
 def test_noisy_torus_moved_and_scaled(scale):
     """The nearly symmetric path where its answers must move and scale with the part: the
-    noisy torus scaled, turned and moved, about its own (moved) axis by 90 degrees.
-    Classified as the per-circle oracle classifies the moved part's SV, and its volume
-    the unmoved unit-scale result's times scale^3 (both within tol x area of SV)."""
-    v, t = torus_mesh(20.0, 6.0, 36, 18)
-    v = v + np.random.default_rng(7).uniform(-1e-4, 1e-4, v.shape)
+    noisy torus scaled, turned and moved, about its own (moved) axis by 90 degrees; its
+    volume the unmoved unit-scale result's times scale^3 (both within tol x area of SV)."""
+    v, t = torus_about_its_own_axis(1e-4)
     tol, theta = 0.5, math.radians(90)
     base = sweep(v, t, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), theta, tol)
     rng = np.random.default_rng(11)
     rot = random_rotation(rng)
     shift = rng.uniform(-50.0, 50.0, 3) * scale
     vm = (v * scale) @ rot.T + shift
-    axis = rot @ np.array([1.0, 0.0, 0.0])
-    res = sweep(vm, t, tuple(shift), tuple(axis), theta, tol * scale)
-    check_result(res, tol * scale)
-    p, got, want = membership(res, (vm, t), shift, axis, theta, tol * scale, n=1200)
-    assert len(p) > 400 and 0 < want.sum() < len(p)
-    assert np.array_equal(got, want), f"{int((got != want).sum())} of {len(p)} points differ"
+    res = check_torus_about_own_axis(vm, t, theta, tol * scale, point=shift,
+                                     axis=rot @ np.array([1.0, 0.0, 0.0]), n=1200)
     slack = tol * (base.area + res.area / scale ** 2)
     assert abs(res.volume / scale ** 3 - base.volume) <= slack
