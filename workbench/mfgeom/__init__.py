@@ -125,3 +125,34 @@ def make_mid_surface(doc, source, csv_path=None, tolerance=None, **kwargs):
     See :func:`mfgeom.app.mid_surface_feature.make_mid_surface`."""
     from mfgeom.app.mid_surface_feature import make_mid_surface as _make
     return _make(doc, source, csv_path, tolerance, **kwargs)
+
+
+@needs_library
+def make_parting_line(doc, analysis, zero_draft_side="Cavity", name="PartingLine"):
+    """Create the parting line of a Mould-mode parting ``analysis`` (issue 21): a
+    ``PartingLine`` whose Shape holds the closed loops as wires (outer loops, inner loops
+    of through-holes, then the side cores' shut-off loops).  Zero-draft faces touching
+    both sides go to ``zero_draft_side`` ("Cavity": the line runs along their +d edge).
+    See :func:`mfgeom.app.mould_feature.make_parting_line`."""
+    from mfgeom.app.mould_feature import make_parting_line as _make
+    return _make(doc, analysis, zero_draft_side=zero_draft_side, name=name)
+
+
+@needs_library
+def make_parting_surface(doc, parting_line, margin=10.0, name="PartingSurface"):
+    """Create the parting surfaces (outer loops out to a box ``margin`` mm beyond the
+    part) and shut-off surfaces (inner loops) of ``parting_line``.  See
+    :func:`mfgeom.app.mould_feature.make_parting_surface`."""
+    from mfgeom.app.mould_feature import make_parting_surface as _make
+    return _make(doc, parting_line, margin=margin, name=name)
+
+
+@needs_library
+def make_mould_blocks(doc, analysis, margin=10.0, zero_draft_side="Cavity", name="MouldBlocks"):
+    """Create the core (+d), cavity (-d) and side-core inserts of a Mould-mode parting
+    ``analysis`` in a block ``margin`` mm beyond the part (``MouldBlocks`` with ``Core``,
+    ``Cavity``, ``Inserts`` (a compound, ``Inserts.Solids``) and ``Checks``), making the
+    parting line and surface it needs.  See
+    :func:`mfgeom.app.mould_feature.make_mould_blocks`."""
+    from mfgeom.app.mould_feature import make_mould_blocks as _make
+    return _make(doc, analysis, margin=margin, zero_draft_side=zero_draft_side, name=name)

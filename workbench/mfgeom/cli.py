@@ -342,9 +342,9 @@ FREECAD_LIB_DIRS = paths.FREECAD_LIB_DIRS
 _freecad_lib = paths.freecad_lib
 
 
-def _worker_command(request, result):
-    """argv and environment of a worker: plain python3 with FreeCAD's lib directory on
-    sys.path when it can be found, else freecadcmd."""
+def _worker_command(request, result, module="parting_batch", what="parting"):
+    """argv and environment of a worker (``mfgeom.app.<module>``): plain python3 with
+    FreeCAD's lib directory on sys.path when it can be found, else freecadcmd."""
     import shutil
     workbench = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     env = dict(os.environ)
@@ -355,19 +355,19 @@ def _worker_command(request, result):
         dirs.append(env["PYTHONPATH"])
     env["PYTHONPATH"] = os.pathsep.join(dirs)
     if lib:
-        return [sys.executable, "-m", "mfgeom.app.parting_batch", request, result], env
+        return [sys.executable, "-m", f"mfgeom.app.{module}", request, result], env
     freecadcmd = shutil.which("freecadcmd") or shutil.which("FreeCADCmd")
     if not freecadcmd:
-        raise CliError("parting needs FreeCAD: its Python modules were not found in "
+        raise CliError(f"{what} needs FreeCAD: its Python modules were not found in "
                        f"{', '.join(FREECAD_LIB_DIRS)} (set MFGEOM_FREECAD_LIB) and "
                        "freecadcmd is not on PATH")
     code = (f"import sys; sys.path.insert(0, {workbench!r}); "
-            "from mfgeom.app import parting_batch; "
-            f"parting_batch.main([{request!r}, {result!r}])")
+            f"from mfgeom.app import {module}; "
+            f"{module}.main([{request!r}, {result!r}])")
     return [freecadcmd, "-c", code], env
 
 
-def _run_part(path, options, timeout):
+def _run_part(path, options, timeout, module="parting_batch"):
     """One part in its own worker process: its result entry (or {"path", "error"})."""
     import subprocess
     import tempfile
@@ -376,7 +376,7 @@ def _run_part(path, options, timeout):
         request, result = os.path.join(tmp, "request.json"), os.path.join(tmp, "result.json")
         with open(request, "w", encoding="utf-8") as f:
             json.dump({"path": os.path.abspath(path), **options}, f)
-        cmd, env = _worker_command(request, result)
+        cmd, env = _worker_command(request, result, module)
         t0 = time.perf_counter()
         try:
             proc = subprocess.run(cmd, env=env, stdin=subprocess.DEVNULL,
@@ -396,7 +396,7 @@ def _run_part(path, options, timeout):
                                            + (f": {tail}" if tail else "")}
     out["path"] = path                     # as the user gave it
     if "error" not in out:
-        out["timings"]["wall_s"] = wall    # with the worker's start (FreeCAD import)
+        out.setdefault("timings", {})["wall_s"] = wall   # with the worker's start
         for solid in out["solids"]:
             solid["source"] = f"{path}:{solid['name']}"
     return out
@@ -440,6 +440,20 @@ def cmd_parting(args):
             raise CliError(f"cannot write {args.json}: {exc.strerror or exc}") from None
         return {"json": args.json, "parts": len(parts), "failed": len(failed)}
     return doc
+
+
+def cmd_mould(args):
+    if not (math.isfinite(args.margin) and args.margin > 0):
+        raise CliError(f"--margin must be a positive length, got {args.margin:g}")
+    if args.timeout is not None and not args.timeout > 0:
+        raise CliError("--timeout must be positive")
+    _worker_command("", "", "mould_batch", "mould")   # FreeCAD missing: say so first
+    options = {"out": os.path.abspath(args.out), "margin": args.margin,
+               "zero_draft_side": args.zero_draft_side}
+    part = _run_part(args.part, options, args.timeout, "mould_batch")
+    if "error" in part:
+        raise CliError(f"{args.part}: {part['error']}")
+    return part
 
 
 def _finite(values, what):
@@ -609,6 +623,21 @@ def build_parser():
     sp.add_argument("--timeout", type=float, default=None, metavar="S",
                     help="give up on a part after S seconds (an error entry)")
     sp.set_defaults(func=cmd_parting, file=None)
+    help_text = ("core, cavity and side-core inserts of every solid in a part file (mould "
+                 "parting analysis, parting line and surfaces, tooling split, checked), "
+                 "written as STEP files into --out")
+    sp = sub.add_parser("mould", help=help_text, description=help_text)
+    sp.add_argument("part", metavar="PART", help="a part file: .step/.stp, .brep/.brp or .FCStd")
+    sp.add_argument("--out", required=True, metavar="DIR",
+                    help="directory for <name>_core.step, _cavity.step, _insert<k>.step")
+    sp.add_argument("--margin", type=float, default=10.0, metavar="MM",
+                    help="the mould block's margin around the part (default 10)")
+    sp.add_argument("--zero-draft-side", choices=("Cavity", "Core"), default="Cavity",
+                    help="where zero-draft walls touching both sides go (Cavity: the parting "
+                         "line along their +d edge)")
+    sp.add_argument("--timeout", type=float, default=None, metavar="S",
+                    help="give up after S seconds")
+    sp.set_defaults(func=cmd_mould, file=None)
     help_text = ("the volume swept by a closed triangle mesh (STL/OBJ) turning about an "
                  "axis by 0 .. DEG degrees, written as STL/OBJ; prints its volume, area, "
                  "box and triangle counts")

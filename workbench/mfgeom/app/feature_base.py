@@ -17,6 +17,11 @@ from mfgeom.errors import Cancelled, InputError, MfgeomError
 Quantity = Union[float, str, "FreeCAD.Units.Quantity"]
 
 
+# Every feature's integer "Version" property (see FeatureProxy), one entry of its spec
+VERSION_PROPERTY = ("App::PropertyInteger", "Version", "Base",
+                    "Version of this object's properties, for migrating old documents", True)
+
+
 def add_properties(obj, spec):
     """Adds the properties of ``spec`` that ``obj`` lacks (so migration can call it on old
     objects).  ``spec``: (type, name, group, tooltip, output?) tuples; an output is

@@ -25,7 +25,7 @@ import numpy as np
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, Quantity, add_properties
+from mfgeom.app.feature_base import VERSION_PROPERTY, add_properties, FeatureProxy, Quantity
 from mfgeom import progress
 from mfgeom.errors import InputError
 
@@ -166,8 +166,7 @@ class MedialAxis(FeatureProxy):
              "Branch b's radii are Radii[BranchOffsets[b] .. BranchOffsets[b+1]]", True),
             ("App::PropertyFloatList", "JunctionRadii", "Result",
              "Clearance radius (mm) at every junction (the vertices of the shape)", True),
-            ("App::PropertyInteger", "Version", "Base",
-             "Version of this object's properties, for migrating old documents", True),
+            VERSION_PROPERTY,
         ]
         add_properties(obj, spec)
 

@@ -34,7 +34,8 @@ import numpy as np
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, Quantity, add_mesh_property, add_properties
+from mfgeom.app.feature_base import (VERSION_PROPERTY, add_mesh_property, add_properties,
+                                     FeatureProxy, Quantity)
 from mfgeom import progress
 from mfgeom.errors import InputError, MfgeomError
 
@@ -220,8 +221,7 @@ class MedialSurface(FeatureProxy):
              "Sheet s owns triangles off[s] .. off[s+1] of SheetFacets", True),
             ("App::PropertyIntegerList", "SheetElements", "Result",
              "The two boundary element ids of every sheet (pairs)", True),
-            ("App::PropertyInteger", "Version", "Base",
-             "Version of this object's properties, for migrating old documents", True),
+            VERSION_PROPERTY,
         ]
         add_properties(obj, spec)
         for name in ("SheetPoints", "SheetFacets", "SheetRadii", "SheetVertexOffsets",

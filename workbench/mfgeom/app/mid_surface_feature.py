@@ -24,7 +24,8 @@ import numpy as np
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, Quantity, add_properties, status_line
+from mfgeom.app.feature_base import (VERSION_PROPERTY, add_properties, FeatureProxy,
+                                     Quantity, status_line)
 from mfgeom.app.medial_surface_feature import (MedialInputError, is_medial_surface,
                                                sheet_mesh_of)
 from mfgeom.errors import MfgeomError
@@ -259,8 +260,7 @@ class MidSurface(FeatureProxy):
              "Mean thickness weighted by area (mm)", True),
             ("App::PropertyStringList", "Histogram", "Result",
              "The thickness report: area share per thickness bin", True),
-            ("App::PropertyInteger", "Version", "Base",
-             "Version of this object's properties, for migrating old documents", True),
+            VERSION_PROPERTY,
         ]
         add_properties(obj, spec)
         obj.setEditorMode("ThicknessPoints", 2)

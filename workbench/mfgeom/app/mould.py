@@ -770,3 +770,30 @@ def check_mould(result, tol=1.75e-4, deflection=1e-3):
                                   "why": f"{len(wrong)} of {len(g)} moulding faces are not "
                                          f"drafted along its direction ({', '.join(wrong[:5])})"}
     return checks
+
+
+# ------------------------------------------------------------------ from a bare shape
+def analyse_and_mould(shape, margin, zero_draft_side="Cavity", tol=None, deflection=1e-3,
+                      draft_angle=0.0):
+    """Mould parting analysis of the solid ``shape`` (global; mfgeom.parting.mould_parting
+    on its Gaussian maps, as the PartingAnalysis feature without its ray check), then
+    :func:`parting_line` and :func:`mould_blocks`.  Returns (MouldResult, timings)."""
+    import time
+    from mfgeom import parting
+    from mfgeom.app import gauss_map
+    tol = parting.DEFAULT_TOL if tol is None else tol
+    t0 = time.perf_counter()
+    faces, adj, shape = gauss_map.part_gauss(shape, deflection)
+    r = parting.mould_parting(faces, adj, draft_angle=draft_angle, tol=tol)
+    if r.direction is None:
+        raise MouldError("the analysis found no parting direction")
+    if r.unresolved:
+        names = [faces[f].name for s in r.unresolved for f in r.surfaces[s].faces]
+        raise MouldError(f"{', '.join(names[:6])} are undercuts no side core demoulds")
+    side_cores = [(c.direction, [faces[f].name for f in c.faces]) for c in r.side_cores]
+    t1 = time.perf_counter()
+    line = parting_line(shape, r.direction, side_cores, zero_draft_side, tol, deflection)
+    t2 = time.perf_counter()
+    result = mould_blocks(line, margin, zero_draft_side, tol, deflection)
+    t3 = time.perf_counter()
+    return result, {"analysis_s": t1 - t0, "parting_line_s": t2 - t1, "blocks_s": t3 - t2}

@@ -219,7 +219,7 @@ def analyse_file(path, **options):
             "timings": {"load_s": t1 - t0, "total_s": t2 - t0}}
 
 
-def _error_text(exc):
+def error_text(exc):
     text = " ".join(str(exc).split())
     if isinstance(exc, PartError):
         return text
@@ -240,7 +240,7 @@ def main(argv=None):
         options = {k: v for k, v in req.items() if k != "path"}
         text = json.dumps(analyse_file(path, **options), allow_nan=False)
     except Exception as exc:  # one part's failure is its own entry, never the batch's
-        text = json.dumps({"path": path, "error": _error_text(exc)})
+        text = json.dumps({"path": path, "error": error_text(exc)})
     with open(argv[1], "w", encoding="utf-8") as f:
         f.write(text)
     return 0

@@ -19,7 +19,7 @@ from typing import Optional, Sequence
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, Quantity, add_properties
+from mfgeom.app.feature_base import VERSION_PROPERTY, add_properties, FeatureProxy, Quantity
 from mfgeom.errors import InputError
 from mfgeom.parting import DEFAULT_TOL   # mfgeom.parting loads the library lazily
 
@@ -141,8 +141,7 @@ class PartingAnalysis(FeatureProxy):
              "Concave-connected surfaces, one entry of space-separated face names each", True),
             ("App::PropertyFloat", "MaxShrinkDeg", "Result",
              "Largest shrink (degrees) applied to a sampled face's map", True),
-            ("App::PropertyInteger", "Version", "Base",
-             "Version of this object's properties, for migrating old documents", True),
+            VERSION_PROPERTY,
         ]
         add_properties(obj, spec)
 

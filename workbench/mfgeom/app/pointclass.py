@@ -16,7 +16,7 @@ import FreeCAD
 import Part
 
 from mfgeom.app import preferences, refs
-from mfgeom.app.feature_base import FeatureProxy, Quantity, add_properties
+from mfgeom.app.feature_base import VERSION_PROPERTY, add_properties, FeatureProxy, Quantity
 
 # 1: first release; 2: Strict; 3: points in the Points kernel property, Shape empty.
 # Bump when properties change and migrate in _upgrade().
@@ -67,8 +67,7 @@ class PointClassification(FeatureProxy):
             ("App::PropertyLength", "MaxDistanceToSurface", "Result",
              "Largest distance of a point to the face's surface (points are projected on it)",
              True),
-            ("App::PropertyInteger", "Version", "Base",
-             "Version of this object's properties, for migrating old documents", True),
+            VERSION_PROPERTY,
         ]
         add_properties(obj, spec)
 

@@ -56,7 +56,8 @@ import numpy as np
 
 import FreeCAD
 
-from mfgeom.app.feature_base import FeatureProxy, Quantity, add_mesh_property, add_properties
+from mfgeom.app.feature_base import (VERSION_PROPERTY, add_mesh_property, add_properties,
+                                     FeatureProxy, Quantity)
 from mfgeom import progress
 from mfgeom.errors import InputError, MfgeomError
 # conservative_offset lives in mfgeom.geometry.mesh (FreeCAD-free, tested by pytest); its
@@ -317,8 +318,7 @@ class RotationalSweep(FeatureProxy):
             ("App::PropertyFloat", "SourceOffset", "Result",
              "Largest distance (mm) a source mesh vertex was pushed out to cover the "
              "curved faces (0: all faces planar)", True),
-            ("App::PropertyInteger", "Version", "Base",
-             "Version of this object's properties, for migrating old documents", True),
+            VERSION_PROPERTY,
         ]
         add_properties(obj, spec)
         add_mesh_property(obj, "The swept volume as a closed triangle mesh (global, single "

@@ -1,0 +1,101 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Core, cavity and inserts of one part file (FreeCAD App layer): the worker of
+``mfgeom mould PART --out DIR`` (issue 21), started by :mod:`mfgeom.cli` as
+
+    python3 -m mfgeom.app.mould_batch REQUEST.json RESULT.json
+
+REQUEST is ``{"path", "out", "margin", "zero_draft_side"}``.  The part file is read as
+the parting batch reads it (:func:`mfgeom.app.parting_batch.load_sources`); every solid
+is moulded on its own (:func:`mfgeom.app.mould.analyse_and_mould`) and written to
+``OUT/<name>_core.step``, ``_cavity.step``, ``_insert<k>.step``, each atomically (a
+temporary file renamed into place, so a failure leaves no truncated file).  RESULT gets
+``{"path", "solids": [{"name", "files", "volumes", "checks", "timings"}]}`` or
+``{"path", "error"}``; the worker exits 0 either way.
+"""
+
+import json
+import os
+import sys
+
+import FreeCAD  # noqa: F401  (before Part: Part alone crashes in plain python3)
+import Part
+
+from mfgeom.app import mould, parting_batch
+
+
+def _write_step(shape, path):
+    tmp = f"{path}.tmp-{os.getpid()}.step"   # OCCT picks the format by the suffix
+    try:
+        shape.exportStep(tmp)
+        if not os.path.isfile(tmp) or os.path.getsize(tmp) == 0:
+            raise OSError(f"OCCT wrote nothing to {tmp}")
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+def mould_file(path, out, margin=10.0, zero_draft_side="Cavity"):
+    """Mould every solid of the part file ``path`` into the directory ``out``."""
+    from mfgeom.app import gauss_map
+    os.makedirs(out, exist_ok=True)
+    sources, close = parting_batch.load_sources(path)
+    solids, written = [], []
+    try:
+        for label, source, names in sources:
+            shape = gauss_map.shape_of(source)
+            if names is not None:   # one solid of several: the faces given are its own
+                faces = [shape.Faces[int(n[4:]) - 1] for n in names]
+                shape = Part.Solid(Part.Shell(faces))
+            result, timings = mould.analyse_and_mould(shape, margin, zero_draft_side)
+            stem = label.replace("/", "_")
+            files = {}
+            parts = [("core", result.core), ("cavity", result.cavity)]
+            parts += [(f"insert{k + 1}", s) for k, s in enumerate(result.inserts)]
+            for what, s in parts:
+                target = os.path.join(out, f"{stem}_{what}.step")
+                _write_step(s, target)
+                written.append(target)
+                files[what] = target
+            solids.append({
+                "name": label, "files": files,
+                "direction": [float(c) for c in result.line.direction],
+                "volumes": {"block": result.block.solid.Volume,
+                            "part": result.line.shape.Volume, "core": result.core.Volume,
+                            "cavity": result.cavity.Volume,
+                            "inserts": [s.Volume for s in result.inserts]},
+                "parting_loops": [{"outer": o, "planar": p, "length": w.Length}
+                                  for w, o, p in zip(result.line.loops, result.line.outer,
+                                                     result.line.planar)],
+                "checks": {k: bool(v["ok"]) for k, v in result.checks.items()},
+                "timings": timings})
+    except BaseException:
+        for f in written:   # nothing half-written: a failed part leaves no files
+            if os.path.exists(f):
+                os.remove(f)
+        raise
+    finally:
+        close()
+    return {"path": path, "solids": solids}
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    if len(argv) != 2:
+        sys.stderr.write("usage: python3 -m mfgeom.app.mould_batch REQUEST.json RESULT.json\n")
+        return 2
+    with open(argv[0], encoding="utf-8") as f:
+        req = json.load(f)
+    path = req.get("path", "")
+    try:
+        text = json.dumps(mould_file(path, req["out"], float(req.get("margin", 10.0)),
+                                     req.get("zero_draft_side", "Cavity")), allow_nan=False)
+    except Exception as exc:  # reported as the part's error, never a traceback
+        text = json.dumps({"path": path, "error": parting_batch.error_text(exc)})
+    with open(argv[1], "w", encoding="utf-8") as f:
+        f.write(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
