@@ -761,6 +761,14 @@ class PaletteTests(unittest.TestCase):
         self.assertGreater(self.min_contrast(palette.SETUP_COLORS, fc), 20)
         self.assertEqual(palette.setup_color(1), palette.setup_color(1 + len(palette.SETUP_COLORS)))
 
+    def test_mould(self):
+        # the parting line is read against both sides (it runs where they meet) and
+        # against the selection colours
+        sides = [palette.MOULD_CORE, palette.MOULD_CAVITY]
+        fc = [palette.SELECTION, palette.PRESELECTION]
+        self.assertGreater(self.min_contrast([palette.PARTING_LINE], sides), 40)
+        self.assertGreater(self.min_contrast([palette.PARTING_LINE], fc + [palette.SHAPE_GREY]), 40)
+
 
 # ------------------------------------------------------------------ point sources
 class PointSourceTests(DocTestCase):

@@ -453,6 +453,10 @@ def cmd_mould(args):
     part = _run_part(args.part, options, args.timeout, "mould_batch")
     if "error" in part:
         raise CliError(f"{args.part}: {part['error']}")
+    failed = [s for s in part["solids"] if "error" in s]
+    if failed:   # the others were written; printed, then exit code 2 with this message
+        args.failure = (f"{len(failed)} of {len(part['solids'])} solids failed: "
+                        + "; ".join(f"{s['name']}: {s['error']}" for s in failed))
     return part
 
 

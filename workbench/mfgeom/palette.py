@@ -48,6 +48,14 @@ UNKNOWN = _rgb(128, 128, 128)
 CORE_SIDE = _rgb(68, 119, 170)    # Tol blue
 CAVITY_SIDE = _rgb(238, 102, 119)  # Tol red
 UNDERCUT = _rgb(51, 34, 136)       # Tol indigo
+# Mould tooling (issue 21): the core, cavity and side-core inserts take the side colours
+# of the faces they mould; the parting line is drawn thick in near black, the one colour
+# at least 48 CIELAB units from both sides, the selection and pre-selection colours and
+# the shape grey under normal, protan and deutan vision (vermillion was 11 from the
+# selection green for a deuteranope); the parting surface is Tol's sand, half transparent.
+MOULD_CORE, MOULD_CAVITY, MOULD_INSERT = CORE_SIDE, CAVITY_SIDE, UNDERCUT
+PARTING_LINE = _rgb(20, 20, 20)
+PARTING_SURFACE = _rgb(221, 204, 119)
 # Set-ups 1..n of a multi-set-up plan, in this order (cycled beyond 8): a qualitative list
 # picked greedily, each colour the farthest from the earlier ones and from the FreeCAD
 # colours under normal, protan and deutan vision (minimum 18 CIELAB units), then ordered

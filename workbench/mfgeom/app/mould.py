@@ -42,6 +42,7 @@ The steps, and the choices made where a mould designer has several:
   outside the part.
 """
 
+import contextlib
 import math
 from dataclasses import dataclass, field
 
@@ -773,6 +774,22 @@ def check_mould(result, tol=1.75e-4, deflection=1e-3):
 
 
 # ------------------------------------------------------------------ from a bare shape
+@contextlib.contextmanager
+def undercut_hint(unresolved):
+    """A MouldError raised inside names the faces the analysis left unresolved (no
+    single direction demoulds them).  They are not refused up front: a face with normals
+    on both sides of the parting plane is unresolved to the analysis (it does not split
+    faces) and demoulds once split along its silhouette; a true undercut shows up as a
+    block that touches both sides or fails its demould check."""
+    try:
+        yield
+    except MouldError as exc:
+        if not unresolved:
+            raise
+        more = f" (+{len(unresolved) - 6} more)" if len(unresolved) > 6 else ""
+        raise MouldError(f"{exc}; the analysis found no direction for "
+                         f"{', '.join(unresolved[:6])}{more}: undercuts need a side core "
+                         "or a change of the part") from None
 def analyse_and_mould(shape, margin, zero_draft_side="Cavity", tol=None, deflection=1e-3,
                       draft_angle=0.0):
     """Mould parting analysis of the solid ``shape`` (global; mfgeom.parting.mould_parting
@@ -787,13 +804,12 @@ def analyse_and_mould(shape, margin, zero_draft_side="Cavity", tol=None, deflect
     r = parting.mould_parting(faces, adj, draft_angle=draft_angle, tol=tol)
     if r.direction is None:
         raise MouldError("the analysis found no parting direction")
-    if r.unresolved:
-        names = [faces[f].name for s in r.unresolved for f in r.surfaces[s].faces]
-        raise MouldError(f"{', '.join(names[:6])} are undercuts no side core demoulds")
+    unresolved = [faces[f].name for s in r.unresolved for f in r.surfaces[s].faces]
     side_cores = [(c.direction, [faces[f].name for f in c.faces]) for c in r.side_cores]
     t1 = time.perf_counter()
-    line = parting_line(shape, r.direction, side_cores, zero_draft_side, tol, deflection)
-    t2 = time.perf_counter()
-    result = mould_blocks(line, margin, zero_draft_side, tol, deflection)
+    with undercut_hint(unresolved):
+        line = parting_line(shape, r.direction, side_cores, zero_draft_side, tol, deflection)
+        t2 = time.perf_counter()
+        result = mould_blocks(line, margin, zero_draft_side, tol, deflection)
     t3 = time.perf_counter()
     return result, {"analysis_s": t1 - t0, "parting_line_s": t2 - t1, "blocks_s": t3 - t2}

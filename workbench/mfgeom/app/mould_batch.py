@@ -9,8 +9,8 @@ the parting batch reads it (:func:`mfgeom.app.parting_batch.load_sources`); ever
 is moulded on its own (:func:`mfgeom.app.mould.analyse_and_mould`) and written to
 ``OUT/<name>_core.step``, ``_cavity.step``, ``_insert<k>.step``, each atomically (a
 temporary file renamed into place, so a failure leaves no truncated file).  RESULT gets
-``{"path", "solids": [{"name", "files", "volumes", "checks", "timings"}]}`` or
-``{"path", "error"}``; the worker exits 0 either way.
+``{"path", "solids": [{"name", "files", "volumes", "checks", "timings"} or {"name",
+"error"}], "failed"}`` or ``{"path", "error"}``; the worker exits 0 either way.
 """
 
 import json
@@ -35,48 +35,56 @@ def _write_step(shape, path):
             os.remove(tmp)
 
 
-def mould_file(path, out, margin=10.0, zero_draft_side="Cavity"):
-    """Mould every solid of the part file ``path`` into the directory ``out``."""
+def mould_solid(label, source, names, out, margin, zero_draft_side):
+    """One solid of a part file: its result entry, its STEP files written (or none)."""
     from mfgeom.app import gauss_map
-    os.makedirs(out, exist_ok=True)
-    sources, close = parting_batch.load_sources(path)
-    solids, written = [], []
+    shape = gauss_map.shape_of(source)
+    if names is not None:   # one solid of several: the faces given are its own
+        shape = Part.Solid(Part.Shell([shape.Faces[int(n[4:]) - 1] for n in names]))
+    result, timings = mould.analyse_and_mould(shape, margin, zero_draft_side)
+    stem = label.replace("/", "_")
+    parts = [("core", result.core), ("cavity", result.cavity)]
+    parts += [(f"insert{k + 1}", s) for k, s in enumerate(result.inserts)]
+    files = {}
     try:
-        for label, source, names in sources:
-            shape = gauss_map.shape_of(source)
-            if names is not None:   # one solid of several: the faces given are its own
-                faces = [shape.Faces[int(n[4:]) - 1] for n in names]
-                shape = Part.Solid(Part.Shell(faces))
-            result, timings = mould.analyse_and_mould(shape, margin, zero_draft_side)
-            stem = label.replace("/", "_")
-            files = {}
-            parts = [("core", result.core), ("cavity", result.cavity)]
-            parts += [(f"insert{k + 1}", s) for k, s in enumerate(result.inserts)]
-            for what, s in parts:
-                target = os.path.join(out, f"{stem}_{what}.step")
-                _write_step(s, target)
-                written.append(target)
-                files[what] = target
-            solids.append({
-                "name": label, "files": files,
-                "direction": [float(c) for c in result.line.direction],
-                "volumes": {"block": result.block.solid.Volume,
-                            "part": result.line.shape.Volume, "core": result.core.Volume,
-                            "cavity": result.cavity.Volume,
-                            "inserts": [s.Volume for s in result.inserts]},
-                "parting_loops": [{"outer": o, "planar": p, "length": w.Length}
-                                  for w, o, p in zip(result.line.loops, result.line.outer,
-                                                     result.line.planar)],
-                "checks": {k: bool(v["ok"]) for k, v in result.checks.items()},
-                "timings": timings})
+        for what, s in parts:
+            target = os.path.join(out, f"{stem}_{what}.step")
+            _write_step(s, target)
+            files[what] = target
     except BaseException:
-        for f in written:   # nothing half-written: a failed part leaves no files
+        for f in files.values():   # nothing half-written: a failed solid leaves no files
             if os.path.exists(f):
                 os.remove(f)
         raise
+    return {"name": label, "files": files,
+            "direction": [float(c) for c in result.line.direction],
+            "volumes": {"block": result.block.solid.Volume, "part": result.line.shape.Volume,
+                        "core": result.core.Volume, "cavity": result.cavity.Volume,
+                        "inserts": [s.Volume for s in result.inserts]},
+            "parting_loops": [{"outer": o, "planar": p, "length": w.Length}
+                              for w, o, p in zip(result.line.loops, result.line.outer,
+                                                 result.line.planar)],
+            "split_faces": list(result.line.split_faces),
+            "checks": {k: bool(v["ok"]) for k, v in result.checks.items()},
+            "timings": timings}
+
+
+def mould_file(path, out, margin=10.0, zero_draft_side="Cavity"):
+    """Mould every solid of the part file ``path`` into the directory ``out``: per solid
+    its entry, or ``{"name", "error"}`` where it cannot be moulded (the others are)."""
+    os.makedirs(out, exist_ok=True)
+    sources, close = parting_batch.load_sources(path)
+    solids = []
+    try:
+        for label, source, names in sources:
+            try:
+                solids.append(mould_solid(label, source, names, out, margin, zero_draft_side))
+            except Exception as exc:  # one solid's failure is its own entry
+                solids.append({"name": label, "error": parting_batch.error_text(exc)})
     finally:
         close()
-    return {"path": path, "solids": solids}
+    return {"path": path, "solids": solids,
+            "failed": sum(1 for s in solids if "error" in s)}
 
 
 def main(argv=None):

@@ -36,7 +36,8 @@ def _length(value, what):
 
 def _analysis_inputs(analysis):
     """(shape, direction, side cores, tol) of a computed Mould analysis object; raises
-    MouldInputError / MouldError saying what is missing."""
+    MouldInputError / MouldError saying what is missing.  Its unresolved faces are not
+    refused here (see mfgeom.app.mould.undercut_hint)."""
     from mfgeom.app import gauss_map
     if analysis is None or getattr(getattr(analysis, "Proxy", None), "Type", "") != \
             "Mfgeom::PartingAnalysis":
@@ -51,10 +52,6 @@ def _analysis_inputs(analysis):
         raise MouldInputError(f"'{analysis.Label}' has no source")
     if analysis.Direction.Length == 0:
         raise MouldError(f"'{analysis.Label}' found no parting direction")
-    unresolved = list(analysis.UnresolvedFaces)
-    if unresolved:
-        raise MouldError(f"{', '.join(unresolved[:6])} of '{analysis.Source.Label}' are "
-                         "undercuts no side core demoulds: no core and cavity without them")
     side_cores = []
     for text in analysis.SideCores:
         entry = json.loads(text)
@@ -82,7 +79,8 @@ def line_of(line_obj):
     last = getattr(line_obj.Proxy, "last", None)
     if last is None or last[0] != key:
         shape, d, side_cores, tol = _analysis_inputs(line_obj.Analysis)
-        line = mould.parting_line(shape, d, side_cores, line_obj.ZeroDraftSide, tol)
+        with mould.undercut_hint(list(line_obj.Analysis.UnresolvedFaces)):
+            line = mould.parting_line(shape, d, side_cores, line_obj.ZeroDraftSide, tol)
         last = (key, line)
         line_obj.Proxy.last = last
     return last[1]
@@ -210,8 +208,9 @@ class MouldBlocks(FeatureProxy):
         line_obj = obj.PartingSurface.PartingLine
         line = line_of(line_obj)
         t0 = time.perf_counter()
-        result = mould.mould_blocks(line, obj.Margin.Value, line_obj.ZeroDraftSide,
-                                    float(line_obj.Analysis.AngularTolerance))
+        with mould.undercut_hint(list(line_obj.Analysis.UnresolvedFaces)):
+            result = mould.mould_blocks(line, obj.Margin.Value, line_obj.ZeroDraftSide,
+                                        float(line_obj.Analysis.AngularTolerance))
         obj.Core = result.core
         obj.Cavity = result.cavity
         obj.Inserts = Part.makeCompound(result.inserts) if result.inserts else Part.Shape()

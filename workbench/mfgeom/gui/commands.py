@@ -151,6 +151,48 @@ class MidSurfaceCommand(BaseCommand):
             medial_panel.solid_from_selection(selection, allow_medial=True))
 
 
+class _MouldCommand(BaseCommand):
+    """A mould command (issue 21): its task panel on the selected input."""
+
+    KIND = ""
+
+    def panel_for(self, selection):
+        from mfgeom.gui import mould_panel
+        return mould_panel.command_panel(self.KIND, selection)
+
+
+class PartingLineCommand(_MouldCommand):
+    """The parting line of a Mould parting analysis."""
+
+    KIND = "line"
+    icon = "mfgeom_parting_line.svg"
+    menu_text = "Parting line"
+    tooltip = ("The parting line of a mould: closed loops where the core side (+d) meets "
+               "the cavity side (-d),\ncurved faces split along their silhouettes.\n"
+               "Select a parting analysis in Mould mode.")
+
+
+class PartingSurfaceCommand(_MouldCommand):
+    """Parting and shut-off surfaces of a parting line."""
+
+    KIND = "surface"
+    icon = "mfgeom_parting_surface.svg"
+    menu_text = "Parting surface"
+    tooltip = ("Parting surfaces from the parting line out to the mould block, and "
+               "shut-off surfaces filling through-holes.\nSelect a parting line.")
+
+
+class MouldBlocksCommand(_MouldCommand):
+    """Core, cavity and side-core inserts of a Mould parting analysis."""
+
+    KIND = "blocks"
+    icon = "mfgeom_mould_blocks.svg"
+    menu_text = "Core and cavity"
+    tooltip = ("Split a block around the part into core (+d), cavity (-d) and side-core "
+               "inserts, checked (volumes, validity, demoulding).\nSelect a parting "
+               "analysis in Mould mode; the parting line and surface are made too.")
+
+
 COMMANDS = {"Mfgeom_PartingAnalysis": PartingAnalysisCommand(),
             "Mfgeom_ClassifyPoints": ClassifyPointsCommand(),
             "Mfgeom_RotationalSweep": RotationalSweepCommand()}
@@ -162,6 +204,10 @@ COMMANDS["Mfgeom_ClearanceCheck"] = ClearanceCheckCommand()
 COMMANDS["Mfgeom_MedialAxis"] = MedialAxisCommand()
 COMMANDS["Mfgeom_MedialSurface"] = MedialSurfaceCommand()
 COMMANDS["Mfgeom_MidSurface"] = MidSurfaceCommand()
+# The mould tooling on top of the parting analysis (issue 21).
+COMMANDS["Mfgeom_PartingLine"] = PartingLineCommand()
+COMMANDS["Mfgeom_PartingSurface"] = PartingSurfaceCommand()
+COMMANDS["Mfgeom_MouldBlocks"] = MouldBlocksCommand()
 
 for _name, _command in COMMANDS.items():
     FreeCADGui.addCommand(_name, _command)
