@@ -64,6 +64,9 @@ VOLUME_REL = 1e-6
 # bisection steps on each crossing cell edge (2^-40 of a cell)
 SILHOUETTE_GRID = 96
 SILHOUETTE_BISECT = 40
+# A piece of a face split along its silhouette whose normals cross the parting plane by
+# at most this (rad) is on the side of its other normals (see parting_line)
+SPLIT_SLACK = 1e-2
 # A stepped parting surface's plane lies this far (relative to the part's size) beyond
 # its loop's extreme point along d
 STEP_ABOVE = 1e-3
@@ -229,9 +232,10 @@ def _face_sides(shape, d, tol, deflection):
                          deflection)
 
 
-def draft_classes(named_faces, d, tol, deflection):
+def draft_classes(named_faces, d, tol, deflection, ranges=None):
     """mfgeom.parting.draft_analysis at draft 0 of (face, name) pairs along d: per face
-    "positive", "negative", "insufficient" (zero draft) or "straddle"."""
+    "positive", "negative", "insufficient" (zero draft) or "straddle".  ``ranges``: a
+    list that gets each face's (lowest, highest) angle of its normals to the plane."""
     from mfgeom import parting
     from mfgeom.app import gauss_map
     if not named_faces:
@@ -240,7 +244,10 @@ def draft_classes(named_faces, d, tol, deflection):
     # silhouette (normals reaching the plane) must not straddle by its sampling's shrink
     deflection = min(deflection, tol / 2)
     faces = [gauss_map.face_gauss(f, deflection, name) for f, name in named_faces]
-    return parting.draft_analysis(faces, d, 0.0, tol).classes
+    a = parting.draft_analysis(faces, d, 0.0, tol)
+    if ranges is not None:
+        ranges.extend(zip(a.low, a.high))
+    return a.classes
 
 
 def _edge_faces(shape):
@@ -317,7 +324,15 @@ def parting_line(shape, direction, side_cores=(), zero_draft_side="Cavity", tol=
         if len(fused.Solids) != 1:
             raise MouldError("splitting the faces along their silhouettes failed")
         shape = fused.Solids[0]
-        classes = _face_sides(shape, d, tol, deflection)
+        ranges = []
+        classes = draft_classes([(f, f"Face{i + 1}") for i, f in enumerate(shape.Faces)],
+                                d, tol, deflection, ranges)
+        # a piece of a split face reaches across its silhouette by the error of the
+        # silhouette curve between its refined points (and the split's tolerance): up
+        # to SPLIT_SLACK it takes the side of the rest of its normals
+        for i, (lo, hi) in enumerate(ranges):
+            if classes[i] == "straddle" and min(-lo, hi) <= SPLIT_SLACK:
+                classes[i] = "positive" if hi > -lo else "negative"
     faces = shape.Faces
     sides = [None] * len(faces)
     for k, fs in enumerate(insert_faces):
@@ -601,40 +616,60 @@ def _fill(wire, planar):
 
 # ------------------------------------------------------------------ tooling split
 def _inner_point(face):
-    """A point inside ``face`` (on its surface, away from its boundary)."""
-    mesh = face.tessellate(max(face.BoundBox.DiagonalLength / 20.0, 1e-9))
-    pts, tris = mesh
-    if not tris:
-        return face.CenterOfMass
-    # the centroid of the largest triangle, put back on the surface
-    best = max(tris, key=lambda t: (pts[t[1]] - pts[t[0]]).cross(pts[t[2]] - pts[t[0]]).Length)
-    c = (pts[best[0]] + pts[best[1]] + pts[best[2]]) * (1.0 / 3.0)
-    u, v = face.Surface.parameter(c)
-    return face.valueAt(u, v)
+    """A point inside ``face``, on its surface and as far from its boundary as the
+    points of a (u, v) grid go: a point on the boundary may lie on the part's edge
+    between two faces of different sides (a curtain's middle on its parting line).  (A
+    tessellation per face cost 0.17 s on a 90-face part.)"""
+    u0, u1, v0, v1 = face.ParameterRange
+    size = max(face.BoundBox.DiagonalLength, 1e-300)
+    rim = Part.makeCompound(face.Edges)
+    best = None
+    for n in (1, 4, 7):
+        for i in range(n):
+            for j in range(n):
+                p = face.valueAt(u0 + (u1 - u0) * (i + 0.5) / n, v0 + (v1 - v0) * (j + 0.5) / n)
+                if not face.isInside(p, 1e-9 * size, False):
+                    continue
+                clear = rim.distToShape(Part.Vertex(p))[0]
+                if best is None or clear > best[0]:
+                    best = (clear, p)
+        if best is not None and best[0] > 0.05 * size:
+            break
+    return face.CenterOfMass if best is None else best[1]
 
 
-def _part_face_at(part, point, eps):
-    """Index of the part's face within ``eps`` of ``point``, or None."""
-    dist, _pairs, infos = part.distToShape(Part.Vertex(point))
-    if dist > eps:
-        return None
-    for info in infos:
-        if info[0] == "Face":
-            return int(info[1])
-    # nearest on an edge or vertex: take a face holding it
-    topo, index = infos[0][0], int(infos[0][1])
-    sub = part.Edges[index] if topo == "Edge" else part.Vertexes[index]
-    for i, f in enumerate(part.Faces):
-        if f.distToShape(sub)[0] <= eps:
-            return i
-    return None
+def _part_face_at(part, point, eps, boxes=None):
+    """Index of the part's face within ``eps`` of ``point`` (the nearest one), or None.
+    ``boxes``: the part's face bounding boxes (:func:`_face_boxes`), to look only at the
+    faces whose box holds the point (the distance to the whole part took 17 ms a call)."""
+    boxes = _face_boxes(part, eps) if boxes is None else boxes
+    vertex = Part.Vertex(point)
+    best = None
+    for i, box in enumerate(boxes):
+        if box.isInside(point):
+            dist = part.Faces[i].distToShape(vertex)[0]
+            if dist <= eps and (best is None or dist < best[0]):
+                best = (dist, i)
+    return None if best is None else best[1]
+
+
+def _face_boxes(part, eps):
+    """The faces' bounding boxes, grown: OCCT may take a face's box from its
+    triangulation, which lies inside a curved face by its chordal deflection."""
+    out = []
+    for f in part.Faces:
+        box = FreeCAD.BoundBox(f.BoundBox)
+        box.enlarge(2 * eps + 0.05 * box.DiagonalLength)
+        out.append(box)
+    return out
 
 
 def moulding_faces(solid, part, eps):
     """[(face of ``solid`` lying on the part, index of the part's face)]."""
     out = []
+    boxes = _face_boxes(part, eps)
     for f in solid.Faces:
-        i = _part_face_at(part, _inner_point(f), eps)
+        i = _part_face_at(part, _inner_point(f), eps, boxes)
         if i is not None:
             out.append((f, i))
     return out
