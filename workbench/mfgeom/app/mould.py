@@ -64,6 +64,9 @@ VOLUME_REL = 1e-6
 # bisection steps on each crossing cell edge (2^-40 of a cell)
 SILHOUETTE_GRID = 96
 SILHOUETTE_BISECT = 40
+# How far (relative to a face's size) the point that tells which part face a block face
+# lies on keeps from the face's boundary (far above ON_PART: unambiguous)
+INNER_CLEAR = 1e-3
 # A piece of a face split along its silhouette whose normals cross the parting plane by
 # at most this (rad) is on the side of its other normals (see parting_line)
 SPLIT_SLACK = 1e-2
@@ -250,6 +253,29 @@ def draft_classes(named_faces, d, tol, deflection, ranges=None):
     return a.classes
 
 
+def _trimmed_angle_range(face, d, n=48):
+    """(lowest, highest) angle (rad) to the plane normal to d of the normals at the
+    points of an n x n (u, v) grid inside the trimmed face and along its edges."""
+    u0, u1, v0, v1 = face.ParameterRange
+    uv = [(u0 + (u1 - u0) * (i + 0.5) / n, v0 + (v1 - v0) * (j + 0.5) / n)
+          for i in range(n) for j in range(n)]
+    uv = [(u, v) for u, v in uv if face.isPartOfDomain(u, v)]
+    for e in face.Edges:
+        if e.Length > 0:
+            for p in e.discretize(n):
+                uv.append(face.Surface.parameter(p))
+    s = []
+    for u, v in uv:
+        try:
+            s.append(float(_arr(face.normalAt(u, v)) @ d))
+        except Exception:   # no normal at a singular point (a pole): not a sample
+            continue
+    if not s:
+        return (-math.pi / 2, math.pi / 2)
+    s = np.clip(s, -1.0, 1.0)
+    return float(np.arcsin(s.min())), float(np.arcsin(s.max()))
+
+
 def _edge_faces(shape):
     """{edge index: [face indices]} over the shape's edges (by shared topology)."""
     index = {}
@@ -331,8 +357,12 @@ def parting_line(shape, direction, side_cores=(), zero_draft_side="Cavity", tol=
         # silhouette curve between its refined points (and the split's tolerance): up
         # to SPLIT_SLACK it takes the side of the rest of its normals
         for i, (lo, hi) in enumerate(ranges):
-            if classes[i] == "straddle" and min(-lo, hi) <= SPLIT_SLACK:
-                classes[i] = "positive" if hi > -lo else "negative"
+            if classes[i] == "straddle":
+                # the Gaussian map of a trimmed sphere or torus spans its whole (u, v)
+                # box: the normals at points of the trimmed face decide
+                lo, hi = _trimmed_angle_range(shape.Faces[i], d)
+                if min(-lo, hi) <= SPLIT_SLACK:
+                    classes[i] = "positive" if hi > -lo else "negative"
     faces = shape.Faces
     sides = [None] * len(faces)
     for k, fs in enumerate(insert_faces):
@@ -616,26 +646,42 @@ def _fill(wire, planar):
 
 # ------------------------------------------------------------------ tooling split
 def _inner_point(face):
-    """A point inside ``face``, on its surface and as far from its boundary as the
-    points of a (u, v) grid go: a point on the boundary may lie on the part's edge
-    between two faces of different sides (a curtain's middle on its parting line).  (A
-    tessellation per face cost 0.17 s on a 90-face part.)"""
-    u0, u1, v0, v1 = face.ParameterRange
+    """A point inside ``face``, on its surface and clear of its boundary by INNER_CLEAR x
+    its size: a point on the boundary may lie on the part's edge between faces of two
+    sides (a curtain's middle on its parting line).  The middle of its parameter range
+    where that is inside and clear, else a point stepped inward from the middle of its
+    longest edge (a ring around a hole has no middle).  (A tessellation per face cost
+    0.17 s on a 90-face part.)"""
     size = max(face.BoundBox.DiagonalLength, 1e-300)
+    step = INNER_CLEAR * size
     rim = Part.makeCompound(face.Edges)
-    best = None
-    for n in (1, 4, 7):
-        for i in range(n):
-            for j in range(n):
-                p = face.valueAt(u0 + (u1 - u0) * (i + 0.5) / n, v0 + (v1 - v0) * (j + 0.5) / n)
-                if not face.isInside(p, 1e-9 * size, False):
-                    continue
-                clear = rim.distToShape(Part.Vertex(p))[0]
-                if best is None or clear > best[0]:
-                    best = (clear, p)
-        if best is not None and best[0] > 0.05 * size:
+
+    def clear(u, v):
+        if not face.isPartOfDomain(u, v):
+            return None
+        p = face.valueAt(u, v)
+        return p if rim.distToShape(Part.Vertex(p))[0] > step / 2 else None
+
+    u0, u1, v0, v1 = face.ParameterRange
+    p = clear((u0 + u1) / 2, (v0 + v1) / 2)
+    if p is not None:
+        return p
+    for e in sorted(face.Edges, key=lambda e: -e.Length):
+        if e.Length <= step:
             break
-    return face.CenterOfMass if best is None else best[1]
+        t = (e.FirstParameter + e.LastParameter) / 2
+        m, tangent = e.valueAt(t), e.tangentAt(t)
+        u, v = face.Surface.parameter(m)
+        inward = face.normalAt(u, v).cross(tangent)
+        if inward.Length == 0:
+            continue
+        inward.normalize()
+        for sign in (1.0, -1.0):
+            u, v = face.Surface.parameter(m + inward * (sign * step))
+            p = clear(u, v)
+            if p is not None:
+                return p
+    return face.CenterOfMass
 
 
 def _part_face_at(part, point, eps, boxes=None):
@@ -809,6 +855,23 @@ def check_mould(result, tol=1.75e-4, deflection=1e-3):
 
 
 # ------------------------------------------------------------------ from a bare shape
+def thinnest_axis(shape):
+    """The principal axis of the part's inertia with the largest moment (the normal of a
+    plate, the axis across a knob's handle and ball): the parting direction where the
+    analysis finds none.  Ties go to the one nearest global +z, then +y."""
+    m = shape.Solids[0].MatrixOfInertia
+    inertia = np.array([[m.A11, m.A12, m.A13], [m.A21, m.A22, m.A23], [m.A31, m.A32, m.A33]])
+    w, vecs = np.linalg.eigh(inertia)
+    top = vecs[:, [k for k in range(3) if w[k] >= w[2] * (1 - 1e-9)]]
+    d = None
+    for axis in (np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])):
+        # the global axis projected into the (possibly tied) eigenspace
+        p = top @ (top.T @ axis)
+        if np.linalg.norm(p) > 1e-6:
+            d = p / np.linalg.norm(p)
+            break
+    d = top[:, 0] if d is None else d
+    return d if d[int(np.argmax(np.abs(d)))] > 0 else -d
 @contextlib.contextmanager
 def undercut_hint(unresolved):
     """A MouldError raised inside names the faces the analysis left unresolved (no
@@ -828,8 +891,9 @@ def undercut_hint(unresolved):
 def analyse_and_mould(shape, margin, zero_draft_side="Cavity", tol=None, deflection=1e-3,
                       draft_angle=0.0):
     """Mould parting analysis of the solid ``shape`` (global; mfgeom.parting.mould_parting
-    on its Gaussian maps, as the PartingAnalysis feature without its ray check), then
-    :func:`parting_line` and :func:`mould_blocks`.  Returns (MouldResult, timings)."""
+    on its Gaussian maps, as the PartingAnalysis feature without its ray check; where it
+    finds no direction, :func:`thinnest_axis`), then :func:`parting_line` and
+    :func:`mould_blocks`.  Returns (MouldResult, timings)."""
     import time
     from mfgeom import parting
     from mfgeom.app import gauss_map
@@ -838,12 +902,16 @@ def analyse_and_mould(shape, margin, zero_draft_side="Cavity", tol=None, deflect
     faces, adj, shape = gauss_map.part_gauss(shape, deflection)
     r = parting.mould_parting(faces, adj, draft_angle=draft_angle, tol=tol)
     if r.direction is None:
-        raise MouldError("the analysis found no parting direction")
-    unresolved = [faces[f].name for s in r.unresolved for f in r.surfaces[s].faces]
-    side_cores = [(c.direction, [faces[f].name for f in c.faces]) for c in r.side_cores]
+        # every surface straddles the parting plane of every direction (a part of curved
+        # faces, such as the knob): the analysis does not split faces, the mould does
+        direction, unresolved, side_cores = thinnest_axis(shape), [], []
+    else:
+        direction = r.direction
+        unresolved = [faces[f].name for s in r.unresolved for f in r.surfaces[s].faces]
+        side_cores = [(c.direction, [faces[f].name for f in c.faces]) for c in r.side_cores]
     t1 = time.perf_counter()
     with undercut_hint(unresolved):
-        line = parting_line(shape, r.direction, side_cores, zero_draft_side, tol, deflection)
+        line = parting_line(shape, direction, side_cores, zero_draft_side, tol, deflection)
         t2 = time.perf_counter()
         result = mould_blocks(line, margin, zero_draft_side, tol, deflection)
     t3 = time.perf_counter()

@@ -42,18 +42,20 @@ def _analysis_inputs(analysis):
     if analysis is None or getattr(getattr(analysis, "Proxy", None), "Type", "") != \
             "Mfgeom::PartingAnalysis":
         raise MouldInputError("a mould feature needs a parting analysis (Mould mode)")
-    if analysis.Mode != "Mould":
+    if analysis.Mode not in ("Mould", "Draft"):
         raise MouldInputError(f"'{analysis.Label}' is a {analysis.Mode} analysis; the mould "
-                              "needs one in Mould mode")
+                              "needs one in Mould mode (or a Draft analysis along the pull "
+                              "direction you chose)")
     if list(analysis.Faces):
         raise MouldInputError(f"'{analysis.Label}' analyses only some faces; the mould needs "
                               "the whole part (empty Faces)")
     if analysis.Source is None:
         raise MouldInputError(f"'{analysis.Label}' has no source")
     if analysis.Direction.Length == 0:
-        raise MouldError(f"'{analysis.Label}' found no parting direction")
+        raise MouldError(f"'{analysis.Label}' found no parting direction (a part of curved "
+                         "faces only: make a Draft analysis along the direction you want)")
     side_cores = []
-    for text in analysis.SideCores:
+    for text in (analysis.SideCores if analysis.Mode == "Mould" else []):
         entry = json.loads(text)
         side_cores.append((entry["direction"], entry["faces"]))
     shape = gauss_map.shape_of(analysis.Source)
