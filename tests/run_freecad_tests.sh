@@ -64,6 +64,7 @@ app_suite "ray check tests" test_ray_check_app.py freecad-ray-check
 
 app_suite "rotational sweep tests" test_sweep_app.py freecad-sweep
 app_suite "medial axis / surface tests" test_medial_app.py freecad-medial
+app_suite "mould tests" test_mould_app.py freecad-mould
 # the corpus test runs each part in a child process; a child's traceback is its report
 app_suite "corpus of real parts" test_corpus_app.py freecad-corpus tracebacks-ok
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-or-later
-# Runs the GUI tests (tests/gui/test_gui*.py: point classification, parting, clearance, sweep, cancel, medial, library) in
+# Runs the GUI tests (tests/gui/test_gui*.py: point classification, parting, clearance, sweep, cancel, mould, medial, library) in
 # FreeCAD under a virtual X server and fails on a failed test, a missing summary line or any Python traceback in the log.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
@@ -78,6 +78,11 @@ if [ "$cancel_tb" -le 2 ] && [ "$cancel_tb" -eq "$cancel_expected" ]; then
 fi
 grep -a "^cancel: " "$cancel_log"
 report freecad-gui-cancel "$cancel_log" $rc
+
+# The mould commands (issue 21) on the cup with a hole: tests/gui/test_gui_mould.py.
+run_gui mould
+mould_log=$gui_log rc=$gui_rc
+report freecad-gui-mould "$mould_log" $rc
 
 # The medial axis and surface (issue 9) on the ribbed tray: tests/gui/test_gui_medial.py.
 run_gui medial

@@ -24,9 +24,12 @@ DEFAULT_MARGIN = 10.0   # mm: block margin around the part, and the parting surf
 
 
 def _length(value, what):
+    """mm from a number, a length Quantity or a string such as "5 mm"."""
     try:
-        v = float(FreeCAD.Units.Quantity(value).Value) if isinstance(value, str) \
-            else float(getattr(value, "Value", value))
+        q = FreeCAD.Units.Quantity(value) if isinstance(value, str) else value
+        if hasattr(q, "Unit") and q.Unit != FreeCAD.Units.Quantity("1 mm").Unit:
+            raise ValueError(f"{q.Unit} is not a length")
+        v = float(getattr(q, "Value", q))
     except (TypeError, ValueError):
         raise MouldInputError(f"{what} must be a length, got {value!r}") from None
     if not (math.isfinite(v) and v > 0):
