@@ -3,7 +3,8 @@
 # Runs the demos headless (freecadcmd), then renders their results with FreeCAD's GUI under
 # a virtual X server; everything lands in $MFGEOM_OUT (default out/).  First the main job,
 # the parting analysis of the bundled cup with a hole (demo_parting.*), then the
-# point-classification demo on the bracket (demo_pointclass.*).
+# point-classification demo on the bracket (demo_pointclass.*); between them the mould
+# (issue 21) of the cup and of the knob (demo_mould.*, mould/*.step).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
@@ -47,6 +48,17 @@ run_step "parting render" "$MFGEOM_OUT/render_parting.log" \
 grep -a "render_parting:" "$MFGEOM_OUT/render_parting.log" || true
 echo "run_demo: parting report $MFGEOM_OUT/demo_parting.{txt,json,csv}, document" \
      "$MFGEOM_OUT/demo_parting.FCStd, images $MFGEOM_OUT/demo_parting.png, demo_parting_nc.png"
+
+echo "run_demo: mould of the cup with a hole and of the knob: parting line, surfaces, core," \
+     "cavity and inserts (freecadcmd)"
+run_step "mould demo" "$MFGEOM_OUT/demo_mould.log" freecadcmd examples/demo_mould.py
+cat "$MFGEOM_OUT/demo_mould.txt"
+echo "run_demo: rendering the moulds exploded along their directions (freecad GUI under xvfb)"
+run_step "mould render" "$MFGEOM_OUT/render_mould.log" \
+  timeout 300 xvfb-run -a freecad examples/render_mould.py
+grep -a "render_mould:" "$MFGEOM_OUT/render_mould.log" || true
+echo "run_demo: mould report $MFGEOM_OUT/demo_mould.txt, STEP files $MFGEOM_OUT/mould/*.step," \
+     "document $MFGEOM_OUT/demo_mould.FCStd, image $MFGEOM_OUT/demo_mould.png"
 
 echo "run_demo: classifying (freecadcmd)"
 if ! freecadcmd examples/demo_pointclass.py > "$MFGEOM_OUT/demo_pointclass.log" 2>&1; then
