@@ -5,7 +5,7 @@
 #   run.sh root       make or reuse the root (tests/freecad1/setup_root.sh; as root)
 #   run.sh build      build the library inside the root, into build-freecad1/
 #   run.sh tests      FreeCAD App + GUI tests (tests/run_freecad_tests.sh) and the pytest
-#                     file that imports FreeCAD (test_cli_parting.py) on FreeCAD 1.0
+#                     files that import FreeCAD (test_cli_parting.py, test_cli_mould.py) on FreeCAD 1.0
 #   run.sh demo       the README demo (examples/run_demo.sh) on FreeCAD 1.0, into out-freecad1/
 #   run.sh roundtrip  a document of every mfgeom object saved on this machine's FreeCAD
 #                     (0.20) opened, checked and recomputed on 1.0, and the other way round
@@ -32,7 +32,7 @@ step_build() {
 step_tests() {
   inside "MFGEOM_LIBRARY=$LIB bash tests/run_freecad_tests.sh &&
     MFGEOM_LIBRARY=$LIB PYTHONPATH=/src/workbench python3 -m pytest -q -p no:cacheprovider \
-      tests/python/test_cli_parting.py"
+      tests/python/test_cli_parting.py tests/python/test_cli_mould.py"
 }
 step_demo() { inside "MFGEOM_LIBRARY=$LIB MFGEOM_OUT=/src/out-freecad1 bash examples/run_demo.sh"; }
 

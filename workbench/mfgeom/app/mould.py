@@ -51,6 +51,7 @@ import numpy as np
 import FreeCAD
 import Part
 
+from mfgeom import progress
 from mfgeom.errors import InputError, MfgeomError
 
 CORE, CAVITY, ZERO = 1, -1, 0
@@ -171,6 +172,7 @@ def _contour_silhouette(face, d):
 
     segments = []
     for i in range(SILHOUETTE_GRID):
+        progress.step(i / SILHOUETTE_GRID, "mould: silhouette of a face")
         for j in range(SILHOUETTE_GRID):
             corners = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)]
             cut = [tuple(sorted((corners[k], corners[(k + 1) % 4])))
@@ -326,9 +328,10 @@ def parting_line(shape, direction, side_cores=(), zero_draft_side="Cavity", tol=
     if zero_draft_side not in ZERO_DRAFT_SIDES:
         raise MouldInputError(f"zero_draft_side must be one of {ZERO_DRAFT_SIDES}")
     solids = shape.Solids
-    if len(solids) != 1 or not shape.isValid():
-        raise MouldInputError("the part must be one valid solid "
-                              f"(it has {len(solids)} solids)")
+    if len(solids) != 1 or not solids[0].isValid() or not solids[0].Volume > 0:
+        raise MouldInputError("the part must be one valid solid (it has "
+                              f"{len(solids)} solids" + (", not valid" if solids and not
+                                                          solids[0].isValid() else "") + ")")
     shape = solids[0]
     insert_faces = []   # per side core the Face objects (they are not split)
     all_faces = shape.Faces
@@ -337,7 +340,8 @@ def parting_line(shape, direction, side_cores=(), zero_draft_side="Cavity", tol=
     inserted = {f.hashCode() for fs in insert_faces for f in fs}
     classes = _face_sides(shape, d, tol, deflection)
     split_names, tools = [], []
-    for i, (f, c) in enumerate(zip(shape.Faces, classes)):
+    for i, (f, c) in enumerate(zip(all_faces, classes)):
+        progress.step(i / max(len(classes), 1), "mould: silhouettes of the curved faces")
         if c == "straddle" and f.hashCode() not in inserted:
             edges = silhouette_edges(f, d)
             if not edges:
@@ -510,11 +514,18 @@ def _normal_plane_height(wire, d, size):
     return None
 
 
+def _inertia(solid):
+    """The solid's inertia tensor about its centre of mass (3 x 3); OCCT gives it with
+    the sign of the solid's orientation (negative for a reversed solid)."""
+    m = solid.MatrixOfInertia
+    t = np.array([[m.A11, m.A12, m.A13], [m.A21, m.A22, m.A23], [m.A31, m.A32, m.A33]])
+    return -t if np.trace(t) < 0 else t
+
+
 def _frame(d, shape):
     """Block axes (e1, e2, d): e1, e2 the principal axes of the part's inertia in the
     plane normal to d (the projection of a global axis where they are not distinct)."""
-    m = shape.MatrixOfInertia
-    inertia = np.array([[m.A11, m.A12, m.A13], [m.A21, m.A22, m.A23], [m.A31, m.A32, m.A33]])
+    inertia = _inertia(shape)
     ref = np.eye(3)[int(np.argmin(np.abs(d)))]
     a = ref - (ref @ d) * d
     a /= np.linalg.norm(a)
@@ -786,7 +797,9 @@ def moulding_faces(solid, part, eps):
     """[(face of ``solid`` lying on the part, index of the part's face)]."""
     out = []
     boxes = _face_boxes(part, eps)
-    for f in solid.Faces:
+    faces = solid.Faces
+    for k, f in enumerate(faces):
+        progress.step(k / len(faces), "mould: which part faces each block moulds")
         i = _part_face_at(part, _inner_point(f), eps, boxes)
         if i is not None:
             out.append((f, i))
@@ -854,7 +867,9 @@ def mould_blocks(line, margin, zero_draft_side="Cavity", tol=1.75e-4, deflection
     parting, shutoff = parting_surfaces(line, block, zero_draft_side)
     if not parting:
         raise MouldError("the parting line has no outer loop")
+    progress.step(0.0, "mould: block minus part")
     space = block.solid.cut(part)
+    progress.step(0.0, "mould: side-core inserts")
     inserts = side_core_inserts(line, block, space, tol, deflection)
     if inserts:
         space = space.cut(inserts)
@@ -862,6 +877,7 @@ def mould_blocks(line, margin, zero_draft_side="Cavity", tol=1.75e-4, deflection
     # surface met the part's faces in their plane (a curtain continuing a zero-draft
     # wall); cut first, the surfaces only touch the part along the parting line
     tools = [Part.makeCompound(parting + shutoff).cut(part)]   # one boolean for all
+    progress.step(0.0, "mould: splitting the block")
     pieces = space.generalFuse(tools)[0].Solids
     eps = ON_PART * part.BoundBox.DiagonalLength
     core, cavity = [], []
@@ -937,9 +953,7 @@ def thinnest_axis(shape):
     """The principal axis of the part's inertia with the largest moment (the normal of a
     plate, the axis across a knob's handle and ball): the parting direction where the
     analysis finds none.  Ties go to the one nearest global +z, then +y."""
-    m = shape.Solids[0].MatrixOfInertia
-    inertia = np.array([[m.A11, m.A12, m.A13], [m.A21, m.A22, m.A23], [m.A31, m.A32, m.A33]])
-    w, vecs = np.linalg.eigh(inertia)
+    w, vecs = np.linalg.eigh(_inertia(shape.Solids[0]))
     top = vecs[:, [k for k in range(3) if w[k] >= w[2] * (1 - 1e-9)]]
     d = None
     for axis in (np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])):
