@@ -234,6 +234,16 @@ class Examples(unittest.TestCase):
         self.assertAlmostEqual(result.cavity.Volume, block - 12500.0 - pocket - cup_v,
                                delta=1e-6 * block)
 
+    def test_side_core_through_the_rim_bridges_the_line(self):
+        """A radial hole through the cup's rim (z 24 .. 32): its side core's faces cut the
+        rim edge, so the core / cavity edges alone leave the line open; it is closed along
+        the edges around the hole (the shorter way: on the rim face) and stays planar."""
+        part = cup.make().cut(Part.makeCylinder(4, 7, App.Vector(25, 0, 28),
+                                                App.Vector(-1, 0, 0)))
+        result, _t = mould.analyse_and_mould(part, 5.0)
+        check_all(self, part, result, sides=1, loops=1)
+        self.assertTrue(result.line.planar[0])
+
     def test_zero_draft_side_core_moves_the_line_down(self):
         """ZeroDraftSide Core: the cup's outer wall goes to the core, the line to its
         bottom edge (z = 0)."""

@@ -386,7 +386,7 @@ def parting_line(shape, direction, side_cores=(), zero_draft_side="Cavity", tol=
     edge_faces = _edge_faces(shape)
     zero_draft = _assign_zero_draft(sides, edge_faces, zero_draft_side)
     edges = shape.Edges
-    line, shutoff = [], [[] for _ in side_cores]
+    line, shutoff, bridges = [], [[] for _ in side_cores], []
     for k, fi in edge_faces.items():
         if len(fi) != 2:
             continue
@@ -397,6 +397,9 @@ def parting_line(shape, direction, side_cores=(), zero_draft_side="Cavity", tol=
             for s in {a, b}:
                 if s >= 2:
                     shutoff[s - 2].append(edges[k])
+            if min(a, b) in (CORE, CAVITY):
+                bridges.append(edges[k])
+    line += _bridge_open_ends(line, bridges)
     loops = _loops(line, "parting line")
     size = shape.BoundBox.DiagonalLength
     planar = [_normal_plane_height(w, d, size) is not None for w in loops]
@@ -404,6 +407,57 @@ def parting_line(shape, direction, side_cores=(), zero_draft_side="Cavity", tol=
     return PartingLine(d, shape, sides, loops, outer, planar,
                        [_loops(e, f"side core {k + 1}'s shut-off") for k, e in enumerate(shutoff)],
                        split_names, zero_draft, [_unit(s) for s, _n in side_cores])
+
+
+def _bridge_open_ends(line, bridges):
+    """Edges closing the parting line where a side core's faces interrupt it (an inclined
+    hole through the rim): each open end of the core / cavity edges is joined to the
+    nearest other open end along the edges between the insert's faces and the part's
+    other faces (a shortest path by length).  Returns the edges to add."""
+    import heapq
+
+    def key(v):
+        return v.hashCode()
+
+    degree = {}
+    for e in line:
+        for v in (e.Vertexes[0], e.Vertexes[-1]):
+            degree[key(v)] = degree.get(key(v), 0) + 1
+    open_ends = {k for k, n in degree.items() if n % 2}
+    if not open_ends or not bridges:
+        return []
+    graph = {}
+    for i, e in enumerate(bridges):
+        a, b = key(e.Vertexes[0]), key(e.Vertexes[-1])
+        graph.setdefault(a, []).append((b, e.Length, i))
+        graph.setdefault(b, []).append((a, e.Length, i))
+    added, used = [], set()
+    for start in sorted(open_ends):
+        if start not in open_ends:
+            continue
+        dist, prev, heap = {start: 0.0}, {}, [(0.0, start)]
+        end = None
+        while heap:
+            du, u = heapq.heappop(heap)
+            if du > dist.get(u, math.inf):
+                continue
+            if u != start and u in open_ends:
+                end = u
+                break
+            for v, w, i in graph.get(u, ()):
+                if i not in used and du + w < dist.get(v, math.inf):
+                    dist[v], prev[v] = du + w, (u, i)
+                    heapq.heappush(heap, (du + w, v))
+        if end is None:
+            continue   # left open: _loops names where
+        v = end
+        while v != start:
+            u, i = prev[v]
+            used.add(i)
+            added.append(bridges[i])
+            v = u
+        open_ends -= {start, end}
+    return added
 
 
 def _assign_zero_draft(sides, edge_faces, zero_draft_side):
@@ -642,15 +696,27 @@ def parting_surfaces(line, block, zero_draft_side="Cavity"):
         step = STEP_ABOVE * size
         h0 = h_hi + step if up else h_lo - step
         reach = float(block.hi[2] - block.lo[2]) * 2 + size
+        # edges parallel to d (a vertical step of the line) have no curtain: they
+        # project to a point
+        steps = [_parallel_to(e, d, ON_PART * size) for e in wire.Edges]
+        slanted = [e for e, parallel in zip(wire.Edges, steps) if not parallel]
         curtain_full = Part.makeCompound(
-            [e.extrude(_vec(d * (reach if up else -reach))) for e in wire.Edges])
+            [e.extrude(_vec(d * (reach if up else -reach))) for e in slanted])
         rect = _plane_rect(block, h0)
-        curtain = [_curtain_face(e, d, h0, size) for e in wire.Edges]
+        curtain = [_curtain_face(e, d, h0, size) for e in slanted]
         if all(c is not None for c in curtain):
             # every edge lies in a plane parallel to d: the outline is the polygon of the
-            # loop's corners moved to h0 (exact; a section of the extrusions approximates)
-            corners = [_arr(v.Point) for v in wire.OrderedVertexes]
-            corners = [_vec(p + (h0 - p @ d) * d) for p in corners]
+            # loop's corners moved to h0 (exact; a section of the extrusions approximates),
+            # corners that land on the one before (the ends of a vertical step) once
+            corners = []
+            for v in wire.OrderedVertexes:
+                p = _arr(v.Point)
+                q = p + (h0 - p @ d) * d
+                if not corners or np.linalg.norm(q - corners[-1]) > ON_PART * size:
+                    corners.append(q)
+            if len(corners) > 1 and np.linalg.norm(corners[0] - corners[-1]) <= ON_PART * size:
+                corners.pop()
+            corners = [_vec(q) for q in corners]
             holes = [Part.makePolygon(corners + [corners[0]])]
         else:
             slab_lo, slab_hi = (h_lo - 1.0, h0) if up else (h0, h_hi + 1.0)
@@ -658,9 +724,23 @@ def parting_surfaces(line, block, zero_draft_side="Cavity"):
             holes = [Part.Wire(c) for c in Part.sortEdges(curtain_full.section(rect).Edges)]
         plane = rect
         for hole in holes:
-            plane = plane.cut(Part.Face(hole))
+            try:
+                plane = plane.cut(Part.Face(hole))
+            except Part.OCCError:
+                raise MouldError(
+                    "no stepped parting surface: the parting line's projection along d "
+                    "folds back on itself (the line leaves the outline of the part's "
+                    "shadow, e.g. down a notch and up again)") from None
         parting.append(Part.makeCompound(plane.Faces + curtain))
     return parting, shutoff
+
+
+def _parallel_to(edge, d, eps):
+    """Whether ``edge`` runs along d (all its points on one line parallel to d)."""
+    p = np.array([[q.x, q.y, q.z] for q in _edge_points(edge, 16)])
+    off = p - p[0]
+    off -= np.outer(off @ d, d)
+    return float(np.linalg.norm(off, axis=1).max()) <= eps
 
 
 def _curtain_face(edge, d, h0, size):
@@ -702,9 +782,12 @@ def _slab(block, h_lo, h_hi):
 
 
 def _fill(wire, planar):
-    if planar:
-        return Part.Face(wire)
-    return Part.makeFilledFace(wire.Edges)
+    """The shut-off surface of an inner loop: its plane face, else a filling surface."""
+    try:
+        return Part.Face(wire) if planar else Part.makeFilledFace(wire.Edges)
+    except Part.OCCError as exc:
+        raise MouldError(f"no shut-off surface for an inner loop of {len(wire.Edges)} edges "
+                         f"({' '.join(str(exc).split())})") from None
 
 
 # ------------------------------------------------------------------ tooling split
