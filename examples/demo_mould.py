@@ -15,7 +15,6 @@ $MFGEOM_OUT (default <repo>/out).  Exits non-zero if anything fails.
 examples/render_mould.py renders core, cavity and part exploded along the direction.
 """
 
-import math
 import os
 import sys
 import time

@@ -53,6 +53,7 @@ import Part
 
 from mfgeom import progress
 from mfgeom.errors import InputError, MfgeomError
+from mfgeom.parting import DEFAULT_TOL   # the analysis' angular tolerance (0.01 deg)
 
 CORE, CAVITY, ZERO = 1, -1, 0
 ZERO_DRAFT_SIDES = ("Cavity", "Core")
@@ -318,7 +319,7 @@ class PartingLine:
     side_directions: list = field(default_factory=list)
 
 
-def parting_line(shape, direction, side_cores=(), zero_draft_side="Cavity", tol=1.75e-4,
+def parting_line(shape, direction, side_cores=(), zero_draft_side="Cavity", tol=DEFAULT_TOL,
                  deflection=1e-3):
     """The parting line of the solid ``shape`` (global) along ``direction`` (core side
     +d).  ``side_cores``: (direction, [face names of ``shape``]) per side core of the
@@ -517,14 +518,6 @@ def _edge_points(edge, n):
         return [v.Point for v in edge.Vertexes]
 
 
-def _heights(wire, d, n=64):
-    pts = []
-    for e in wire.Edges:
-        pts.extend(_edge_points(e, n))
-    p = np.array([[q.x, q.y, q.z] for q in pts])
-    return p, p @ d
-
-
 def extent_along(wire, d, n=128):
     """(lowest, highest) of p . d along the wire's edges: the best of n samples per edge
     refined by golden-section search on the edge's parameter (points along the edges
@@ -587,8 +580,8 @@ def _frame(d, shape):
     q = np.array([[a @ inertia @ a, a @ inertia @ b], [b @ inertia @ a, b @ inertia @ b]])
     w, vecs = np.linalg.eigh(q)
     if abs(w[1] - w[0]) > 1e-6 * max(abs(w).max(), 1e-300):
+        # the sign does not change the box (its extents are taken along +-e1 alike)
         e1 = vecs[0, 0] * a + vecs[1, 0] * b
-        # a sign the part decides: along the side of the larger first moment (else +a)
         e1 /= np.linalg.norm(e1)
         if e1 @ a < 0:
             e1 = -e1
@@ -597,8 +590,9 @@ def _frame(d, shape):
     return e1, np.cross(d, e1), d
 
 
-def _projected_polygon(wire, e1, e2):
-    p, _h = _heights(wire, np.zeros(3))
+def _projected_polygon(wire, e1, e2, n=64):
+    """The wire as a polygon of n points per edge, projected onto the plane (e1, e2)."""
+    p = np.array([[q.x, q.y, q.z] for e in wire.Edges for q in _edge_points(e, n)])
     return np.column_stack([p @ e1, p @ e2])
 
 
@@ -897,7 +891,7 @@ def _fuse(solids):
     return solids[0].fuse(solids[1:]).removeSplitter()
 
 
-def side_core_inserts(line, block, space, tol=1.75e-4, deflection=1e-3):
+def side_core_inserts(line, block, space, tol=DEFAULT_TOL, deflection=1e-3):
     """Per side core the insert: the region its faces sweep along its direction to the
     block's boundary, within ``space`` (block minus part), kept where it touches them."""
     part = line.shape
@@ -942,7 +936,7 @@ class MouldResult:
     checks: dict = field(default_factory=dict)
 
 
-def mould_blocks(line, margin, zero_draft_side="Cavity", tol=1.75e-4, deflection=1e-3):
+def mould_blocks(line, margin, zero_draft_side="Cavity", tol=DEFAULT_TOL, deflection=1e-3):
     """Core, cavity and inserts of the part of ``line`` in a block grown by ``margin``,
     checked (:func:`check_mould`; MouldError if a check fails)."""
     part = line.shape
@@ -985,7 +979,7 @@ def mould_blocks(line, margin, zero_draft_side="Cavity", tol=1.75e-4, deflection
     return result
 
 
-def check_mould(result, tol=1.75e-4, deflection=1e-3):
+def check_mould(result, tol=DEFAULT_TOL, deflection=1e-3):
     """The issue's checks: core ∪ cavity ∪ inserts ∪ part = block (volumes to 1e-6
     relative), no two of them overlap in volume, each is a valid solid, and each block is
     demouldable along its own direction by our draft analysis of its moulding faces
