@@ -195,6 +195,26 @@ def _():
     assert doc.UndoCount == undo + 1
 
 
+@check("Export STEP from the blocks' panel writes core, cavity and insert")
+def _():
+    import tempfile
+    import Part
+    from mfgeom.gui.mould_panel import MouldPanel
+    mb = state["blocks"]
+    Gui.ActiveDocument.setEdit(mb.Name, 0)
+    panel = task_panel()
+    assert panel is not None and panel["exportStep"].isEnabled()
+    press(panel["ok"])
+    assert task_panel() is None
+    with tempfile.TemporaryDirectory() as out:
+        # the button's action with the folder given (the button asks with a dialog)
+        files = MouldPanel("blocks", obj=mb).export_step(out)
+        assert sorted(files) == ["cavity", "core", "insert1"], files
+        total = sum(Part.read(f).Volume for f in files.values()) + state["part"].Shape.Volume
+        assert abs(total - mb.Volumes[0]) <= 1e-6 * mb.Volumes[0], (total, mb.Volumes[0])
+        assert sorted(os.listdir(out)) == sorted(os.path.basename(f) for f in files.values())
+
+
 @check("the make calls echoed in the Python console")
 def _():
     _, QtGui = qt()

@@ -44,6 +44,7 @@ The steps, and the choices made where a mould designer has several:
 
 import contextlib
 import math
+import os
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -1023,6 +1024,41 @@ def check_mould(result, tol=DEFAULT_TOL, deflection=1e-3):
                                   "why": f"{len(wrong)} of {len(g)} moulding faces are not "
                                          f"drafted along its direction ({', '.join(wrong[:5])})"}
     return checks
+
+
+# ------------------------------------------------------------------ STEP export
+def write_step(shape, path):
+    """``shape`` to the STEP file ``path`` through a temporary file renamed into place, so
+    a failure (disk full, an OCCT error) leaves no truncated file."""
+    tmp = f"{path}.tmp-{os.getpid()}.step"   # OCCT picks the format by the suffix
+    try:
+        shape.exportStep(tmp)
+        if not os.path.isfile(tmp) or os.path.getsize(tmp) == 0:
+            raise OSError(f"OCCT wrote nothing to {tmp}")
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+def export_step_files(core, cavity, inserts, directory, stem):
+    """``<stem>_core.step``, ``_cavity.step``, ``_insert<k>.step`` in ``directory``
+    (:func:`write_step` each); all or none: a failure removes the ones written.  Returns
+    {"core": path, "cavity": path, "insert1": path, ...}."""
+    parts = [("core", core), ("cavity", cavity)]
+    parts += [(f"insert{k + 1}", s) for k, s in enumerate(inserts)]
+    files = {}
+    try:
+        for what, shape in parts:
+            target = os.path.join(directory, f"{stem}_{what}.step")
+            write_step(shape, target)
+            files[what] = target
+    except BaseException:
+        for f in files.values():
+            if os.path.exists(f):
+                os.remove(f)
+        raise
+    return files
 
 
 # ------------------------------------------------------------------ from a bare shape

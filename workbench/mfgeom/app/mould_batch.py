@@ -23,18 +23,6 @@ import Part
 from mfgeom.app import mould, parting_batch
 
 
-def _write_step(shape, path):
-    tmp = f"{path}.tmp-{os.getpid()}.step"   # OCCT picks the format by the suffix
-    try:
-        shape.exportStep(tmp)
-        if not os.path.isfile(tmp) or os.path.getsize(tmp) == 0:
-            raise OSError(f"OCCT wrote nothing to {tmp}")
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-
-
 def mould_solid(label, source, names, out, margin, zero_draft_side):
     """One solid of a part file: its result entry, its STEP files written (or none)."""
     from mfgeom.app import gauss_map
@@ -42,20 +30,8 @@ def mould_solid(label, source, names, out, margin, zero_draft_side):
     if names is not None:   # one solid of several: the faces given are its own
         shape = Part.Solid(Part.Shell([shape.Faces[int(n[4:]) - 1] for n in names]))
     result, timings = mould.analyse_and_mould(shape, margin, zero_draft_side)
-    stem = label.replace("/", "_")
-    parts = [("core", result.core), ("cavity", result.cavity)]
-    parts += [(f"insert{k + 1}", s) for k, s in enumerate(result.inserts)]
-    files = {}
-    try:
-        for what, s in parts:
-            target = os.path.join(out, f"{stem}_{what}.step")
-            _write_step(s, target)
-            files[what] = target
-    except BaseException:
-        for f in files.values():   # nothing half-written: a failed solid leaves no files
-            if os.path.exists(f):
-                os.remove(f)
-        raise
+    files = mould.export_step_files(result.core, result.cavity, result.inserts, out,
+                                    label.replace("/", "_"))
     return {"name": label, "files": files,
             "direction": [float(c) for c in result.line.direction],
             "volumes": {"block": result.block.solid.Volume, "part": result.line.shape.Volume,

@@ -93,6 +93,16 @@ class MouldPanel(TaskPanel):
                                "beyond the part")
             layout.addRow("Margin", self.margin)
         self._add_result(layout)
+        self.export_button = None
+        if kind == "blocks":
+            from PySide import QtGui
+            self.export_button = QtGui.QPushButton("Export STEP...")
+            self.export_button.setObjectName("exportStep")
+            self.export_button.setToolTip("Write core, cavity and inserts as STEP files "
+                                          "(<label>_core.step, _cavity.step, _insert1.step) "
+                                          "into a folder")
+            self.export_button.clicked.connect(lambda: self.export_step())
+            layout.addRow(self.export_button)
         self._add_message(layout)
         self._load()
 
@@ -107,6 +117,32 @@ class MouldPanel(TaskPanel):
         what = "Parting line" if self.kind == "surface" else "Analysis"
         self.what.setText(f"{what}: {self.source.Label}")
         self.result.setText(result_text(self.kind, obj))
+        if self.export_button is not None:
+            self.export_button.setEnabled(obj is not None and obj.isValid())
+
+    def export_step(self, directory=None):
+        """Core, cavity and inserts of the blocks as STEP files in ``directory`` (None:
+        ask with a folder dialog); returns {"core": path, ...} or None."""
+        from mfgeom.app.mould import export_step_files
+        obj = self.obj
+        if obj is None or not obj.isValid():
+            return None
+        if directory is None:
+            import FreeCADGui
+            from PySide import QtGui
+            directory = QtGui.QFileDialog.getExistingDirectory(
+                FreeCADGui.getMainWindow(), "Export core, cavity and inserts as STEP")
+            if not directory:
+                return None
+        try:
+            files = export_step_files(obj.Core, obj.Cavity, obj.Inserts.Solids, directory,
+                                      obj.Label.replace("/", "_").replace(" ", "_"))
+        except (OSError, RuntimeError) as exc:
+            self._show_error(f"Export failed: {exc}")
+            return None
+        FreeCAD.Console.PrintMessage(f"mfgeom: {obj.Label}: wrote "
+                                     f"{', '.join(files.values())}\n")
+        return files
 
     def _refresh(self):
         self._load()
