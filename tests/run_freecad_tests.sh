@@ -64,7 +64,10 @@ app_suite "ray check tests" test_ray_check_app.py freecad-ray-check
 
 app_suite "rotational sweep tests" test_sweep_app.py freecad-sweep
 app_suite "medial axis / surface tests" test_medial_app.py freecad-medial
-app_suite "mould tests" test_mould_app.py freecad-mould
+# the mould tests open corpus documents of FreeCAD 0.20's Path workbench; FreeCAD 1.0 logs
+# a traceback for each Path object it cannot restore (PathScripts moved): not ours, and
+# the tests' own failures are in the summary line
+app_suite "mould tests" test_mould_app.py freecad-mould tracebacks-ok
 # the corpus test runs each part in a child process; a child's traceback is its report
 app_suite "corpus of real parts" test_corpus_app.py freecad-corpus tracebacks-ok
 

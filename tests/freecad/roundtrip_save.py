@@ -51,6 +51,9 @@ def build(doc):
                                          name="Mould")
     mould.RayCheck = True
     made.append(mould)
+    # the mould tooling on it (issue 21): parting line, parting surface, core and cavity
+    blocks = mfgeom.make_mould_blocks(doc, mould, 6.0, name="Blocks")
+    made += [blocks.PartingSurface.PartingLine, blocks.PartingSurface, blocks]
     made.append(mfgeom.make_parting_analysis(doc, feature("PocketBlock", pocket_block.make()),
                                              mode="NC3Axis", name="Setups"))
     made.append(mfgeom.make_parting_analysis(doc, feature("DraftFlip", draft_flip.make()),
