@@ -192,29 +192,30 @@ class MedialAxis(FeatureProxy):
 
 
 # ---------------------------------------------------------------------------- make
-def length_value(value, what):
+def length_value(value, what, error=None):
     """A length in mm from a number, a length Quantity or a string such as "0.1 mm";
-    MedialAxisInputError (an InputError) says what is wrong."""
+    ``error`` (an InputError class, default MedialAxisInputError) says what is wrong."""
+    fail = error or MedialAxisInputError
     if isinstance(value, bool) or value is None:
-        raise MedialAxisInputError(f"{what} must be a length, got {value!r}")
+        raise fail(f"{what} must be a length, got {value!r}")
     if isinstance(value, str):
         try:
             value = FreeCAD.Units.Quantity(value)
         except ValueError:
-            raise MedialAxisInputError(f"{what}: cannot read {value!r}") from None
+            raise fail(f"{what}: cannot read {value!r}") from None
     if isinstance(value, FreeCAD.Units.Quantity):
         if value.Unit == FreeCAD.Units.Length:
             value = value.getValueAs("mm")
         elif value.Unit == FreeCAD.Units.Unit():
             value = value.Value
         else:
-            raise MedialAxisInputError(f"{what} must be a length, got {value.UserString}")
+            raise fail(f"{what} must be a length, got {value.UserString}")
     try:
         value = float(value)
     except (TypeError, ValueError):
-        raise MedialAxisInputError(f"{what} must be a length in mm, got {value!r}") from None
+        raise fail(f"{what} must be a length in mm, got {value!r}") from None
     if not (math.isfinite(value) and value > 0.0):
-        raise MedialAxisInputError(f"{what} must be a finite length > 0 mm, got {value!r}")
+        raise fail(f"{what} must be a finite length > 0 mm, got {value!r}")
     return value
 
 

@@ -570,14 +570,20 @@ def _inertia(solid):
     return -t if np.trace(t) < 0 else t
 
 
+def plane_basis(d):
+    """(e1, e2): an orthonormal basis of the plane normal to the unit d, e1 the global
+    axis least aligned with d projected into it, e2 = d x e1."""
+    ref = np.eye(3)[int(np.argmin(np.abs(d)))]
+    e1 = ref - (ref @ d) * d
+    e1 /= np.linalg.norm(e1)
+    return e1, np.cross(d, e1)
+
+
 def _frame(d, shape):
     """Block axes (e1, e2, d): e1, e2 the principal axes of the part's inertia in the
     plane normal to d (the projection of a global axis where they are not distinct)."""
     inertia = _inertia(shape)
-    ref = np.eye(3)[int(np.argmin(np.abs(d)))]
-    a = ref - (ref @ d) * d
-    a /= np.linalg.norm(a)
-    b = np.cross(d, a)
+    a, b = plane_basis(d)
     q = np.array([[a @ inertia @ a, a @ inertia @ b], [b @ inertia @ a, b @ inertia @ b]])
     w, vecs = np.linalg.eigh(q)
     if abs(w[1] - w[0]) > 1e-6 * max(abs(w).max(), 1e-300):
@@ -609,10 +615,7 @@ def _inside_polygon(q, poly):
 
 
 def _outer_loops(loops, d):
-    ref = np.eye(3)[int(np.argmin(np.abs(d)))]
-    e1 = ref - (ref @ d) * d
-    e1 /= np.linalg.norm(e1)
-    e2 = np.cross(d, e1)
+    e1, e2 = plane_basis(d)
     polys = [_projected_polygon(w, e1, e2) for w in loops]
     out = []
     for i, p in enumerate(polys):

@@ -10,7 +10,6 @@ one before; a change of the part or of the analysis recomputes them in that orde
 """
 
 import json
-import math
 import time
 
 import FreeCAD
@@ -24,17 +23,10 @@ DEFAULT_MARGIN = 10.0   # mm: block margin around the part, and the parting surf
 
 
 def _length(value, what):
-    """mm from a number, a length Quantity or a string such as "5 mm"."""
-    try:
-        q = FreeCAD.Units.Quantity(value) if isinstance(value, str) else value
-        if hasattr(q, "Unit") and q.Unit != FreeCAD.Units.Quantity("1 mm").Unit:
-            raise ValueError(f"{q.Unit} is not a length")
-        v = float(getattr(q, "Value", q))
-    except (TypeError, ValueError):
-        raise MouldInputError(f"{what} must be a length, got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise MouldInputError(f"{what} must be a positive length, got {value!r}")
-    return v
+    """mm from a number, a length Quantity or a string such as "5 mm" (the medial axis'
+    reader), a MouldInputError saying what is wrong."""
+    from mfgeom.app.medial_axis_feature import length_value
+    return length_value(value, what, MouldInputError)
 
 
 def _analysis_inputs(analysis):
