@@ -101,6 +101,8 @@ MFG_API const char *mfg_version(void);
  *                           "maxisect: sets", "maxisect: search", "maxisect: regions",
  *                           "maxisect: done"
  *   mfg_ray_blocked_p       "rays: index", "rays: queries", "rays: done"
+ *   mfg_wall_thickness      the medial stages (to 0.9, without "medial: done"), then
+ *                           "thickness: balls", "thickness: points", "thickness: done"
  */
 typedef int (*mfg_progress_fn)(void *user, double fraction, const char *stage);
 
@@ -720,6 +722,51 @@ MFG_API mfg_status mfg_medial_surface_p(const double *xyz, int64_t nvertices,
                                         mfg_medial **out, const mfg_progress *progress);
 /* Releases a result of mfg_medial_surface.  NULL is allowed. */
 MFG_API void mfg_medial_free(mfg_medial *medial);
+
+/* ------------------------------------------------------------------------- */
+/* Wall thickness from the medial surface (issue 21, section 4)               */
+/* ------------------------------------------------------------------------- */
+
+/* Default of min_angle below: 2 pi / 3 (120 degrees). */
+#define MFG_WALL_ANGLE 2.0943951023931957
+
+/*
+ * Local wall thickness at points on the boundary of the solid of a medial result: the
+ * diameter of the maximal inscribed ball that touches the point.  The balls are those of
+ * the medial surface (its sheets, seams and junctions: each touches its elements at their
+ * foot points, the closest points of the elements to its centre); a ball counts as a
+ * wall's when two of the points it touches are at least min_angle apart seen from its
+ * centre: the two sides of a wall face each other (180 degrees, less the taper of a
+ * wedge), the two faces at a convex right-angled corner are 90 degrees apart -- a corner
+ * is not a thin wall, else every box would be thin at its edges.  Each point takes the
+ * smallest of the wall balls that touch it; a point that none touches (near a convex
+ * edge, on a narrow face between two walls) takes the ball touching the nearest touched
+ * point.  Radii are interpolated linearly over the foot triangles of a sheet's triangles
+ * (exact on plane-plane sheets), along the foot segments of seams.
+ *
+ *   points[3i..]       the query points (any points; meant on the boundary)
+ *   thickness[i]       out: 2 r of the point's ball
+ *   centres[3i..]      out (NULL: not wanted): the ball's centre
+ *   gaps[i]            out (NULL: not wanted): distance from the point to the point its
+ *                      ball touches (0 up to rounding where a ball touches the point)
+ * min_angle in (0, pi] (radians; MFG_WALL_ANGLE is the default the workbench uses).
+ * Errors (outputs untouched): MFG_ERR_NULL; MFG_ERR_INVALID (npoints < 0 or too large,
+ * a point or min_angle not finite or out of range); MFG_ERR_DEGENERATE (no ball of the
+ * medial surface counts as a wall's: e.g. an empty medial result); MFG_ERR_NOMEM. */
+MFG_API mfg_status mfg_medial_thickness(const mfg_medial *medial, const double *points,
+                                        int64_t npoints, double min_angle, double *thickness,
+                                        double *centres, double *gaps);
+
+/* mfg_medial_surface_p (flags as there) followed by mfg_medial_thickness, the medial
+ * result freed before return.  Progress stages: those of mfg_medial_surface_p (mapped to
+ * the first 90 %), then "thickness: balls", "thickness: points", "thickness: done".  Errors
+ * as the two functions' (the detail names mfg_wall_thickness). */
+MFG_API mfg_status mfg_wall_thickness(const double *xyz, int64_t nvertices,
+                                      const int64_t *triangles, int64_t ntriangles,
+                                      double tolerance, uint32_t flags, int32_t nthreads,
+                                      const double *points, int64_t npoints, double min_angle,
+                                      double *thickness, double *centres, double *gaps,
+                                      const mfg_progress *progress);
 
 #ifdef __cplusplus
 }

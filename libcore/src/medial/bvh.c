@@ -47,13 +47,14 @@ static double dist2(const double *a, const double *b)
 
 /* ---- closest points ---------------------------------------------------------------- */
 
-/* Triangle features as closest_on_tri reports them: corners 0..2 (a, b, c), sides 3..5
+/* Triangle features as md_closest_on_tri reports them: corners 0..2 (a, b, c), sides 3..5
  * (a-b, b-c, c-a: side k runs from corner k to corner k + 1, as in md_elements), 6 the
  * interior. */
 enum { FEAT_SIDE = 3, FEAT_INTERIOR = 6 };
 
-/* Closest point q of segment ab to p; returns 0 (a), 1 (b) or 2 (between them). */
-static int closest_on_seg(const double *p, const double *a, const double *b, double *q)
+/* Closest point q of segment ab to p; returns 0 (a), 1 (b) or 2 (between them).  t (may
+ * be NULL) receives q's parameter: q = a + t (b - a). */
+int md_closest_on_seg(const double *p, const double *a, const double *b, double *q, double *t_out)
 {
     double ab[3], ap[3];
     mfg_sub3(b, a, ab);
@@ -61,13 +62,19 @@ static int closest_on_seg(const double *p, const double *a, const double *b, dou
     double t = mfg_dot3(ap, ab), l2 = mfg_dot3(ab, ab);
     if (t <= 0 || !(l2 > 0)) {
         memcpy(q, a, 3 * sizeof *q);
+        if (t_out)
+            *t_out = 0;
         return 0;
     }
     if (t >= l2) {
         memcpy(q, b, 3 * sizeof *q);
+        if (t_out)
+            *t_out = 1;
         return 1;
     }
     t /= l2;
+    if (t_out)
+        *t_out = t;
     for (int k = 0; k < 3; k++)
         q[k] = a[k] + t * ab[k];
     return 2;
@@ -75,9 +82,19 @@ static int closest_on_seg(const double *p, const double *a, const double *b, dou
 
 /* Closest point q of triangle abc to p and the feature holding it: Ericson, Real-Time
  * Collision Detection, 5.1.5 (the Voronoi regions of the corners, then of the sides, by
- * the signs of dot products and their 2x2 determinants). */
-static int closest_on_tri(const double *p, const double *a, const double *b, const double *c,
-                          double *q)
+ * the signs of dot products and their 2x2 determinants).  w (may be NULL) receives q's
+ * barycentric weights of a, b, c (wall_thickness.c interpolates radii with them). */
+static void set_w(double *w, double wa, double wb, double wc)
+{
+    if (w) {
+        w[0] = wa;
+        w[1] = wb;
+        w[2] = wc;
+    }
+}
+
+int md_closest_on_tri(const double *p, const double *a, const double *b, const double *c,
+                      double *q, double *w)
 {
     double ab[3], ac[3], ap[3], bp[3], cp[3];
     mfg_sub3(b, a, ab);
@@ -86,12 +103,14 @@ static int closest_on_tri(const double *p, const double *a, const double *b, con
     double d1 = mfg_dot3(ab, ap), d2 = mfg_dot3(ac, ap);
     if (d1 <= 0 && d2 <= 0) {
         memcpy(q, a, 3 * sizeof *q);
+        set_w(w, 1, 0, 0);
         return 0;
     }
     mfg_sub3(p, b, bp);
     double d3 = mfg_dot3(ab, bp), d4 = mfg_dot3(ac, bp);
     if (d3 >= 0 && d4 <= d3) {
         memcpy(q, b, 3 * sizeof *q);
+        set_w(w, 0, 1, 0);
         return 1;
     }
     double vc = d1 * d4 - d3 * d2;
@@ -99,48 +118,57 @@ static int closest_on_tri(const double *p, const double *a, const double *b, con
         double v = d1 / (d1 - d3);
         for (int k = 0; k < 3; k++)
             q[k] = a[k] + v * ab[k];
+        set_w(w, 1 - v, v, 0);
         return FEAT_SIDE + 0;
     }
     mfg_sub3(p, c, cp);
     double d5 = mfg_dot3(ab, cp), d6 = mfg_dot3(ac, cp);
     if (d6 >= 0 && d5 <= d6) {
         memcpy(q, c, 3 * sizeof *q);
+        set_w(w, 0, 0, 1);
         return 2;
     }
     double vb = d5 * d2 - d1 * d6;
     if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-        double w = d2 / (d2 - d6);
+        double t = d2 / (d2 - d6);
         for (int k = 0; k < 3; k++)
-            q[k] = a[k] + w * ac[k];
+            q[k] = a[k] + t * ac[k];
+        set_w(w, 1 - t, 0, t);
         return FEAT_SIDE + 2;
     }
     double va = d3 * d6 - d5 * d4;
     if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
         for (int k = 0; k < 3; k++)
-            q[k] = b[k] + w * (c[k] - b[k]);
+            q[k] = b[k] + t * (c[k] - b[k]);
+        set_w(w, 0, 1 - t, t);
         return FEAT_SIDE + 1;
     }
     double den = va + vb + vc;
     if (!(den > 0)) {
         /* A sliver whose determinants rounded to nothing: the nearest of its sides. */
         const double *s[4] = {a, b, c, a};
-        double best = INFINITY, r[3];
+        double best = INFINITY, r[3], t;
         int feat = 0;
         for (int k = 0; k < 3; k++) {
-            int w = closest_on_seg(p, s[k], s[k + 1], r);
+            int f = md_closest_on_seg(p, s[k], s[k + 1], r, &t);
             double d = dist2(p, r);
             if (d < best) {
                 best = d;
                 memcpy(q, r, 3 * sizeof *q);
-                feat = w == 2 ? FEAT_SIDE + k : (k + w) % 3;
+                feat = f == 2 ? FEAT_SIDE + k : (k + f) % 3;
+                double ws[3] = {0, 0, 0};
+                ws[k] = 1 - t;
+                ws[(k + 1) % 3] = t;
+                set_w(w, ws[0], ws[1], ws[2]);
             }
         }
         return feat;
     }
-    double v = vb / den, w = vc / den;
+    double v = vb / den, t = vc / den;
     for (int k = 0; k < 3; k++)
-        q[k] = a[k] + v * ab[k] + w * ac[k];
+        q[k] = a[k] + v * ab[k] + t * ac[k];
+    set_w(w, 1 - v - t, v, t);
     return FEAT_INTERIOR;
 }
 
@@ -361,7 +389,7 @@ double md_bvh_nearest(const md_bvh *h, const md_elements *el, const double x[3],
                 for (int64_t j = n->right; j < n->right + n->count; j++) {
                     const double *c = h->corner + 9 * j;
                     double q[3];
-                    int feat = closest_on_tri(x, c, c + 3, c + 6, q);
+                    int feat = md_closest_on_tri(x, c, c + 3, c + 6, q, NULL);
                     double d2 = dist2(x, q);
                     if (d2 > best2)
                         continue;
@@ -498,7 +526,7 @@ static void within_walk(const md_bvh *h, const md_elements *el, const double x[3
         for (int64_t j = n->right; j < n->right + n->count; j++) {
             const double *c = h->corner + 9 * j;
             double q[3];
-            closest_on_tri(x, c, c + 3, c + 6, q);
+            md_closest_on_tri(x, c, c + 3, c + 6, q, NULL);
             if (!(dist2(x, q) <= R2))
                 continue;
             int64_t t = h->tri[j];
@@ -506,7 +534,7 @@ static void within_walk(const md_bvh *h, const md_elements *el, const double x[3
             for (int k = 0; k < 3; k++) {
                 int64_t se = el->side_elem[3 * t + k], ce = el->corner_elem[3 * t + k];
                 if (se >= el->nfaces) {
-                    closest_on_seg(x, c + 3 * k, c + 3 * ((k + 1) % 3), q);
+                    md_closest_on_seg(x, c + 3 * k, c + 3 * ((k + 1) % 3), q, NULL);
                     if (dist2(x, q) <= R2)
                         hits_add(s, se);
                 }

@@ -159,6 +159,14 @@ int md_root_on_segment(const md_elements *el, int64_t a, int64_t b, const double
 
 /* ---- bvh.c: the BVH, the distance field ---------------------------------------------- */
 
+/* Closest points (Ericson 5.1.2 and 5.1.5), shared by the BVH and the wall thickness.
+ * md_closest_on_seg: q on segment ab, returns 0 (a), 1 (b) or 2 (between); *t (may be
+ * NULL) its parameter.  md_closest_on_tri: q on triangle abc, returns the feature (0..2
+ * corners, 3..5 sides, 6 interior); w (may be NULL) q's barycentric weights of a, b, c. */
+int md_closest_on_seg(const double *p, const double *a, const double *b, double *q, double *t);
+int md_closest_on_tri(const double *p, const double *a, const double *b, const double *c,
+                      double *q, double *w);
+
 /* A bounding-volume hierarchy over the non-degenerate triangles of el (design 2): median
  * splits on centroid Morton codes (deterministic), leaves of <= 4 triangles, double
  * AABBs.  Immutable after md_bvh_build: queries from many threads at once are safe. */

@@ -13,7 +13,7 @@ One module per C family, all re-exported here (``from mfgeom import core; core.X
     mesh        mesh_check, weld                             (libcore/src/mesh)
     sweep       rotational_sweep                             (libcore/src/sweep)
     axis2d      medial_axis                                  (libcore/src/axis2d)
-    medial      medial_surface                               (libcore/src/medial)
+    medial      medial_surface, wall_thickness               (libcore/src/medial)
 
 Importing this package never loads the library; the first call does.  Callers use the
 names re-exported here, not the modules' (``core.medial_surface`` can be replaced in a
@@ -47,8 +47,8 @@ from mfgeom.core.axis2d import (  # noqa: F401
     MedialAxis, MedialBranch, MedialJunctions, _MedialAxis, medial_axis)
 from mfgeom.core.medial import (  # noqa: F401
     BISECTOR_FORMS, ELEMENT_KINDS, MEDIAL_FULL, MEDIAL_KINDS, MedialSeam, MedialSheet,
-    MedialSurface, MedialSurfaceJunctions, _convert_medial, _copy_array, _Medial,
-    medial_surface)
+    MedialSurface, MedialSurfaceJunctions, WALL_ANGLE, WallThickness, _convert_medial,
+    _copy_array, _Medial, medial_surface, wall_thickness)
 
 
 __all__ = [
@@ -59,14 +59,14 @@ __all__ = [
     "ON", "OUT", "RAY_BLOCKED_NEG", "RAY_BLOCKED_POS", "RAY_GRAZES_NEG", "RAY_GRAZES_POS",
     "Region", "SweepResult", "VisibilityMap", "classify_points", "level_regions", "load",
     "max_intersection", "medial_axis", "medial_surface", "mesh_check", "min_intersection",
-    "ray_blocked", "rotational_sweep", "sanitizers", "version", "visibility_map", "weld",
-    "library_path"]
+    "ray_blocked", "rotational_sweep", "sanitizers", "version", "visibility_map", "wall_thickness",
+    "weld", "WALL_ANGLE", "WallThickness", "library_path"]
 
 # The public classes keep the name they had when core was one module (tracebacks,
 # reprs and pickles say mfgeom.core.MfgError, not mfgeom.core.status.MfgError).
 for _cls in (Cancelled, MfgError, Region, VisibilityMap, Intersection, MeshReport,
              SweepResult, MedialAxis, MedialBranch, MedialJunctions, MedialSeam, MedialSheet,
-             MedialSurface, MedialSurfaceJunctions):
+             MedialSurface, MedialSurfaceJunctions, WallThickness):
     _cls.__module__ = __name__
 del _cls
 

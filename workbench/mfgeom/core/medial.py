@@ -238,3 +238,70 @@ def medial_surface(vertices: ArrayLike, triangles: ArrayLike, tolerance: float,
         return _convert_medial(res.contents)
     finally:
         _lib.mfg_medial_free(res)
+
+
+_lib.mfg_wall_thickness.restype = ctypes.c_int
+_lib.mfg_wall_thickness.argtypes = [_c_double_p, ctypes.c_int64, _c_int64_p, ctypes.c_int64,
+                                    ctypes.c_double, ctypes.c_uint32, ctypes.c_int32,
+                                    _c_double_p, ctypes.c_int64, ctypes.c_double,
+                                    _c_double_p, _c_double_p, _c_double_p, _c_progress_p]
+
+WALL_ANGLE = 2.0943951023931957     # MFG_WALL_ANGLE: 120 degrees, in radians
+
+
+class WallThickness:
+    """Result of :func:`wall_thickness`, per query point: ``thickness`` (m,) the diameter
+    of the point's maximal inscribed ball, ``centres`` (m, 3) that ball's centre, ``gaps``
+    (m,) the distance from the point to the point the ball touches (0 up to rounding
+    where the ball touches the point itself)."""
+
+    def __init__(self, thickness, centres, gaps):
+        self.thickness, self.centres, self.gaps = thickness, centres, gaps
+
+    def __len__(self):
+        return len(self.thickness)
+
+    def __repr__(self):
+        if not len(self):
+            return "WallThickness(0 points)"
+        return (f"WallThickness({len(self)} points, thickness "
+                f"{self.thickness.min():.6g} .. {self.thickness.max():.6g})")
+
+
+def wall_thickness(vertices: ArrayLike, triangles: ArrayLike, points: ArrayLike,
+                   tolerance: float, min_angle: float = WALL_ANGLE, major_only: bool = True,
+                   threads: int = 0, progress: ProgressFn = None) -> WallThickness:
+    """Local wall thickness at ``points`` (m, 3) on the boundary of the solid bounded by
+    the closed mesh (``vertices``, ``triangles`` as :func:`medial_surface`): the diameter
+    of the maximal inscribed ball touching each point, from the medial surface at
+    ``tolerance`` (``major_only`` as there).  Balls count as a wall's when two of the
+    points they touch are at least ``min_angle`` (radians, in (0, pi]; default 120
+    degrees) apart seen from the centre, so convex corners are not thin; a point no wall
+    ball touches takes the ball of the nearest point one touches (mfgeom.h,
+    mfg_medial_thickness).  Errors as :func:`medial_surface`, plus non-finite points and
+    a min_angle out of range (MfgError); a medial surface with no wall ball raises
+    MfgError (degenerate).  ``progress``: the medial stages, then "thickness: balls",
+    "thickness: points", "thickness: done"."""
+    if not isinstance(major_only, (bool, np.bool_)):
+        raise TypeError(f"major_only must be True or False, got {major_only!r:.40}")
+    if isinstance(threads, (bool, np.bool_)) or not isinstance(threads, numbers.Integral):
+        raise TypeError(f"threads must be an int, got {threads!r:.40}")
+    if not -2**31 <= int(threads) < 2**31:
+        raise ValueError(f"threads {int(threads)} does not fit in int32")
+    xyz = _as_vertices(vertices)
+    tri = _as_triangles(triangles)
+    pts = _as_vertices(points, "points")
+    tolerance = _as_float(tolerance, "tolerance")
+    min_angle = _as_float(min_angle, "min_angle")
+    m = len(pts)
+    thickness = np.empty(m, dtype=np.float64)
+    centres = np.empty((m, 3), dtype=np.float64)
+    gaps = np.empty(m, dtype=np.float64)
+    prog = _ProgressCall(progress)
+    prog.call(_lib.mfg_wall_thickness, _ptr(xyz, ctypes.c_double), len(xyz),
+              _ptr(tri, ctypes.c_int64), len(tri), tolerance,
+              0 if major_only else MEDIAL_FULL, int(threads),
+              _ptr(pts, ctypes.c_double), m, min_angle,
+              _ptr(thickness, ctypes.c_double), _ptr(centres, ctypes.c_double),
+              _ptr(gaps, ctypes.c_double), prog.arg)
+    return WallThickness(thickness, centres, gaps)
