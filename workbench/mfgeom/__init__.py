@@ -156,3 +156,15 @@ def make_mould_blocks(doc, analysis, margin=10.0, zero_draft_side="Cavity", name
     :func:`mfgeom.app.mould_feature.make_mould_blocks`."""
     from mfgeom.app.mould_feature import make_mould_blocks as _make
     return _make(doc, analysis, margin=margin, zero_draft_side=zero_draft_side, name=name)
+
+
+@needs_library
+def make_thickness_analysis(doc, source, min_thickness, max_thickness, **kwargs):
+    """Create the wall-thickness analysis of ``source`` (``ThicknessAnalysis`` with
+    ``MinThickness``, ``MaxThickness`` (mm, the thin / thick thresholds), per-sample
+    ``VertexThickness`` and per-face ``FaceMin/Max/MeanThickness``): the diameter of the
+    maximal inscribed ball touching each point, from the medial surface.  Keywords:
+    ``tolerance``, ``deflection``, ``sample_spacing``, ``min_angle`` (degrees), ``name``.  See
+    :func:`mfgeom.app.thickness_feature.make_thickness_analysis`."""
+    from mfgeom.app.thickness_feature import make_thickness_analysis as _make
+    return _make(doc, source, min_thickness, max_thickness, **kwargs)

@@ -157,6 +157,30 @@ THICKNESS_RAMP = (
     _rgb(40, 80, 170),
     _rgb(20, 30, 90),      # thickest
 )
+# The wall-thickness analysis (issue 21): thickness inside the user's window [minimum,
+# maximum] on the blue half of the thickness ramp (pale: thinnest allowed, dark blue:
+# thickest allowed); thin walls (below the minimum) in the ramp's pink, thick ones (above
+# the maximum) in brown.  Both are >= 30 CIELAB units from every colour of that half
+# ramp, the selection and pre-selection colours and the shape grey, and >= 42 from each
+# other, for normal, protan and deutan vision (magenta was 20 from the light blue for a
+# deuteranope, vermillion 11 from the selection green).
+WALL_RAMP = THICKNESS_RAMP[3:]
+THIN_WALL = _rgb(200, 60, 130)
+THICK_WALL = _rgb(120, 60, 20)
+WALL_MARK = _rgb(0, 0, 0)     # the thinnest and thickest spots' markers and labels
+
+
+def wall_colors(values, lo, hi):
+    """(n, 3) colours of wall thickness ``values`` with the window [lo, hi]: THIN_WALL
+    below lo, THICK_WALL above hi, WALL_RAMP in between.  Needs numpy."""
+    import numpy as np
+    v = np.asarray(values, dtype=np.float64).reshape(-1)
+    out = ramp_colors(v, lo, hi, WALL_RAMP) if len(v) else np.zeros((0, 3))
+    out[v < lo] = THIN_WALL
+    out[v > hi] = THICK_WALL
+    return out
+
+
 # Seams (curves where three or more boundary elements are equidistant) and junctions.
 SEAM = _rgb(0, 0, 0)
 JUNCTION = _rgb(0, 0, 0)     # drawn as larger points on the seams

@@ -540,10 +540,13 @@ mfg_status mfg_wall_thickness(const double *xyz, int64_t nvertices, const int64_
     if (st == MFG_ERR_CANCELLED)
         return mfg_fail(st, "%s: cancelled in stage \"%s\"", call, relay.stage);
     if (st != MFG_OK) {
+        /* The detail names this call, not the one it made. */
+        static const char inner_call[] = "mfg_medial_surface: ";
         char detail[512];
         const char *e = mfg_last_error();
-        const char *colon = strstr(e, ": ");
-        snprintf(detail, sizeof detail, "%s", colon ? colon + 2 : e);
+        if (strncmp(e, inner_call, sizeof inner_call - 1) == 0)
+            e += sizeof inner_call - 1;
+        snprintf(detail, sizeof detail, "%s", e);
         return mfg_fail(st, "%s: %s", call, detail);
     }
     mfg_prog prog;

@@ -99,26 +99,39 @@ def _meshed_copy(shape, deflection):
     return copy
 
 
-def source_mesh(shape, deflection):
-    """(vertices (n, 3), triangles (t, 3), curved (t,) bool) of the solids of ``shape``
-    (global coordinates as the shape is placed): its faces tessellated one by one at
-    ``deflection`` (planar faces exactly), welded where corners coincide (OCCT meshes a
-    shared edge once, so neighbouring faces share its nodes) and then where they differ
-    by a few ulps (each face's copy of those nodes is moved by the face's own location:
-    :func:`mfgeom.geometry.mesh.merge_near_vertices`)."""
-    from mfgeom import core
-    from mfgeom.geometry.mesh import merge_near_vertices
+def face_meshes(shape, deflection):
+    """[(face index in ``shape.Faces``, points (n, 3), triangles (t, 3), planar?)] of the
+    faces of the solids of ``shape`` tessellated one by one at ``deflection`` (planar
+    faces exactly), as :func:`source_mesh` welds them; faces OCCT gives no triangles are
+    left out."""
     shape = _meshed_copy(shape, deflection)
-    soup, curved = [], []
+    index = {face.hashCode(): i for i, face in enumerate(shape.Faces)}
+    out = []
     for solid in shape.Solids:
         for face in solid.Faces:
             points, tris = face.tessellate(deflection)
             if not tris:
                 continue
             p = np.array([(q.x, q.y, q.z) for q in points], dtype=np.float64).reshape(-1, 3)
-            soup.append(p[np.asarray(tris, dtype=np.int64)].reshape(-1, 9))
-            is_plane = type(face.Surface).__name__ == "Plane"
-            curved.append(np.full(len(tris), not is_plane))
+            out.append((index.get(face.hashCode(), -1), p,
+                        np.asarray(tris, dtype=np.int64).reshape(-1, 3),
+                        type(face.Surface).__name__ == "Plane"))
+    return out
+
+
+def source_mesh(shape, deflection):
+    """(vertices (n, 3), triangles (t, 3), curved (t,) bool) of the solids of ``shape``
+    (global coordinates as the shape is placed): its faces tessellated one by one at
+    ``deflection`` (planar faces exactly, :func:`face_meshes`), welded where corners
+    coincide (OCCT meshes a shared edge once, so neighbouring faces share its nodes) and
+    then where they differ by a few ulps (each face's copy of those nodes is moved by the
+    face's own location: :func:`mfgeom.geometry.mesh.merge_near_vertices`)."""
+    from mfgeom import core
+    from mfgeom.geometry.mesh import merge_near_vertices
+    soup, curved = [], []
+    for _index, p, tris, is_plane in face_meshes(shape, deflection):
+        soup.append(p[tris].reshape(-1, 9))
+        curved.append(np.full(len(tris), not is_plane))
     if not soup:
         raise SweepInputError("the source has no faces to mesh")
     vertices, triangles = core.weld(np.vstack(soup))

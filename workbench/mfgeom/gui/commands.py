@@ -193,6 +193,25 @@ class MouldBlocksCommand(_MouldCommand):
                "analysis in Mould mode; the parting line and surface are made too.")
 
 
+class ThicknessAnalysisCommand(BaseCommand):
+    """Wall thickness of a solid from its medial surface (issue 21, section 4)."""
+
+    icon = "mfgeom_thickness.svg"
+    menu_text = "Thickness analysis"
+    tooltip = ("Wall thickness of a moulded part: the diameter of the largest inscribed "
+               "ball touching each point,
+coloured on the part (pink: thinner than the "
+               "minimum, brown: thicker than the maximum),
+the thinnest and thickest spots "
+               "marked, a histogram and CSV.
+Select a solid; the task panel asks for the "
+               "thresholds.")
+
+    def panel_for(self, selection):
+        from mfgeom.gui import medial_panel, thickness_panel
+        return thickness_panel.ThicknessPanel(medial_panel.solid_from_selection(selection))
+
+
 COMMANDS = {"Mfgeom_PartingAnalysis": PartingAnalysisCommand(),
             "Mfgeom_ClassifyPoints": ClassifyPointsCommand(),
             "Mfgeom_RotationalSweep": RotationalSweepCommand()}
@@ -208,6 +227,7 @@ COMMANDS["Mfgeom_MidSurface"] = MidSurfaceCommand()
 COMMANDS["Mfgeom_PartingLine"] = PartingLineCommand()
 COMMANDS["Mfgeom_PartingSurface"] = PartingSurfaceCommand()
 COMMANDS["Mfgeom_MouldBlocks"] = MouldBlocksCommand()
+COMMANDS["Mfgeom_ThicknessAnalysis"] = ThicknessAnalysisCommand()
 
 for _name, _command in COMMANDS.items():
     FreeCADGui.addCommand(_name, _command)

@@ -96,8 +96,13 @@ class Legend:
             self.slot, self.count = slot, count
             self._redraw()
 
-    def update(self, lo, hi, title="Thickness"):
+    def update(self, lo, hi, title="Thickness", ramp=None, notes=()):
+        """``ramp``: the bar's colours (default palette.THICKNESS_RAMP); ``notes``:
+        (colour, text) swatches drawn below the bar (the thickness analysis' thin and
+        thick colours)."""
         self._scale = (lo, hi, title)
+        self._ramp = ramp or palette.THICKNESS_RAMP
+        self._notes = list(notes)
         self._redraw()
 
     def _redraw(self):
@@ -114,7 +119,8 @@ class Legend:
         pts = [(x, y, 0.0) for y in ys for x in (x0, x1)]
         coords.point.setValues(0, len(pts), pts)
         colours = coin.SoMaterial()
-        cols = [palette.ramp_color(k / n) for k in range(n + 1) for _ in (0, 1)]
+        ramp = getattr(self, "_ramp", None) or palette.THICKNESS_RAMP
+        cols = [palette.ramp_color(k / n, ramp) for k in range(n + 1) for _ in (0, 1)]
         colours.diffuseColor.setValues(0, len(cols), cols)
         binding = coin.SoMaterialBinding()
         binding.value = coin.SoMaterialBinding.PER_VERTEX_INDEXED
@@ -145,6 +151,22 @@ class Legend:
         rows = [((y0 + y1) / 2 if len(self.labels) == 1 else y0 + (y1 - y0) * t, text)
                 for t, text in ticks]
         rows.append((y1 + 0.08, f"{title} (2 x radius)"))
+        for k, (colour, text) in enumerate(getattr(self, "_notes", ())):
+            y = y0 - 0.09 * (k + 1)
+            swatch = coin.SoSeparator()
+            base = coin.SoBaseColor()
+            base.rgb.setValue(*colour)
+            corners = coin.SoCoordinate3()
+            square = [(x0, y, 0.0), (x1, y, 0.0), (x1, y + 0.05, 0.0), (x0, y + 0.05, 0.0)]
+            corners.point.setValues(0, 4, square)
+            face = coin.SoFaceSet()
+            face.numVertices.setValue(4)
+            overall = coin.SoMaterialBinding()
+            overall.value = coin.SoMaterialBinding.OVERALL
+            for node in (overall, base, corners, face):
+                swatch.addChild(node)
+            self._bar.addChild(swatch)
+            rows.append((y + 0.01, text))
         for y, text in rows:
             sep = coin.SoSeparator()
             colour = coin.SoBaseColor()
@@ -277,13 +299,19 @@ class ColouredSheets:
         self.triangle_count = 0
         self.colours = np.zeros((0, 3))
 
-    def update(self, points, triangles, thickness):
+    def update(self, points, triangles, thickness, colours=None):
+        """``colours`` (n, 3): given per point instead of the ramp's (the thickness
+        analysis' window colours)."""
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
         tri = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
         thick = np.asarray(thickness, dtype=np.float64).reshape(-1)
         lo, hi = (float(thick.min()), float(thick.max())) if len(thick) else (0.0, 0.0)
         self.triangle_count = len(tri)
-        self.colours = palette.ramp_colors(thick, lo, hi) if len(pts) else np.zeros((0, 3))
+        if colours is not None and len(pts):
+            self.colours = np.asarray(colours, dtype=np.float64).reshape(-1, 3)
+        else:
+            self.colours = (palette.ramp_colors(thick, lo, hi) if len(pts)
+                            else np.zeros((0, 3)))
         self._coords.point.setNum(len(pts))
         self._material.diffuseColor.setNum(len(pts))
         if len(pts):
