@@ -68,6 +68,8 @@ app_suite "medial axis / surface tests" test_medial_app.py freecad-medial
 # a traceback for each Path object it cannot restore (PathScripts moved): not ours, and
 # the tests' own failures are in the summary line
 app_suite "mould tests" test_mould_app.py freecad-mould tracebacks-ok
+# the thickness analysis opens OCCT's bottle from the corpus (no Path objects)
+app_suite "thickness tests" test_thickness_app.py freecad-thickness
 # the corpus test runs each part in a child process; a child's traceback is its report
 app_suite "corpus of real parts" test_corpus_app.py freecad-corpus tracebacks-ok
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-or-later
-# Runs the GUI tests (tests/gui/test_gui*.py: point classification, parting, clearance, sweep, cancel, mould, medial, library) in
+# Runs the GUI tests (tests/gui/test_gui*.py: point classification, parting, clearance, sweep, cancel, mould, thickness, medial, library) in
 # FreeCAD under a virtual X server and fails on a failed test, a missing summary line or any Python traceback in the log.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
@@ -83,6 +83,12 @@ report freecad-gui-cancel "$cancel_log" $rc
 run_gui mould
 mould_log=$gui_log rc=$gui_rc
 report freecad-gui-mould "$mould_log" $rc
+
+# The thickness analysis (issue 21, section 4) on the ribbed tray:
+# tests/gui/test_gui_thickness.py.
+run_gui thickness
+thickness_log=$gui_log rc=$gui_rc
+report freecad-gui-thickness "$thickness_log" $rc
 
 # The medial axis and surface (issue 9) on the ribbed tray: tests/gui/test_gui_medial.py.
 run_gui medial

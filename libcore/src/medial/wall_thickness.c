@@ -90,22 +90,25 @@ static void element_foot(const mfg_medial *m, int64_t e, const double x[3], doub
     }
 }
 
-/* Largest angle at x between the feet of two of the elements ids[0 .. n-1] (0 where a
- * foot coincides with x: a ball of no size separates nothing). */
-static double object_angle(const mfg_medial *m, const int64_t *ids, int64_t n, const double x[3])
+/* Largest angle at x between the feet of two of the elements ids[0 .. n-1].  Feet within
+ * eps of x give no direction: a ball of no size (a seam ending on the boundary, r = 0 up
+ * to rounding) separates nothing -- its rounded directions once made every facet corner
+ * of a tessellated ball a "wall" 0 thick. */
+static double object_angle(const mfg_medial *m, const int64_t *ids, int64_t n, const double x[3],
+                           double eps)
 {
     double best = 0;
     for (int64_t a = 0; a < n; a++) {
         double fa[3], da[3];
         element_foot(m, ids[a], x, fa);
         mfg_sub3(fa, x, da);
-        if (!(mfg_dot3(da, da) > 0))
+        if (!(mfg_dot3(da, da) > eps * eps))
             continue;
         for (int64_t b = a + 1; b < n; b++) {
             double fb[3], db[3];
             element_foot(m, ids[b], x, fb);
             mfg_sub3(fb, x, db);
-            if (!(mfg_dot3(db, db) > 0))
+            if (!(mfg_dot3(db, db) > eps * eps))
                 continue;
             double ang = mfg_angle3(da, db);
             if (ang > best)
@@ -149,6 +152,16 @@ static int collect_feet(foot_tree *t, const mfg_medial *m, double min_angle, mfg
                         int *stopped)
 {
     int64_t units = m->nsheets + m->nseams + 1;
+    /* eps: rounding of the medial computations (MD_ROUND_REL of the polyhedron's size) */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t v = 0; v < m->nvertices; v++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], m->vertex_points[3 * v + k]);
+            hi[k] = fmax(hi[k], m->vertex_points[3 * v + k]);
+        }
+    double span[3];
+    mfg_sub3(hi, lo, span);
+    double eps = m->nvertices ? MD_ROUND_REL * mfg_norm3(span) : 0;
     for (int64_t s = 0; s < m->nsheets; s++) {
         if (!mfg_prog_poll(prog, (double)s, (double)units)) {
             *stopped = 1;
@@ -163,7 +176,7 @@ static int collect_feet(foot_tree *t, const mfg_medial *m, double min_angle, mfg
             double rs[3] = {r[tri[0]], r[tri[1]], r[tri[2]]}, mid[3];
             for (int k = 0; k < 3; k++)
                 mid[k] = (cs[0][k] + cs[1][k] + cs[2][k]) / 3;
-            if (object_angle(m, ids, 2, mid) < min_angle)
+            if (object_angle(m, ids, 2, mid, eps) < min_angle)
                 continue;
             if (!push_feet(t, m, ids, 2, cs, rs, 3))
                 return 0;
@@ -181,14 +194,14 @@ static int collect_feet(foot_tree *t, const mfg_medial *m, double min_angle, mfg
             /* Each point, then each segment to the next point. */
             const double *cs[2] = {m->seam_points + 3 * i, m->seam_points + 3 * (i + 1)};
             double rs[2] = {m->seam_radii[i], i + 1 < p1 ? m->seam_radii[i + 1] : 0};
-            if (object_angle(m, ids, nids, cs[0]) >= min_angle &&
+            if (object_angle(m, ids, nids, cs[0], eps) >= min_angle &&
                 !push_feet(t, m, ids, nids, cs, rs, 1))
                 return 0;
             if (i + 1 < p1) {
                 double mid[3];
                 for (int k = 0; k < 3; k++)
                     mid[k] = (cs[0][k] + cs[1][k]) / 2;
-                if (object_angle(m, ids, nids, mid) >= min_angle &&
+                if (object_angle(m, ids, nids, mid, eps) >= min_angle &&
                     !push_feet(t, m, ids, nids, cs, rs, 2))
                     return 0;
             }
@@ -198,7 +211,7 @@ static int collect_feet(foot_tree *t, const mfg_medial *m, double min_angle, mfg
         const int64_t *ids = m->junction_elements + m->junction_element_offsets[j];
         int64_t nids = m->junction_element_offsets[j + 1] - m->junction_element_offsets[j];
         const double *cs[1] = {m->junction_points + 3 * j};
-        if (object_angle(m, ids, nids, cs[0]) >= min_angle &&
+        if (object_angle(m, ids, nids, cs[0], eps) >= min_angle &&
             !push_feet(t, m, ids, nids, cs, m->junction_radii + j, 1))
             return 0;
     }

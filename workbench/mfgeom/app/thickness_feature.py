@@ -55,8 +55,10 @@ TOLERANCE_FRACTION = 0.005      # default tolerance and deflection: 0.5 % of the
 SPACING_FRACTION = 0.01         # default sample spacing: 1 % of the diagonal
 DEFAULT_MIN_ANGLE = 120.0       # degrees: mfgeom.h MFG_WALL_ANGLE
 HISTOGRAM_BINS = 12
-# Samples at most this many (a finer SampleSpacing raises instead of eating the memory).
+# Sample triangles at most this many (a finer SampleSpacing raises instead of eating the
+# memory); the default spacing aims at about TARGET_SAMPLES.
 MAX_SAMPLES = 2_000_000
+TARGET_SAMPLES = 40_000
 
 
 class ThicknessInputError(InputError):
@@ -64,52 +66,68 @@ class ThicknessInputError(InputError):
 
 
 # ---------------------------------------------------------------------------- geometry
-def _subdivide(points, triangles, spacing):
-    """(points, triangles) of the triangles split into k x k similar triangles each, k
-    the smallest making every side <= ``spacing``; the points shared along a triangle's
-    sides are welded (the mesh stays connected for smooth colours)."""
-    from mfgeom import core
+def _levels(points, triangles, spacing):
+    """Per triangle the subdivision level k (k x k similar triangles) making every side
+    <= ``spacing``."""
     p = points[triangles]                                   # (t, 3, 3)
     sides = np.linalg.norm(p - np.roll(p, 1, axis=1), axis=2).max(axis=1)
-    ks = np.maximum(1, np.ceil(sides / spacing).astype(np.int64))
+    return np.maximum(1, np.ceil(sides / spacing)).astype(np.int64)
+
+
+def _subdivide(points, triangles, ks):
+    """(points, triangles) of the triangles split into k x k similar triangles each
+    (``ks`` per triangle, :func:`_levels`); the points shared along a triangle's sides are
+    welded (the mesh stays connected for smooth colours)."""
+    from mfgeom import core
+    p = points[triangles]
     soup = []
-    for k in np.unique(ks):
+    for k in np.unique(ks).tolist():
         tri = p[ks == k]
         # barycentric grid of level k: small triangles (i, j) up and down
         bary = []
         for i in range(k):
             for j in range(k - i):
-                up = ((i, j), (i + 1, j), (i, j + 1))
-                bary.append(up)
+                bary.append(((i, j), (i + 1, j), (i, j + 1)))
                 if j + i + 1 < k:
                     bary.append(((i + 1, j), (i + 1, j + 1), (i, j + 1)))
         w = np.array([[(1 - (a + b) / k, a / k, b / k) for a, b in corners]
                       for corners in bary])                 # (s, 3 corners, 3 weights)
         sub = np.einsum("scw,twx->tscx", w, tri)           # (t, s, 3, 3)
         soup.append(sub.reshape(-1, 9))
-    vertices, tris = core.weld(np.vstack(soup))
-    return vertices, tris
+    return core.weld(np.vstack(soup))
 
 
 def sample_mesh(shape, deflection, spacing):
     """(points (n, 3), triangles (t, 3), face index per point (n,)) of the faces of
     ``shape`` tessellated at ``deflection`` and subdivided to ``spacing``; the points of
-    each face are its own (a point on an edge appears once per face)."""
+    each face are its own (a point on an edge appears once per face).  The number of
+    triangles is counted before any is made: more than MAX_SAMPLES raise
+    ThicknessInputError (a spacing far too fine for the part must not eat the memory)."""
     from mfgeom.app.sweep_feature import face_meshes
+    meshes = [(index, p, t, _levels(p, t, spacing))
+              for index, p, t, _planar in face_meshes(shape, deflection)]
+    if not meshes:
+        raise ThicknessInputError("the source has no faces to mesh")
+    count = sum(int((ks.astype(np.float64) ** 2).sum()) for _i, _p, _t, ks in meshes)
+    if count > MAX_SAMPLES:
+        raise ThicknessInputError(
+            f"the sample spacing {spacing:.4g} mm gives about {count} samples (at most "
+            f"{MAX_SAMPLES}); choose a larger spacing")
     pts, tris, faces, base = [], [], [], 0
-    for index, p, t, _planar in face_meshes(shape, deflection):
-        v, f = _subdivide(p, t, spacing)
+    for index, p, t, ks in meshes:
+        v, f = _subdivide(p, t, ks)
         pts.append(v)
         tris.append(f + base)
         faces.append(np.full(len(v), index, dtype=np.int64))
         base += len(v)
-        if base > MAX_SAMPLES:
-            raise ThicknessInputError(
-                f"the sample spacing {spacing:.4g} mm gives more than {MAX_SAMPLES} samples; "
-                f"choose a larger spacing")
-    if not pts:
-        raise ThicknessInputError("the source has no faces to mesh")
     return np.vstack(pts), np.vstack(tris), np.concatenate(faces)
+
+
+def default_spacing(shape):
+    """1 % of the bounding-box diagonal, coarser where that would give more than about
+    TARGET_SAMPLES samples (a sample per (spacing^2 / 2) of area)."""
+    return max(SPACING_FRACTION * shape.BoundBox.DiagonalLength,
+               math.sqrt(2.0 * shape.Area / TARGET_SAMPLES))
 
 
 def vertex_areas(points, triangles):
@@ -390,7 +408,8 @@ def make_thickness_analysis(doc: "FreeCAD.Document", source: "FreeCAD.DocumentOb
     """Create the wall-thickness analysis of ``source`` (an object with a solid Shape in
     ``doc``) and compute it.  ``min_thickness`` / ``max_thickness``: the thresholds (mm, a
     length Quantity or "1.5 mm"); ``tolerance`` and ``deflection`` default to 0.5 % and
-    ``sample_spacing`` to 1 % of the source's bounding-box diagonal; ``min_angle``
+    ``sample_spacing`` to 1 % of the source's bounding-box diagonal (coarser on a large
+    area: about TARGET_SAMPLES samples, :func:`default_spacing`); ``min_angle``
     (degrees): the wall angle (module doc).  Inputs are checked
     before anything is created; if the first recompute fails the object is removed again
     and the error raised.  Returns the new object."""
@@ -417,7 +436,7 @@ def make_thickness_analysis(doc: "FreeCAD.Document", source: "FreeCAD.DocumentOb
     hi = length(max_thickness, "the maximum thickness", None)
     tol = length(tolerance, "the tolerance", TOLERANCE_FRACTION * diag)
     defl = length(deflection, "the deflection", TOLERANCE_FRACTION * diag)
-    spacing = length(sample_spacing, "the sample spacing", SPACING_FRACTION * diag)
+    spacing = length(sample_spacing, "the sample spacing", default_spacing(shape))
     if lo is None or hi is None:
         raise ThicknessInputError("give the minimum and the maximum thickness")
     if isinstance(min_angle, bool) or not isinstance(min_angle, (int, float)):

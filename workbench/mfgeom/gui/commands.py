@@ -199,12 +199,9 @@ class ThicknessAnalysisCommand(BaseCommand):
     icon = "mfgeom_thickness.svg"
     menu_text = "Thickness analysis"
     tooltip = ("Wall thickness of a moulded part: the diameter of the largest inscribed "
-               "ball touching each point,
-coloured on the part (pink: thinner than the "
-               "minimum, brown: thicker than the maximum),
-the thinnest and thickest spots "
-               "marked, a histogram and CSV.
-Select a solid; the task panel asks for the "
+               "ball touching each point,\ncoloured on the part (pink: thinner than the "
+               "minimum, brown: thicker than the maximum),\nthe thinnest and thickest spots "
+               "marked, a histogram and CSV.\nSelect a solid; the task panel asks for the "
                "thresholds.")
 
     def panel_for(self, selection):
