@@ -58,7 +58,7 @@ HISTOGRAM_BINS = 12
 # Sample triangles at most this many (a finer SampleSpacing raises instead of eating the
 # memory); the default spacing aims at about TARGET_SAMPLES.
 MAX_SAMPLES = 2_000_000
-TARGET_SAMPLES = 40_000
+TARGET_SAMPLES = 60_000
 
 
 class ThicknessInputError(InputError):
@@ -123,11 +123,21 @@ def sample_mesh(shape, deflection, spacing):
     return np.vstack(pts), np.vstack(tris), np.concatenate(faces)
 
 
-def default_spacing(shape):
+def default_spacing(shape, deflection):
     """1 % of the bounding-box diagonal, coarser where that would give more than about
-    TARGET_SAMPLES samples (a sample per (spacing^2 / 2) of area)."""
-    return max(SPACING_FRACTION * shape.BoundBox.DiagonalLength,
-               math.sqrt(2.0 * shape.Area / TARGET_SAMPLES))
+    TARGET_SAMPLES sample triangles on ``shape`` tessellated at ``deflection`` (long thin
+    triangles of planar faces are split by their longest side, so the count is taken from
+    the tessellation, not the area)."""
+    from mfgeom.app.sweep_feature import face_meshes
+    spacing = SPACING_FRACTION * shape.BoundBox.DiagonalLength
+    meshes = [(p, t) for _i, p, t, _planar in face_meshes(shape, deflection)]
+    for _attempt in range(8):
+        count = sum(float((_levels(p, t, spacing).astype(np.float64) ** 2).sum())
+                    for p, t in meshes)
+        if count <= TARGET_SAMPLES:
+            break
+        spacing *= max(1.1, math.sqrt(count / TARGET_SAMPLES))
+    return spacing
 
 
 def vertex_areas(points, triangles):
@@ -436,7 +446,9 @@ def make_thickness_analysis(doc: "FreeCAD.Document", source: "FreeCAD.DocumentOb
     hi = length(max_thickness, "the maximum thickness", None)
     tol = length(tolerance, "the tolerance", TOLERANCE_FRACTION * diag)
     defl = length(deflection, "the deflection", TOLERANCE_FRACTION * diag)
-    spacing = length(sample_spacing, "the sample spacing", default_spacing(shape))
+    spacing = length(sample_spacing, "the sample spacing", None)
+    if spacing is None:
+        spacing = default_spacing(shape, defl)
     if lo is None or hi is None:
         raise ThicknessInputError("give the minimum and the maximum thickness")
     if isinstance(min_angle, bool) or not isinstance(min_angle, (int, float)):

@@ -48,7 +48,8 @@ class ThicknessPanel(MedialPanel):
             self.what.setText(f"Solid: {source.Label}")
             self.tolerance.setValue(tf.TOLERANCE_FRACTION * diag)
             self.deflection.setValue(tf.TOLERANCE_FRACTION * diag)
-            self.spacing.setValue(tf.default_spacing(solid_shape(source)))
+            self.spacing.setValue(tf.default_spacing(solid_shape(source),
+                                                     tf.TOLERANCE_FRACTION * diag))
 
     def _rows(self, layout):
         self.min_thickness = spin("minThickness", 1e-4, 1e5, 4, " mm", 1.0,
