@@ -21,6 +21,8 @@ ON OUT RAY_BLOCKED_NEG RAY_BLOCKED_POS RAY_GRAZES_NEG RAY_GRAZES_POS Region Swee
 VisibilityMap classify_points level_regions load max_intersection medial_axis
 medial_surface mesh_check min_intersection ray_blocked rotational_sweep sanitizers version
 visibility_map weld library_path""".split()
+# Added since (a name may be added): the wall thickness (issue 21, section 4).
+PUBLIC += ["WALL_ANGLE", "WallThickness", "wall_thickness"]
 
 # Every private name of core.py but its loop variables (_name, _extra).
 PRIVATE = """_Function _Library _MESH_ARGS _MESH_COUNTS _Medial _MedialAxis _Mesh _MeshReport
