@@ -67,7 +67,6 @@ typedef struct foot_tree {
     foot_node *node;
     int64_t nnodes;
     double *key; /* centroids, 3 per primitive, for the build */
-    int sort_axis;
     double tie;  /* absolute: FOOT_TIE_REL times the feet's diagonal */
 } foot_tree;
 

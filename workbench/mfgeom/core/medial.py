@@ -200,6 +200,19 @@ def _convert_medial(m):
                          m.cells_visited, m.leaves, m.leaf_size)
 
 
+def _medial_flags(major_only, threads):
+    """The mfg_medial_surface flags of ``major_only``, after checking it and ``threads``
+    (TypeError / ValueError as medial_surface documents); shared by the medial entry
+    points."""
+    if not isinstance(major_only, (bool, np.bool_)):
+        raise TypeError(f"major_only must be True or False, got {major_only!r:.40}")
+    if isinstance(threads, (bool, np.bool_)) or not isinstance(threads, numbers.Integral):
+        raise TypeError(f"threads must be an int, got {threads!r:.40}")
+    if not -2**31 <= int(threads) < 2**31:
+        raise ValueError(f"threads {int(threads)} does not fit in int32")
+    return 0 if major_only else MEDIAL_FULL
+
+
 def medial_surface(vertices: ArrayLike, triangles: ArrayLike, tolerance: float,
                    major_only: bool = True, threads: int = 0,
                    progress: ProgressFn = None) -> MedialSurface:
@@ -219,15 +232,9 @@ def medial_surface(vertices: ArrayLike, triangles: ArrayLike, tolerance: float,
     int raise TypeError.  ``progress`` as for :func:`rotational_sweep` (stages
     "medial: elements", "medial: octree", "medial: sheets", "medial: junctions",
     "medial: assembly", "medial: done"; called on this thread only)."""
-    if not isinstance(major_only, (bool, np.bool_)):
-        raise TypeError(f"major_only must be True or False, got {major_only!r:.40}")
-    if isinstance(threads, (bool, np.bool_)) or not isinstance(threads, numbers.Integral):
-        raise TypeError(f"threads must be an int, got {threads!r:.40}")
-    if not -2**31 <= int(threads) < 2**31:
-        raise ValueError(f"threads {int(threads)} does not fit in int32")
+    flags = _medial_flags(major_only, threads)
     xyz = _as_vertices(vertices)
     tri = _as_triangles(triangles)
-    flags = 0 if major_only else MEDIAL_FULL
     res = ctypes.POINTER(_Medial)()
     tolerance = _as_float(tolerance, "tolerance")
     prog = _ProgressCall(progress)
@@ -282,12 +289,7 @@ def wall_thickness(vertices: ArrayLike, triangles: ArrayLike, points: ArrayLike,
     a min_angle out of range (MfgError); a medial surface with no wall ball raises
     MfgError (degenerate).  ``progress``: the medial stages, then "thickness: balls",
     "thickness: points", "thickness: done"."""
-    if not isinstance(major_only, (bool, np.bool_)):
-        raise TypeError(f"major_only must be True or False, got {major_only!r:.40}")
-    if isinstance(threads, (bool, np.bool_)) or not isinstance(threads, numbers.Integral):
-        raise TypeError(f"threads must be an int, got {threads!r:.40}")
-    if not -2**31 <= int(threads) < 2**31:
-        raise ValueError(f"threads {int(threads)} does not fit in int32")
+    flags = _medial_flags(major_only, threads)
     xyz = _as_vertices(vertices)
     tri = _as_triangles(triangles)
     pts = _as_vertices(points, "points")
@@ -300,7 +302,7 @@ def wall_thickness(vertices: ArrayLike, triangles: ArrayLike, points: ArrayLike,
     prog = _ProgressCall(progress)
     prog.call(_lib.mfg_wall_thickness, _ptr(xyz, ctypes.c_double), len(xyz),
               _ptr(tri, ctypes.c_int64), len(tri), tolerance,
-              0 if major_only else MEDIAL_FULL, int(threads),
+              flags, int(threads),
               _ptr(pts, ctypes.c_double), m, min_angle,
               _ptr(thickness, ctypes.c_double), _ptr(centres, ctypes.c_double),
               _ptr(gaps, ctypes.c_double), prog.arg)

@@ -13,7 +13,7 @@ from PySide import QtCore, QtGui
 
 from mfgeom.app import thickness_feature as tf
 from mfgeom.errors import InputError
-from mfgeom.gui.medial_panel import MedialPanel, solid_from_selection  # noqa: F401
+from mfgeom.gui.medial_panel import MedialPanel
 from mfgeom.gui.panel_base import spin
 
 BAR_WIDTH = 30   # characters of the longest histogram bar
