@@ -537,27 +537,42 @@ static double lin_slack(const md_elements *el, int64_t e, double d, double rho)
     return d > 2 * rho ? rho * rho / (2 * (d - rho)) : INFINITY;
 }
 
-/* Can every equation of S be 0 somewhere in the cube of centre c, side s (half-diagonal
- * rho)?  The paper's sign test, without corner samples, as a bound on each residual's
- * variation over the cube: a distance row r = d_p - d_q is its linearisation at c within
- * the two remainders (lin_slack), so |r(x) - r(c)| <= (s/2) |g_p - g_q|_1 + Q_p + Q_q,
- * and never more than 2 rho (a difference of two 1-Lipschitz distances).  On a faceted
- * wall the gradients of near-parallel facets differ by the facet angle, so this rules out
- * boxes ~1/angle times larger than the Lipschitz bound alone (the 5 000-triangle cup:
- * 5x fewer boxes).  A foot row (an incident pair) is affine with matrix P_a - P_b, whose
- * norm is 1 for F-E, E-V and F-V: |r(x) - r(c)| <= rho.  slack covers rounding. */
+/* Can d_p - d_q be 0 somewhere in the cube of centre c, side s (half-diagonal rho), given
+ * both carrier distances and gradients at c?  The row is its linearisation at c within the
+ * two remainders (lin_slack), so |r(x) - r(c)| <= (s/2) |g_p - g_q|_1 + Q_p + Q_q, and
+ * never more than 2 rho (a difference of two 1-Lipschitz distances).  On a faceted wall
+ * the gradients of near-parallel facets differ by the facet angle, so this rules out boxes
+ * ~1/angle times larger than the Lipschitz bound alone.  slack (4e-9 L) covers rounding;
+ * Gauss-Newton accepts residuals of 1e-9 L. */
+static int distances_may_meet(const md_elements *el, int64_t p, double dp, const double gp[3],
+                              int64_t q, double dq, const double gq[3], double s, double rho)
+{
+    double var = 0.5 * s * (fabs(gp[0] - gq[0]) + fabs(gp[1] - gq[1]) + fabs(gp[2] - gq[2])) +
+                 lin_slack(el, p, dp, rho) + lin_slack(el, q, dq, rho);
+    return fabs(dp - dq) <= fmin(var * (1 + MD_ROUND_REL), 2 * rho) + 4 * TOUCH_REL * el->diag;
+}
+
+/* Can the feet of an incident pair coincide in the cube?  Their difference is affine with
+ * matrix P_a - P_b, whose norm is 1 for F-E, E-V and F-V: it varies by <= rho. */
+static int feet_may_meet(const md_elements *el, const double fa[3], const double fb[3], double rho)
+{
+    double nr = (fa[0] - fb[0]) * (fa[0] - fb[0]) + (fa[1] - fb[1]) * (fa[1] - fb[1]) +
+                (fa[2] - fb[2]) * (fa[2] - fb[2]);
+    return sqrt(nr) <= rho * (1 + MD_ROUND_REL) + 4 * TOUCH_REL * el->diag;
+}
+
+/* Can every equation of S be 0 somewhere in the cube of centre c, side s?  The paper's
+ * sign test, without corner samples: each row's variation over the cube bounded as above
+ * (the 5 000-triangle cup: 3.5x fewer boxes than by the 2-Lipschitz bound). */
 static int may_hold(const md_elements *el, const eqsys *sy, const double c[3], double s,
                     double rho, int slot)
 {
-    double slack = 4 * TOUCH_REL * el->diag;
     if (sy->nrep) {
+        int64_t e0 = sy->S[sy->rep[0]];
         double g0[3], d0 = dist_grad_at(el, sy, sy->rep[0], c, slot, g0);
-        double Q0 = lin_slack(el, sy->S[sy->rep[0]], d0, rho);
         for (int k = 1; k < sy->nrep; k++) {
             double g[3], d = dist_grad_at(el, sy, sy->rep[k], c, slot, g);
-            double var = 0.5 * s * (fabs(g0[0] - g[0]) + fabs(g0[1] - g[1]) + fabs(g0[2] - g[2])) +
-                         Q0 + lin_slack(el, sy->S[sy->rep[k]], d, rho);
-            if (fabs(d0 - d) > fmin(var * (1 + MD_ROUND_REL), 2 * rho) + slack)
+            if (!distances_may_meet(el, e0, d0, g0, sy->S[sy->rep[k]], d, g, s, rho))
                 return 0;
         }
     }
@@ -565,9 +580,7 @@ static int may_hold(const md_elements *el, const eqsys *sy, const double c[3], d
         double fa[3], fb[3];
         foot_at(el, sy, sy->pi[p], c, slot, fa);
         foot_at(el, sy, sy->pj[p], c, slot, fb);
-        double nr = (fa[0] - fb[0]) * (fa[0] - fb[0]) + (fa[1] - fb[1]) * (fa[1] - fb[1]) +
-                    (fa[2] - fb[2]) * (fa[2] - fb[2]);
-        if (sqrt(nr) > rho * (1 + MD_ROUND_REL) + slack)
+        if (!feet_may_meet(el, fa, fb, rho))
             return 0;
     }
     return 1;
@@ -584,12 +597,20 @@ static int box_cmp(const void *pa, const void *pb)
 
 /* Subdivision for one subset S; polished points appended to out (deduplicated).  Returns
  * the new count, or -1 on NOMEM. */
+/* The leaf's elements at its centre: carrier distance, gradient and foot, and which pairs
+ * are incident (the subset walk's pair test). */
+typedef struct leafsets {
+    double d[MD_JMAX], g[MD_JMAX][3], ft[MD_JMAX][3];
+    unsigned char inc[MD_JMAX][MD_JMAX];
+} leafsets;
+
 /* The subdivision's box lists, allocated once per search. */
 typedef struct boxbuf {
     box *cur, *nxt;
     int *grp;
     eqsys sy;
     leafcache *lc;
+    leafsets ls;
 } boxbuf;
 
 /* One junction search's box, tolerance, scratch and output (md_junction_search). */
@@ -723,11 +744,12 @@ static int search_subset(const search_box *q, const int64_t *S, const int *ti, i
     return nout;
 }
 
+
 int md_junction_search(const md_jbox *B, const int64_t *T, int nT, md_junction *out, int cap)
 {
     const md_elements *el = B->el;
     const double *lo = B->lo;
-    double side = B->side, tolerance = B->tolerance;
+    double side = B->side;
     if (nT < 4 || cap <= 0)
         return 0;
     /* Elements whose Voronoi region stays away from the box touch nowhere in it: the
@@ -753,8 +775,8 @@ int md_junction_search(const md_jbox *B, const int64_t *T, int nT, md_junction *
      * element fewer, and so on down to 4 (the paper drops the farthest element; at a
      * reflex edge several are equally far, so every subset of the size is tried).  Only
      * sets whose every pair may meet in the box: two elements touching one ball have
-     * equal distances (not incident) or one foot (incident), and either difference is
-     * 2-Lipschitz, so a pair whose difference at the centre exceeds 2 rho never does. */
+     * equal distances (not incident) or one foot (incident), and a pair that cannot
+     * (distances_may_meet, feet_may_meet over the leaf) never does. */
     boxbuf bb;
     bb.cur = malloc(MAX_BOXES * sizeof(box));
     bb.nxt = malloc(MAX_BOXES * sizeof(box));
@@ -769,50 +791,29 @@ int md_junction_search(const md_jbox *B, const int64_t *T, int nT, md_junction *
     }
     memset(bb.lc->have, 0, sizeof bb.lc->have);
     search_box sbox = {*B, out, cap, &bb};
-    unsigned char compat[MD_JMAX][MD_JMAX], hopeless[MD_JMAX][MD_JMAX];
+    unsigned char compat[MD_JMAX][MD_JMAX];
+    leafsets *ls = &bb.ls;
     {
         double c[3] = {lo[0] + 0.5 * side, lo[1] + 0.5 * side, lo[2] + 0.5 * side};
-        double rho = 0.5 * sqrt(3.0) * side + 2 * TOUCH_REL * el->diag;
-        double d[MD_JMAX], ft[MD_JMAX][3], P[9];
+        double rho = 0.5 * sqrt(3.0) * side;
         for (int i = 0; i < nT; i++) { /* c is the centre of slot 0 */
-            d[i] = bb.lc->d[0][i] = md_dist_car(el, T[i], c, bb.lc->g[0][i]);
-            carrier_foot(el, T[i], c, ft[i], P);
-            memcpy(bb.lc->f[0][i], ft[i], sizeof ft[i]);
+            ls->d[i] = bb.lc->d[0][i] = md_dist_car(el, T[i], c, bb.lc->g[0][i]);
+            memcpy(ls->g[i], bb.lc->g[0][i], sizeof ls->g[i]);
+            double P[9];
+            carrier_foot(el, T[i], c, ls->ft[i], P);
+            memcpy(bb.lc->f[0][i], ls->ft[i], sizeof ls->ft[i]);
             bb.lc->have[0][i] = 3;
         }
+        /* The subdivision's first test, for every pair at once: a subset with a pair that
+         * cannot meet in the leaf has no box left after level 0, so it is not enumerated
+         * (whole branches of the subset walk die here). */
         for (int i = 0; i < nT; i++)
             for (int j = 0; j < nT; j++) {
-                double diff = fabs(d[i] - d[j]);
-                if (md_incident(el, T[i], T[j])) {
-                    double f0 = ft[i][0] - ft[j][0], f1 = ft[i][1] - ft[j][1], f2 = ft[i][2] - ft[j][2];
-                    diff = sqrt(f0 * f0 + f1 * f1 + f2 * f2);
-                }
-                compat[i][j] = diff <= 2 * rho;
-            }
-        /* A point polished from a subset is kept only within tolerance of the leaf and
-         * where every element of the subset touches (md_junction_polish): two
-         * elements' distances then differ by <= 2 tol.  Over the leaf grown by
-         * tolerance (half-side h, inside the ball of radius R = sqrt(3) h about the
-         * centre c), a face's distance is affine and a line's or point's is its
-         * linearisation at c plus between 0 and R^2 / (2 d(c)) (when d(c) > R), so
-         * d_i - d_j lies within [a - G - Q_j, a + G + Q_i], a its value at c, G =
-         * |grad_i(c) - grad_j(c)|_1 h: a pair whose interval keeps away from 0 finds
-         * nothing in any subset (near-parallel facets of a faceted wall, which the
-         * 2-Lipschitz test above keeps).  The subsets with such a pair are still counted
-         * as tried (the same subsets are searched), their subdivision is skipped.  The
-         * margin 4 tol exceeds the rounding of the computed distances by far. */
-        double tol = TOUCH_REL * el->diag, h = 0.5 * side + tolerance, R = sqrt(3.0) * h;
-        double gr[MD_JMAX][3], Q[MD_JMAX];
-        for (int i = 0; i < nT; i++) {
-            md_dist_car(el, T[i], c, gr[i]);
-            Q[i] = md_kind(el, T[i]) == MD_FACE ? 0.0 : d[i] > R ? R * R / (2 * (d[i] - R)) : INFINITY;
-        }
-        for (int i = 0; i < nT; i++)
-            for (int j = 0; j < nT; j++) {
-                double G = (fabs(gr[i][0] - gr[j][0]) + fabs(gr[i][1] - gr[j][1]) +
-                            fabs(gr[i][2] - gr[j][2])) * h * (1 + MD_ROUND_REL);
-                double a = d[i] - d[j];
-                hopeless[i][j] = a - G - Q[j] > 4 * tol || a + G + Q[i] < -4 * tol;
+                ls->inc[i][j] = i != j && md_incident(el, T[i], T[j]);
+                compat[i][j] = ls->inc[i][j]
+                                   ? feet_may_meet(el, ls->ft[i], ls->ft[j], rho)
+                                   : distances_may_meet(el, T[i], ls->d[i], ls->g[i], T[j],
+                                                        ls->d[j], ls->g[j], side, rho);
             }
     }
     int nout = 0, tried = 0;
@@ -841,14 +842,9 @@ int md_junction_search(const md_jbox *B, const int64_t *T, int nT, md_junction *
                 continue;
             }
             int64_t S[MD_JMAX];
-            int skip = 0;
-            for (int q = 0; q < k; q++) {
+            for (int q = 0; q < k; q++)
                 S[q] = T[idx[q]];
-                for (int r = 0; r < q && !skip; r++)
-                    skip = hopeless[idx[r]][idx[q]];
-            }
-            if (!skip)
-                nout = search_subset(&sbox, S, idx, k, nout);
+            nout = search_subset(&sbox, S, idx, k, nout);
             tried++;
             idx[depth]++;
         }
