@@ -543,28 +543,15 @@ static const int64_t SW_OCTA[24] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5,
 
 static double small_coord(reader *r) { return (double)(int8_t)rd_u8(r) * (1.0 / 32); }
 
-/*
- * A small mesh (at most 12 vertices, 24 triangles: the sweep of a tiny mesh at a coarse
- * tolerance takes milliseconds), an axis, an angle and a tolerance.  The mesh is either
- * generated (a box, a box with its corners moved, a tetrahedron, a star-shaped
- * octahedron: closed, or zero-volume when degenerate) and then maybe damaged (a triangle
- * dropped, flipped, repeated; an index out of range), or raw bytes.  The tolerance is
- * never below 1/8 of the input's extent about the axis point.
- * Checked: structurally invalid arguments are refused (never with NOMEM for impossible
- * counts); otherwise the sweep refuses exactly the meshes mfg_mesh_check_closed refuses,
- * with the same status; a result is a closed solid (mfg_mesh_check_closed accepts it)
- * whose stats are its own, whose volume is at least the input's and at most that of the
- * cylinder about the axis holding every turned input (widened by the tolerance).
- */
-static void fuzz_sweep(reader *r)
+/* The small mesh of the sweep and medial sections (described above fuzz_sweep), by the
+ * section's flags byte: *hostile for counts no caller can back, *structural for anything
+ * the entry points must refuse before looking at the geometry. */
+static void read_small_mesh(reader *r, uint8_t flags, double *xyz, int64_t *tri, int64_t *nvp,
+                            int64_t *ntp, int *hostilep, int *structuralp)
 {
-    g_where = "mfg_rotational_sweep";
-    uint8_t flags = rd_u8(r);
     int hostile = 0, structural = 0;
-    static double xyz[3 * SW_VERTS];
-    static int64_t tri[3 * SW_TRIS];
-    memset(xyz, 0, sizeof xyz);
-    memset(tri, 0, sizeof tri);
+    memset(xyz, 0, 3 * SW_VERTS * sizeof *xyz);
+    memset(tri, 0, 3 * SW_TRIS * sizeof *tri);
     int64_t nv, nt;
     int kind = flags & 7;
     if (kind < 5) { /* generated */
@@ -654,6 +641,35 @@ static void fuzz_sweep(reader *r)
                 structural |= tri[k] < 0 || tri[k] >= nv;
         }
     }
+
+    *nvp = nv;
+    *ntp = nt;
+    *hostilep = hostile;
+    *structuralp = structural;
+}
+
+/*
+ * A small mesh (at most 12 vertices, 24 triangles: the sweep of a tiny mesh at a coarse
+ * tolerance takes milliseconds), an axis, an angle and a tolerance.  The mesh is either
+ * generated (a box, a box with its corners moved, a tetrahedron, a star-shaped
+ * octahedron: closed, or zero-volume when degenerate) and then maybe damaged (a triangle
+ * dropped, flipped, repeated; an index out of range), or raw bytes.  The tolerance is
+ * never below 1/8 of the input's extent about the axis point.
+ * Checked: structurally invalid arguments are refused (never with NOMEM for impossible
+ * counts); otherwise the sweep refuses exactly the meshes mfg_mesh_check_closed refuses,
+ * with the same status; a result is a closed solid (mfg_mesh_check_closed accepts it)
+ * whose stats are its own, whose volume is at least the input's and at most that of the
+ * cylinder about the axis holding every turned input (widened by the tolerance).
+ */
+static void fuzz_sweep(reader *r)
+{
+    g_where = "mfg_rotational_sweep";
+    uint8_t flags = rd_u8(r);
+    int hostile, structural;
+    static double xyz[3 * SW_VERTS];
+    static int64_t tri[3 * SW_TRIS];
+    int64_t nv, nt;
+    read_small_mesh(r, flags, xyz, tri, &nv, &nt, &hostile, &structural);
 
     double ap[3], ad[3];
     uint8_t axis_mode = rd_u8(r);
@@ -769,6 +785,97 @@ static void fuzz_sweep(reader *r)
     mfg_mesh_free(res);
 }
 
+/*
+ * The medial surface (issue 22) of the sweep section's small meshes, at a coarse
+ * tolerance (1/64 .. 1/2 of the bounding-box diagonal: milliseconds), major or full,
+ * one or two threads.  Checked: structurally invalid arguments and unknown flags are
+ * refused; a mesh mfg_mesh_check_closed refuses is refused; nothing is written on
+ * failure; never MFG_ERR_INTERNAL (check_status); a result's counts and offsets are
+ * consistent, every radius finite and >= 0, every sheet triangle's indices in range.
+ */
+static void fuzz_medial(reader *r)
+{
+    g_where = "mfg_medial_surface";
+    uint8_t flags = rd_u8(r);
+    int hostile, structural;
+    static double xyz[3 * SW_VERTS];
+    static int64_t tri[3 * SW_TRIS];
+    int64_t nv, nt;
+    read_small_mesh(r, flags, xyz, tri, &nv, &nt, &hostile, &structural);
+    uint8_t tb = rd_u8(r), mode = rd_u8(r);
+    double tol = 0.1;
+    if (!structural && nv > 0) {
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int64_t k = 0; k < nv; k++)
+            for (int c = 0; c < 3; c++) {
+                lo[c] = fmin(lo[c], xyz[3 * k + c]);
+                hi[c] = fmax(hi[c], xyz[3 * k + c]);
+            }
+        double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                           (hi[2] - lo[2]) * (hi[2] - lo[2]));
+        tol = diag * (double)(1 + tb % 32) * (1.0 / 64);
+    }
+    static const double BAD_TOLS[] = {0.0, -1.0, NAN, INFINITY};
+    if (tb >= 0xFC) {
+        tol = BAD_TOLS[tb - 0xFC];
+        structural = 1;
+    }
+    if (!(tol > 0) || !isfinite(tol))
+        structural = 1;
+    uint32_t mflags = (mode & 1) ? MFG_MEDIAL_FULL : 0;
+    if ((mode & 0xF0) == 0xF0) {
+        mflags |= 1u << 7; /* an unknown flag */
+        structural = 1;
+    }
+    int32_t threads = 1 + ((mode >> 1) & 1);
+    uint8_t nulls = (flags & 8) ? rd_u8(r) : 0;
+    const double *xyzp = (nulls & 1) ? NULL : xyz;
+    const int64_t *trip = (nulls & 2) ? NULL : tri;
+    structural |= (nulls & 1 && nv > 0) || (nulls & 2 && nt > 0) || (nulls & 4);
+    mfg_status closed = MFG_ERR_INVALID;
+    mfg_mesh_report rep;
+    if (!structural)
+        closed = mfg_mesh_check_closed(xyzp, nv, trip, nt, &rep);
+
+    if (getenv("FUZZ_DUMP") && !structural) { /* the input, to reproduce it outside */
+        fprintf(stderr, "medial input: %lld %lld tol %.17g flags %u\n", (long long)nv, (long long)nt, tol, mflags);
+        for (int64_t k = 0; k < nv; k++)
+            fprintf(stderr, "%.17g %.17g %.17g\n", xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]);
+        for (int64_t k = 0; k < nt; k++)
+            fprintf(stderr, "%lld %lld %lld\n", (long long)tri[3 * k], (long long)tri[3 * k + 1],
+                    (long long)tri[3 * k + 2]);
+    }
+    mfg_medial *sentinel = (mfg_medial *)(uintptr_t)&sentinel, *res = sentinel;
+    mfg_status st = mfg_medial_surface(xyzp, nv, trip, nt, tol, mflags, threads,
+                                       (nulls & 4) ? NULL : &res);
+    check_status(st);
+    if (structural)
+        CHECK(st != MFG_OK, "a structurally invalid input was accepted");
+    if (hostile)
+        CHECK(st != MFG_ERR_NOMEM, "an impossible count reported as out of memory");
+    if (!structural && closed != MFG_OK)
+        CHECK(st != MFG_OK, "a mesh mfg_mesh_check_closed refuses was accepted");
+    if (st != MFG_OK) {
+        CHECK(res == sentinel, "out written on failure");
+        return;
+    }
+    CHECK(res != NULL && res != sentinel, "no medial surface returned");
+    CHECK(res->nsheets >= 0 && res->nseams >= 0 && res->njunctions >= 0, "negative counts");
+    for (int64_t s = 0; s < res->nsheets; s++) {
+        int64_t v0 = res->sheet_vertex_offsets[s], v1 = res->sheet_vertex_offsets[s + 1];
+        int64_t t0 = res->sheet_triangle_offsets[s], t1 = res->sheet_triangle_offsets[s + 1];
+        CHECK(v0 <= v1 && t0 <= t1, "sheet offsets decrease");
+        for (int64_t v = v0; v < v1; v++)
+            CHECK(isfinite(res->sheet_radii[v]) && res->sheet_radii[v] >= 0, "a sheet radius is not finite and >= 0");
+        for (int64_t k = 3 * t0; k < 3 * t1; k++)
+            CHECK(res->sheet_triangles[k] >= 0 && res->sheet_triangles[k] < v1 - v0,
+                  "a sheet triangle's index is out of its sheet");
+    }
+    for (int64_t j = 0; j < res->njunctions; j++)
+        CHECK(isfinite(res->junction_radii[j]) && res->junction_radii[j] >= 0, "a junction radius is not finite and >= 0");
+    mfg_medial_free(res);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     reader rd = {data, size};
@@ -783,5 +890,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     /* the sweep section runs only when asked (bit 8): older seeds keep their meaning */
     if (which & 8)
         fuzz_sweep(&rd);
+    /* the medial surface (bit 16), likewise */
+    if (which & 16)
+        fuzz_medial(&rd);
     return 0;
 }

@@ -72,6 +72,17 @@ def sweep(kind=0, shape=b"", damage=b"\x00", axis_mode=0, point=(0, 0, 0), direc
     return out + bytes([angle_byte, tol_byte])
 
 
+RUN_MEDIAL = 16
+
+
+def medial_seed(kind=0, shape=b"", damage=b"\x00", tol_byte=7, mode=0):
+    """The medial section: the sweep's mesh (kind, bytes, damage), tolerance ((1 + byte %
+    32) / 64 of the diagonal; 0xFC and up: 0, -1, NaN, inf), mode (bit 0 full, bit 1 two
+    threads, 0xF0: an unknown flag)."""
+    return (bytes([SKIP_PC | SKIP_VM | SKIP_SPH | RUN_MEDIAL, kind]) + shape + damage
+            + bytes([tol_byte, mode]))
+
+
 def box(lo, size):                  # lo corner and edge lengths (multiples of 1/32, < 2)
     return b"".join(sc(lo[c]) + bytes([int(round(size[c] * 32))]) for c in range(3))
 
@@ -152,6 +163,17 @@ def seeds():
     yield "sw_zero_axis", sweep_seed(sweep(0, b, direction=(0, 0, 0)))
     yield "sw_nan_tolerance", sweep_seed(sweep(0, b, tol_byte=0xFB))
     yield "sw_raw_huge_counts", sweep_seed(bytes([5, 0xF0 + INT64_MAX, 0xF0 + INT64_MIN_PLUS_2]))
+    # the medial surface (issue 22): a 4-triangle tetrahedron (the leaf search found no
+    # point: J + 0 on NULL, UBSan), a box major and full, an octahedron on two threads, an
+    # open box, bad tolerances, an unknown flag, huge counts
+    yield "md_tetra", medial_seed(2, tet)
+    yield "md_box", medial_seed(0, box((0, 0, 0), (1.875, 1, 0.5)), tol_byte=3)
+    yield "md_box_full", medial_seed(0, box((0, 0, 0), (1.875, 1, 0.5)), tol_byte=3, mode=1)
+    yield "md_octa_threads", medial_seed(3, octa, tol_byte=5, mode=2)
+    yield "md_open_box", medial_seed(0, b, damage=bytes([0xC0, 3]))
+    yield "md_nan_tolerance", medial_seed(0, b, tol_byte=0xFE)
+    yield "md_unknown_flag", medial_seed(0, b, mode=0xF0)
+    yield "md_raw_huge_counts", medial_seed(5, bytes([0xF0 + INT64_MAX, 0xF0 + INT64_MIN_PLUS_2]))
 
 
 def main():

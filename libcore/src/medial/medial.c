@@ -260,7 +260,8 @@ mfg_status mfg_medial_surface_p(const double *xyz, int64_t nvertices, const int6
             J[n2++] = J[i];
             J[i] = t;
         }
-    md_junction *J3 = J + n2;
+    /* J is NULL when no leaf found a point (J + 0 on NULL is undefined behaviour). */
+    md_junction *J3 = J ? J + n2 : NULL;
     int64_t n3 = md_merge_junctions(&ax, J3, nJ - n2);
     Jall = J3;
     nall = n3;
