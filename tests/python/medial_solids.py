@@ -210,3 +210,26 @@ def small_tray():
     """A 60 x 40 x 20 tray, walls and floor 3, one rib each way up to z = 15: 23 faces,
     the rib/wall/floor corners of ribbed_tray at a test-sized cost."""
     return ribbed_tray(size=(60.0, 40.0, 20.0), rib_top=15.0, nx_ribs=1, ny_ribs=1)
+
+
+def bent_ridge(slope=0.01, bend=1e-4, height=0.6):
+    """A 2 x 1 x `height` block whose top is two faces meeting at a ridge along x = 1 at a small
+    dihedral angle (the right half rises with `slope`), the ridge's middle vertex moved by
+    `bend` along x: every top triangle stays within slope * bend of its face's plane (the
+    merge threshold eta of a 1 % tolerance is 1.9e-6 > 1e-6), but the chain between the
+    two faces bends by `bend` at that vertex -- the tessellation of a gently curved surface
+    (issue 22: a fan's "mesh vertex ... off the line of the edge").  Returns (vertices,
+    triangles), outward."""
+    s, h = slope, height
+    v = np.array([[0, 0, 0], [2, 0, 0], [2, 1, 0], [0, 1, 0],          # 0-3 bottom
+                  [0, 0, h], [0, 1, h],                                # 4-5 top left
+                  [1, 0, h], [1 + bend, 0.5, h], [1, 1, h],            # 6-8 ridge
+                  [2, 0, h + s], [2, 1, h + s]], float)                # 9-10 top right
+    t = [[0, 2, 1], [0, 3, 2],                                         # bottom (z = 0)
+         [4, 6, 7], [4, 7, 5], [5, 7, 8],                              # top left
+         [6, 9, 7], [7, 9, 10], [7, 10, 8],                            # top right
+         [0, 1, 9], [0, 9, 6], [0, 6, 4],                              # y = 0
+         [3, 5, 8], [3, 8, 10], [3, 10, 2],                            # y = 1
+         [0, 4, 5], [0, 5, 3],                                         # x = 0
+         [1, 2, 10], [1, 10, 9]]                                       # x = 2
+    return v, np.array(t, np.int64)

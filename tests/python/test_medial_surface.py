@@ -30,7 +30,8 @@ import numpy as np
 import pytest
 
 import medial_solids as solids
-from medial_oracle import Polyhedron, distance_to_pieces, result_pieces, sheet_area
+from medial_oracle import (Polyhedron, closest_on_triangles, distance_to_pieces, result_pieces,
+                           sheet_area)
 from mfgeom import core
 
 TOL_FRAC = 0.01                  # tolerance = 1 % of the bbox diagonal (the bench: 0.5 %)
@@ -831,3 +832,59 @@ def test_bad_input(what, v, t, tol, words):
         core.medial_surface(v, t, tol)
     msg = str(info.value)
     assert words.lower() in msg.lower(), f"{what}: message {msg!r} does not say {words!r}"
+
+
+def _radii_against_oracle(v, t, res, tol):
+    """Every sheet vertex and junction of res is inside and its radius is the oracle's
+    distance to the boundary within tol; returns the number of points checked."""
+    P = Polyhedron(v, t)
+    pts = ([s.vertices for s in res.sheets] + [s.points for s in res.seams]
+           + [res.junctions.points.reshape(-1, 3)])
+    rad = [s.radii for s in res.sheets] + [s.radii for s in res.seams] + [res.junctions.radii]
+    pts, rad = np.concatenate(pts), np.concatenate(rad)
+    if len(pts):
+        assert np.all(P.inside(pts))
+        assert np.max(np.abs(P.distance(pts) - rad)) <= tol
+    return len(pts)
+
+
+def test_bent_chain_is_split_at_its_bend():
+    """issue 22: two faces merged within eta (a gently curved tessellation) meet in a chain
+    that bends by more than eta (here 1e-4 >> eta = 1.9e-6): it was refused with "mesh
+    vertex ... off the line of the edge" (an internal error); now the bend vertex is a
+    vertex element, the ridge two edges, and the result sound."""
+    v, t = solids.bent_ridge()
+    P = Polyhedron(v, t)
+    tol = TOL_FRAC * P.diag
+    res = core.medial_surface(v, t, tol)
+    kinds = np.asarray(res.element_kinds)
+    assert (kinds == FACE).sum() == 7            # the block's 6 faces, the top in two
+    assert any(np.allclose(p, v[7]) for p in res.vertex_points)
+    ridge = [s for s in np.asarray(res.edge_segments).reshape(-1, 2, 3)
+             if np.all(np.abs(s[:, 0] - 1) <= 2e-4) and np.all(np.abs(s[:, 2] - 0.6) <= 1e-9)]
+    assert len(ridge) == 2
+    assert len(res.sheets) >= 2
+    assert _radii_against_oracle(v, t, res, tol) > 20
+
+
+def test_coincident_vertices_box():
+    """issue 22, found by fuzzing the medial surface: a box with moved corners whose two
+    corners coincide (a pinched but closed mesh) bent a chain at the pinch (an internal
+    error), and with the split the zero-area triangles there claimed a corner for two
+    edges in turn (the element build never ended)."""
+    v = np.array([[2, 0.03125, 0], [2.03125, 0.04296875, 0.0625], [2.0859375, 0.03125, 0.125],
+                  [2.09375, 0.1875, 0.03125], [2.09375, 0.21875, 0], [2.05078125, 0.0390625, 0],
+                  [2, 0.03125, 0], [2.03125, 0.03125, 0]])
+    t = np.array([[0, 2, 3], [0, 3, 1], [4, 5, 7], [4, 7, 6], [0, 1, 5], [0, 5, 4], [2, 6, 7],
+                  [2, 7, 3], [0, 4, 6], [0, 6, 2], [1, 3, 7], [1, 7, 5]], np.int64)
+    tol = 0.0038135984745637959
+    res = core.medial_surface(v, t, tol)
+    # radii against Ericson's point-triangle distance over the triangles of non-zero area
+    # (the oracle's Polyhedron refuses zero-area ones), every point strictly inside
+    a, b, c = (v[t[:, k]] for k in range(3))
+    keep = np.linalg.norm(np.cross(b - a, c - a), axis=1) > 0
+    pts = np.concatenate([s.vertices for s in res.sheets] + [s.points for s in res.seams])
+    rad = np.concatenate([s.radii for s in res.sheets] + [s.radii for s in res.seams])
+    assert len(pts) > 0
+    d = closest_on_triangles(pts, a[keep], b[keep], c[keep])[0].min(axis=1)
+    assert np.max(np.abs(d - rad)) <= tol

@@ -242,6 +242,7 @@ typedef struct elements_build {
     int64_t *seed_of;         /* seed triangle of each face */
     bside *bs;                /* boundary sides */
     int64_t *bs_off, *bs_list, *vert_elem;
+    unsigned char *force;     /* mesh vertices made vertex elements (chain_edges) */
     int64_t *chain_start, *chain_end, *chain_first;
     face_key *fk;
     int64_t *fv;
@@ -261,7 +262,7 @@ static mfg_status nomem(const elements_build *mb)
 static void elements_build_scratch_free(elements_build *mb)
 {
     void *scratch[] = {mb->nbr0, mb->nbr, mb->zero, mb->label, mb->queue, mb->seeds, mb->plane,
-                       mb->seed_of, mb->bs, mb->bs_off, mb->bs_list, mb->vert_elem,
+                       mb->seed_of, mb->bs, mb->bs_off, mb->bs_list, mb->vert_elem, mb->force,
                        mb->chain_start, mb->chain_end, mb->chain_first, mb->fk, mb->fv, mb->vs,
                        mb->ek, mb->face_map, mb->chain_map, mb->vert_map, mb->vchain, mb->pr};
     for (size_t i = 0; i < sizeof scratch / sizeof *scratch; i++)
@@ -513,62 +514,156 @@ static mfg_status boundary_graph(elements_build *mb)
         }
         free(pos);
     }
-    /* The unordered face pair a boundary side separates. */
+    mb->force = calloc((size_t)mb->nv + 1, 1);
+    if (!mb->force)
+        return nomem(mb);
+    return MFG_OK;
+}
+
+/* Which mesh vertices are vertex elements: those on boundary sides, except where exactly
+ * two sides separating the same two faces meet (inside a chain) and the vertex is not
+ * forced (a bend of the chain, chain_edges). */
+static void mark_vertex_elements(elements_build *mb)
+{
+    mb->nvel = 0;
     for (int64_t v = 0; v < mb->nv; v++) {
         int64_t d = mb->bs_off[v + 1] - mb->bs_off[v];
         mb->vert_elem[v] = -1;
         if (d == 0)
             continue;
-        if (d == 2) {
+        if (d == 2 && !mb->force[v]) {
             int64_t i = mb->bs_list[mb->bs_off[v]], j = mb->bs_list[mb->bs_off[v] + 1];
             if (pair_lo(mb, i) == pair_lo(mb, j) && pair_hi(mb, i) == pair_hi(mb, j))
                 continue; /* inside a chain */
         }
         mb->vert_elem[v] = mb->nvel++;
     }
-    return MFG_OK;
 }
 
-/* Chains the boundary sides into edges between vertex elements (design 1.4). */
+/* Distance from mesh vertex v to the line through mesh vertices a, b (to a when a = b). */
+static double off_line(const elements_build *mb, int64_t v, int64_t a, int64_t b)
+{
+    const double *X = mb->e.xyz;
+    double u[3], d[3];
+    mfg_sub3(X + 3 * b, X + 3 * a, u);
+    mfg_sub3(X + 3 * v, X + 3 * a, d);
+    double len = mfg_norm3(u);
+    if (!(len > 0))
+        return mfg_norm3(d);
+    for (int k = 0; k < 3; k++)
+        u[k] /= len;
+    double t = mfg_dot3(d, u), x = 0;
+    for (int k = 0; k < 3; k++)
+        x += (d[k] - t * u[k]) * (d[k] - t * u[k]);
+    return sqrt(x);
+}
+
+/* Is mesh vertex a ahead of b in ties: the lexicographically smaller point. */
+static int vertex_before(const elements_build *mb, int64_t a, int64_t b)
+{
+    const double *X = mb->e.xyz;
+    for (int k = 0; k < 3; k++)
+        if (X[3 * a + k] != X[3 * b + k])
+            return X[3 * a + k] < X[3 * b + k];
+    return a < b;
+}
+
+/* Chains the boundary sides into edges between vertex elements (design 1.4).  Two faces
+ * merged within eta (design 1.3) need not meet in one straight line: a tessellated curved
+ * part's facets, or a bent quad, give a chain that bends at a vertex where the same two
+ * faces meet on both sides.  Such a chain is split at its vertex farthest from the line
+ * through its ends (made a vertex element), and chaining repeats until every chain is
+ * straight within eta (Douglas-Peucker); a closed loop between two faces with no vertex
+ * gets one the same way (its lexicographically smallest vertex).  Ties go to the
+ * lexicographically smaller vertex, so no split depends on the triangle order. */
 static mfg_status chain_edges(elements_build *mb)
 {
-    mfg_status st;
-    /* Chains: walk from every vertex element along each unused boundary side. */
     mb->chain_start = malloc((size_t)(mb->nbs + 1) * sizeof *mb->chain_start);
     mb->chain_end = malloc((size_t)(mb->nbs + 1) * sizeof *mb->chain_end);
     mb->chain_first = malloc((size_t)(mb->nbs + 1) * sizeof *mb->chain_first);
-    if (!mb->chain_start || !mb->chain_end || !mb->chain_first)
+    int64_t *far = malloc((size_t)(mb->nbs + 1) * sizeof *far);
+    double *fard = malloc((size_t)(mb->nbs + 1) * sizeof *fard);
+    if (!mb->chain_start || !mb->chain_end || !mb->chain_first || !far || !fard) {
+        free(far);
+        free(fard);
         return nomem(mb);
-    for (int64_t v = 0; v < mb->nv; v++) {
-        if (mb->vert_elem[v] < 0)
-            continue;
-        for (int64_t q = mb->bs_off[v]; q < mb->bs_off[v + 1]; q++) {
-            int64_t i = mb->bs_list[q];
-            if (mb->bs[i].chain >= 0)
+    }
+    for (;;) {
+        mark_vertex_elements(mb);
+        mb->nchains = 0;
+        for (int64_t i = 0; i < mb->nbs; i++)
+            mb->bs[i].chain = -1;
+        /* Chains: walk from every vertex element along each unused boundary side. */
+        for (int64_t v = 0; v < mb->nv; v++) {
+            if (mb->vert_elem[v] < 0)
                 continue;
-            int64_t c = mb->nchains++, cur = v;
-            mb->chain_start[c] = v;
-            mb->chain_first[c] = i;
-            for (;;) {
-                mb->bs[i].chain = c;
-                int64_t w = mb->bs[i].v0 == cur ? mb->bs[i].v1 : mb->bs[i].v0;
-                if (mb->vert_elem[w] >= 0) {
-                    mb->chain_end[c] = w;
-                    break;
+            for (int64_t q = mb->bs_off[v]; q < mb->bs_off[v + 1]; q++) {
+                int64_t i = mb->bs_list[q];
+                if (mb->bs[i].chain >= 0)
+                    continue;
+                int64_t c = mb->nchains++, cur = v;
+                mb->chain_start[c] = v;
+                mb->chain_first[c] = i;
+                for (;;) {
+                    mb->bs[i].chain = c;
+                    int64_t w = mb->bs[i].v0 == cur ? mb->bs[i].v1 : mb->bs[i].v0;
+                    if (mb->vert_elem[w] >= 0) {
+                        mb->chain_end[c] = w;
+                        break;
+                    }
+                    int64_t i0 = mb->bs_list[mb->bs_off[w]], i1 = mb->bs_list[mb->bs_off[w] + 1];
+                    i = i0 == i ? i1 : i0;
+                    cur = w;
                 }
-                int64_t i0 = mb->bs_list[mb->bs_off[w]], i1 = mb->bs_list[mb->bs_off[w] + 1];
-                i = i0 == i ? i1 : i0;
-                cur = w;
             }
         }
-    }
-    for (int64_t i = 0; i < mb->nbs; i++)
-        if (mb->bs[i].chain < 0) {
-            st = mfg_fail(MFG_ERR_INTERNAL,
-                          "mesh edge %lld-%lld lies on a closed loop between two faces with no vertex",
-                          (long long)mb->bs[i].v0, (long long)mb->bs[i].v1);
-            return st;
+        int forced = 0;
+        /* A closed loop between two faces: its smallest vertex becomes a vertex element. */
+        for (int64_t i = 0; i < mb->nbs; i++)
+            if (mb->bs[i].chain == -1) {
+                int64_t best = mb->bs[i].v0, cur = mb->bs[i].v0, j = i;
+                while (mb->bs[j].chain == -1) {
+                    mb->bs[j].chain = -2; /* visited */
+                    int64_t w = mb->bs[j].v0 == cur ? mb->bs[j].v1 : mb->bs[j].v0;
+                    if (vertex_before(mb, w, best))
+                        best = w;
+                    int64_t i0 = mb->bs_list[mb->bs_off[w]], i1 = mb->bs_list[mb->bs_off[w] + 1];
+                    j = i0 == j ? i1 : i0;
+                    cur = w;
+                }
+                mb->force[best] = 1;
+                forced = 1;
+            }
+        /* Each chain's inner vertex farthest from the line through its ends. */
+        for (int64_t c = 0; c < mb->nchains; c++) {
+            far[c] = -1;
+            fard[c] = 0;
         }
+        for (int64_t i = 0; i < mb->nbs; i++) {
+            int64_t c = mb->bs[i].chain;
+            if (c < 0)
+                continue;
+            for (int j = 0; j < 2; j++) {
+                int64_t v = j ? mb->bs[i].v1 : mb->bs[i].v0;
+                if (mb->vert_elem[v] >= 0)
+                    continue;
+                double d = off_line(mb, v, mb->chain_start[c], mb->chain_end[c]);
+                if (far[c] < 0 || d > fard[c] || (d == fard[c] && vertex_before(mb, v, far[c]))) {
+                    fard[c] = d;
+                    far[c] = v;
+                }
+            }
+        }
+        for (int64_t c = 0; c < mb->nchains; c++)
+            if (far[c] >= 0 && (fard[c] > mb->e.eta || mb->chain_start[c] == mb->chain_end[c])) {
+                mb->force[far[c]] = 1;
+                forced = 1;
+            }
+        if (!forced)
+            break;
+    }
+    free(far);
+    free(fard);
     return MFG_OK;
 }
 
@@ -749,7 +844,13 @@ static mfg_status triangle_tables(elements_build *mb)
     }
     /* A zero-area triangle's corners are collinear: when one of its sides lies on an edge
      * element, all its sides (and their twins) and its non-vertex corners do, whichever
-     * face claimed it.  Repeated until nothing changes (slivers in a row). */
+     * face claimed it.  Repeated until nothing changes (slivers in a row).  A corner no
+     * chain holds that two slivers on different edges claim (a bent chain split there,
+     * or coincident vertices) takes the smaller edge id: every update lowers an id or
+     * fills a -1, so the loop ends, whatever the triangle order. */
+    unsigned char *claimed = calloc((size_t)mb->nv + 1, 1);
+    if (!claimed)
+        return nomem(mb);
     for (int changed = 1; changed;) {
         changed = 0;
         for (int64_t t = 0; t < mb->nt; t++) {
@@ -770,13 +871,16 @@ static mfg_status triangle_tables(elements_build *mb)
                         e->side_elem[tw] = E;
                     changed = 1;
                 }
-                if (mb->vert_map[v] < 0 && mb->vchain[v] != E) {
+                if (mb->vert_map[v] < 0 &&
+                    (mb->vchain[v] < 0 || (claimed[v] && E < mb->vchain[v]))) {
                     mb->vchain[v] = E;
+                    claimed[v] = 1;
                     changed = 1;
                 }
             }
         }
     }
+    free(claimed);
     for (int64_t t = 0; t < mb->nt; t++)
         for (int k = 0; k < 3; k++) {
             int64_t v = e->tris[3 * t + k];
