@@ -787,7 +787,7 @@ static void fuzz_sweep(reader *r)
 
 /*
  * The medial surface (issue 22) of the sweep section's small meshes, at a coarse
- * tolerance (1/64 .. 1/2 of the bounding-box diagonal: milliseconds), major or full,
+ * tolerance (1/16 .. 1/2 of the bounding-box diagonal: milliseconds), major or full,
  * one or two threads.  Checked: structurally invalid arguments and unknown flags are
  * refused; a mesh mfg_mesh_check_closed refuses is refused; nothing is written on
  * failure; never MFG_ERR_INTERNAL (check_status); a result's counts and offsets are
@@ -813,7 +813,7 @@ static void fuzz_medial(reader *r)
             }
         double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                            (hi[2] - lo[2]) * (hi[2] - lo[2]));
-        tol = diag * (double)(1 + tb % 32) * (1.0 / 64);
+        tol = diag * (double)(4 + tb % 28) * (1.0 / 64);
     }
     static const double BAD_TOLS[] = {0.0, -1.0, NAN, INFINITY};
     if (tb >= 0xFC) {

@@ -76,8 +76,8 @@ RUN_MEDIAL = 16
 
 
 def medial_seed(kind=0, shape=b"", damage=b"\x00", tol_byte=7, mode=0):
-    """The medial section: the sweep's mesh (kind, bytes, damage), tolerance ((1 + byte %
-    32) / 64 of the diagonal; 0xFC and up: 0, -1, NaN, inf), mode (bit 0 full, bit 1 two
+    """The medial section: the sweep's mesh (kind, bytes, damage), tolerance ((4 + byte %
+    28) / 64 of the diagonal; 0xFC and up: 0, -1, NaN, inf), mode (bit 0 full, bit 1 two
     threads, 0xF0: an unknown flag)."""
     return (bytes([SKIP_PC | SKIP_VM | SKIP_SPH | RUN_MEDIAL, kind]) + shape + damage
             + bytes([tol_byte, mode]))
