@@ -48,8 +48,9 @@ def shape(nseg, holes, seed):
     return [np.round(r, 3) for r in rings], n
 
 
-def completeness_points(rings, m, rng):
-    """Medial points by bisection along the inward normal of m random boundary points."""
+def completeness_points(rings, m, rng, reach=250.0):
+    """Medial points by bisection along the inward normal of m random boundary points (no
+    farther than reach)."""
     A, B = segments(rings)
     D = B - A
     L = np.linalg.norm(D, axis=1)
@@ -59,7 +60,7 @@ def completeness_points(rings, m, rng):
     N = np.c_[-D[k, 1], D[k, 0]] / L[k, None]
     probe = inside(rings, Q + 1e-6 * N)
     N[~probe] *= -1
-    lo, hi = np.zeros(m), np.full(m, 250.0)
+    lo, hi = np.zeros(m), np.full(m, float(reach))
     for _ in range(60):
         s = (lo + hi) / 2
         ok = dist(Q + s[:, None] * N, A, B) >= s * (1 - 1e-12)
@@ -71,29 +72,98 @@ CASES = [(100, 0, s) for s in range(1, 5)] + [(300, 3, s) for s in range(5, 8)] 
         [(1000, 8, 11), (1000, 12, 12), (3000, 16, 13)]
 
 
-@pytest.mark.parametrize("nseg,holes,seed", CASES)
-def test_battery(nseg, holes, seed):
-    rings, tips = shape(nseg, holes, seed)
-    ax = core.medial_axis(rings, TOL)
+def check_axis(rings, ax, tips, holes, seed, tol=TOL, voronoi=True, slack=1.0):
+    """The battery's checks of one axis: Euler topology (leaves = the convex vertices
+    `tips`), soundness of every sample, chord midpoints and completeness against bisection
+    probes within slack * tol, and (where FreeCAD is installed and `voronoi`) Boost's
+    topology."""
     nb, nj = len(ax.branches), len(ax.junctions)
     leaves = sum(int(e == -1) for b in ax.branches for e in b.ends)
     assert leaves == tips
     assert nb == nj + leaves - 1 + holes
     assert int(np.sum(ax.junctions.degrees)) + leaves == 2 * nb
     A, B = segments(rings)
+    size = float(np.ptp(np.concatenate(rings), axis=0).max())
     P = np.concatenate([b.points for b in ax.branches])
     R = np.concatenate([b.radii for b in ax.branches])
-    assert np.abs(dist(P, A, B) - R).max() <= 1e-9 * 230
-    assert inside(rings, P[R > 1e-9]).all()
+    assert np.abs(dist(P, A, B) - R).max() <= 1e-9 * size
+    assert inside(rings, P[R > 1e-9 * size]).all()
+    M = np.concatenate([(b.points[1:] + b.points[:-1]) / 2 for b in ax.branches])
+    MR = np.concatenate([(b.radii[1:] + b.radii[:-1]) / 2 for b in ax.branches])
+    assert np.abs(dist(M, A, B) - MR).max() <= slack * tol
+    Pref, Rref = completeness_points(rings, 400, np.random.default_rng(seed), reach=size)
+    keep = Rref >= tol
+    if keep.any():
+        dn, _ = polyline_nearest(Pref[keep], [(b.points, b.radii) for b in ax.branches])
+        assert dn.max() <= slack * tol
+    if voronoi and medial_voronoi.available():
+        assert (nb, nj) == medial_voronoi.topology(rings, tol)
+
+
+@pytest.mark.parametrize("nseg,holes,seed", CASES)
+def test_battery(nseg, holes, seed):
+    rings, tips = shape(nseg, holes, seed)
+    check_axis(rings, core.medial_axis(rings, TOL), tips, holes, seed)
+
+
+def convex_vertices(ring):
+    """The convex vertices of a counter-clockwise ring (the axis' leaves)."""
+    r = np.asarray(ring, float)
+    a, b = r - np.roll(r, 1, axis=0), np.roll(r, -1, axis=0) - r
+    return int(np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0] > 0))
+
+
+def thin_wedge(seed):
+    """A thin 6-vertex wedge whose long sides each have a middle vertex a hair (1e-9 ..
+    1e-3 of the width) off the straight line, convex or reflex: at such a corner the end
+    of a segment's window is ill-conditioned (issue 22: "the trace of elements 0 and 4
+    reached a convex corner ... (a missed event)" at every tolerance)."""
+    rng = np.random.default_rng(seed)
+    L = 10 ** rng.uniform(0, 2)
+    w = L * 10 ** rng.uniform(-3, -1)
+    x1, x2 = sorted(rng.uniform(0.1, 0.9, 2) * L)
+    eps = w * 10 ** rng.uniform(-9, -3, 2) * rng.choice([-1, 1], 2)
+    return np.array([(0, 0), (x1, w * x1 / L + eps[0]), (L, w), (L, 2 * w),
+                     (x2, 2 * w * x2 / L + eps[1]), (0, 1e-3 * w)])
+
+
+@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("tol", [0.1, 0.01, 0.001])
+def test_thin_wedge(seed, tol):
+    ring = thin_wedge(seed)
+    check_axis([ring], core.medial_axis(ring, tol), convex_vertices(ring), 0, seed, tol,
+               voronoi=False)
+
+
+def flower(n):
+    phi = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    r = 10 * (1 + 0.3 * np.sin(37 * phi))
+    return np.c_[r * np.cos(phi), r * np.sin(phi)]
+
+
+def test_flower_10000():
+    """A 10 000-vertex flower r = 10 (1 + 0.3 sin 37 phi) (9 000 worked): at its
+    inflections two segments meet at turns of 1e-7 rad, where the end of a segment's
+    window is ill-conditioned (issue 22: an internal error "... reached a convex corner
+    ... (a missed event)").  Chords and completeness within 2 tol: the known gap of
+    test_flower_chords."""
+    ring = flower(10000)
+    check_axis([ring], core.medial_axis(ring, TOL), convex_vertices(ring), 0, 5, voronoi=False,
+               slack=2.0)
+
+
+@pytest.mark.xfail(strict=True, reason="known gap (issue 22 note): on the petals' tips a few "
+                   "leaf branches' chord midpoints are 1.4-1.6 tol from their clearance, a "
+                   "probe's medial point 1.03 tol from the axis (9 000 vertices as well: not "
+                   "the corner-leaf change)")
+@pytest.mark.parametrize("n", [9000, 10000])
+def test_flower_chords(n):
+    ring = flower(n)
+    ax = core.medial_axis(ring, TOL)
+    A, B = segments([ring])
     M = np.concatenate([(b.points[1:] + b.points[:-1]) / 2 for b in ax.branches])
     MR = np.concatenate([(b.radii[1:] + b.radii[:-1]) / 2 for b in ax.branches])
     assert np.abs(dist(M, A, B) - MR).max() <= TOL
-    Pref, Rref = completeness_points(rings, 400, np.random.default_rng(seed))
-    keep = Rref >= TOL
-    dn, _ = polyline_nearest(Pref[keep], [(b.points, b.radii) for b in ax.branches])
-    assert dn.max() <= TOL
-    if medial_voronoi.available():
-        assert (nb, nj) == medial_voronoi.topology(rings, TOL)
 
 
 @pytest.mark.parametrize("name", ["shift", "scale", "rotate", "huge"])

@@ -310,20 +310,41 @@ static int sample_piece(ma_ctx *C, const ma_bis *b, double ta, double tb)
 }
 
 /* The foot of segment `who` reached its convex end (`how` 1: start, 2: end) at the last
- * sample p = (x, y, r): the leaf, where the radius is 0.  At a radius above the event
- * accuracy a third element must have touched first (a missed event): TR_MISSED rather
- * than a false leaf inside the face. */
+ * sample p = (x, y, r): the leaf, where the radius is 0.  Where the corner's two edges are
+ * nearly collinear (a fine tessellation's inflection: a turn of 2e-7 rad in the 10 000-gon
+ * flower of issue 22) the window's end is ill-conditioned -- the foot moves along the
+ * segment by tan(turn / 2) per unit of the trace -- so the trace may stop short of the
+ * corner with r far above rounding.  It is still the leaf when the disc at p is empty:
+ * no segment but the corner's two comes nearer than r (less the arrival accuracy); then
+ * every disc on the straight bisector from p to the corner lies inside this one, nothing
+ * enters before the corner, and the corner is appended with r = 0.  A segment inside the
+ * disc is a third element the event search missed: TR_MISSED rather than a false leaf. */
 static int corner_leaf(ma_ctx *C, int64_t who, int how, const double p[3], double ev[5],
                        int64_t *leafv)
 {
-    double px = p[0], py = p[1], pr = p[2];
-    *leafv = how == 1 ? who : C->E.next[who];
-    if (pr > MA_EPS_ARRIVE * C->E.diag) {
-        ev[0] = px, ev[1] = py, ev[2] = pr;
-        return TR_MISSED;
+    const ma_elems *E = &C->E;
+    double px = p[0], py = p[1], pr = p[2], acc = MA_EPS_ARRIVE * E->diag;
+    int64_t k = how == 1 ? who : E->next[who]; /* the corner: the start of segment k */
+    *leafv = k;
+    if (pr <= acc) { /* at the corner up to the arrival accuracy: the corner itself */
+        C->px.v[C->px.n - 1] = E->ax[k];
+        C->py.v[C->py.n - 1] = E->ay[k];
+        C->pr.v[C->pr.n - 1] = 0.0;
+        return TR_LEAF;
     }
-    C->pr.v[C->pr.n - 1] = 0.0;
-    return TR_LEAF;
+    C->cand.n = 0;
+    if (!ma_bvh_collect(&C->T, (const double[4]){px, py, px, py}, pr - acc, 0, &C->cand))
+        return TR_NOMEM;
+    for (int64_t i = 0; i < C->cand.n; i++) {
+        int64_t sg = C->cand.v[i], nx = E->next[sg];
+        if (sg == k || sg == E->prev[k])
+            continue;
+        if (ma_pt_seg_d2(px, py, E->ax[sg], E->ay[sg], E->ax[nx], E->ay[nx]) < (pr - acc) * (pr - acc)) {
+            ev[0] = px, ev[1] = py, ev[2] = pr;
+            return TR_MISSED;
+        }
+    }
+    return push_sample(C, E->ax[k], E->ay[k], 0.0) ? TR_LEAF : TR_NOMEM;
 }
 
 /* Traces from s = (x, y, r) along the bisector of (e1, e2) in direction (dx, dy), appending
