@@ -224,6 +224,37 @@ static void fuzz_pointclass(reader *r)
         for (int64_t i = 0; i < np; i++)
             CHECK(out1[i] <= MFG_ON, "class not OUT/IN/ON");
 
+    /* The 2-D medial axis of the same rings (flags bit 6; issue 22), at a tolerance of at
+     * least 1/64 of the rings' extent (cost bounded): structurally invalid input refused,
+     * never MFG_ERR_INTERNAL, nothing written on failure, the result's samples finite with
+     * radii >= 0 and branch offsets ascending. */
+    if (flags & 0x40) {
+        g_where = "mfg_medial_axis";
+        double ext = 0, atol = tol;
+        for (int64_t k = 0; valid && k < 2 * off[nrings]; k++)
+            ext = fmax(ext, fabs(xy[k]));
+        if (valid && atol > 0)
+            atol = fmax(atol, ext / 64);
+        struct mfg_medial_axis *asent = (struct mfg_medial_axis *)(uintptr_t)&asent, *ax = asent;
+        st = mfg_medial_axis(xyp, offp, nrings, atol, (nulls & 16) ? NULL : &ax);
+        check_status(st);
+        if (!valid || !(atol > 0) || (nulls & 16))
+            CHECK(st != MFG_OK, "mfg_medial_axis accepted invalid input");
+        if (hostile)
+            CHECK(st != MFG_ERR_NOMEM, "an impossible count reported as out of memory");
+        if (st != MFG_OK) {
+            CHECK(ax == asent, "mfg_medial_axis wrote its output on failure");
+        } else {
+            CHECK(ax != NULL && ax != asent, "no medial axis returned");
+            for (int64_t b = 0; b < ax->nbranches; b++)
+                CHECK(ax->branch_offsets[b] <= ax->branch_offsets[b + 1], "branch offsets decrease");
+            for (int64_t i = 0; i < ax->npoints; i++)
+                CHECK(isfinite(ax->points[2 * i]) && isfinite(ax->points[2 * i + 1]) && ax->radii[i] >= 0,
+                      "a medial axis sample is not finite or has a negative radius");
+            mfg_medial_axis_free(ax);
+        }
+    }
+
     mfg_region *sentinel = (mfg_region *)(uintptr_t)&sentinel, *region = sentinel;
     g_where = "mfg_region_new";
     st = mfg_region_new(xyp, offp, nrings, tol, (nulls & 16) ? NULL : &region);

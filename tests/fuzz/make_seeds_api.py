@@ -98,6 +98,12 @@ def seeds():
     yield "pc_square_hole", bytes([SKIP_VM | SKIP_SPH]) + planar([sq, hole], pts)
     # issue 6: offsets {0, 4, INT64_MIN + 2}
     yield "pc_offsets_wrap", bytes([SKIP_VM | SKIP_SPH]) + planar([sq, hole], pts, corrupt=(2, INT64_MIN_PLUS_2))
+    # the 2-D medial axis of the same rings (flags bit 6, issue 22): the square with a
+    # hole, a thin wedge with a nearly collinear convex corner, and NULL output
+    yield "ma_square_hole", bytes([SKIP_VM | SKIP_SPH]) + planar([sq, hole], pts, flags=0x40)
+    yield "ma_thin_wedge", bytes([SKIP_VM | SKIP_SPH]) + planar(
+        [[(0, 0), (4, 0.0625), (8, 0.125), (8, 0.25), (4, 0.125), (0, 0.0625)]], [], flags=0x40)
+    yield "ma_null_out", bytes([SKIP_VM | SKIP_SPH]) + planar([sq], pts, flags=0x40 | 0x80) + bytes([16])
     yield "pc_npoints_huge", bytes([SKIP_VM | SKIP_SPH]) + planar([sq], []) [:-1] + bytes([0xF0 + INT64_MAX])
     yield "vm_cap", bytes([SKIP_PC | SKIP_SPH]) + normals_around(12)
     yield "vm_cap_draft", bytes([SKIP_PC | SKIP_SPH]) + normals_around(12, draft_byte=3)
