@@ -101,6 +101,22 @@ def test_unwritable_output(tmp_path, box_stl):
     failed(sweep_args(box_stl, tmp_path / "no_dir" / "out.stl"), "no_dir", "cannot write")
     failed(sweep_args(box_stl, tmp_path / "out.stl") + ["--json", tmp_path / "no_dir" / "r.json"],
            "cannot write", "r.json")
+    # issue 22: the STL was written before the report failed; a failed command leaves
+    # neither (nor a temporary file)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["box.stl"]
+
+
+def test_failure_keeps_an_existing_output(tmp_path, box_stl):
+    """issue 22: outputs are written atomically -- a command failing before its output is
+    complete leaves the file that was there untouched."""
+    out = tmp_path / "out.stl"
+    out.write_bytes(b"previous result")
+    open_mesh = tmp_path / "open.stl"
+    v, t = box_mesh((0, 0, 0), (A, B, C))
+    meshio.write_mesh(open_mesh, v, t[:-1])
+    failed(sweep_args(open_mesh, out), "open.stl")
+    assert out.read_bytes() == b"previous result"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["box.stl", "open.stl", "out.stl"]
 
 
 def test_usage_errors(box_stl):

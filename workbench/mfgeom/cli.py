@@ -320,12 +320,7 @@ def cmd_medial_axis(args):
            "seconds": seconds}
     if not args.output:
         return out
-    try:
-        with open(args.output, "w", encoding="utf-8") as f:
-            json.dump(out, f, indent=args.indent, allow_nan=False)
-            f.write("\n")
-    except OSError as exc:
-        raise CliError(f"cannot write {args.output}: {exc.strerror or exc}") from None
+    _write_json(args, args.output, out)
     return {"output": args.output, "tolerance": tol, "branches": len(ax.branches),
             "junctions": len(jn), "points": int(sum(len(b.radii) for b in ax.branches)),
             "seconds": seconds}
@@ -431,13 +426,9 @@ def cmd_parting(args):
             write_report_csv(args.csv, [s for p in parts for s in p.get("solids", [])])
         except OSError as exc:
             raise CliError(f"cannot write {args.csv}: {exc.strerror or exc}") from None
+        args.outputs.add(args.csv)
     if args.json:
-        try:
-            with open(args.json, "w", encoding="utf-8") as f:
-                json.dump(doc, f, indent=args.indent, allow_nan=False)
-                f.write("\n")
-        except OSError as exc:
-            raise CliError(f"cannot write {args.json}: {exc.strerror or exc}") from None
+        _write_json(args, args.json, doc)
         return {"json": args.json, "parts": len(parts), "failed": len(failed)}
     return doc
 
@@ -458,6 +449,17 @@ def cmd_mould(args):
         args.failure = (f"{len(failed)} of {len(part['solids'])} solids failed: "
                         + "; ".join(f"{s['name']}: {s['error']}" for s in failed))
     return part
+
+
+def _write_json(args, path, doc):
+    """``doc`` as JSON to ``path`` (fileio.write_atomic: never a truncated file), recorded
+    in the command's outputs so that a later failure removes it."""
+    from mfgeom.fileio import write_atomic
+    try:
+        write_atomic(path, json.dumps(doc, indent=args.indent, allow_nan=False) + "\n")
+    except OSError as exc:
+        raise CliError(f"cannot write {path}: {exc.strerror or exc}") from None
+    args.outputs.add(path)
 
 
 def _finite(values, what):
@@ -489,6 +491,7 @@ def cmd_sweep(args):
         raise CliError(f"{args.input}: {exc}") from None
     t2 = time.perf_counter()
     meshio.write_mesh(args.output, result.vertices, result.triangles, ascii=args.ascii)
+    args.outputs.add(args.output)
     t3 = time.perf_counter()
     report = {"input": args.input, "output": args.output, "axis_point": point,
               "axis_dir": direction, "angle_deg": float(args.angle),
@@ -498,12 +501,7 @@ def cmd_sweep(args):
               "area": result.area, "bbox": _list(result.bbox),
               "time_s": {"read": t1 - t0, "sweep": t2 - t1, "write": t3 - t2}}
     if args.json:
-        try:
-            with open(args.json, "w", encoding="utf-8") as f:
-                json.dump(report, f, indent=args.indent, allow_nan=False)
-                f.write("\n")
-        except OSError as exc:
-            raise CliError(f"cannot write {args.json}: {exc.strerror or exc}") from None
+        _write_json(args, args.json, report)
     return report
 
 
@@ -531,8 +529,10 @@ def cmd_medial_surface(args):
     t2 = time.perf_counter()
     if args.ply:
         medialio.write_ply(args.ply, m)
+        args.outputs.add(args.ply)
     if args.obj:
         medialio.write_obj(args.obj, m)
+        args.outputs.add(args.obj)
     doc = {"input": args.input, "tolerance": float(args.tolerance), "full": bool(args.full),
            "threads": int(args.threads), "input_vertices": int(len(vertices)),
            "input_triangles": int(len(triangles))}
@@ -542,12 +542,7 @@ def cmd_medial_surface(args):
     doc["time_s"] = times
     if not args.json:
         return doc
-    try:
-        with open(args.json, "w", encoding="utf-8") as f:
-            json.dump(doc, f, indent=args.indent, allow_nan=False)
-            f.write("\n")
-    except OSError as exc:
-        raise CliError(f"cannot write {args.json}: {exc.strerror or exc}") from None
+    _write_json(args, args.json, doc)
     summary = {"input": args.input, "json": args.json}
     summary.update({opt[2:]: path for opt, path in outputs if opt != "--json"})
     summary.update(faces=m.nfaces, edges=m.nedges, vertices=m.nvertices,
@@ -732,15 +727,19 @@ def _flush_stdout(text=""):
 
 
 def main(argv=None):
+    from mfgeom.fileio import Outputs
+    outputs = Outputs()   # what this command wrote: removed again if it fails (issue 22)
     try:
         args = build_parser().parse_args(argv)
+        args.outputs = outputs
         result = args.func(args)
         text = json.dumps(result, indent=args.indent, allow_nan=False)
         _flush_stdout(text + "\n")
         if getattr(args, "failure", None):   # parting: some parts failed, the rest printed
-            return _fail(args.failure)
+            return _fail(args.failure)       # (and their report files stay)
     except (CliError, ImportError, ValueError, TypeError, RuntimeError) as exc:
         # usage and input errors, the library not loadable, core.MfgError (a RuntimeError)
+        outputs.remove_all()
         return _fail(exc)
     except SystemExit as exc:            # --help / --version printed by argparse
         try:
@@ -749,8 +748,10 @@ def main(argv=None):
             return _fail(err)
         return exc.code
     except KeyboardInterrupt:
+        outputs.remove_all()
         return _fail("interrupted")
     except Exception as exc:             # anything unforeseen is still reported as JSON
+        outputs.remove_all()
         return _fail(f"{type(exc).__name__}: {exc}")
     return 0
 

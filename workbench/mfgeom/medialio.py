@@ -14,11 +14,11 @@ name.  Files are written to a temporary file next to the target and renamed over
 complete: a failed write leaves no half-written file.
 """
 
-import os
 
 import numpy as np
 
 from mfgeom import core
+from mfgeom.fileio import write_atomic
 from mfgeom.meshio import MeshFileError
 
 
@@ -85,16 +85,9 @@ def _sheets_merged(m):
 
 
 def _write_atomic(path, text):
-    tmp = f"{path}.{os.getpid()}.partial"
     try:
-        with open(tmp, "w", encoding="ascii", newline="\n") as f:
-            f.write(text)
-        os.replace(tmp, path)
+        write_atomic(path, text, encoding="ascii", newline="\n")
     except OSError as exc:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
         raise MeshFileError(path, f"cannot write: {exc.strerror or exc}") from None
 
 

@@ -28,6 +28,7 @@ import os
 import numpy as np
 
 from mfgeom.errors import InputError
+from mfgeom.fileio import write_atomic
 
 FORMATS = (".stl", ".obj")
 
@@ -309,14 +310,7 @@ def write_mesh(path, vertices, triangles, ascii=False):
         data = _obj_bytes(v, t)
     else:
         data = _stl_ascii_bytes(v, t) if ascii else _stl_binary_bytes(v, t)
-    tmp = f"{path}.{os.getpid()}.partial"
     try:
-        with open(tmp, "wb") as f:
-            f.write(data)
-        os.replace(tmp, path)
+        write_atomic(path, data)
     except OSError as exc:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
         raise MeshFileError(path, f"cannot write: {exc.strerror or exc}") from None

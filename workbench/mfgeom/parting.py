@@ -1151,21 +1151,24 @@ def write_report_csv(path, rep):
     surface, its role, its group (main, side_core_k, setup_k) and that group's direction
     and margin."""
     import csv
+    import io
+    from mfgeom.fileio import write_atomic
     reps = rep if isinstance(rep, list) else [rep]
-    with open(path, "w", encoding="utf-8", newline="") as out:
-        w = csv.writer(out)
-        w.writerow(("source", "mode") + CSV_COLUMNS)
-        for r in reps:
-            dirs = _group_directions(r)
-            for row in r["faces"]:
-                d, m = dirs.get(row["group"], (None, None))
-                d = d if d is not None else ["", "", ""]
-                w.writerow([r["source"], r["mode"], row["name"], row["surface"], row["role"],
-                            row["group"], *[f"{c:.15g}" if c != "" else "" for c in d],
-                            "" if m is None else f"{m:.9g}", f"{row['area']:.9g}",
-                            f"{row['shrink_deg']:.6g}",
-                            f"{row['worst_angle_deg']:.6g}" if "worst_angle_deg" in row
-                            else ""])
+    out = io.StringIO(newline="")
+    w = csv.writer(out)
+    w.writerow(("source", "mode") + CSV_COLUMNS)
+    for r in reps:
+        dirs = _group_directions(r)
+        for row in r["faces"]:
+            d, m = dirs.get(row["group"], (None, None))
+            d = d if d is not None else ["", "", ""]
+            w.writerow([r["source"], r["mode"], row["name"], row["surface"], row["role"],
+                        row["group"], *[f"{c:.15g}" if c != "" else "" for c in d],
+                        "" if m is None else f"{m:.9g}", f"{row['area']:.9g}",
+                        f"{row['shrink_deg']:.6g}",
+                        f"{row['worst_angle_deg']:.6g}" if "worst_angle_deg" in row
+                        else ""])
+    write_atomic(path, out.getvalue(), newline="")   # whole, then renamed into place
 
 
 def _group_directions(rep):

@@ -33,9 +33,8 @@ per vertex with a legend, thin and thick spots in their highlight colours and th
 extreme spots marked."""
 
 import csv
+import io
 import math
-import os
-import tempfile
 import time
 from typing import Optional
 
@@ -47,6 +46,7 @@ from mfgeom.app.feature_base import (VERSION_PROPERTY, add_mesh_property, add_pr
                                      FeatureProxy, Quantity)
 from mfgeom import progress
 from mfgeom.errors import InputError, MfgeomError
+from mfgeom.fileio import write_atomic
 
 # 1: first release.  Bump when properties change and migrate in _upgrade().
 VERSION = 1
@@ -246,27 +246,18 @@ def write_csv(obj, path):
         raise ThicknessInputError(f"'{obj.Label}' has no result to export (recompute it)")
     lo, hi = float(obj.MinThickness.Value), float(obj.MaxThickness.Value)
     edges, counts = histogram_of(obj)
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".mfgeom-", suffix=".csv", dir=folder)
-    try:
-        with os.fdopen(fd, "w", newline="") as out:
-            w = csv.writer(out)
-            w.writerow(["x_mm", "y_mm", "z_mm", "face", "thickness_mm", "status"])
-            for p, f, t in zip(pts.tolist(), faces.tolist(), thick.tolist()):
-                status = "thin" if t < lo else "thick" if t > hi else "ok"
-                w.writerow([f"{p[0]:.6f}", f"{p[1]:.6f}", f"{p[2]:.6f}", f"Face{f + 1}",
-                            f"{t:.6f}", status])
-            w.writerow([])
-            w.writerow(["bin_from_mm", "bin_to_mm", "area_mm2"])
-            for a, b, c in zip(edges[:-1].tolist(), edges[1:].tolist(), counts.tolist()):
-                w.writerow([f"{a:.6f}", f"{b:.6f}", f"{c:.6f}"])
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    out = io.StringIO(newline="")
+    w = csv.writer(out)
+    w.writerow(["x_mm", "y_mm", "z_mm", "face", "thickness_mm", "status"])
+    for p, f, t in zip(pts.tolist(), faces.tolist(), thick.tolist()):
+        status = "thin" if t < lo else "thick" if t > hi else "ok"
+        w.writerow([f"{p[0]:.6f}", f"{p[1]:.6f}", f"{p[2]:.6f}", f"Face{f + 1}",
+                    f"{t:.6f}", status])
+    w.writerow([])
+    w.writerow(["bin_from_mm", "bin_to_mm", "area_mm2"])
+    for a, b, c in zip(edges[:-1].tolist(), edges[1:].tolist(), counts.tolist()):
+        w.writerow([f"{a:.6f}", f"{b:.6f}", f"{c:.6f}"])
+    write_atomic(path, out.getvalue(), newline="")
     return len(pts)
 
 
