@@ -344,6 +344,38 @@ class MedialSurfaceFeature(DocumentTestCase):
         self.assertEqual(len(sheets), 1)
         self.assertAlmostEqual(sheets.area(), again.SheetArea)
 
+    def test_mesh_object_source(self):
+        """issue 22: a Mesh object (an STL part) is taken as it is -- its own placement
+        and the containers' applied -- and an open mesh is refused with the library's
+        message, creating nothing."""
+        import Mesh
+        mesh = self.doc.addObject("Mesh::Feature", "BoxMesh")
+        mesh.Mesh = Mesh.Mesh(self.box.Shape.tessellate(0.1))
+        self.doc.recompute()
+        obj = mfgeom.make_medial_surface(self.doc, mesh, 0.1)
+        clean(self, obj)
+        self.assertEqual(obj.SourceTriangles, 12)
+        self.assert_cuboid(obj, A, B, C)
+        mesh.Placement = PLACEMENT
+        self.doc.recompute()
+        clean(self, obj)
+        self.assert_cuboid(obj, A, B, C, PLACEMENT)
+        part = self.doc.addObject("App::Part", "Container")
+        part.addObject(mesh)
+        part.Placement = PLACEMENT
+        obj.touch()   # a container's move does not touch the mesh (nor, so, the feature)
+        self.doc.recompute()
+        clean(self, obj)
+        self.assert_cuboid(obj, A, B, C, PLACEMENT.multiply(PLACEMENT))
+        opened = self.doc.addObject("Mesh::Feature", "Open")
+        facets = Mesh.Mesh(self.box.Shape.tessellate(0.1)).Facets
+        opened.Mesh = Mesh.Mesh([[tuple(p) for p in f.Points] for f in facets[:-1]])
+        self.doc.recompute()
+        before = [o.Name for o in self.doc.Objects]
+        with self.assertRaisesRegex(Exception, "open|boundary|closed"):
+            mfgeom.make_medial_surface(self.doc, opened, 0.1)
+        self.assertEqual([o.Name for o in self.doc.Objects], before)
+
     def test_bad_input_creates_nothing(self):
         face = self.doc.addObject("Part::Feature", "Face")
         face.Shape = Part.makePlane(2, 2)

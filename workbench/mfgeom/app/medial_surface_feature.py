@@ -52,18 +52,59 @@ class MedialInputError(InputError):
 
 # ---------------------------------------------------------------------------- geometry
 def default_tolerance(shape):
-    """0.5 % of the bounding-box diagonal of ``shape`` (the issue's working tolerance)."""
+    """0.5 % of the bounding-box diagonal of ``shape`` (a Part shape, or a
+    :class:`MeshSource`: the issue's working tolerance)."""
     return TOLERANCE_FRACTION * shape.BoundBox.DiagonalLength
 
 
-def solid_shape(source):
+class MeshSource:
+    """A closed triangle mesh given as the source (a Mesh object, issue 22: STL parts come
+    into FreeCAD as meshes, and the CLI takes them too): ``vertices`` (n, 3) global,
+    ``triangles`` (t, 3), ``BoundBox`` (FreeCAD.BoundBox).  Closedness and orientation are
+    the library's check (its message names the problem)."""
+
+    def __init__(self, vertices, triangles):
+        self.vertices = np.asarray(vertices, dtype=np.float64).reshape(-1, 3)
+        self.triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+        lo, hi = self.vertices.min(axis=0), self.vertices.max(axis=0)
+        self.BoundBox = FreeCAD.BoundBox(*lo.tolist(), *hi.tolist())
+
+
+def mesh_source(source):
+    """The :class:`MeshSource` of a Mesh object (``Mesh::Feature`` and the like: a ``Mesh``
+    property with facets and no solid Shape) in global coordinates, or None.  A Mesh
+    feature's points come with its own Placement applied; containers' placements (an
+    App::Part) are applied here."""
+    mesh = getattr(source, "Mesh", None)
+    if mesh is None or not hasattr(mesh, "Topology") or not getattr(mesh, "CountFacets", 0):
+        return None
+    points, facets = mesh.Topology
+    v = np.array([(p.x, p.y, p.z) for p in points], dtype=np.float64).reshape(-1, 3)
+    t = np.array(facets, dtype=np.int64).reshape(-1, 3)
+    try:   # the containers' placements: global = containers * own
+        extra = source.getGlobalPlacement().multiply(source.Placement.inverse())
+    except (AttributeError, RuntimeError):
+        extra = None
+    if extra is not None and not extra.isIdentity():
+        m = extra.toMatrix()
+        A = np.array([[m.A11, m.A12, m.A13], [m.A21, m.A22, m.A23], [m.A31, m.A32, m.A33]])
+        v = v @ A.T + np.array([m.A14, m.A24, m.A34])
+    return MeshSource(v, t)
+
+
+def solid_shape(source, allow_mesh=False):
     """The solids of ``source`` in global coordinates (the containers' placements
-    applied), or MedialInputError saying why there are none."""
+    applied), or with ``allow_mesh`` for a Mesh object its :class:`MeshSource`;
+    MedialInputError saying why there is neither."""
     from mfgeom.app import gauss_map
     label = getattr(source, "Label", "?")
     shape = getattr(source, "Shape", None)
+    if allow_mesh and (shape is None or shape.isNull() or not shape.Solids):
+        ms = mesh_source(source)
+        if ms is not None:
+            return ms
     if shape is None or shape.isNull():
-        raise MedialInputError(f"'{label}' has no shape")
+        raise MedialInputError(f"'{label}' has no shape" + (" and no mesh" if allow_mesh else ""))
     if not shape.Solids:
         raise MedialInputError(f"'{label}' is not a solid (select a closed solid)")
     return gauss_map.shape_of(source)
@@ -72,10 +113,14 @@ def solid_shape(source):
 def medial_of_shape(shape, tolerance, deflection, major_only=True):
     """(result of core.medial_surface, source triangle count, library seconds) for the
     solids of ``shape``: tessellated with :func:`mfgeom.app.sweep_feature.source_mesh`
-    (planar faces exactly, curved ones within ``deflection``) and welded."""
+    (planar faces exactly, curved ones within ``deflection``) and welded; a
+    :class:`MeshSource` is taken as it is."""
     from mfgeom import core
-    from mfgeom.app.sweep_feature import source_mesh
-    vertices, triangles, _curved = source_mesh(shape, deflection)
+    if isinstance(shape, MeshSource):
+        vertices, triangles = shape.vertices, shape.triangles
+    else:
+        from mfgeom.app.sweep_feature import source_mesh
+        vertices, triangles, _curved = source_mesh(shape, deflection)
     if not hasattr(core, "medial_surface"):
         raise MfgeomError("this mfgeom build has no medial surface binding "
                           "(core.medial_surface)")
@@ -232,7 +277,7 @@ class MedialSurface(FeatureProxy):
     def _execute(self, obj):
         if obj.Source is None:
             raise MedialInputError("the source is gone; set the Source property again")
-        shape = solid_shape(obj.Source)
+        shape = solid_shape(obj.Source, allow_mesh=True)
         tolerance, deflection = float(obj.Tolerance.Value), float(obj.Deflection.Value)
         check_parameters(tolerance, deflection)
         result, source_triangles, seconds = medial_of_shape(shape, tolerance, deflection,
@@ -288,7 +333,8 @@ def make_medial_surface(doc: "FreeCAD.Document", source: "FreeCAD.DocumentObject
                         major_only: bool = True,
                         deflection: Quantity = DEFAULT_DEFLECTION,
                         name: str = "MedialSurface") -> "FreeCAD.DocumentObject":
-    """Create the medial surface of ``source`` (a document object with a solid Shape) in
+    """Create the medial surface of ``source`` (a document object with a solid Shape, or a
+    Mesh object with a closed mesh) in
     ``doc`` and compute it.  ``tolerance``: mm, a length Quantity or "0.1 mm" (default
     None: 0.5 % of the source's bounding-box diagonal); ``major_only``: the major part
     (the mid-surface) or the full medial surface; ``deflection``: mm, for curved faces.
@@ -298,10 +344,11 @@ def make_medial_surface(doc: "FreeCAD.Document", source: "FreeCAD.DocumentObject
     from mfgeom.app.medial_axis_feature import length_value
     if doc is None or not hasattr(doc, "addObject"):
         raise MedialInputError("no document given")
-    if (source is None or not hasattr(source, "Shape")
+    if (source is None or not (hasattr(source, "Shape") or hasattr(source, "Mesh"))
             or getattr(source, "Document", None) is not doc):
-        raise MedialInputError("the source must be an object with a Shape in this document")
-    shape = solid_shape(source)
+        raise MedialInputError("the source must be an object with a Shape or a Mesh in this "
+                               "document")
+    shape = solid_shape(source, allow_mesh=True)
     tol = (default_tolerance(shape) if tolerance is None
            else length_value(tolerance, "the tolerance"))
     defl = length_value(deflection, "the deflection")

@@ -57,7 +57,7 @@ def solid_from_selection(selection, allow_medial=False):
     obj = objs[0]
     if allow_medial and msf.is_medial_surface(obj):
         return obj
-    msf.solid_shape(obj)   # a solid, or MedialInputError saying why not
+    msf.solid_shape(obj, allow_mesh=True)   # a solid or mesh, or MedialInputError why not
     return obj
 
 
@@ -201,7 +201,7 @@ class MedialSurfacePanel(MedialPanel):
         super().__init__(obj)
         if obj is None:
             self.what.setText(f"Solid: {source.Label}")
-            self.tolerance.setValue(msf.default_tolerance(msf.solid_shape(source)))
+            self.tolerance.setValue(msf.default_tolerance(msf.solid_shape(source, allow_mesh=True)))
 
     def _rows(self, layout):
         self.tolerance = spin("tolerance", 1e-6, 1e4, 6, " mm", 0.1,
@@ -274,7 +274,7 @@ class MidSurfacePanel(MedialPanel):
             self.what.setText(("Solid: " if self.from_solid else "Medial surface: ")
                               + source.Label)
             if self.from_solid:
-                self.tolerance.setValue(msf.default_tolerance(msf.solid_shape(source)))
+                self.tolerance.setValue(msf.default_tolerance(msf.solid_shape(source, allow_mesh=True)))
         for box in (self.tolerance, self.deflection):
             box.setEnabled(self.from_solid)
 
