@@ -30,8 +30,7 @@ import numpy as np
 import pytest
 
 import medial_solids as solids
-from medial_oracle import (Polyhedron, closest_on_triangles, distance_to_pieces, result_pieces,
-                           sheet_area)
+from medial_oracle import Polyhedron, distance_to_pieces, result_pieces, sheet_area
 from mfgeom import core
 
 TOL_FRAC = 0.01                  # tolerance = 1 % of the bbox diagonal (the bench: 0.5 %)
@@ -868,23 +867,23 @@ def test_bent_chain_is_split_at_its_bend():
 
 
 def test_coincident_vertices_box():
-    """issue 22, found by fuzzing the medial surface: a box with moved corners whose two
-    corners coincide (a pinched but closed mesh) bent a chain at the pinch (an internal
-    error), and with the split the zero-area triangles there claimed a corner for two
-    edges in turn (the element build never ended)."""
+    """issue 22, found by fuzzing the medial surface: a box with moved corners, two of them
+    coincident, bent a chain at the pinch (an internal error) and, once split, looped in
+    the element build.  The moved corners fold the box through itself (an edge of
+    triangle 11 passes through triangle 0: checked here by Moller-Trumbore, independently
+    of the library), so the closed check now refuses it, naming the pair."""
     v = np.array([[2, 0.03125, 0], [2.03125, 0.04296875, 0.0625], [2.0859375, 0.03125, 0.125],
                   [2.09375, 0.1875, 0.03125], [2.09375, 0.21875, 0], [2.05078125, 0.0390625, 0],
                   [2, 0.03125, 0], [2.03125, 0.03125, 0]])
     t = np.array([[0, 2, 3], [0, 3, 1], [4, 5, 7], [4, 7, 6], [0, 1, 5], [0, 5, 4], [2, 6, 7],
                   [2, 7, 3], [0, 4, 6], [0, 6, 2], [1, 3, 7], [1, 7, 5]], np.int64)
-    tol = 0.0038135984745637959
-    res = core.medial_surface(v, t, tol)
-    # radii against Ericson's point-triangle distance over the triangles of non-zero area
-    # (the oracle's Polyhedron refuses zero-area ones), every point strictly inside
-    a, b, c = (v[t[:, k]] for k in range(3))
-    keep = np.linalg.norm(np.cross(b - a, c - a), axis=1) > 0
-    pts = np.concatenate([s.vertices for s in res.sheets] + [s.points for s in res.seams])
-    rad = np.concatenate([s.radii for s in res.sheets] + [s.radii for s in res.seams])
-    assert len(pts) > 0
-    d = closest_on_triangles(pts, a[keep], b[keep], c[keep])[0].min(axis=1)
-    assert np.max(np.abs(d - rad)) <= tol
+    A, (p, q) = v[t[0]], v[[1, 7]]
+    e1, e2, d = A[1] - A[0], A[2] - A[0], q - p
+    h = np.cross(d, e2)
+    f = 1 / (e1 @ h)
+    s = p - A[0]
+    u, w = f * (s @ h), f * (d @ np.cross(s, e1))
+    tt = f * (e2 @ np.cross(s, e1))
+    assert u > 0 and w > 0 and u + w < 1 and 0 < tt < 1      # the edge pierces triangle 0
+    with pytest.raises(core.MfgError, match="shells cross: triangles 0 and 11"):
+        core.medial_surface(v, t, 0.0038135984745637959)

@@ -387,6 +387,8 @@ mfg_status mfg_mesh_require_closed(const double *xyz, int64_t nvertices,
     st = analyse(xyz, nvertices, triangles, ntriangles, &f, nb);
     if (st == MFG_OK)
         st = first_problem(&f);
+    if (st == MFG_OK)
+        st = mfg_mesh_shells_problem(xyz, nvertices, triangles, ntriangles);
     if (st != MFG_OK) {
         free(nb);
         return st;

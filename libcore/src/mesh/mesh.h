@@ -32,6 +32,12 @@ mfg_status mfg_mesh_require_closed(const double *xyz, int64_t nvertices,
 mfg_status mfg_mesh_validate(const double *xyz, int64_t nvertices, const int64_t *triangles,
                              int64_t ntriangles);
 
+/* The closed check's last test (shell_crossing.c, issue 22), for a mesh that passed every
+ * other: two triangles sharing no vertex cross (exactly: overlapping or self-intersecting
+ * shells), or a shell lies inside another facing the same way (nested shells).
+ * MFG_ERR_INVALID naming the first pair / shell, MFG_ERR_NOMEM, or MFG_OK. */
+mfg_status mfg_mesh_shells_problem(const double *xyz, int64_t nv, const int64_t *tris, int64_t nt);
+
 /* 1 when triangle abc has zero area, exactly (its three projected orientations vanish). */
 int mfg_triangle_zero_area(const double *a, const double *b, const double *c);
 

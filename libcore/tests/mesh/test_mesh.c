@@ -625,12 +625,71 @@ static void test_big_sphere(void)
     tmesh_free(&m);
 }
 
+/* Issue 22: shells that cross or nest wrongly pass every edge test but bound no solid. */
+static void flip_from(tmesh *m, int64_t t0)
+{
+    for (int64_t t = t0; t < m->nt; t++) {
+        int64_t x = m->tri[3 * t + 1];
+        m->tri[3 * t + 1] = m->tri[3 * t + 2];
+        m->tri[3 * t + 2] = x;
+    }
+}
+
+static void test_crossing_and_nested_shells(void)
+{
+    /* Two overlapping boxes (volume 4 against a union of 3.75): axis-aligned, their top
+     * and bottom faces coplanar (the coplanar overlap test), and moved off the planes
+     * (edges piercing faces). */
+    tmesh a = {0};
+    add_box(&a, 0, 0, 0, 2, 1, 1);
+    add_box(&a, 1.5, 0.5, 0, 3.5, 1.5, 1);
+    CHECK(check(&a).volume == 4.0);
+    expect_refused(&a, MFG_ERR_INVALID, "shells cross: triangles");
+    tmesh b = {0};
+    add_box(&b, 0, 0, 0, 2, 1, 1);
+    add_box(&b, 1.5, 0.25, 0.25, 3.5, 1.25, 1.25);
+    expect_refused(&b, MFG_ERR_INVALID, "shells cross: triangles");
+    /* Two boxes glued face to face as separate shells: the shared face twice. */
+    tmesh g = {0};
+    add_box(&g, 0, 0, 0, 1, 1, 1);
+    add_box(&g, 1, 0, 0, 2, 1, 1);
+    expect_refused(&g, MFG_ERR_INVALID, "shells cross");
+    /* A box inside a box, both facing out; the same turned into a cavity is fine, and so
+     * is an island inside the cavity; one turned inside-out alone is not. */
+    tmesh n = {0};
+    add_box(&n, 0, 0, 0, 4, 4, 4);
+    add_box(&n, 1, 1, 1, 2, 2, 2);
+    expect_refused(&n, MFG_ERR_INVALID, "nested shells: the shell of triangle 12 (facing out)");
+    tmesh c = {0};
+    add_box(&c, 0, 0, 0, 6, 6, 6);
+    add_box(&c, 1, 1, 1, 5, 5, 5);
+    flip_from(&c, 12);
+    add_box(&c, 2, 2, 2, 3, 3, 3);
+    mfg_mesh_report r;
+    CHECK_EQ_INT(mfg_mesh_check_closed(c.xyz, c.nv, c.tri, c.nt, &r), MFG_OK);
+    CHECK(r.volume == 216.0 - 64.0 + 1.0);
+    tmesh o = {0};
+    add_box(&o, 0, 0, 0, 4, 4, 4);
+    add_box(&o, 10, 0, 0, 11, 1, 1);
+    flip_from(&o, 12);
+    expect_refused(&o, MFG_ERR_INVALID, "outside every solid shell");
+    /* Shells touching at a vertex only (strict tests): not a crossing. */
+    tmesh v = {0};
+    add_box(&v, 0, 0, 0, 1, 1, 1);
+    add_box(&v, 1, 1, 1, 2, 2, 2);
+    CHECK_EQ_INT(mfg_mesh_check_closed(v.xyz, v.nv, v.tri, v.nt, &r), MFG_OK);
+    tmesh *all[] = {&a, &b, &g, &n, &c, &o, &v};
+    for (size_t i = 0; i < sizeof all / sizeof *all; i++)
+        tmesh_free(all[i]);
+}
+
 int main(void)
 {
     test_cube();
     test_tetrahedron();
     test_torus();
     test_two_cubes();
+    test_crossing_and_nested_shells();
     test_open_and_flipped();
     test_nonmanifold();
     test_degenerate();
