@@ -457,15 +457,17 @@ class LibraryErrors(unittest.TestCase):
         out = isolated("medial_library_errors", LIBRARY_ERRORS_SCRIPT)
         for case in out["cases"]:
             self.assertNotIn("\n", case["error"])
-            self.assertEqual(case["objects"], ["Two", "Box", "Open"], case)
+            self.assertEqual(case["objects"], ["Two", "Box", "Open", "Overlap"], case)
             self.assertTrue(case["valid"], case)
-        two, box, opened = out["cases"]
+        two, box, opened, overlap = out["cases"]
         # open / non-manifold input: the library's input check names it
         self.assertIn("non-manifold", two["error"])
         self.assertEqual(two["error_class"], "MfgeomError")
         self.assertEqual(box["error"], "")
         # issue 22: a Mesh object is taken as it is; an open one is refused, creating nothing
         self.assertIn("not closed", opened["error"])
+        # ... and two overlapping boxes in one mesh (every edge test passes) as crossing
+        self.assertIn("shells cross", overlap["error"])
 
 
 LIBRARY_ERRORS_SCRIPT = """
@@ -477,9 +479,13 @@ import Mesh
 opened = doc.addObject("Mesh::Feature", "Open")
 facets = Mesh.Mesh(Part.makeBox(2, 1, 1).tessellate(0.1)).Facets
 opened.Mesh = Mesh.Mesh([[tuple(p) for p in f.Points] for f in facets[:-1]])
+overlap = doc.addObject("Mesh::Feature", "Overlap")   # two boxes as one mesh, overlapping
+pair = Mesh.Mesh(Part.makeBox(2, 1, 1).tessellate(0.1))
+pair.addMesh(Mesh.Mesh(Part.makeBox(2, 1, 1, App.Vector(1.5, 0.5, 0)).tessellate(0.1)))
+overlap.Mesh = pair
 doc.recompute()
 result = {"cases": []}
-for source in (two, box, opened):
+for source in (two, box, opened, overlap):
     case = {"error": "", "error_class": ""}
     try:
         made = mfgeom.make_medial_surface(doc, source, 0.05)
