@@ -34,9 +34,29 @@ mfg_status mfg_mesh_validate(const double *xyz, int64_t nvertices, const int64_t
 
 /* The closed check's last test (shell_crossing.c, issue 22), for a mesh that passed every
  * other: two triangles sharing no vertex cross (exactly: overlapping or self-intersecting
- * shells), or a shell lies inside another facing the same way (nested shells).
- * MFG_ERR_INVALID naming the first pair / shell, MFG_ERR_NOMEM, or MFG_OK. */
+ * shells), a shell encloses no volume (flat), or a shell lies inside another facing the
+ * same way (nested shells).  MFG_ERR_INVALID naming the first pair / shell, MFG_ERR_NOMEM,
+ * or MFG_OK. */
 mfg_status mfg_mesh_shells_problem(const double *xyz, int64_t nv, const int64_t *tris, int64_t nt);
+
+/* One shell (triangles joined through shared vertices) of a mesh. */
+typedef struct mfg_shell_info {
+    int64_t ntriangles, first;      /* how many; the first in the mesh's order */
+    int64_t largest;                /* the one of largest area (-1: all of zero area) */
+    double largest_area2;           /* twice its area */
+    double volume6, volume6_bound;  /* 6 x signed volume (about the mesh's box centre) and
+                                     * its rounding bound */
+    double lo[3], hi[3];            /* bounding box */
+} mfg_shell_info;
+
+/* The shells of a mesh: shell_of[t] (nt entries, the caller's) numbers them 0.. in order of
+ * their first triangle; *out (malloc'd, free()) describes each.  Returns how many, or -1
+ * when out of memory (*out NULL). */
+int64_t mfg_mesh_shells(const double *xyz, int64_t nv, const int64_t *tris, int64_t nt,
+                        int64_t *shell_of, mfg_shell_info **out);
+
+/* 1 when the shell's volume is zero within its rounding bound: it encloses no solid. */
+int mfg_shell_is_flat(const mfg_shell_info *s);
 
 /* 1 when triangle abc has zero area, exactly (its three projected orientations vanish). */
 int mfg_triangle_zero_area(const double *a, const double *b, const double *c);

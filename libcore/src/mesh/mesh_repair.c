@@ -8,6 +8,7 @@
 #include "common/hashmap.h"
 #include "common/mfg_internal.h"
 #include "common/vec3.h"
+#include "mesh/mesh.h"
 #include "mesh/mesh_repair.h"
 
 /* ---- 1. Welds ------------------------------------------------------------------------- */
@@ -566,4 +567,30 @@ int mfg_mesh_separate_sheets(mfg_rmesh *m)
 int mfg_chain_weld(mfg_rmesh *m, double eps)
 {
     return weld(m, eps, 1);
+}
+
+/* ---- 4. Flat shells ------------------------------------------------------------------- */
+
+int mfg_mesh_drop_flat_shells(mfg_rmesh *m)
+{
+    int64_t *shell_of = malloc((size_t)(m->nt + 1) * sizeof *shell_of);
+    mfg_shell_info *S = NULL;
+    int64_t ns = shell_of ? mfg_mesh_shells(m->x, m->nv, m->t, m->nt, shell_of, &S) : -1;
+    if (ns < 0) {
+        free(shell_of);
+        return 0;
+    }
+    int64_t keep = 0;
+    for (int64_t t = 0; t < m->nt; t++) {
+        if (mfg_shell_is_flat(&S[shell_of[t]]))
+            continue;
+        memmove(m->t + 3 * keep, m->t + 3 * t, 3 * sizeof *m->t);
+        if (m->g)
+            m->g[keep] = m->g[t];
+        keep++;
+    }
+    m->nt = keep;
+    free(shell_of);
+    free(S);
+    return 1;
 }

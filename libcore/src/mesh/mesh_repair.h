@@ -48,4 +48,10 @@ int mfg_mesh_separate_sheets(mfg_rmesh *m);
  * 0 when out of memory. */
 int mfg_chain_weld(mfg_rmesh *m, double eps);
 
+/* 4. Shells that enclose no volume (mesh.h's mfg_shell_is_flat: faces folded onto each
+ * other, zero volume within rounding) dropped: rounding an exact boundary can leave such
+ * debris - a tetrahedron flattened onto the surface where a full turn's sheets touch - and
+ * it has no inside to bound.  Vertices stay (unused).  1, or 0 when out of memory. */
+int mfg_mesh_drop_flat_shells(mfg_rmesh *m);
+
 #endif

@@ -13,11 +13,20 @@
  * the centroid of one strictly inside the other).  Strict tests: shells that only touch
  * (a vertex on a face) are not reported.
  *
- * Nesting (shells that do not cross): each connected shell's signed volume and the winding
- * number of one of its vertices with respect to the other shells (solid angles; the point
- * is off every other shell, so the number is an integer up to rounding).  A shell facing
- * out must lie outside all others (winding 0), a cavity facing in inside exactly one
- * (winding 1).  Skipped beyond MAX_NEST_SHELLS shells (cost shells x triangles). */
+ * Flat shells: a connected shell whose signed volume is zero within rounding encloses no
+ * solid (a folded-flat tetrahedron: its faces overlap, but share vertices, so the crossing
+ * test does not see them) and has no inside or outside.  Refused by name.
+ *
+ * Nesting (shells that do not cross): each shell's signed volume and the winding number,
+ * with respect to the other shells, of the centroid of its largest triangle (an interior
+ * point of a triangle: another shell can only touch it by crossing, which was refused,
+ * or by one of its vertices landing there exactly - then the number is not near an integer
+ * and the shell's first triangle's centroid is tried).  Only shells whose box holds the
+ * point count.  A shell facing out must lie outside all others (winding 0), a cavity
+ * facing in inside exactly one (winding 1).  Skipped beyond MAX_NEST_SHELLS shells.
+ *
+ * (A vertex was the first choice of point: where a full-turn sweep's shells touch, it lies
+ * on the other shell and its winding number is anything from 0 to 1.) */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,7 +37,11 @@
 #include "common/vec3.h"
 
 #define LEAF_TRIS 4
-#define MAX_NEST_SHELLS 256
+/* beyond this many shells the nesting test is skipped (its box filter is shells^2) */
+#define MAX_NEST_SHELLS 4096
+/* the rounding bound of a compensated sum of 3x3 determinants relative to their permanent
+ * (mesh.c's VOLUME_BOUND: the same argument per shell) */
+#define SHELL_VOLUME_BOUND 0x1p-47
 
 typedef struct tnode {
     double lo[3], hi[3];
@@ -282,6 +295,198 @@ static double solid_angle(const double *p, const double *a, const double *b, con
     return atan2(num, den) / (2 * 3.14159265358979323846);
 }
 
+int64_t mfg_mesh_shells(const double *xyz, int64_t nv, const int64_t *tris, int64_t nt,
+                        int64_t *shell_of, mfg_shell_info **out)
+{
+    *out = NULL;
+    int64_t *comp = malloc((size_t)(nv + 1) * sizeof *comp), *num = malloc((size_t)(nv + 1) * sizeof *num);
+    if (!comp || !num) {
+        free(comp);
+        free(num);
+        return -1;
+    }
+    for (int64_t v = 0; v < nv; v++) {
+        comp[v] = v;
+        num[v] = -1;
+    }
+    for (int64_t t = 0; t < nt; t++) {
+        mfg_uf_union(comp, tris[3 * t], tris[3 * t + 1]);
+        mfg_uf_union(comp, tris[3 * t], tris[3 * t + 2]);
+    }
+    int64_t ns = 0;
+    for (int64_t t = 0; t < nt; t++) {
+        int64_t r = mfg_uf_find(comp, tris[3 * t]);
+        if (num[r] < 0)
+            num[r] = ns++;
+        shell_of[t] = num[r];
+    }
+    free(comp);
+    free(num);
+    mfg_shell_info *S = calloc((size_t)ns + 1, sizeof *S);
+    double *comp_sum = calloc((size_t)ns + 1, sizeof *comp_sum);
+    if (!S || !comp_sum) {
+        free(S);
+        free(comp_sum);
+        return -1;
+    }
+    /* volumes about the mesh's box centre, as mesh.c sums the whole (rounding bound) */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, o[3];
+    for (int64_t t = 0; t < 3 * nt; t++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], xyz[3 * tris[t] + k]);
+            hi[k] = fmax(hi[k], xyz[3 * tris[t] + k]);
+        }
+    for (int k = 0; k < 3; k++)
+        o[k] = lo[k] * 0.5 + hi[k] * 0.5;
+    for (int64_t s = 0; s < ns; s++) {
+        S[s].first = -1;
+        S[s].largest = -1;
+        for (int k = 0; k < 3; k++) {
+            S[s].lo[k] = INFINITY;
+            S[s].hi[k] = -INFINITY;
+        }
+    }
+    for (int64_t t = 0; t < nt; t++) {
+        mfg_shell_info *sh = &S[shell_of[t]];
+        const int64_t *tv = tris + 3 * t;
+        sh->ntriangles++;
+        if (sh->first < 0)
+            sh->first = t;
+        double a[3], b[3], c[3];
+        for (int k = 0; k < 3; k++) {
+            a[k] = xyz[3 * tv[0] + k] - o[k];
+            b[k] = xyz[3 * tv[1] + k] - o[k];
+            c[k] = xyz[3 * tv[2] + k] - o[k];
+            sh->lo[k] = fmin(sh->lo[k], fmin(a[k], fmin(b[k], c[k])) + o[k]);
+            sh->hi[k] = fmax(sh->hi[k], fmax(a[k], fmax(b[k], c[k])) + o[k]);
+        }
+        if (tv[0] == tv[1] || tv[1] == tv[2] || tv[0] == tv[2])
+            continue;
+        double det = a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
+                     a[2] * (b[0] * c[1] - b[1] * c[0]);
+        sh->volume6_bound += SHELL_VOLUME_BOUND *
+                             (fabs(a[0]) * (fabs(b[1] * c[2]) + fabs(b[2] * c[1])) +
+                              fabs(a[1]) * (fabs(b[2] * c[0]) + fabs(b[0] * c[2])) +
+                              fabs(a[2]) * (fabs(b[0] * c[1]) + fabs(b[1] * c[0])));
+        double x = sh->volume6 + det; /* Neumaier's compensated sum */
+        comp_sum[shell_of[t]] += fabs(sh->volume6) >= fabs(det) ? (sh->volume6 - x) + det
+                                                                : (det - x) + sh->volume6;
+        sh->volume6 = x;
+        double u[3], w[3], n[3];
+        mfg_sub3(b, a, u);
+        mfg_sub3(c, a, w);
+        mfg_cross3(u, w, n);
+        double area2 = mfg_norm3(n);
+        if (area2 > sh->largest_area2) {
+            sh->largest_area2 = area2;
+            sh->largest = t;
+        }
+    }
+    for (int64_t s = 0; s < ns; s++)
+        S[s].volume6 += comp_sum[s];
+    free(comp_sum);
+    *out = S;
+    return ns;
+}
+
+int mfg_shell_is_flat(const mfg_shell_info *s)
+{
+    return !(fabs(s->volume6) > s->volume6_bound);
+}
+
+/* The winding number about p of the shells other than `self` whose box holds p
+ * (tri_of: the triangles sorted by shell, start[s] .. start[s + 1] those of shell s). */
+static double winding_of_others(const double *p, int64_t self, int64_t ns, const mfg_shell_info *S,
+                                const double *xyz, const int64_t *tris, const int64_t *tri_of,
+                                const int64_t *start)
+{
+    double w = 0;
+    for (int64_t s = 0; s < ns; s++) {
+        if (s == self)
+            continue;
+        int in = 1;
+        for (int k = 0; k < 3; k++)
+            in &= p[k] >= S[s].lo[k] && p[k] <= S[s].hi[k];
+        if (!in)
+            continue; /* a closed shell's winding number is 0 outside its box */
+        for (int64_t i = start[s]; i < start[s + 1]; i++) {
+            const int64_t *tv = tris + 3 * tri_of[i];
+            w += solid_angle(p, xyz + 3 * tv[0], xyz + 3 * tv[1], xyz + 3 * tv[2]);
+        }
+    }
+    return w;
+}
+
+static void centroid(const double *xyz, const int64_t *tris, int64_t t, double p[3])
+{
+    for (int k = 0; k < 3; k++)
+        p[k] = (xyz[3 * tris[3 * t] + k] + xyz[3 * tris[3 * t + 1] + k] + xyz[3 * tris[3 * t + 2] + k]) / 3;
+}
+
+/* Flat shells and wrong nesting (the file's comment). */
+static mfg_status nesting_problem(const double *xyz, int64_t nv, const int64_t *tris, int64_t nt)
+{
+    int64_t *shell_of = malloc((size_t)(nt + 1) * sizeof *shell_of);
+    mfg_shell_info *S = NULL;
+    int64_t ns = shell_of ? mfg_mesh_shells(xyz, nv, tris, nt, shell_of, &S) : -1;
+    int64_t *tri_of = NULL, *start = NULL;
+    mfg_status st = MFG_OK;
+    if (ns < 0)
+        goto nomem;
+    for (int64_t s = 0; s < ns; s++)
+        if (mfg_shell_is_flat(&S[s])) {
+            st = mfg_fail(MFG_ERR_INVALID,
+                          "flat shell: the shell of triangle %lld (%lld triangles) encloses no volume "
+                          "(its faces fold onto each other); remove it",
+                          (long long)S[s].first, (long long)S[s].ntriangles);
+            goto done;
+        }
+    if (ns < 2 || ns > MAX_NEST_SHELLS)
+        goto done;
+    tri_of = malloc((size_t)(nt + 1) * sizeof *tri_of);
+    start = calloc((size_t)ns + 2, sizeof *start);
+    if (!tri_of || !start)
+        goto nomem;
+    for (int64_t t = 0; t < nt; t++) /* counting sort of the triangles by shell */
+        start[shell_of[t] + 2]++;
+    for (int64_t s = 0; s < ns; s++)
+        start[s + 2] += start[s + 1];
+    for (int64_t t = 0; t < nt; t++)
+        tri_of[start[shell_of[t] + 1]++] = t;
+    for (int64_t k = 0; k < ns; k++) {
+        if (S[k].largest < 0)
+            continue; /* every triangle of zero area: flat, refused above */
+        double p[3], w;
+        centroid(xyz, tris, S[k].largest, p);
+        w = winding_of_others(p, k, ns, S, xyz, tris, tri_of, start);
+        if (fabs(w - round(w)) > 0.25) { /* a vertex of another shell on the point */
+            centroid(xyz, tris, S[k].first, p);
+            w = winding_of_others(p, k, ns, S, xyz, tris, tri_of, start);
+        }
+        long wi = lround(w);
+        if (fabs(w - (double)wi) > 0.25)
+            continue; /* rounding too large to tell */
+        long want = S[k].volume6 > 0 ? 0 : 1;
+        if (wi != want) {
+            st = mfg_fail(MFG_ERR_INVALID,
+                          "nested shells: the shell of triangle %lld (%s) lies %s (winding number %ld): "
+                          "a solid's shells must not overlap",
+                          (long long)S[k].first, S[k].volume6 > 0 ? "facing out" : "a cavity facing in",
+                          S[k].volume6 > 0 ? "inside another shell" : "outside every solid shell", wi);
+            goto done;
+        }
+    }
+    goto done;
+nomem:
+    st = mfg_fail(MFG_ERR_NOMEM, "out of memory checking the shells of %lld triangles", (long long)nt);
+done:
+    free(shell_of);
+    free(S);
+    free(tri_of);
+    free(start);
+    return st;
+}
+
 mfg_status mfg_mesh_shells_problem(const double *xyz, int64_t nv, const int64_t *tris, int64_t nt)
 {
     mfg_status st = MFG_OK;
@@ -289,12 +494,11 @@ mfg_status mfg_mesh_shells_problem(const double *xyz, int64_t nv, const int64_t 
     memset(&T, 0, sizeof T);
     T.xyz = xyz;
     T.tris = tris;
-    int64_t *comp = malloc((size_t)(nv + 1) * sizeof *comp);
     T.ids = malloc((size_t)(nt + 1) * sizeof *T.ids);
     T.cen = malloc((size_t)(3 * nt + 1) * sizeof *T.cen);
     T.box = malloc((size_t)(6 * nt + 1) * sizeof *T.box);
     T.n = malloc((size_t)(2 * nt + 1) * sizeof *T.n);
-    if (!comp || !T.ids || !T.cen || !T.box || !T.n) {
+    if (!T.ids || !T.cen || !T.box || !T.n) {
         st = mfg_fail(MFG_ERR_NOMEM, "out of memory checking the shells of %lld triangles", (long long)nt);
         goto done;
     }
@@ -325,57 +529,8 @@ mfg_status mfg_mesh_shells_problem(const double *xyz, int64_t nv, const int64_t 
                       (long long)cr.a, (long long)cr.b, (long long)cr.count);
         goto done;
     }
-    /* Shells: vertices joined through their triangles. */
-    for (int64_t v = 0; v < nv; v++)
-        comp[v] = v;
-    for (int64_t t = 0; t < nt; t++) {
-        mfg_uf_union(comp, tris[3 * t], tris[3 * t + 1]);
-        mfg_uf_union(comp, tris[3 * t], tris[3 * t + 2]);
-    }
-    int64_t roots[MAX_NEST_SHELLS], rep[MAX_NEST_SHELLS], nsh = 0;
-    double vol[MAX_NEST_SHELLS];
-    for (int64_t t = 0; t < nt && nsh <= MAX_NEST_SHELLS; t++) {
-        int64_t r = mfg_uf_find(comp, tris[3 * t]), k = 0;
-        while (k < nsh && roots[k] != r)
-            k++;
-        if (k == nsh) {
-            if (nsh == MAX_NEST_SHELLS) {
-                nsh++; /* too many: the nesting test is skipped */
-                break;
-            }
-            roots[nsh] = r, rep[nsh] = t, vol[nsh] = 0;
-            nsh++;
-        }
-        double cr3[3];
-        const double *a = xyz + 3 * tris[3 * t], *b = xyz + 3 * tris[3 * t + 1], *c = xyz + 3 * tris[3 * t + 2];
-        mfg_cross3(b, c, cr3);
-        vol[k] += mfg_dot3(a, cr3);
-    }
-    if (nsh < 2 || nsh > MAX_NEST_SHELLS)
-        goto done;
-    for (int64_t k = 0; k < nsh; k++) {
-        const double *p = xyz + 3 * tris[3 * rep[k]];
-        double w = 0;
-        for (int64_t t = 0; t < nt; t++) {
-            if (mfg_uf_find(comp, tris[3 * t]) == roots[k])
-                continue;
-            w += solid_angle(p, xyz + 3 * tris[3 * t], xyz + 3 * tris[3 * t + 1], xyz + 3 * tris[3 * t + 2]);
-        }
-        long wi = lround(w);
-        if (fabs(w - (double)wi) > 0.25)
-            continue; /* rounding too large to tell (a shell all but touching another) */
-        long want = vol[k] > 0 ? 0 : 1;
-        if (wi != want) {
-            st = mfg_fail(MFG_ERR_INVALID,
-                          "nested shells: the shell of triangle %lld (%s) lies %s (winding number %ld): "
-                          "a solid's shells must not overlap",
-                          (long long)rep[k], vol[k] > 0 ? "facing out" : "a cavity facing in",
-                          vol[k] > 0 ? "inside another shell" : "outside every solid shell", wi);
-            goto done;
-        }
-    }
+    st = nesting_problem(xyz, nv, tris, nt);
 done:
-    free(comp);
     free(T.ids);
     free(T.cen);
     free(T.box);

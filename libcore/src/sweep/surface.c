@@ -311,6 +311,9 @@ int sw_surface(sw_env *e, double **ox, int64_t *nox, int64_t **ot, int64_t *not_
     /* where the solid touches itself (along an edge, at a point) its sheets are told apart */
     if (st == MFG_OK && !mfg_mesh_separate_sheets(&cur))
         st = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
+    /* and flat shells (debris of the rounding where a full turn's sheets touch) dropped */
+    if (st == MFG_OK && !mfg_mesh_drop_flat_shells(&cur))
+        st = mfg_fail(MFG_ERR_NOMEM, "rotational sweep: out of memory");
     if (st == MFG_OK) {
         mfg_mesh_report rep;
         st = mfg_mesh_check_closed(cur.x, cur.nv, cur.t, cur.nt, &rep);

@@ -678,7 +678,37 @@ static void test_crossing_and_nested_shells(void)
     add_box(&v, 0, 0, 0, 1, 1, 1);
     add_box(&v, 1, 1, 1, 2, 2, 2);
     CHECK_EQ_INT(mfg_mesh_check_closed(v.xyz, v.nv, v.tri, v.nt, &r), MFG_OK);
-    tmesh *all[] = {&a, &b, &g, &n, &c, &o, &v};
+    /* A box and, beside it, a tetrahedron folded flat (four coplanar corners: closed and
+     * 2-manifold, volume 0, its faces overlapping but sharing vertices): a flat shell. */
+    tmesh f = {0};
+    add_box(&f, 0, 0, 0, 1, 1, 1);
+    int64_t f0 = add_vertex(&f, 3, 0, 0), f1 = add_vertex(&f, 4, 0, 0), f2 = add_vertex(&f, 3, 1, 0);
+    int64_t f3 = add_vertex(&f, 3.25, 0.25, 0);
+    add_tri(&f, f0, f1, f2);
+    add_tri(&f, f0, f3, f1);
+    add_tri(&f, f1, f3, f2);
+    add_tri(&f, f2, f3, f0);
+    CHECK(check(&f).volume == 1.0);
+    expect_refused(&f, MFG_ERR_INVALID, "flat shell: the shell of triangle 12 (4 triangles)");
+    /* A cavity (an octahedron) touching its box at one corner on the box's bottom face,
+     * that corner listed first: a vertex there has no winding number (it lies on the other
+     * shell), the centroid of a triangle has - accepted, volume 64 - 4/3. */
+    tmesh t = {0};
+    add_box(&t, 0, 0, 0, 4, 4, 4);
+    int64_t o0 = add_vertex(&t, 2, 2, 0), o1 = add_vertex(&t, 2, 2, 2), o2 = add_vertex(&t, 1, 2, 1);
+    int64_t o3 = add_vertex(&t, 3, 2, 1), o4 = add_vertex(&t, 2, 1, 1), o5 = add_vertex(&t, 2, 3, 1);
+    /* facing in: each face's corners clockwise seen from outside the octahedron */
+    const int64_t eq[4] = {o2, o4, o3, o5};
+    for (int k = 0; k < 4; k++) {
+        add_tri(&t, o0, eq[k], eq[(k + 1) % 4]);
+        add_tri(&t, o1, eq[(k + 1) % 4], eq[k]);
+    }
+    mfg_status ts = mfg_mesh_check_closed(t.xyz, t.nv, t.tri, t.nt, &r);
+    CHECK_EQ_INT(ts, MFG_OK);
+    if (ts != MFG_OK)
+        fprintf(stderr, "  touching cavity: %s\n", mfg_last_error());
+    CHECK(fabs(r.volume - (64.0 - 4.0 / 3.0)) < 1e-12);
+    tmesh *all[] = {&a, &b, &g, &n, &c, &o, &v, &f, &t};
     for (size_t i = 0; i < sizeof all / sizeof *all; i++)
         tmesh_free(all[i]);
 }
