@@ -406,7 +406,8 @@ MFG_API mfg_status mfg_mesh_check(const double *xyz, int64_t nvertices,
  * exactly: an edge through the other's interior, or coplanar interiors overlapping;
  * shells that only touch pass) -- "shells cross: triangles 3 and 16 intersect" -- and
  * a shell facing out must lie outside every other shell, a cavity inside exactly one
- * ("nested shells: ...", by winding numbers; not checked beyond 256 shells).  Unite
+ * ("nested shells: ...", by winding numbers; not checked beyond 4096 shells), and no
+ * shell may enclose zero volume ("flat shell: ...": faces folded onto each other).  Unite
  * overlapping parts before.  Cost: O(n log n) (a bounding-volume tree; about 2 s for
  * 10^6 triangles). */
 MFG_API mfg_status mfg_mesh_check_closed(const double *xyz, int64_t nvertices,
