@@ -566,8 +566,10 @@ MFG_API mfg_status mfg_rotational_sweep_p(const double *xyz, int64_t nvertices,
  * A junction's disc touches >= 3 elements (the centre of a square touches 4 and has
  * degree 4); points where the axis passes from one element to another without a third
  * (the ends of a parabolic arc) are samples, not junctions.  Junctions joined by a
- * branch shorter than tol are one junction (elements: the union; degree: the branches
- * that end at it; the other branches' ends moved onto it, by < tol).
+ * branch shorter than tol are one junction when the group so joined spans less than tol
+ * (elements: the union; degree: the branches that end at it; the other branches' ends
+ * moved onto it, by < tol); a longer chain of short branches (around an annulus at a
+ * tolerance above the junctions' spacing) stays as it is.
  * Canonical order: junctions by (x, y, r); junction elements ascending; a branch runs
  * from its lower-numbered junction to the other end (a leaf end always last); branches
  * sorted by (start junction, end junction with leaves after all junctions, end point,
@@ -591,9 +593,10 @@ struct mfg_medial_axis {
 };
 
 /* Rings exactly as mfg_classify_points (flat xy + ring_offsets; outer boundary and holes,
- * the interior by the even-odd rule; any orientation).  Consecutive equal vertices and a
- * repeated closing vertex are dropped, as are vertices where the boundary goes straight
- * on.  tol > 0 in model units: samples lie within tol of the true axis and linearly
+ * the interior by the even-odd rule; any orientation).  A run of consecutive vertices
+ * within 1e-11 of the input's extent of its first (equal ones, a closing vertex that
+ * repeats the first up to rounding) is one vertex, the run's last; vertices where the
+ * boundary goes straight on are dropped.  tol > 0 in model units: samples lie within tol of the true axis and linearly
  * interpolated radii between samples within tol of the true clearance.
  * Errors (nothing is allocated, *out is left untouched): MFG_ERR_NULL; MFG_ERR_INVALID
  * for NaN/Inf or out-of-range coordinates, tol <= 0, bad offsets, rings that cross or

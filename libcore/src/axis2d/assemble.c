@@ -45,9 +45,9 @@ static int cmp_lkey(const void *pa, const void *pb)
     return (a->b > b->b) - (a->b < b->b);
 }
 
-/* The flat result.  Junctions joined by a branch shorter than tol are one junction
- * (contracted in order of length, so a branch closing a cycle is kept: the cycle around a
- * tiny hole stays): the representative is the member touching the most elements (then the
+/* The flat result.  Junctions joined by a branch shorter than tol are one junction when
+ * the group so joined spans less than tol (contracted in order of length, so a branch
+ * closing a cycle is kept: the cycle around a tiny hole stays): the representative is the member touching the most elements (then the
  * lowest (x, y)), the elements the union, the degree the branch ends at it; the ends of the other
  * branches are moved onto it (by < tol, radius its own).  Canonical order: junctions by
  * (x, y, r); a branch runs from its lower junction (a leaf end last), self-loops from the
@@ -67,9 +67,12 @@ mfg_status ma_assemble(const ma_ctx *C, struct mfg_medial_axis **out)
     ma_jkey *jk = malloc(zj * sizeof *jk);
     ma_bkey *bk = malloc(zb * sizeof *bk);
     int64_t *eids = malloc((size_t)(C->jelem.n + 1) * sizeof *eids);
+    double *gx0 = malloc(zj * sizeof *gx0), *gx1 = malloc(zj * sizeof *gx1);
+    double *gy0 = malloc(zj * sizeof *gy0), *gy1 = malloc(zj * sizeof *gy1);
+    int8_t *wide = malloc(zj);
     struct mfg_medial_axis *A = calloc(1, sizeof *A);
     if (!par || !rep || !newid || !deg || !mhead || !mnext || !gone || !lk || !jk || !bk ||
-        !eids || !A) {
+        !eids || !gx0 || !gx1 || !gy0 || !gy1 || !wide || !A) {
         st = mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (result)");
         goto fail;
     }
@@ -89,8 +92,32 @@ mfg_status ma_assemble(const ma_ctx *C, struct mfg_medial_axis **out)
             lk[nl].len = len, lk[nl].b = b, nl++;
     }
     qsort(lk, (size_t)nl, sizeof *lk, cmp_lkey);
+    /* A group of junctions joined by short branches is contracted only when it spans less
+     * than tol (its box's diagonal): every end then moves by < tol.  A chain of short
+     * branches can run far - around the hole of an annulus at a tolerance above the
+     * junctions' spacing it was the whole loop, contracted to one junction, and the leaf
+     * branches started 15 away from their corner (issue 22). */
+    for (int64_t i = 0; i < nl; i++)
+        mfg_uf_union(par, C->bend.v[2 * lk[i].b], C->bend.v[2 * lk[i].b + 1]);
+    for (int64_t j = 0; j < nj; j++) {
+        gx0[j] = gx1[j] = C->J[j].x;
+        gy0[j] = gy1[j] = C->J[j].y;
+    }
+    for (int64_t j = 0; j < nj; j++) {
+        int64_t r = mfg_uf_find(par, j);
+        gx0[r] = fmin(gx0[r], C->J[j].x), gx1[r] = fmax(gx1[r], C->J[j].x);
+        gy0[r] = fmin(gy0[r], C->J[j].y), gy1[r] = fmax(gy1[r], C->J[j].y);
+    }
+    for (int64_t j = 0; j < nj; j++) {
+        int64_t r = mfg_uf_find(par, j);
+        wide[j] = !(hypot(gx1[r] - gx0[r], gy1[r] - gy0[r]) < C->tol);
+    }
+    for (int64_t j = 0; j < nj; j++)
+        par[j] = j;
     for (int64_t i = 0; i < nl; i++) {
         int64_t b = lk[i].b;
+        if (wide[C->bend.v[2 * b]])
+            continue;
         int64_t r0 = mfg_uf_find(par, C->bend.v[2 * b]), r1 = mfg_uf_find(par, C->bend.v[2 * b + 1]);
         if (r0 == r1)
             continue;
@@ -207,6 +234,6 @@ fail:
     mfg_medial_axis_free(A);
     free(par), free(rep), free(newid), free(deg), free(mhead), free(mnext), free(gone);
     free(lk), free(jk), free(bk);
-    free(eids);
+    free(eids), free(gx0), free(gx1), free(gy0), free(gy1), free(wide);
     return st;
 }

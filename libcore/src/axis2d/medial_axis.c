@@ -154,20 +154,35 @@ static mfg_status clean_rings(ma_rings *R, const double *xy, const int64_t *ring
     mfg_status st = MFG_OK;
     double *vx = R->vx, *vy = R->vy;
     int64_t *vo = R->vo, *roff = R->roff, nrings = R->nrings;
-    /* (1) Clean each ring: drop consecutive equal vertices (and a repeated closing one),
-     * then vertices where the boundary goes straight on (orient2d = 0, dot > 0); a
-     * vertex where it turns back (a spike) is a self-touching ring. */
+    /* (1) Clean each ring: a run of consecutive vertices within MA_EPS_GATHER of the
+     * input's extent of its first is one vertex, the run's last (so that its edge, which
+     * the results name, is the long one after the run; a closing run is the ring's first
+     * vertex); then vertices where the boundary goes straight on (orient2d = 0, dot > 0)
+     * go; a vertex where it turns back (a spike) is a self-touching ring.  Not only equal
+     * vertices: two 1e-14 apart (a closed edge's polyline ends at cos(2 pi) of its start)
+     * are one to the junctions, which gather elements within MA_EPS_GATHER - the pair's
+     * perpendicular bisector then made a branch into the boundary (issue 22). */
+    double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
+    for (int64_t k = 0; k < ring_offsets[nrings]; k++) {
+        xlo = fmin(xlo, xy[2 * k]), xhi = fmax(xhi, xy[2 * k]);
+        ylo = fmin(ylo, xy[2 * k + 1]), yhi = fmax(yhi, xy[2 * k + 1]);
+    }
+    double same = MA_EPS_GATHER * fmax(xhi - xlo, yhi - ylo);
     int64_t nv = 0;
     roff[0] = 0;
     for (int64_t r = 0; r < nrings; r++) {
         int64_t lo = nv;
+        double runx = 0, runy = 0; /* the first vertex of the current run */
         for (int64_t k = ring_offsets[r]; k < ring_offsets[r + 1]; k++) {
             double x = xy[2 * k], y = xy[2 * k + 1];
-            if (nv > lo && vx[nv - 1] == x && vy[nv - 1] == y)
+            if (nv > lo && fabs(x - runx) <= same && fabs(y - runy) <= same) {
+                vx[nv - 1] = x, vy[nv - 1] = y, vo[nv - 1] = k; /* the run's last */
                 continue;
+            }
+            runx = x, runy = y;
             vx[nv] = x, vy[nv] = y, vo[nv] = k, nv++;
         }
-        while (nv - lo > 1 && vx[nv - 1] == vx[lo] && vy[nv - 1] == vy[lo])
+        while (nv - lo > 1 && fabs(vx[nv - 1] - vx[lo]) <= same && fabs(vy[nv - 1] - vy[lo]) <= same)
             nv--;
         for (int changed = 1; changed && nv - lo >= 3;) {
             changed = 0;

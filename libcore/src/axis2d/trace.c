@@ -294,7 +294,10 @@ static double event_search(ma_ctx *C, const ma_bis *b, const int64_t *ex, int ne
  * straight pieces with linear radius need only the end). */
 static int sample_piece(ma_ctx *C, const ma_bis *b, double ta, double tb)
 {
-    double step = ma_bis_max_step(b, ta, C->tol);
+    double tm;
+    if (ma_bis_split_at(b, ta, tb, C->tol, &tm)) /* each side of a point-point apex */
+        return sample_piece(C, b, ta, tm) && sample_piece(C, b, tm, tb);
+    double step = ma_bis_max_step(b, ta, tb, C->tol);
     int64_t k = 1;
     if (isfinite(step) && step > 0 && tb - ta > step)
         k = (int64_t)ceil((tb - ta) / step);
