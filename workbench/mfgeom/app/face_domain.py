@@ -157,7 +157,8 @@ class FaceDomain:
                 seg = self._plane_xy(self._boundary.polylines[k])
                 k += 1
                 segs.append(seg[::-1] if edge.Orientation == "Reversed" else seg)
-            rings.extend(r for r in _chain(segs) if len(r) >= 3)
+            rings.extend(r for r in _chain(segs, MERGE_FRACTION * DEFLECTION_FRACTION * self.tol)
+                         if len(r) >= 3)
         if not rings:
             raise ValueError("the face has no boundary wire that encloses an area")
         self.rings = rings
@@ -239,7 +240,7 @@ class FaceDomain:
                     chains.append(seg)
                 else:
                     has_seam_or_pole = True
-            rings.extend(r for r in _chain(segs) if len(r) >= 3)
+            rings.extend(r for r in _chain(segs, MERGE_FRACTION * defl_2d) if len(r) >= 3)
         if not rings:
             raise ValueError("the face has no boundary wire that encloses an area in (u, v)")
 
@@ -665,14 +666,24 @@ def _xyz(v):
     return (v.x, v.y, v.z)
 
 
-def _clean_ring(ring):
-    """Drop consecutive duplicates and a repeated closing vertex (harmless, but wasted work)."""
+# Ring vertices closer than this fraction of the boundary's deflection are one vertex.
+MERGE_FRACTION = 0.02
+
+
+def _clean_ring(ring, eps=0.0):
+    """Drop vertices within ``eps`` of the previous one, and a closing vertex within
+    ``eps`` of the first.  Not only exact duplicates: a closed edge's polyline ends at
+    cos(2 pi) = 1 + 5e-14 of its start, and chained pieces meet within the edge
+    tolerance; such a near-duplicate makes an edge of 1e-14 whose neighbours all but touch,
+    which the medial axis (exact) refuses as a ring touching itself.  ``eps`` is a small
+    fraction of the deflection the polyline already has, so nothing moves noticeably."""
     if len(ring) == 0:
         return ring
     keep = np.ones(len(ring), dtype=bool)
-    keep[1:] = np.any(ring[1:] != ring[:-1], axis=1)
+    step = np.diff(ring, axis=0)
+    keep[1:] = np.any(step != 0, axis=1) & (np.hypot(step[:, 0], step[:, 1]) > eps)
     ring = ring[keep]
-    if len(ring) > 1 and np.all(ring[0] == ring[-1]):
+    while len(ring) > 1 and (np.all(ring[0] == ring[-1]) or float(np.hypot(*(ring[-1] - ring[0]))) <= eps):
         ring = ring[:-1]
     return ring
 
@@ -700,8 +711,9 @@ def _is_in(edge, edges):
     return any(edge.isSame(other) for other in edges)
 
 
-def _chain(segs):
-    """Join oriented polylines end to start into closed rings.
+def _chain(segs, eps=0.0):
+    """Join oriented polylines end to start into closed rings (vertices within ``eps``
+    merged: :func:`_clean_ring`).
 
     The order of a wire's edges in (u, v) is not always the walking order (on a torus
     every seam edge starts and ends at the same vertex, so the wire explorer may list
@@ -731,7 +743,7 @@ def _chain(segs):
                 ring.append(pending.pop(i))
             else:
                 ring.append(pending.pop(j)[::-1])
-        rings.append(_clean_ring(np.concatenate(ring)))
+        rings.append(_clean_ring(np.concatenate(ring), eps))
     return rings
 
 
