@@ -131,7 +131,8 @@ def axis_edges(rings, tol, scale=1000.0, vd=None, inside_fn=None):
 
 def topology(rings, tol, scale=1000.0, edges=None):
     """(branches, junctions) of Boost's axis, with junctions joined by an edge chain
-    shorter than tol contracted into one (mfgeom's rule): vertices of degree != 2 are
+    shorter than tol contracted into one where the group so joined spans less than tol
+    (mfgeom's rule): vertices of degree != 2 are
     junctions (degree >= 3) or leaves (degree 1).  `edges`: axis_edges(...)[0] if known."""
     if edges is None:
         edges, _ = axis_edges(rings, tol, scale)
@@ -169,9 +170,27 @@ def topology(rings, tol, scale=1000.0, edges=None):
             par[v] = par[par[v]]
             v = par[v]
         return v
+    # groups joined by short branches are contracted only where they span < tol (box
+    # diagonal of their junctions)
+    pos = {}
+    for a, b, pts, _ in edges:
+        pos.setdefault(a, pts[0])
+        pos.setdefault(b, pts[-1])
+    short = [(a, b) for a, b, length in branches if a in par and b in par and length < tol]
+    for a, b in short:
+        if find(a) != find(b):
+            par[find(a)] = find(b)
+    box = {}
+    for v in junc:
+        r = find(v)
+        lo, hi = box.get(r, (pos[v], pos[v]))
+        box[r] = (np.minimum(lo, pos[v]), np.maximum(hi, pos[v]))
+    narrow = {v: float(np.hypot(*(box[find(v)][1] - box[find(v)][0]))) < tol for v in junc}
+    for v in junc:
+        par[v] = v
     kept = 0
     for a, b, length in sorted(branches, key=lambda t: t[2]):
-        if a in par and b in par and length < tol and find(a) != find(b):
+        if a in par and b in par and length < tol and narrow[a] and find(a) != find(b):
             par[find(a)] = find(b)
             continue
         kept += 1

@@ -90,6 +90,7 @@ typedef struct {
     int64_t *kid;         /* 2 per node: children, or -1 and the leaf's first segment */
     int64_t *cnt;         /* segments of a leaf (0 for an inner node) */
     int64_t *end;         /* one past the last segment under the node */
+    int64_t *beg;         /* the first segment under the node */
     const double *x, *y;  /* the segments: s from (x[s], y[s]) to (x[nxt[s]], y[nxt[s]]) */
     const int64_t *nxt;
 } ma_bvh;
@@ -104,8 +105,23 @@ typedef struct {
 typedef struct {
     double x, y, r;
     int64_t first_elem, nelem, first_port, nport;
-    int64_t hnext; /* next junction in its hash bucket */
+    int64_t hnext;     /* next junction in its hash bucket */
+    int64_t first_pos; /* its elements' ring positions, sorted, in ma_ctx.jpos (-1: not yet) */
 } ma_junction;
+
+/* The pocket a branch from a junction port runs into.  A junction's disc is empty and
+ * splits the face: the branch between two elements a, b consecutive by foot angle only
+ * sees the part beyond the arc between their feet - bounded by the boundary chain from a
+ * to b that holds no other element of the junction, and holding perhaps whole other
+ * rings.  So its event search looks at the ring positions from .. from + len (cyclic in
+ * the ring [lo, hi); a position is a segment and the vertex it starts at) and at every
+ * other ring.  Without it a junction touching n elements (a ring of 10^5 vertices on a
+ * circle: its centre) cost O(n) per port, O(n^2) in all, and the other n - 2 elements,
+ * touching the start disc to rounding, gave spurious events (self-loops at the centre). */
+typedef struct {
+    int active;
+    int64_t lo, hi, from, len;
+} ma_window;
 
 typedef struct {
     ma_elems E;
@@ -117,6 +133,11 @@ typedef struct {
     ma_port *P;
     int64_t np, capp;
     ivec jelem;               /* element ids of the junctions */
+    ivec jpos;                /* ring positions of the junctions' elements (first_pos) */
+    const int64_t *roff;      /* the cleaned rings: segments roff[r] .. roff[r + 1] - 1 */
+    int64_t nrings;
+    ma_window win;            /* the current branch's pocket (event_search) */
+    int64_t corner[2];        /* TR_CORNER: the segments meeting at the corner */
     ivec stack;               /* ports to trace */
     int8_t *reached;          /* convex vertices reached by a branch */
     ma_bvh T;                 /* the spatial index over the segments */
@@ -174,7 +195,9 @@ typedef struct {
     double dx, dy;
 } ma_start;
 
-enum { TR_LEAF, TR_EVENT, TR_NOMEM, TR_STUCK, TR_BADPAIR, TR_MISSED };
+/* TR_CORNER: an event at a convex corner the trace passed with its disc growing (the
+ * next segment there grazes the disc: ma_ctx.corner holds the two segments). */
+enum { TR_LEAF, TR_EVENT, TR_NOMEM, TR_STUCK, TR_BADPAIR, TR_MISSED, TR_CORNER };
 
 /* bvh.c */
 int ma_bvh_build(ma_bvh *T, const double *x, const double *y, const int64_t *nxt, int64_t n);

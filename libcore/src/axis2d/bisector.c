@@ -89,7 +89,32 @@ void ma_bis_make(const ma_elems *E, ma_bis *b, const ma_start *s)
             Px -= f * gx / g2, Py -= f * gy / g2;
         b->Px = Px, b->Py = Py;
         b->r0 = (Px - E->ax[e1]) * n1x + (Py - E->ay[e1]) * n1y;
-        if (fabs(det) < MA_EPS_PARALLEL) { /* parallel edges: the midline, r constant */
+        double c = n1x * n2x + n1y * n2y;
+        if (c >= 0) {
+            /* Normals within 90 degrees (edges meeting at a corner, or turning less): q with
+             * n1.q = n2.q = 1 is (n1 + n2) / (1 + n1.n2), well conditioned however small
+             * the turn.  The cross-product form below divides two O(turn) quantities: at
+             * turns of 1e-14 (a circle's polygon rounded to a grid) its rounding turned q
+             * by 0.3 %, and below MA_EPS_PARALLEL it took the pair for parallel edges and
+             * ran the leaf's branch along the boundary. */
+            double qx = (n1x + n2x) / (1 + c), qy = (n1y + n2y) / (1 + c);
+            int64_t corner = E->next[e1] == e2 ? e2 : E->next[e2] == e1 ? e1 : -1;
+            if (corner >= 0) {
+                /* adjacent: the bisector is the line through their corner V along q; start
+                 * on it.  (A start on the perpendicular at the corner - where a window
+                 * closed - is r tan(turn / 2) off it, and the other window closed again at
+                 * once: a second junction beside the first, and the corner reached twice.) */
+                double vx = E->ax[corner], vy = E->ay[corner], q2 = qx * qx + qy * qy;
+                double sq = ((Px - vx) * qx + (Py - vy) * qy) / q2;
+                Px = vx + sq * qx, Py = vy + sq * qy;
+                b->Px = Px, b->Py = Py;
+                b->r0 = (Px - E->ax[e1]) * n1x + (Py - E->ay[e1]) * n1y;
+            }
+            b->sg = (qx * dx + qy * dy >= 0) ? 1.0 : -1.0;
+            b->kind = MA_LL;
+            b->qx = qx * b->sg;
+            b->qy = qy * b->sg;
+        } else if (fabs(det) < MA_EPS_PARALLEL) { /* parallel edges: the midline, r constant */
             double ux = -n1y, uy = n1x;
             if (ux * dx + uy * dy < 0)
                 ux = -ux, uy = -uy;

@@ -44,6 +44,7 @@ static int64_t bvh_node(ma_bvh *T, int64_t lo, int64_t hi)
             bx[1] = fmin(bx[1], fmin(q[1], q[3])), bx[3] = fmax(bx[3], fmax(q[1], q[3]));
         }
         T->kid[2 * me] = -1, T->kid[2 * me + 1] = lo, T->cnt[me] = hi - lo, T->end[me] = hi;
+        T->beg[me] = lo;
         cap_fit(P, R, (int)(2 * (hi - lo)), T->cap + 5 * me);
         return me;
     }
@@ -55,6 +56,7 @@ static int64_t bvh_node(ma_bvh *T, int64_t lo, int64_t hi)
     bx[0] = fmin(bl[0], br[0]), bx[1] = fmin(bl[1], br[1]);
     bx[2] = fmax(bl[2], br[2]), bx[3] = fmax(bl[3], br[3]);
     T->kid[2 * me] = l, T->kid[2 * me + 1] = r, T->cnt[me] = 0, T->end[me] = hi;
+    T->beg[me] = lo;
     const double *cl = T->cap + 5 * l, *cr = T->cap + 5 * r;
     double P[8] = {cl[0], cl[1], cl[2], cl[3], cr[0], cr[1], cr[2], cr[3]};
     double R[4] = {cl[4], cl[4], cr[4], cr[4]};
@@ -72,7 +74,8 @@ int ma_bvh_build(ma_bvh *T, const double *x, const double *y, const int64_t *nxt
     T->kid = malloc((size_t)(2 * n + 1) * 2 * sizeof *T->kid);
     T->cnt = malloc((size_t)(2 * n + 1) * sizeof *T->cnt);
     T->end = malloc((size_t)(2 * n + 1) * sizeof *T->end);
-    if (!T->box || !T->cap || !T->kid || !T->cnt || !T->end)
+    T->beg = malloc((size_t)(2 * n + 1) * sizeof *T->beg);
+    if (!T->box || !T->cap || !T->kid || !T->cnt || !T->end || !T->beg)
         return 0;
     if (n > 0)
         bvh_node(T, 0, n);
@@ -81,7 +84,7 @@ int ma_bvh_build(ma_bvh *T, const double *x, const double *y, const int64_t *nxt
 
 void ma_bvh_free(ma_bvh *T)
 {
-    free(T->box), free(T->cap), free(T->kid), free(T->cnt), free(T->end);
+    free(T->box), free(T->cap), free(T->kid), free(T->cnt), free(T->end), free(T->beg);
 }
 
 #define MA_MIN(a, b) ((a) < (b) ? (a) : (b))

@@ -24,22 +24,31 @@ static int cmp_ea(const void *pa, const void *pb)
 }
 
 /* Builds the junction at (x, y) of radius r from every element within the event
- * accuracy of the disc (lesson 3: not the user tol).  Returns its index or -1 (NOMEM). */
-static int64_t junction_make(ma_ctx *C, double x, double y, double r)
+ * accuracy of the disc (lesson 3: not the user tol) and the nforce segments force[] (the
+ * two at a corner the trace passed, whose feet may round to just beyond their ends).
+ * Returns its index or -1 (NOMEM). */
+static int64_t junction_make(ma_ctx *C, double x, double y, double r, const int64_t *force,
+                             int nforce)
 {
     const ma_elems *E = &C->E;
     int64_t cnt = 0;
     C->cand.n = 0;
     if (!ma_bvh_collect(&C->T, (const double[4]){x, y, x, y}, r + C->gather, 0, &C->cand))
         return -1;
-    ma_ea *ea = malloc((size_t)(2 * C->cand.n + 1) * sizeof *ea);
+    ma_ea *ea = malloc((size_t)(2 * C->cand.n + nforce + 1) * sizeof *ea);
     if (!ea)
         return -1;
-    for (int64_t ci = 0; ci < 2 * C->cand.n; ci++) {
-        int64_t s = C->cand.v[ci / 2], e = ci % 2 ? E->velem[s] : s;
+    for (int64_t ci = 0; ci < 2 * C->cand.n + nforce; ci++) {
+        int64_t s = ci < 2 * C->cand.n ? C->cand.v[ci / 2] : force[ci - 2 * C->cand.n];
+        int64_t e = ci < 2 * C->cand.n && ci % 2 ? E->velem[s] : s;
         if (e < 0)
             continue;
-        if (ma_elem_dist(E, e, x, y) <= r + C->gather) {
+        int forced = ci >= 2 * C->cand.n, dup = 0;
+        for (int64_t i = 0; i < cnt && forced; i++)
+            dup |= ea[i].e == e;
+        if (dup)
+            continue;
+        if (forced || ma_elem_dist(E, e, x, y) <= r + C->gather) {
             double fx, fy;
             if (is_seg(E, e)) {
                 double d = (x - E->ax[e]) * E->nx[e] + (y - E->ay[e]) * E->ny[e];
@@ -70,6 +79,7 @@ static int64_t junction_make(ma_ctx *C, double x, double y, double r)
     J->nelem = cnt;
     J->first_port = C->np;
     J->nport = 0;
+    J->first_pos = -1;
     for (int64_t i = 0; i < cnt; i++)
         if (!ivec_push(&C->jelem, ea[i].e)) {
             free(ea);
@@ -168,9 +178,98 @@ static int64_t junction_find(const ma_ctx *C, int64_t jn)
     return best;
 }
 
+/* ---- the pocket of a port (ma_window) -------------------------------------------- */
+static int64_t elem_pos(const ma_elems *E, int64_t e)
+{
+    return is_seg(E, e) ? e : E->vk[e - E->ns];
+}
+
+/* The ring holding position p: its segments [*lo, *hi). */
+static void ring_of(const ma_ctx *C, int64_t p, int64_t *lo, int64_t *hi)
+{
+    int64_t a = 0, b = C->nrings; /* roff[a] <= p < roff[b] */
+    while (b - a > 1) {
+        int64_t m = a + (b - a) / 2;
+        if (C->roff[m] <= p)
+            a = m;
+        else
+            b = m;
+    }
+    *lo = C->roff[a], *hi = C->roff[a + 1];
+}
+
+/* Index of the first entry >= v in the sorted P[0 .. n). */
+static int64_t lower_bound(const int64_t *P, int64_t n, int64_t v)
+{
+    int64_t a = 0, b = n;
+    while (a < b) {
+        int64_t m = a + (b - a) / 2;
+        if (P[m] < v)
+            a = m + 1;
+        else
+            b = m;
+    }
+    return a;
+}
+
+/* The position after p among the junction's positions of ring [lo, hi) (cyclic), or -1
+ * when p is not there exactly once. */
+static int64_t next_pos(const int64_t *P, int64_t n, int64_t p, int64_t lo, int64_t hi)
+{
+    int64_t i = lower_bound(P, n, p);
+    if (i >= n || P[i] != p || (i + 1 < n && P[i + 1] == p))
+        return -1;
+    if (i + 1 < n && P[i + 1] < hi)
+        return P[i + 1];
+    return P[lower_bound(P, n, lo)]; /* wrap to the ring's first */
+}
+
+/* Sets C->win to the pocket of the port (a, b) of junction j (see ma_window), or leaves
+ * it inactive where that is not clear: a and b on different rings, a position held by two
+ * of the junction's elements, or no other element of the junction on their ring.
+ * 0 on NOMEM. */
+static int port_window(ma_ctx *C, int64_t j, int64_t a, int64_t b)
+{
+    const ma_elems *E = &C->E;
+    C->win.active = 0;
+    if (j < 0 || C->J[j].nelem < 3)
+        return 1;
+    if (C->J[j].first_pos < 0) {
+        int64_t first = C->jpos.n;
+        for (int64_t i = 0; i < C->J[j].nelem; i++)
+            if (!ivec_push(&C->jpos, elem_pos(E, C->jelem.v[C->J[j].first_elem + i])))
+                return 0;
+        qsort(C->jpos.v + first, (size_t)C->J[j].nelem, sizeof *C->jpos.v, mfg_cmp_i64);
+        C->J[j].first_pos = first;
+    }
+    const int64_t *P = C->jpos.v + C->J[j].first_pos;
+    int64_t n = C->J[j].nelem, pa = elem_pos(E, a), pb = elem_pos(E, b), lo, hi;
+    ring_of(C, pa, &lo, &hi);
+    if (pb < lo || pb >= hi)
+        return 1;
+    int fwd = next_pos(P, n, pa, lo, hi) == pb, bwd = next_pos(P, n, pb, lo, hi) == pa;
+    if (fwd == bwd)
+        return 1;
+    int64_t from = fwd ? pa : pb, to = fwd ? pb : pa, m = hi - lo;
+    C->win = (ma_window){1, lo, hi, from, ((to - from) % m + m) % m};
+    return 1;
+}
+
+static mfg_status run_branch(ma_ctx *C, const ma_start *s, int64_t j0);
+
 /* Traces one branch from a leaf (j0 = -1) or a junction port, through pass-through
- * (degree-2) events, to a leaf or a junction; registers new junctions and their ports. */
+ * (degree-2) events, to a leaf or a junction; registers new junctions and their ports.
+ * A branch from a port searches its pocket only (ma_window). */
 mfg_status ma_run_branch(ma_ctx *C, const ma_start *s, int64_t j0)
+{
+    if (!port_window(C, j0, s->e1, s->e2))
+        return mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (junctions)");
+    mfg_status st = run_branch(C, s, j0);
+    C->win.active = 0;
+    return st;
+}
+
+static mfg_status run_branch(ma_ctx *C, const ma_start *s, int64_t j0)
 {
     double x = s->x, y = s->y, r = s->r, dx = s->dx, dy = s->dy;
     int64_t e1 = s->e1, e2 = s->e2;
@@ -217,7 +316,7 @@ mfg_status ma_run_branch(ma_ctx *C, const ma_start *s, int64_t j0)
                        : mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory");
         }
         double back = atan2(-ev[4], -ev[3]);
-        int64_t j = junction_make(C, ev[0], ev[1], ev[2]);
+        int64_t j = junction_make(C, ev[0], ev[1], ev[2], C->corner, rc == TR_CORNER ? 2 : 0);
         if (j < 0)
             return mfg_fail(MFG_ERR_NOMEM, "medial axis: out of memory (junctions)");
         /* A known junction (lesson 4: identified with the event accuracy, and by its

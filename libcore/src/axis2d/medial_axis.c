@@ -427,8 +427,10 @@ mfg_status mfg_medial_axis_p(const double *xy, const int64_t *ring_offsets, int6
         st = check_crossings(&C, &R, &prog);
     if (st == MFG_OK)
         st = build_elements(&C, &R, tol);
-    if (st == MFG_OK)
+    if (st == MFG_OK) {
+        C.roff = R.roff, C.nrings = R.nrings;
         st = trace_all(&C, &R, &prog);
+    }
     if (st != MFG_OK)
         goto done;
 
@@ -452,6 +454,6 @@ done:
     free(C.reached), free(C.hhead), free(C.cand.v), free(C.heapk), free(C.heapn);
     ma_bvh_free(&C.T);
     free(C.px.v), free(C.py.v), free(C.pr.v), free(C.boff.v), free(C.bend.v);
-    free(C.J), free(C.P), free(C.jelem.v), free(C.stack.v);
+    free(C.J), free(C.P), free(C.jelem.v), free(C.jpos.v), free(C.stack.v);
     return st;
 }

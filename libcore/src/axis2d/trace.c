@@ -217,6 +217,26 @@ static double node_bound(const ma_bis *b, const double *cp, double pad, double l
     return fmax(t, tc); /* both are lower bounds */
 }
 
+/* Does the branch's pocket (ma_window) hold ring position s? */
+static int win_holds(const ma_window *w, int64_t s)
+{
+    if (!w->active || s < w->lo || s >= w->hi)
+        return 1;
+    int64_t m = w->hi - w->lo;
+    return ((s - w->from) % m + m) % m <= w->len;
+}
+
+/* Does it hold any of the positions [a, b) (a node's run)? */
+static int win_meets(const ma_window *w, int64_t a, int64_t b)
+{
+    if (!w->active || a < w->lo || b > w->hi)
+        return 1;
+    if (w->from + w->len < w->hi) /* one run: from .. from + len */
+        return a <= w->from + w->len && b > w->from;
+    /* two runs: from .. hi - 1 and lo .. from + len - m */
+    return b > w->from || a <= w->from + w->len - (w->hi - w->lo);
+}
+
 /* The first event in (0, T]: the least entry root of a non-excluded element, by a
  * best-first branch and bound over the index on node_bound (a node is opened only if the
  * moving disc may reach it before the best event so far).  INFINITY if none; -1 on
@@ -258,6 +278,8 @@ static double event_search(ma_ctx *C, const ma_bis *b, const int64_t *ex, int ne
         if (BV->kid[2 * nd] < 0) {
             for (int64_t it = 0; it < BV->cnt[nd]; it++) {
                 int64_t sg = BV->kid[2 * nd + 1] + it;
+                if (!win_holds(&C->win, sg))
+                    continue;
                 for (int w = 0; w < 2; w++) {
                     int64_t e = w ? E->velem[sg] : sg;
                     if (e < 0)
@@ -276,6 +298,8 @@ static double event_search(ma_ctx *C, const ma_bis *b, const int64_t *ex, int ne
         }
         for (int w = 0; w < 2; w++) {
             int64_t kd = BV->kid[2 * nd + w];
+            if (!win_meets(&C->win, BV->beg[kd], BV->end[kd]))
+                continue;
             double tk = node_bound(b, BV->cap + 5 * kd, C->eps, lim);
             if (!(tk < lim))
                 continue;
@@ -288,6 +312,52 @@ static double event_search(ma_ctx *C, const ma_bis *b, const int64_t *ex, int ne
         }
     }
     return best;
+}
+
+/* An event found through an element that only grazes the disc (a near-double root) is off
+ * by up to the square root of rounding: 1.4e-9 early at the centre of an 8 000-gon, where
+ * 1 658 of its 8 000 edges were then within the gather distance and made a junction of
+ * their own beside the true one (and each leaf near them was reached twice).  The root of
+ * the element the disc meets most head-on (its foot most along the trace's direction)
+ * among those touching the disc there is well conditioned: it is taken when it lies within
+ * the arrival accuracy.  -1 on NOMEM. */
+static double event_refine(ma_ctx *C, const ma_bis *b, const int64_t *ex, int nex, double te,
+                           double T)
+{
+    const ma_elems *E = &C->E;
+    double x, y, r, tx, ty;
+    ma_bis_at(b, te, &x, &y, &r);
+    ma_bis_tangent(b, te, &tx, &ty);
+    C->cand.n = 0;
+    if (!ma_bvh_collect(&C->T, (const double[4]){x, y, x, y}, r + C->gather, 0, &C->cand))
+        return -1;
+    int64_t best = -1;
+    double bestv = -INFINITY;
+    for (int64_t ci = 0; ci < 2 * C->cand.n; ci++) {
+        int64_t sg = C->cand.v[ci / 2], e = ci % 2 ? E->velem[sg] : sg;
+        int skip = e < 0;
+        for (int i = 0; i < nex && !skip; i++)
+            skip = ex[i] == e;
+        if (skip || !(ma_elem_dist(E, e, x, y) <= r + C->gather))
+            continue;
+        double fx, fy;
+        if (is_seg(E, e)) {
+            double d = (x - E->ax[e]) * E->nx[e] + (y - E->ay[e]) * E->ny[e];
+            fx = -d * E->nx[e], fy = -d * E->ny[e];
+        } else {
+            ma_vpoint(E, e, &fx, &fy);
+            fx -= x, fy -= y;
+        }
+        double v = (tx * fx + ty * fy) / fmax(hypot(fx, fy), MA_TINY);
+        if (v > bestv || (v == bestv && e < best))
+            best = e, bestv = v;
+    }
+    if (best < 0)
+        return te;
+    double sx = b->p1x + 2 * b->p2x * te, sy = b->p1y + 2 * b->p2y * te;
+    double w = C->arrive / fmax(hypot(sx, sy), MA_TINY);
+    double t2 = elem_entry(E, b, best, fmax(0.0, te - w), fmin(T, te + w));
+    return t2 < INFINITY ? t2 : te;
 }
 
 /* Appends the samples of b over (ta, tb] (the chord and interpolated radius within tol;
@@ -313,17 +383,19 @@ static int sample_piece(ma_ctx *C, const ma_bis *b, double ta, double tb)
 }
 
 /* The foot of segment `who` reached its convex end (`how` 1: start, 2: end) at the last
- * sample p = (x, y, r): the leaf, where the radius is 0.  Where the corner's two edges are
- * nearly collinear (a fine tessellation's inflection: a turn of 2e-7 rad in the 10 000-gon
- * flower of issue 22) the window's end is ill-conditioned -- the foot moves along the
- * segment by tan(turn / 2) per unit of the trace -- so the trace may stop short of the
- * corner with r far above rounding.  It is still the leaf when the disc at p is empty:
- * no segment but the corner's two comes nearer than r (less the arrival accuracy); then
- * every disc on the straight bisector from p to the corner lies inside this one, nothing
- * enters before the corner, and the corner is appended with r = 0.  A segment inside the
- * disc is a third element the event search missed: TR_MISSED rather than a false leaf. */
-static int corner_leaf(ma_ctx *C, int64_t who, int how, const double p[3], double ev[5],
-                       int64_t *leafv)
+ * sample p = (x, y, r).  At r = 0 (up to the arrival accuracy) that is the leaf.
+ *
+ * Above it, the segment beyond the corner (nxt) turns toward the disc and has entered it,
+ * by r (1 - cos turn): a near-double root that the event search cannot see when the turn
+ * is tiny (a circle's polygon rounded to a grid: 1e-14 rad; the inflections of the 10 000-
+ * gon flower of issue 22: 2e-7 rad).  So p is a junction of the pair and nxt -- TR_CORNER,
+ * ma_ctx.corner = (who, nxt) -- whose third branch, between who and nxt, runs straight
+ * back to the corner.  (Taking p for the leaf -- appending the corner, r jumping from 187
+ * to 0 -- left the branch from nxt's side without its junction: the same corner was
+ * reached twice.)  A segment inside the disc by more than the arrival accuracy is a third
+ * element the event search missed: TR_MISSED rather than a wrong junction. */
+static int corner_leaf(ma_ctx *C, int64_t who, int how, const double p[3], double tx,
+                       double ty, double ev[5], int64_t *leafv)
 {
     const ma_elems *E = &C->E;
     double px = p[0], py = p[1], pr = p[2], acc = MA_EPS_ARRIVE * E->diag;
@@ -347,15 +419,19 @@ static int corner_leaf(ma_ctx *C, int64_t who, int how, const double p[3], doubl
             return TR_MISSED;
         }
     }
-    return push_sample(C, E->ax[k], E->ay[k], 0.0) ? TR_LEAF : TR_NOMEM;
+    ev[0] = px, ev[1] = py, ev[2] = pr, ev[3] = tx, ev[4] = ty;
+    C->corner[0] = who;
+    C->corner[1] = how == 1 ? E->prev[who] : E->next[who];
+    *leafv = -1;
+    return TR_CORNER;
 }
 
 /* Traces from s = (x, y, r) along the bisector of (e1, e2) in direction (dx, dy), appending
  * samples (the start too when `first`).  Each piece runs to the first of: an event (the
  * least exact entry root of a third element, searched in doubling parameter intervals
  * through the index), the closing of a window of the pair (a transition: the element is
- * switched, or at a convex corner the leaf), the leaf (r = 0).  On TR_EVENT,
- * ev = (x, y, r, tx, ty); on TR_LEAF *leafv = the convex vertex (or -1 if unknown). */
+ * switched, or at a convex corner the leaf or TR_CORNER), the leaf (r = 0).  On TR_EVENT and
+ * TR_CORNER, ev = (x, y, r, tx, ty); on TR_LEAF *leafv = the convex vertex (or -1 if unknown). */
 int ma_trace(ma_ctx *C, const ma_start *s, int first, double ev[5], int64_t *leafv)
 {
     const ma_elems *E = &C->E;
@@ -382,6 +458,9 @@ int ma_trace(ma_ctx *C, const ma_start *s, int first, double ev[5], int64_t *lea
         if (te < 0)
             return TR_NOMEM;
         if (te < INFINITY && te <= T) { /* an event */
+            te = event_refine(C, &b, ex, nex, te, T);
+            if (te < 0)
+                return TR_NOMEM;
             if (!sample_piece(C, &b, 0.0, te))
                 return TR_NOMEM;
             ma_bis_at(&b, te, &ev[0], &ev[1], &ev[2]);
@@ -405,7 +484,7 @@ int ma_trace(ma_ctx *C, const ma_start *s, int first, double ev[5], int64_t *lea
         ma_bis_at(&b, tw, &phx, &phy, &phr);
         int64_t en = ma_window_switch(E, who, how);
         if (en < 0)
-            return corner_leaf(C, who, how, (const double[3]){phx, phy, phr}, ev, leafv);
+            return corner_leaf(C, who, how, (const double[3]){phx, phy, phr}, tx, ty, ev, leafv);
         int64_t ea = b.e1 == who ? en : b.e1, eb = b.e1 == who ? b.e2 : en;
         ma_bis_make(E, &b, &(ma_start){phx, phy, phr, ea, eb, tx, ty});
         for (int k = 0; k < 3; k++) { /* lesson 2: a double transition */
@@ -416,7 +495,8 @@ int ma_trace(ma_ctx *C, const ma_start *s, int first, double ev[5], int64_t *lea
                 break;
             en = ma_window_switch(E, who, how);
             if (en < 0)
-                return corner_leaf(C, who, how, (const double[3]){phx, phy, phr}, ev, leafv);
+                return corner_leaf(C, who, how, (const double[3]){phx, phy, phr}, tx, ty, ev,
+                                   leafv);
             ea = b.e1 == who ? en : b.e1, eb = b.e1 == who ? b.e2 : en;
             ma_bis_make(E, &b, &(ma_start){phx, phy, phr, ea, eb, tx, ty});
         }
