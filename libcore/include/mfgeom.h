@@ -604,8 +604,9 @@ struct mfg_medial_axis {
  * boundary is not defined); MFG_ERR_DEGENERATE for a ring with fewer than 3 distinct
  * vertices or no area; MFG_ERR_NOMEM.  Release the result with mfg_medial_axis_free.
  * Cost: O(n log n) typical (a BVH of the edges; each event is an exact root found by a
- * branch and bound); O(n^2) only for inputs where many junction discs touch the same
- * elements.  Present limits: element ids in junction_elements refer to the caller's
+ * branch and bound; a branch from a junction searches only the boundary beyond the arc
+ * between its two elements, so a junction touching all n edges of a circle's polygon
+ * costs O(n log n) in all).  Present limits: element ids in junction_elements refer to the caller's
  * vertices, so they change with the ring start vertex (positions do not); a third element
  * grazing the disc (a double root) is not an event. */
 MFG_API mfg_status mfg_medial_axis(const double *xy, const int64_t *ring_offsets,
