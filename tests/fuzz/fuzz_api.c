@@ -577,8 +577,16 @@ static double small_coord(reader *r) { return (double)(int8_t)rd_u8(r) * (1.0 / 
 /* The small mesh of the sweep and medial sections (described above fuzz_sweep), by the
  * section's flags byte: *hostile for counts no caller can back, *structural for anything
  * the entry points must refuse before looking at the geometry. */
-static void read_small_mesh(reader *r, uint8_t flags, double *xyz, int64_t *tri, int64_t *nvp,
-                            int64_t *ntp, int *hostilep, int *structuralp)
+typedef struct small_mesh {
+    uint8_t flags; /* the section's flags byte (read first) */
+    double xyz[3 * SW_VERTS];
+    int64_t tri[3 * SW_TRIS];
+    int64_t nv, nt;
+    int hostile, structural;
+} small_mesh;
+
+static void read_small_mesh_into(reader *r, uint8_t flags, double *xyz, int64_t *tri, int64_t *nvp,
+                                 int64_t *ntp, int *hostilep, int *structuralp)
 {
     int hostile = 0, structural = 0;
     memset(xyz, 0, 3 * SW_VERTS * sizeof *xyz);
@@ -679,6 +687,13 @@ static void read_small_mesh(reader *r, uint8_t flags, double *xyz, int64_t *tri,
     *structuralp = structural;
 }
 
+/* The flags byte, then the mesh it describes. */
+static void read_small_mesh(reader *r, small_mesh *m)
+{
+    m->flags = rd_u8(r);
+    read_small_mesh_into(r, m->flags, m->xyz, m->tri, &m->nv, &m->nt, &m->hostile, &m->structural);
+}
+
 /*
  * A small mesh (at most 12 vertices, 24 triangles: the sweep of a tiny mesh at a coarse
  * tolerance takes milliseconds), an axis, an angle and a tolerance.  The mesh is either
@@ -695,12 +710,8 @@ static void read_small_mesh(reader *r, uint8_t flags, double *xyz, int64_t *tri,
 static void fuzz_sweep(reader *r)
 {
     g_where = "mfg_rotational_sweep";
-    uint8_t flags = rd_u8(r);
-    int hostile, structural;
-    static double xyz[3 * SW_VERTS];
-    static int64_t tri[3 * SW_TRIS];
-    int64_t nv, nt;
-    read_small_mesh(r, flags, xyz, tri, &nv, &nt, &hostile, &structural);
+    static small_mesh m; /* static, as the buffers were */
+    read_small_mesh(r, &m);
 
     double ap[3], ad[3];
     uint8_t axis_mode = rd_u8(r);
@@ -709,58 +720,58 @@ static void fuzz_sweep(reader *r)
         ad[c] = axis_mode & 2 ? rd_coord(r, 2) : small_coord(r);
     }
     if (axis_mode & 4) { /* an axis through a vertex or along an edge */
-        int64_t a = tri[0] >= 0 && tri[0] < SW_VERTS ? tri[0] : 0, b = tri[1] >= 0 && tri[1] < SW_VERTS ? tri[1] : 0;
+        int64_t a = m.tri[0] >= 0 && m.tri[0] < SW_VERTS ? m.tri[0] : 0, b = m.tri[1] >= 0 && m.tri[1] < SW_VERTS ? m.tri[1] : 0;
         for (int c = 0; c < 3; c++) {
-            ap[c] = xyz[3 * a + c];
+            ap[c] = m.xyz[3 * a + c];
             if (axis_mode & 8)
-                ad[c] = xyz[3 * b + c] - xyz[3 * a + c];
+                ad[c] = m.xyz[3 * b + c] - m.xyz[3 * a + c];
         }
     }
     for (int c = 0; c < 3; c++)
-        structural |= !coord_ok(ap[c]) || !coord_ok(ad[c]);
-    structural |= ad[0] == 0 && ad[1] == 0 && ad[2] == 0;
+        m.structural |= !coord_ok(ap[c]) || !coord_ok(ad[c]);
+    m.structural |= ad[0] == 0 && ad[1] == 0 && ad[2] == 0;
     uint8_t ab = rd_u8(r);
     static const double ANGLES[] = {0.0, -0.0, -1.0, NAN, INFINITY, 2 * M_PI, 2 * M_PI + 0.5e-12,
                                     2 * M_PI + 2e-12, 2 * M_PI - 0.5e-12, 1e-300, 1e-9, M_PI};
     double angle = ab >= 0xF0 ? ANGLES[(ab - 0xF0) % (sizeof ANGLES / sizeof ANGLES[0])]
                               : (double)(ab + 1) * (2 * M_PI / 0xF0);
-    structural |= !(angle > 0) || !(angle <= 2 * M_PI + 1e-12);
+    m.structural |= !(angle > 0) || !(angle <= 2 * M_PI + 1e-12);
     uint8_t tb = rd_u8(r);
     static const double BAD_TOLS[] = {0.0, -0.0, -1.0, NAN, INFINITY, 1e-300, 1e300, -INFINITY};
     double tol = tb >= 0xF8 ? BAD_TOLS[tb - 0xF8] : 0.0;
-    structural |= tb >= 0xF8;
-    if (tb < 0xF8 && !structural) {
+    m.structural |= tb >= 0xF8;
+    if (tb < 0xF8 && !m.structural) {
         /* a coarse tolerance: 1/8 .. 1 of the input's extent about the axis point (and
          * never tiny against the coordinates), so no input runs long (a sweep at 1/64 took
          * seconds in this build) */
         double ext = 0;
-        for (int64_t k = 0; k < nv; k++)
+        for (int64_t k = 0; k < m.nv; k++)
             for (int c = 0; c < 3; c++)
-                ext = fmax(ext, fabs(xyz[3 * k + c] - ap[c]));
+                ext = fmax(ext, fabs(m.xyz[3 * k + c] - ap[c]));
         tol = fmax(ext, 1e-3) * (double)(4 + tb % 29) * (1.0 / 32);
-        structural |= !coord_ok(tol);
+        m.structural |= !coord_ok(tol);
     } else if (tb < 0xF8) {
         tol = 0.1;
     }
-    uint8_t nulls = (flags & 8) ? rd_u8(r) : 0;
-    const double *xyzp = (nulls & 1) ? NULL : xyz, *app = (nulls & 4) ? NULL : ap, *adp = (nulls & 8) ? NULL : ad;
-    const int64_t *trip = (nulls & 2) ? NULL : tri;
-    structural |= (nulls & 1 && nv > 0) || (nulls & 2 && nt > 0) || (nulls & 4) || (nulls & 8) || (nulls & 16);
+    uint8_t nulls = (m.flags & 8) ? rd_u8(r) : 0;
+    const double *xyzp = (nulls & 1) ? NULL : m.xyz, *app = (nulls & 4) ? NULL : ap, *adp = (nulls & 8) ? NULL : ad;
+    const int64_t *trip = (nulls & 2) ? NULL : m.tri;
+    m.structural |= (nulls & 1 && m.nv > 0) || (nulls & 2 && m.nt > 0) || (nulls & 4) || (nulls & 8) || (nulls & 16);
 
     /* what the mesh check says of the mesh (when the arguments are otherwise sound) */
     mfg_status closed = MFG_ERR_INVALID;
     mfg_mesh_report in_rep;
     memset(&in_rep, 0, sizeof in_rep);
-    if (!structural)
-        closed = mfg_mesh_check_closed(xyzp, nv, trip, nt, &in_rep);
+    if (!m.structural)
+        closed = mfg_mesh_check_closed(xyzp, m.nv, trip, m.nt, &in_rep);
 
-    if (getenv("FUZZ_DUMP") && !structural) { /* the input, to reproduce it outside */
-        fprintf(stderr, "sweep input: %lld %lld\n", (long long)nv, (long long)nt);
-        for (int64_t k = 0; k < nv; k++)
-            fprintf(stderr, "%.17g %.17g %.17g\n", xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]);
-        for (int64_t k = 0; k < nt; k++)
-            fprintf(stderr, "%lld %lld %lld\n", (long long)tri[3 * k], (long long)tri[3 * k + 1],
-                    (long long)tri[3 * k + 2]);
+    if (getenv("FUZZ_DUMP") && !m.structural) { /* the input, to reproduce it outside */
+        fprintf(stderr, "sweep input: %lld %lld\n", (long long)m.nv, (long long)m.nt);
+        for (int64_t k = 0; k < m.nv; k++)
+            fprintf(stderr, "%.17g %.17g %.17g\n", m.xyz[3 * k], m.xyz[3 * k + 1], m.xyz[3 * k + 2]);
+        for (int64_t k = 0; k < m.nt; k++)
+            fprintf(stderr, "%lld %lld %lld\n", (long long)m.tri[3 * k], (long long)m.tri[3 * k + 1],
+                    (long long)m.tri[3 * k + 2]);
         fprintf(stderr, "axis %.17g %.17g %.17g  %.17g %.17g %.17g angle %.17g tol %.17g\n", ap[0], ap[1],
                 ap[2], ad[0], ad[1], ad[2], angle, tol);
     }
@@ -768,19 +779,19 @@ static void fuzz_sweep(reader *r)
     mfg_sweep_stats stats;
     memset(&stats, SENTINEL, sizeof stats);
     mfg_sweep_stats *statsp = (nulls & 32) ? NULL : &stats;
-    mfg_status st = mfg_rotational_sweep(xyzp, nv, trip, nt, app, adp, angle, tol, (nulls & 16) ? NULL : &res, statsp);
+    mfg_status st = mfg_rotational_sweep(xyzp, m.nv, trip, m.nt, app, adp, angle, tol, (nulls & 16) ? NULL : &res, statsp);
     check_status(st);
     /* the documented refusals of a part the grids cannot resolve (rotsweep.c: too small
      * against its distance from the axis point, or for its coordinates) */
     int too_small = st == MFG_ERR_INVALID && (strstr(mfg_last_error(), "too small against") != NULL ||
                                               strstr(mfg_last_error(), "too small for its coordinates") != NULL);
-    if (structural)
+    if (m.structural)
         CHECK(st != MFG_OK, "a structurally invalid input was accepted");
-    if (hostile)
+    if (m.hostile)
         CHECK(st != MFG_ERR_NOMEM, "an impossible count reported as out of memory");
     /* A valid solid may only be refused as too small for the grids (above); an accepted
      * invalid mesh or a returned invalid surface (checked below) must never happen. */
-    if (!structural)
+    if (!m.structural)
         CHECK(st == closed || st == MFG_ERR_NOMEM || (closed == MFG_OK && too_small),
               "the sweep and mfg_mesh_check_closed disagree on the mesh");
     if (st != MFG_OK) {
@@ -803,8 +814,8 @@ static void fuzz_sweep(reader *r)
     double u[3];
     unit_of(ad, u);
     double rmax = 0, hmin = INFINITY, hmax = -INFINITY;
-    for (int64_t k = 0; k < nv; k++) {
-        double v[3] = {xyz[3 * k] - ap[0], xyz[3 * k + 1] - ap[1], xyz[3 * k + 2] - ap[2]};
+    for (int64_t k = 0; k < m.nv; k++) {
+        double v[3] = {m.xyz[3 * k] - ap[0], m.xyz[3 * k + 1] - ap[1], m.xyz[3 * k + 2] - ap[2]};
         double h = v[0] * u[0] + v[1] * u[1] + v[2] * u[2];
         double r2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - h * h;
         rmax = fmax(rmax, sqrt(fmax(r2, 0)));
@@ -827,20 +838,16 @@ static void fuzz_sweep(reader *r)
 static void fuzz_medial(reader *r)
 {
     g_where = "mfg_medial_surface";
-    uint8_t flags = rd_u8(r);
-    int hostile, structural;
-    static double xyz[3 * SW_VERTS];
-    static int64_t tri[3 * SW_TRIS];
-    int64_t nv, nt;
-    read_small_mesh(r, flags, xyz, tri, &nv, &nt, &hostile, &structural);
+    static small_mesh m; /* static, as the buffers were */
+    read_small_mesh(r, &m);
     uint8_t tb = rd_u8(r), mode = rd_u8(r);
     double tol = 0.1;
-    if (!structural && nv > 0) {
+    if (!m.structural && m.nv > 0) {
         double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-        for (int64_t k = 0; k < nv; k++)
+        for (int64_t k = 0; k < m.nv; k++)
             for (int c = 0; c < 3; c++) {
-                lo[c] = fmin(lo[c], xyz[3 * k + c]);
-                hi[c] = fmax(hi[c], xyz[3 * k + c]);
+                lo[c] = fmin(lo[c], m.xyz[3 * k + c]);
+                hi[c] = fmax(hi[c], m.xyz[3 * k + c]);
             }
         double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                            (hi[2] - lo[2]) * (hi[2] - lo[2]));
@@ -849,42 +856,42 @@ static void fuzz_medial(reader *r)
     static const double BAD_TOLS[] = {0.0, -1.0, NAN, INFINITY};
     if (tb >= 0xFC) {
         tol = BAD_TOLS[tb - 0xFC];
-        structural = 1;
+        m.structural = 1;
     }
     if (!(tol > 0) || !isfinite(tol))
-        structural = 1;
+        m.structural = 1;
     uint32_t mflags = (mode & 1) ? MFG_MEDIAL_FULL : 0;
     if ((mode & 0xF0) == 0xF0) {
         mflags |= 1u << 7; /* an unknown flag */
-        structural = 1;
+        m.structural = 1;
     }
     int32_t threads = 1 + ((mode >> 1) & 1);
-    uint8_t nulls = (flags & 8) ? rd_u8(r) : 0;
-    const double *xyzp = (nulls & 1) ? NULL : xyz;
-    const int64_t *trip = (nulls & 2) ? NULL : tri;
-    structural |= (nulls & 1 && nv > 0) || (nulls & 2 && nt > 0) || (nulls & 4);
+    uint8_t nulls = (m.flags & 8) ? rd_u8(r) : 0;
+    const double *xyzp = (nulls & 1) ? NULL : m.xyz;
+    const int64_t *trip = (nulls & 2) ? NULL : m.tri;
+    m.structural |= (nulls & 1 && m.nv > 0) || (nulls & 2 && m.nt > 0) || (nulls & 4);
     mfg_status closed = MFG_ERR_INVALID;
     mfg_mesh_report rep;
-    if (!structural)
-        closed = mfg_mesh_check_closed(xyzp, nv, trip, nt, &rep);
+    if (!m.structural)
+        closed = mfg_mesh_check_closed(xyzp, m.nv, trip, m.nt, &rep);
 
-    if (getenv("FUZZ_DUMP") && !structural) { /* the input, to reproduce it outside */
-        fprintf(stderr, "medial input: %lld %lld tol %.17g flags %u\n", (long long)nv, (long long)nt, tol, mflags);
-        for (int64_t k = 0; k < nv; k++)
-            fprintf(stderr, "%.17g %.17g %.17g\n", xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]);
-        for (int64_t k = 0; k < nt; k++)
-            fprintf(stderr, "%lld %lld %lld\n", (long long)tri[3 * k], (long long)tri[3 * k + 1],
-                    (long long)tri[3 * k + 2]);
+    if (getenv("FUZZ_DUMP") && !m.structural) { /* the input, to reproduce it outside */
+        fprintf(stderr, "medial input: %lld %lld tol %.17g m.flags %u\n", (long long)m.nv, (long long)m.nt, tol, mflags);
+        for (int64_t k = 0; k < m.nv; k++)
+            fprintf(stderr, "%.17g %.17g %.17g\n", m.xyz[3 * k], m.xyz[3 * k + 1], m.xyz[3 * k + 2]);
+        for (int64_t k = 0; k < m.nt; k++)
+            fprintf(stderr, "%lld %lld %lld\n", (long long)m.tri[3 * k], (long long)m.tri[3 * k + 1],
+                    (long long)m.tri[3 * k + 2]);
     }
     mfg_medial *sentinel = (mfg_medial *)(uintptr_t)&sentinel, *res = sentinel;
-    mfg_status st = mfg_medial_surface(xyzp, nv, trip, nt, tol, mflags, threads,
+    mfg_status st = mfg_medial_surface(xyzp, m.nv, trip, m.nt, tol, mflags, threads,
                                        (nulls & 4) ? NULL : &res);
     check_status(st);
-    if (structural)
+    if (m.structural)
         CHECK(st != MFG_OK, "a structurally invalid input was accepted");
-    if (hostile)
+    if (m.hostile)
         CHECK(st != MFG_ERR_NOMEM, "an impossible count reported as out of memory");
-    if (!structural && closed != MFG_OK)
+    if (!m.structural && closed != MFG_OK)
         CHECK(st != MFG_OK, "a mesh mfg_mesh_check_closed refuses was accepted");
     if (st != MFG_OK) {
         CHECK(res == sentinel, "out written on failure");
