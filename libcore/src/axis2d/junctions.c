@@ -198,30 +198,16 @@ static void ring_of(const ma_ctx *C, int64_t p, int64_t *lo, int64_t *hi)
     *lo = C->roff[a], *hi = C->roff[a + 1];
 }
 
-/* Index of the first entry >= v in the sorted P[0 .. n). */
-static int64_t lower_bound(const int64_t *P, int64_t n, int64_t v)
-{
-    int64_t a = 0, b = n;
-    while (a < b) {
-        int64_t m = a + (b - a) / 2;
-        if (P[m] < v)
-            a = m + 1;
-        else
-            b = m;
-    }
-    return a;
-}
-
 /* The position after p among the junction's positions of ring [lo, hi) (cyclic), or -1
  * when p is not there exactly once. */
 static int64_t next_pos(const int64_t *P, int64_t n, int64_t p, int64_t lo, int64_t hi)
 {
-    int64_t i = lower_bound(P, n, p);
+    int64_t i = mfg_lower_bound_i64(P, n, p);
     if (i >= n || P[i] != p || (i + 1 < n && P[i + 1] == p))
         return -1;
     if (i + 1 < n && P[i + 1] < hi)
         return P[i + 1];
-    return P[lower_bound(P, n, lo)]; /* wrap to the ring's first */
+    return P[mfg_lower_bound_i64(P, n, lo)]; /* wrap to the ring's first */
 }
 
 /* Sets C->win to the pocket of the port (a, b) of junction j (see ma_window), or leaves

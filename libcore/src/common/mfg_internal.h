@@ -164,6 +164,20 @@ static inline int mfg_resize(void **p, int64_t n, size_t size)
     return 1;
 }
 
+/* The index of the first entry >= v in the ascending a[0 .. n) (n if none). */
+static inline int64_t mfg_lower_bound_i64(const int64_t *a, int64_t n, int64_t v)
+{
+    int64_t lo = 0, hi = n;
+    while (lo < hi) {
+        int64_t mid = lo + (hi - lo) / 2;
+        if (a[mid] < v)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
 /* qsort comparator of int64_t in ascending order. */
 static inline int mfg_cmp_i64(const void *pa, const void *pb)
 {

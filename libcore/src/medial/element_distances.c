@@ -205,14 +205,7 @@ double md_dist(const md_elements *el, int64_t e, const double x[3])
 
 static int in_sorted(const int64_t *l, int64_t n, int64_t v)
 {
-    int64_t lo = 0, hi = n;
-    while (lo < hi) {
-        int64_t mid = lo + (hi - lo) / 2;
-        if (l[mid] < v)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
+    int64_t lo = mfg_lower_bound_i64(l, n, v);
     return lo < n && l[lo] == v;
 }
 

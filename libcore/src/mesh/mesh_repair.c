@@ -225,6 +225,21 @@ static int map_sides(side_map *S, const mfg_rmesh *m, int64_t t)
 /* How often an edge may be taken away by flips and made again (remove_needles). */
 #define FLIP_AGAIN 2
 
+/* Removes the triangles t with drop[t] (and their labels), keeping the others' order. */
+static void drop_triangles(mfg_rmesh *m, const uint8_t *drop)
+{
+    int64_t n = 0;
+    for (int64_t t = 0; t < m->nt; t++) {
+        if (drop[t])
+            continue;
+        memmove(m->t + 3 * n, m->t + 3 * t, 3 * sizeof *m->t);
+        if (m->g)
+            m->g[n] = m->g[t];
+        n++;
+    }
+    m->nt = n;
+}
+
 static int remove_needles(mfg_rmesh *m, double eps)
 {
     side_map S = {{0}, NULL, 0};
@@ -312,18 +327,8 @@ static int remove_needles(mfg_rmesh *m, double eps)
             stack[top++] = w;
         }
     }
-    if (ok) {
-        int64_t n = 0;
-        for (int64_t t = 0; t < m->nt; t++) {
-            if (dead[t])
-                continue;
-            memmove(m->t + 3 * n, m->t + 3 * t, 3 * sizeof *m->t);
-            if (m->g)
-                m->g[n] = m->g[t];
-            n++;
-        }
-        m->nt = n;
-    }
+    if (ok)
+        drop_triangles(m, dead);
     hmap_free(&S.dir);
     hmap_free(&gone);
     free(S.prev);
@@ -580,17 +585,14 @@ int mfg_mesh_drop_flat_shells(mfg_rmesh *m)
         free(shell_of);
         return 0;
     }
-    int64_t keep = 0;
-    for (int64_t t = 0; t < m->nt; t++) {
-        if (mfg_shell_is_flat(&S[shell_of[t]]))
-            continue;
-        memmove(m->t + 3 * keep, m->t + 3 * t, 3 * sizeof *m->t);
-        if (m->g)
-            m->g[keep] = m->g[t];
-        keep++;
+    uint8_t *flat = malloc((size_t)m->nt + 1);
+    if (flat) {
+        for (int64_t t = 0; t < m->nt; t++)
+            flat[t] = (uint8_t)mfg_shell_is_flat(&S[shell_of[t]]);
+        drop_triangles(m, flat);
     }
-    m->nt = keep;
+    free(flat);
     free(shell_of);
     free(S);
-    return 1;
+    return flat != NULL;
 }
