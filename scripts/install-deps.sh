@@ -24,7 +24,7 @@ PACKAGES=(
   python3-numpy python3-pytest                # binding and its tests
   freecad xvfb xauth                          # the workbench, headless GUI tests
   clang "libclang-rt-$clang_major-dev"        # libFuzzer target
-  libgeos-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev python3-openvdb  # benchmark peers
+  libgeos-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev python3-openvdb python3-scipy  # benchmark peers
   python3-shapely python3-matplotlib          # Python peers (tests + bench)
 )
 
