@@ -157,6 +157,10 @@ typedef struct pm_work {
     pm_pair *newe;    /* new directed edges */
     pm_pair *olde;    /* boundary directed edges */
     pm_seg *seg;      /* loop edges */
+    int64_t *tvert;   /* thinning: the kept loop points' vertex ids, ... */
+    double *txy;      /* ... and their projections */
+    int64_t *tstart;  /* ... and the thinned loops' offsets */
+    int64_t nl;       /* the loops of the region last triangulated */
     int64_t cap;
 } pm_work;
 
@@ -176,6 +180,9 @@ static int work_grow(pm_work *w, int64_t n)
     ok &= mfg_resize((void **)&w->newe, 3 * c, sizeof *w->newe);
     ok &= mfg_resize((void **)&w->olde, c, sizeof *w->olde);
     ok &= mfg_resize((void **)&w->seg, c, sizeof *w->seg);
+    ok &= mfg_resize((void **)&w->tvert, c, sizeof *w->tvert);
+    ok &= mfg_resize((void **)&w->txy, 2 * c, sizeof *w->txy);
+    ok &= mfg_resize((void **)&w->tstart, c + 1, sizeof *w->tstart);
     if (!ok)
         return 0;
     w->cap = c;
@@ -194,6 +201,9 @@ static void work_free(pm_work *w)
     free(w->newe);
     free(w->olde);
     free(w->seg);
+    free(w->tvert);
+    free(w->txy);
+    free(w->tstart);
 }
 
 /* Shared state of the pass. */
@@ -208,12 +218,114 @@ typedef struct pm_ctx {
     int64_t *cnt, *stamp; /* per vertex: uses in the current region */
     char *onloop;         /* per vertex: on a loop of the current region */
     int64_t *bidx;        /* per half-edge: its index among the region's boundary edges */
+    const int64_t *label; /* thinning (NULL: none): per vertex its chain, see the header */
+    double thin_tol;
+    int64_t *lstamp;      /* per vertex: the region stamp when it was seen on a loop, ... */
+    int64_t *pinch;       /* ... and when it was seen twice */
     pm_work w;
 } pm_ctx;
 
 static double proj_area2(const double *p, const double *q, const double *r, int u, int v)
 {
     return (q[u] - p[u]) * (r[v] - p[v]) - (q[v] - p[v]) * (r[u] - p[u]);
+}
+
+/* May loop vertex x of region stamp go with a chord, given the chain *lab of the run so
+ * far (-1: none yet)?  Not a corner, a pinch, or a vertex a triangle outside uses. */
+static int thin_may_drop(const pm_ctx *P, int64_t stampv, int64_t x, int64_t *lab)
+{
+    if (P->pinch[x] == stampv || P->cnt[x] != P->deg[x])
+        return 0;
+    int64_t l = P->label[x];
+    if (l == -1)
+        return 1;
+    if (l < 0 || (*lab >= 0 && l != *lab))
+        return 0;
+    *lab = l;
+    return 1;
+}
+
+/* Loop points L[i], i taken modulo m: do the points strictly between a and j (a < j <=
+ * a + m) all go with the chord from L[a] to L[j]? */
+static int thin_chord_holds(const pm_ctx *P, int64_t stampv, const int64_t *L, int64_t m,
+                            int64_t a, int64_t j)
+{
+    const double *A = P->xyz + 3 * L[a % m], *B = P->xyz + 3 * L[j % m];
+    double ab[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
+    double l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2], lim = P->thin_tol * P->thin_tol;
+    int64_t lab = -1;
+    for (int64_t q = a + 1; q < j; q++) {
+        int64_t x = L[q % m];
+        if (!thin_may_drop(P, stampv, x, &lab))
+            return 0;
+        const double *Q = P->xyz + 3 * x;
+        double aq[3] = {Q[0] - A[0], Q[1] - A[1], Q[2] - A[2]};
+        double t = l2 > 0 ? (aq[0] * ab[0] + aq[1] * ab[1] + aq[2] * ab[2]) / l2 : 0;
+        t = t < 0 ? 0 : (t > 1 ? 1 : t);
+        double d[3] = {aq[0] - t * ab[0], aq[1] - t * ab[1], aq[2] - t * ab[2]};
+        if (!(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= lim))
+            return 0;
+    }
+    return 1;
+}
+
+/* Thins the loops w->lstart / lvert / xy (nl loops, *np points) into tstart / tvert / txy:
+ * from a kept point (a vertex that must stay, else the loop's first), each chord reaches
+ * the farthest point it holds for, found by doubling the span and then halving (O(n log n)
+ * on a straight run, as seam_assembly.c's thinning of the seams).  Returns the points
+ * dropped, or -1 when a loop would keep fewer than 3 (then nothing is thinned). */
+static int64_t thin_loops(pm_ctx *P, int64_t stampv, int64_t nl, int64_t np)
+{
+    pm_work *w = &P->w;
+    int64_t out = 0;
+    for (int64_t l = 0; l < nl; l++) {
+        const int64_t *L = w->lvert + w->lstart[l];
+        const double *XY = w->xy + 2 * w->lstart[l];
+        int64_t m = w->lstart[l + 1] - w->lstart[l], anchor = 0, lab;
+        for (int64_t i = 0; i < m; i++) {
+            lab = -1;
+            if (!thin_may_drop(P, stampv, L[i], &lab) || P->label[L[i]] < -1) {
+                anchor = i;
+                break;
+            }
+        }
+        w->tstart[l] = out;
+        int64_t kept = 0;
+        for (int64_t a = anchor; a < anchor + m;) {
+            w->tvert[out] = L[a % m];
+            w->txy[2 * out] = XY[2 * (a % m)];
+            w->txy[2 * out + 1] = XY[2 * (a % m) + 1];
+            out++;
+            kept++;
+            int64_t end = anchor + m, good = a + 1, bad = end + 1, span = 2;
+            while (a + span <= end) {
+                if (!thin_chord_holds(P, stampv, L, m, a, a + span)) {
+                    bad = a + span;
+                    break;
+                }
+                good = a + span;
+                span *= 2;
+            }
+            if (bad == end + 1 && good < end) {
+                if (thin_chord_holds(P, stampv, L, m, a, end))
+                    good = end;
+                else
+                    bad = end;
+            }
+            while (bad - good > 1) {
+                int64_t mid = good + (bad - good) / 2;
+                if (thin_chord_holds(P, stampv, L, m, a, mid))
+                    good = mid;
+                else
+                    bad = mid;
+            }
+            a = good;
+        }
+        if (kept < 3)
+            return -1;
+    }
+    w->tstart[nl] = out;
+    return np - out;
 }
 
 /* The region of the n triangles its[0..n): triangulated again into w.ntri (as vertex ids,
@@ -288,7 +400,7 @@ static int merge_region(pm_ctx *P, const pm_item *its, int64_t n, int64_t *nnew)
             ninner++;
         }
     }
-    if (ninner == 0)
+    if (ninner == 0 && !P->label)
         return 0;
     /* one plane up to rounding: a corner off it (the sweep's lifts near a tangent root,
      * where acos loses half the digits, lie some 1e-8 off) would tilt the long triangles
@@ -336,6 +448,11 @@ static int merge_region(pm_ctx *P, const pm_item *its, int64_t n, int64_t *nnew)
                 return 0;
             w->bseen[e] = 1;
             int64_t x = P->tris[w->bnd[e]];
+            if (P->label) {
+                if (P->lstamp[x] == stampv)
+                    P->pinch[x] = stampv;
+                P->lstamp[x] = stampv;
+            }
             const double *p = P->xyz + 3 * x;
             w->lvert[np] = x;
             w->xy[2 * np] = p[u];
@@ -347,9 +464,35 @@ static int merge_region(pm_ctx *P, const pm_item *its, int64_t n, int64_t *nnew)
     w->lstart[nl] = np;
     if (!work_grow(w, np + 2 * nl + 2))
         return -1;
+    if (P->label) {
+        /* the thinned loops take the loops' place (their arrays swap) */
+        int64_t dropped = thin_loops(P, stampv, nl, np);
+        if (dropped < 0 || (dropped == 0 && ninner == 0))
+            return 0;
+        if (dropped > 0) {
+            int64_t *ti = w->lvert;
+            w->lvert = w->tvert;
+            w->tvert = ti;
+            ti = w->lstart;
+            w->lstart = w->tstart;
+            w->tstart = ti;
+            double *td = w->xy;
+            w->xy = w->txy;
+            w->txy = td;
+            np -= dropped;
+            /* the loops' area (shoelace, doubled as proj_area2), the old area's stand-in */
+            area_old = 0;
+            for (int64_t l = 0; l < nl; l++)
+                for (int64_t i = w->lstart[l]; i < w->lstart[l + 1]; i++) {
+                    int64_t j = i + 1 < w->lstart[l + 1] ? i + 1 : w->lstart[l];
+                    area_old += w->xy[2 * i] * w->xy[2 * j + 1] - w->xy[2 * j] * w->xy[2 * i + 1];
+                }
+        }
+    }
     if (!loops_simple(w->xy, w->lstart, nl, w->seg))
         return 0;
     int64_t nt = 0;
+    w->nl = nl;
     int rc = mfg_polygon_triangulate(w->xy, w->lstart, nl, w->ntri, &nt);
     if (rc <= 0)
         return rc;
@@ -374,10 +517,14 @@ static int merge_region(pm_ctx *P, const pm_item *its, int64_t n, int64_t *nnew)
     }
     if (!(fabs(area_new - area_old) <= PM_AREA_REL * fabs(area_old)))
         return 0;
-    for (int64_t j = 0; j < nb; j++) {
-        w->olde[j].a = P->tris[w->bnd[j]];
-        w->olde[j].b = P->tris[3 * (w->bnd[j] / 3) + (w->bnd[j] % 3 + 1) % 3];
-    }
+    /* the boundary: the loops' edges (the old boundary edges when nothing was thinned) */
+    nb = np;
+    for (int64_t l = 0; l < nl; l++)
+        for (int64_t i = w->lstart[l]; i < w->lstart[l + 1]; i++) {
+            int64_t j = i + 1 < w->lstart[l + 1] ? i + 1 : w->lstart[l];
+            w->olde[i].a = w->lvert[i];
+            w->olde[i].b = w->lvert[j];
+        }
     qsort(w->olde, (size_t)nb, sizeof *w->olde, cmp_pair);
     qsort(w->newe, (size_t)(3 * nt), sizeof *w->newe, cmp_pair);
     for (int64_t j = 0; j + 1 < nb; j++)
@@ -415,6 +562,14 @@ static int merge_region(pm_ctx *P, const pm_item *its, int64_t n, int64_t *nnew)
 int mfg_merge_planar_groups(const double *xyz, int64_t nvertices, int64_t *tris, int64_t *ntris,
                             const int64_t *group, int64_t *nregions)
 {
+    return mfg_merge_planar_groups_thin(xyz, nvertices, tris, ntris, group, nregions, NULL, 0.0,
+                                        NULL);
+}
+
+int mfg_merge_planar_groups_thin(const double *xyz, int64_t nvertices, int64_t *tris,
+                                 int64_t *ntris, const int64_t *group, int64_t *nregions,
+                                 const int64_t *label, double thin_tol, char *thinned)
+{
     int64_t nt = *ntris;
     if (nregions)
         *nregions = 0;
@@ -433,10 +588,19 @@ int mfg_merge_planar_groups(const double *xyz, int64_t nvertices, int64_t *tris,
     P.stamp = calloc((size_t)(nvertices + 1), sizeof *P.stamp);
     P.onloop = calloc((size_t)(nvertices + 1), 1);
     P.bidx = malloc((size_t)(3 * nt + 1) * sizeof *P.bidx);
+    P.label = label;
+    P.thin_tol = thin_tol;
+    if (label) {
+        P.lstamp = calloc((size_t)(nvertices + 1), sizeof *P.lstamp);
+        P.pinch = calloc((size_t)(nvertices + 1), sizeof *P.pinch);
+    }
     int ok = comp && parent && items && dead && out && P.deg && P.cnt && P.stamp && P.onloop && P.bidx &&
+             (!label || (P.lstamp && P.pinch)) &&
              hmap_init(&P.he, 3 * nt) && hmap_init(&P.added, 64); /* added grows as regions merge */
     P.comp = comp;
     int manifold = 1;
+    if (thinned)
+        memset(thinned, 0, (size_t)nvertices);
     /* half-edges; a mesh with an edge twice in one direction is left alone */
     for (int64_t t = 0; t < nt && ok && manifold; t++)
         for (int q = 0; q < 3; q++) {
@@ -484,6 +648,9 @@ int mfg_merge_planar_groups(const double *xyz, int64_t nvertices, int64_t *tris,
             if (rc < 0) {
                 ok = 0;
             } else if (rc > 0) {
+                if (thinned)
+                    for (int64_t q = 0; q < P.w.lstart[P.w.nl]; q++)
+                        thinned[P.w.lvert[q]] = 1;
                 memcpy(fresh + 3 * nfresh, P.w.ntri, (size_t)(3 * nnew) * sizeof *fresh);
                 nfresh += nnew;
                 for (int64_t q = i; q < j; q++)
@@ -520,6 +687,8 @@ int mfg_merge_planar_groups(const double *xyz, int64_t nvertices, int64_t *tris,
     free(P.stamp);
     free(P.onloop);
     free(P.bidx);
+    free(P.lstamp);
+    free(P.pinch);
     hmap_free(&P.he);
     hmap_free(&P.added);
     work_free(&P.w);

@@ -28,4 +28,22 @@
 int mfg_merge_planar_groups(const double *xyz, int64_t nvertices, int64_t *tris, int64_t *ntris,
                             const int64_t *group, int64_t *nregions);
 
+/*
+ * The same, and the boundary loops thinned before they are triangulated (the medial
+ * sheets, whose boundary has a vertex per octree leaf along every seam): a run of loop
+ * vertices is replaced by the chord between its ends when every vertex of the run lies
+ * within thin_tol of the chord (3-D distance) and the run holds one chain: label[x] >= 0
+ * names the chain of vertex x, -1 goes with any chain, < -1 (a corner) and a vertex where
+ * the region's boundary touches itself or that a triangle outside the region uses are
+ * kept.  A loop left with fewer than 3 vertices, or thinned loops that cross, leave the
+ * region as it was.  label NULL: no thinning (mfg_merge_planar_groups).  The checks are
+ * those above with the thinned loops in place of the old boundary and the loops' area in
+ * place of the old one.  thinned (nvertices, may be NULL) gets 1 at the loop vertices of
+ * every region triangulated again (the ones kept), 0 elsewhere: a later simplification
+ * must keep them, or the dropped ones could end farther than thin_tol from the boundary.
+ */
+int mfg_merge_planar_groups_thin(const double *xyz, int64_t nvertices, int64_t *tris,
+                                 int64_t *ntris, const int64_t *group, int64_t *nregions,
+                                 const int64_t *label, double thin_tol, char *thinned);
+
 #endif
