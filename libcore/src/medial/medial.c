@@ -238,7 +238,7 @@ mfg_status mfg_medial_surface_p(const double *xyz, int64_t nvertices, const int6
     } while (0)
     stage = "the octree";
     MEDIAL_STAGE("medial: octree", 0.05, 0.25, MEDIAL_EVERY_OCTREE);
-    if ((st = md_octree_build_p(&el, bvh, tolerance, full, nth, &lv, &prog)) != MFG_OK)
+    if ((st = md_octree_build_p(&el, bvh, tolerance, full, 1, nth, &lv, &prog)) != MFG_OK)
         goto cleanup;
     stage = "the sheets";
     MEDIAL_STAGE("medial: sheets", 0.25, 0.6, MEDIAL_EVERY_SHEETS);

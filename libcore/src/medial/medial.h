@@ -208,6 +208,8 @@ typedef struct md_lattice {
 typedef struct md_leaf {
     int32_t ijk[3];
     int32_t nC, nP, nT;
+    int32_t level; /* 0: a leaf of side h; m > 0: a coarse plane leaf (design 3.4) of side
+                      2^m h whose smallest lattice point is ijk, with C = P = one face pair */
     int64_t C_off; /* into md_leaves.C */
     int64_t P_off; /* into md_leaves.P (2 ids per pair) */
 } md_leaf;
@@ -224,12 +226,17 @@ typedef struct md_leaves {
 /* Builds the leaves of the adaptive octree over el's bounding box: cells pruned when
  * outside the solid or when no pair of candidates can have a medial bisector in them;
  * candidates inherited from the parent below depth 3.  full: 0 major pairs only, 1 all
- * non-incident pairs.  nthreads >= 1.  MFG_OK, MFG_ERR_NOMEM (out zeroed). */
+ * non-incident pairs.  nthreads >= 1.  Every leaf has side h (level 0): the uniform
+ * lattice, whose soundness the tests check leaf by leaf.  MFG_OK, MFG_ERR_NOMEM (out
+ * zeroed). */
 mfg_status md_octree_build(const md_elements *el, const md_bvh *bvh, double tolerance,
                            int full, int nthreads, md_leaves *out);
-/* The same with progress (mfg_prog, NULL: none; the caller has entered the stage). */
+/* The same with progress (mfg_prog, NULL: none; the caller has entered the stage) and,
+ * when coarse is 1, the coarse plane leaves of design 3.4: a cell whose only candidates
+ * are two faces, each holding the whole cell's projection, stops there (level > 0). */
 mfg_status md_octree_build_p(const md_elements *el, const md_bvh *bvh, double tolerance,
-                             int full, int nthreads, md_leaves *out, mfg_prog *prog);
+                             int full, int coarse, int nthreads, md_leaves *out,
+                             mfg_prog *prog);
 void md_leaves_free(md_leaves *leaves);
 
 /* ---- sheets.c: the sheet extraction on the analytic bisectors ------------------------ */

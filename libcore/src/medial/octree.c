@@ -5,7 +5,9 @@
  * The root cube (side S = 1.02 x the largest extent) is subdivided down to leaves of side
  * h, the largest S / 2^k <= tolerance.  A cell survives only when some pair of boundary
  * elements may have a (near-)medial bisector point inside it; every surviving cell reaches
- * size h, so the sheet leaves form one sparse uniform lattice (md_lattice).
+ * size h, so the sheet leaves form one sparse lattice (md_lattice) -- except, when the
+ * caller asks for them, the coarse plane leaves (coarse_plane below, design 3.4): cells
+ * crossed by the bisector plane of two faces alone stop at any size.
  *
  * The cell test, at the centre c with half-diagonal rho:
  *  1. u = min over the candidates of the closed distance: the unsigned distance from c to
@@ -119,6 +121,7 @@ struct job {
     const md_bvh *bvh;
     md_lattice lat;
     int full;
+    int coarse;       /* 1: coarse plane leaves (design 3.4) */
     double delta;     /* h / 64: the slack of the pair tests */
     double tau;       /* rounding: 1e-9 L + 4 eta */
     double shift;     /* 4 L: moves a point off a face to read its in-plane margin */
@@ -235,6 +238,74 @@ static int regions_apart(const job *J, double s, const int64_t ka[2], const doub
 }
 
 enum { CELL_PRUNED, CELL_SPLIT, CELL_LEAF, CELL_NOMEM };
+
+/* Is cell ijk at depth d < lat.depth (centre c, half-diagonal rho, candidates me->C with
+ * |C| = 2) a coarse plane leaf (design 3.4)?  1 yes, 0 no (split it), -1 when the pair's
+ * bisector misses the cell (nothing in it is medial: pruned).
+ *
+ * Why this is exact at any size: C holds every element that is nearest anywhere in the
+ * cell (design 3, step 2), so with C = {a, b} only a and b are; both are faces, so their
+ * carrier distances are affine and the bisector is a plane; each face's in-plane margin
+ * at the centre's projection exceeds rho (a lower bound of it, inherited or exact), so
+ * the foot of every point of the cell lies inside both polygons; and s_a = s_b > tau on
+ * the plane's polygon in the cube (affine on a convex polygon whose vertices lie on the
+ * cube's edges, so the smaller end value on each crossed edge bounds it): every point of
+ * that polygon lies in both regions, inside the solid (its nearest boundary point is
+ * interior to a face and on that face's inner side), at equal distance from a and b, and
+ * no third element comes near.  The polygon is the whole medial surface in the cell:
+ * untrimmed, no seam, no junction (nT = 2). */
+static int coarse_plane(const job *J, const level *me, const int32_t ijk[3], int d, double rho)
+{
+    const md_elements *el = J->el;
+    int64_t a = me->C[0], b = me->C[1];
+    if (b >= el->nfaces || !(me->inb[0] - rho > J->tau) || !(me->inb[1] - rho > J->tau))
+        return 0;
+    int64_t M = (int64_t)1 << (J->lat.depth - d);
+    double sa[8], sb[8];
+    int npos = 0;
+    for (int q = 0; q < 8; q++) {
+        double x[3];
+        for (int k = 0; k < 3; k++)
+            x[k] = J->lat.origin[k] + J->lat.h * (double)((int64_t)ijk[k] * M + ((q >> k) & 1) * M);
+        sa[q] = md_dist_car(el, a, x, NULL);
+        sb[q] = md_dist_car(el, b, x, NULL);
+        npos += sa[q] - sb[q] >= 0;
+    }
+    if (npos == 0 || npos == 8)
+        return -1;
+    for (int q = 0; q < 8; q++)
+        for (int k = 0; k < 3; k++) {
+            int r = q | 1 << k;
+            if (r != q && (sa[q] - sb[q] >= 0) != (sa[r] - sb[r] >= 0) &&
+                !(fmin(fmin(sa[q], sa[r]), fmin(sb[q], sb[r])) > J->tau))
+                return 0;
+        }
+    return 1;
+}
+
+/* Appends the leaf ijk (level lvl, nT, C = me->C[0 .. n), P = w->pairs[0 .. 2 np)). */
+static int emit_leaf(worker *w, const int32_t ijk[3], int32_t lvl, const level *me, int64_t n,
+                     int64_t np, int32_t nT)
+{
+    if (!mfg_grow((void **)&w->leaf, &w->cap_leaf, w->nleaf + 1, sizeof *w->leaf) ||
+        !mfg_grow((void **)&w->C, &w->cap_C, w->nC + n, sizeof *w->C) ||
+        !mfg_grow((void **)&w->P, &w->cap_P, w->nP + 2 * np, sizeof *w->P))
+        return CELL_NOMEM;
+    md_leaf *lf = &w->leaf[w->nleaf++];
+    memset(lf, 0, sizeof *lf); /* the padding too: leaves are compared as bytes (tests) */
+    memcpy(lf->ijk, ijk, sizeof lf->ijk);
+    lf->nC = (int32_t)n;
+    lf->nP = (int32_t)np;
+    lf->nT = nT;
+    lf->level = lvl;
+    lf->C_off = w->nC;
+    lf->P_off = w->nP;
+    memcpy(w->C + w->nC, me->C, (size_t)n * sizeof *w->C);
+    memcpy(w->P + w->nP, w->pairs, (size_t)(2 * np) * sizeof *w->P);
+    w->nC += n;
+    w->nP += 2 * np;
+    return CELL_LEAF;
+}
 
 /* Evaluates cell ijk at depth d (par: its parent's context, NULL at the root) and fills
  * me for its children.  Emits the leaf at depth == lat.depth. */
@@ -396,8 +467,20 @@ static int cell(worker *w, int d, const int32_t ijk[3], const level *par, level 
     if (me->sign < 0 && u > rho + tau)
         return CELL_PRUNED; /* the whole cell is outside */
 
-    if (d < L)
+    if (d < L) {
+        if (J->coarse && n == 2) { /* np = 1: the pair is (C[0], C[1]) */
+            int cp = coarse_plane(J, me, ijk, d, rho);
+            if (cp < 0)
+                return CELL_PRUNED;
+            if (cp > 0) {
+                int32_t fine[3];
+                for (int k = 0; k < 3; k++)
+                    fine[k] = (int32_t)((int64_t)ijk[k] << (L - d));
+                return emit_leaf(w, fine, L - d, me, n, np, 2);
+            }
+        }
         return CELL_SPLIT;
+    }
 
     /* 6. The leaf.  nT = |T_2rho(c)| with restricted distances (md_dist): the margin is
      * exact for edges and vertices, and for faces exact or a positive lower bound of the
@@ -413,22 +496,7 @@ static int cell(worker *w, int d, const int32_t ijk[3], const level *par, level 
         for (int64_t q = 0; q < n; q++)
             nT += w->dc[q] <= Dr + 2 * rho;
 
-    if (!mfg_grow((void **)&w->leaf, &w->cap_leaf, w->nleaf + 1, sizeof *w->leaf) ||
-        !mfg_grow((void **)&w->C, &w->cap_C, w->nC + n, sizeof *w->C) ||
-        !mfg_grow((void **)&w->P, &w->cap_P, w->nP + 2 * np, sizeof *w->P))
-        return CELL_NOMEM;
-    md_leaf *lf = &w->leaf[w->nleaf++];
-    memcpy(lf->ijk, ijk, sizeof lf->ijk);
-    lf->nC = (int32_t)n;
-    lf->nP = (int32_t)np;
-    lf->nT = nT;
-    lf->C_off = w->nC;
-    lf->P_off = w->nP;
-    memcpy(w->C + w->nC, me->C, (size_t)n * sizeof *w->C);
-    memcpy(w->P + w->nP, w->pairs, (size_t)(2 * np) * sizeof *w->P);
-    w->nC += n;
-    w->nP += 2 * np;
-    return CELL_LEAF;
+    return emit_leaf(w, ijk, 0, me, n, np, nT);
 }
 
 /* Saves a cell's context at depth wd - 1: its children are the work units. */
@@ -766,11 +834,12 @@ void md_leaves_free(md_leaves *leaves)
 mfg_status md_octree_build(const md_elements *el, const md_bvh *bvh, double tolerance,
                            int full, int nthreads, md_leaves *out)
 {
-    return md_octree_build_p(el, bvh, tolerance, full, nthreads, out, NULL);
+    return md_octree_build_p(el, bvh, tolerance, full, 0, nthreads, out, NULL);
 }
 
 mfg_status md_octree_build_p(const md_elements *el, const md_bvh *bvh, double tolerance,
-                             int full, int nthreads, md_leaves *out, mfg_prog *prog)
+                             int full, int coarse, int nthreads, md_leaves *out,
+                             mfg_prog *prog)
 {
     memset(out, 0, sizeof *out);
     job J;
@@ -781,6 +850,7 @@ mfg_status md_octree_build_p(const md_elements *el, const md_bvh *bvh, double to
     J.el = el;
     J.bvh = bvh;
     J.full = full != 0;
+    J.coarse = coarse != 0;
     if (!make_lattice(el, tolerance, &J.lat))
         return mfg_fail(MFG_ERR_INVALID, "medial octree: tolerance %g gives no lattice of <= %d "
                         "levels", tolerance, MAX_DEPTH);

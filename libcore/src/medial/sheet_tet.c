@@ -213,6 +213,8 @@ static int c_index(const ctx *c, int64_t e)
 mfg_status md_sheet_leaf(const md_elements *el, const md_bvh *bvh, const md_leaves *lv,
                           const md_leaf *L, unit_buf *ub, ctx *c)
 {
+    if (L->level > 0)
+        return md_sheet_coarse_leaf(el, lv, L, ub);
     c->el = el;
     c->bvh = bvh;
     c->C = lv->C + L->C_off;

@@ -233,6 +233,17 @@ void md_soup_free(md_soup *s)
     memset(s, 0, sizeof *s);
 }
 
+/* A vertex no seam passes through: a root on a lattice edge (key c = -2) or the centre of
+ * a coarse plane leaf's fan (c = -4, sheet_coarse.c).  A coarse leaf whose polygon is a
+ * corner of its cube cut off within rounding of a lattice point (the turned cuboid) fans
+ * triangles below amin from its centre, where a leaf of side h would have one triangle of
+ * three roots: both must collapse alike, or the neighbours' sides about the point stay
+ * open (a pinhole). */
+static int inner_key(const vrec *r)
+{
+    return r->k.c == -2 || r->k.c == -4;
+}
+
 /* Welds the units' records by key (ids in key order), collapses the tiny triangles, drops
  * degenerate triangles and unreferenced vertices, and writes the soup in unit order. */
 static mfg_status merge(const unit_buf *units, int64_t nunits, double h, md_soup *out)
@@ -282,10 +293,10 @@ static mfg_status merge(const unit_buf *units, int64_t nunits, double h, md_soup
     /* Where the sheet passes within rounding of a lattice point, the roots on the Kuhn
      * edges there crowd about it and the tets give triangles below amin with all sides
      * short: dropping one leaves a pinhole (the T-section's {z1, E} by (33.94, 54.02,
-     * 35.84) at tol 1 % L).  Such a triangle of three roots is collapsed instead: its
-     * vertices become one (the smallest id, a vertex on the bisector), so that its
-     * neighbours' sides weld and they close the hole; the order of the unions does not
-     * matter.  Boundary points and corners (the seams' vertices) never move: a tiny
+     * 35.84) at tol 1 % L).  Such a triangle of three roots (or coarse fan centres,
+     * inner_key) is collapsed instead: its vertices become one (the smallest id, a vertex
+     * on the bisector), so that its neighbours' sides weld and they close the hole; the
+     * order of the unions does not matter.  Boundary points and corners (the seams' vertices) never move: a tiny
      * triangle at a seam is dropped as before (moving a vertex of the T-section's seam of
      * four elements gave a spurious seam of three). */
     for (int64_t i = 0; i < nid; i++)
@@ -298,8 +309,8 @@ static mfg_status merge(const unit_buf *units, int64_t nunits, double h, md_soup
                 g[k] = gid[uoff[u] + ub->t[3 * t + k]];
             const double *x0 = recs[rep[g[0]]]->x, *x1 = recs[rep[g[1]]]->x;
             const double *x2 = recs[rep[g[2]]]->x;
-            int roots = recs[rep[g[0]]]->k.c == -2 && recs[rep[g[1]]]->k.c == -2 &&
-                        recs[rep[g[2]]]->k.c == -2;
+            int roots = inner_key(recs[rep[g[0]]]) && inner_key(recs[rep[g[1]]]) &&
+                        inner_key(recs[rep[g[2]]]);
             if (roots && 0.5 * tri_area2(x0, x1, x2) < amin && mfg_dist3(x0, x1) <= lmax &&
                 mfg_dist3(x1, x2) <= lmax && mfg_dist3(x2, x0) <= lmax) {
                 mfg_uf_union(newid, g[0], g[1]);

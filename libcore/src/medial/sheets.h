@@ -105,7 +105,12 @@ int md_sheet_edge_vertex(ctx *c, int lo, int hi);
 int md_sheet_boundary_point(ctx *c, int iu, int iv);
 int md_sheet_corner_point(const ctx *c, const pvert *p, const pvert *q, double *x, double *Dout);
 
-/* sheet_tet.c: the marching tets and trim of every pair of one leaf, into ub. */
+/* sheet_coarse.c: the sheet of a coarse plane leaf (L->level > 0, design 3.4), into ub. */
+mfg_status md_sheet_coarse_leaf(const md_elements *el, const md_leaves *lv, const md_leaf *L,
+                                unit_buf *ub);
+
+/* sheet_tet.c: the marching tets and trim of every pair of one leaf, into ub (a coarse
+ * plane leaf goes to md_sheet_coarse_leaf). */
 mfg_status md_sheet_leaf(const md_elements *el, const md_bvh *bvh, const md_leaves *lv,
                          const md_leaf *L, unit_buf *ub, ctx *c);
 

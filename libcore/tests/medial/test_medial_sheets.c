@@ -605,6 +605,169 @@ static void test_l_bracket_full_on_bisector(void)
     md_elements_free(&el);
 }
 
+/* ---- coarse plane leaves (design 3.4, medial/sheet_coarse.c) ------------------------------ */
+
+/* A sheet edge as the coordinates of its ends (smaller first) and its pair. */
+typedef struct xedge {
+    int64_t a, b;
+    double p[3], q[3];
+} xedge;
+
+static int cmp_xedge(const void *pa, const void *pb)
+{
+    const xedge *x = pa, *y = pb;
+    if (x->a != y->a)
+        return x->a < y->a ? -1 : 1;
+    if (x->b != y->b)
+        return x->b < y->b ? -1 : 1;
+    int c = memcmp(x->p, y->p, sizeof x->p);
+    return c ? c : memcmp(x->q, y->q, sizeof x->q);
+}
+
+static void put_xedge(xedge *e, int64_t a, int64_t b, const double *p, const double *q)
+{
+    int swap = memcmp(p, q, 3 * sizeof *p) > 0; /* any fixed order of the bits will do */
+    e->a = a;
+    e->b = b;
+    memcpy(e->p, swap ? q : p, sizeof e->p);
+    memcpy(e->q, swap ? p : q, sizeof e->q);
+}
+
+/* The edges of the soup's triangles that lie in exactly one triangle of their pair (the
+ * sheets' boundaries, by coordinates), sorted; their count. */
+static int64_t open_edges(const md_soup *s, xedge **out)
+{
+    xedge *E = malloc((size_t)(3 * s->ntris + 1) * sizeof *E);
+    for (int64_t t = 0; t < s->ntris; t++)
+        for (int k = 0; k < 3; k++)
+            put_xedge(E + 3 * t + k, s->tri_pair[2 * t], s->tri_pair[2 * t + 1],
+                      s->xyz + 3 * s->tris[3 * t + k], s->xyz + 3 * s->tris[3 * t + (k + 1) % 3]);
+    qsort(E, (size_t)(3 * s->ntris), sizeof *E, cmp_xedge);
+    int64_t n = 0;
+    for (int64_t i = 0; i < 3 * s->ntris;) {
+        int64_t j = i;
+        while (j < 3 * s->ntris && !cmp_xedge(E + j, E + i))
+            j++;
+        if (j - i == 1)
+            E[n++] = E[i];
+        i = j;
+    }
+    *out = E;
+    return n;
+}
+
+/* The seam segments by coordinates (with their pair), sorted. */
+static int64_t seam_edges(const md_soup *s, xedge **out)
+{
+    xedge *E = malloc((size_t)(s->nsegs + 1) * sizeof *E);
+    for (int64_t g = 0; g < s->nsegs; g++)
+        put_xedge(E + g, s->seg_pair[2 * g], s->seg_pair[2 * g + 1],
+                  s->xyz + 3 * s->seg_verts[2 * g], s->xyz + 3 * s->seg_verts[2 * g + 1]);
+    qsort(E, (size_t)s->nsegs, sizeof *E, cmp_xedge);
+    *out = E;
+    return s->nsegs;
+}
+
+/* Coarse plane leaves against the uniform lattice on the same solid: the octree with
+ * coarse leaves keeps fewer leaves, and its soup has, bit for bit, the same seam segments
+ * as the soup of the leaves of side h alone, and no open edge (an edge in one triangle of
+ * its pair) that is not a seam segment or open there too: each coarse leaf's fan meets its
+ * neighbours along the same fine roots (no crack; no overlap: an edge in three triangles
+ * would show), and nothing is trimmed inside it.  Every pair's area agrees to rounding, every vertex lies
+ * on its pair's bisector at its radius, the welded sheets are manifold with one
+ * orientation (manifold()). */
+static void test_coarse_vs_uniform(const tmesh *m, double tol, int full, const char *name)
+{
+    md_elements el;
+    CHECK_EQ_INT(md_elements_build(m->xyz, m->nv, m->tri, m->nt, tol, &el), MFG_OK);
+    md_bvh *bvh = NULL;
+    CHECK_EQ_INT(md_bvh_build(&el, &bvh), MFG_OK);
+    md_leaves lu, lc;
+    CHECK_EQ_INT(md_octree_build(&el, bvh, tol, full, 2, &lu), MFG_OK);
+    CHECK_EQ_INT(md_octree_build_p(&el, bvh, tol, full, 1, 2, &lc, NULL), MFG_OK);
+    int64_t ncoarse = 0, covered = 0;
+    for (int64_t i = 0; i < lc.nleaves; i++)
+        if (lc.leaf[i].level > 0) {
+            ncoarse++;
+            covered += (int64_t)1 << (3 * lc.leaf[i].level);
+            CHECK(lc.leaf[i].nC == 2 && lc.leaf[i].nP == 1 && lc.leaf[i].nT == 2);
+            CHECK(lc.P[lc.leaf[i].P_off] < el.nfaces && lc.P[lc.leaf[i].P_off + 1] < el.nfaces);
+        }
+    md_soup su = extract(&el, bvh, &lu, tol, name);
+    md_soup sc = extract(&el, bvh, &lc, tol, name);
+    xedge *ou, *oc, *gu, *gc;
+    int64_t nou = open_edges(&su, &ou), noc = open_edges(&sc, &oc);
+    int64_t ngu = seam_edges(&su, &gu), ngc = seam_edges(&sc, &gc);
+    int same_seams = ngu == ngc && !memcmp(gu, gc, (size_t)ngu * sizeof *gu);
+    /* The coarse soup's open edges: each a seam segment or open in the uniform soup too
+     * (whose triangles below 1e-6 h^2 may leave pinholes where a coarse fan has none). */
+    int64_t new_open = 0;
+    for (int64_t i = 0; i < noc; i++)
+        new_open += !bsearch(oc + i, ou, (size_t)nou, sizeof *ou, cmp_xedge) &&
+                    !bsearch(oc + i, gc, (size_t)ngc, sizeof *gc, cmp_xedge);
+    int same_open = nou == noc && !memcmp(ou, oc, (size_t)nou * sizeof *ou);
+    printf("%s: %lld leaves of side h -> %lld leaves (%lld coarse, standing for %lld of side h); "
+           "%lld -> %lld triangles; open edges %lld / %lld (%s, %lld new), seam segments %lld / "
+           "%lld (%s)\n",
+           name, (long long)lu.nleaves, (long long)lc.nleaves, (long long)ncoarse,
+           (long long)covered, (long long)su.ntris, (long long)sc.ntris, (long long)nou,
+           (long long)noc, same_open ? "same" : "differ", (long long)new_open, (long long)ngu,
+           (long long)ngc,
+           same_seams ? "same" : "DIFFER");
+    CHECK(ncoarse > 0);
+    CHECK(lc.nleaves < lu.nleaves);
+    CHECK_EQ_INT(new_open, 0);
+    CHECK(same_seams);
+    double dv, dr, ds;
+    equidistance(&el, &sc, &dv, &dr, &ds);
+    CHECK(dv <= 1e-9 * el.diag);
+    CHECK(dr <= 1e-9 * el.diag);
+    CHECK(ds <= 1e-9 * el.diag);
+    /* per pair of a coarse leaf: the area and the manifold counts */
+    for (int64_t i = 0; i < lc.nleaves; i++) {
+        if (lc.leaf[i].level == 0)
+            continue;
+        int64_t a = lc.P[lc.leaf[i].P_off], b = lc.P[lc.leaf[i].P_off + 1], seen = 0;
+        for (int64_t j = 0; j < i && !seen; j++)
+            seen = lc.leaf[j].level > 0 && lc.P[lc.leaf[j].P_off] == a &&
+                   lc.P[lc.leaf[j].P_off + 1] == b;
+        if (seen)
+            continue;
+        double au = pair_area(&su, a, b), ac = pair_area(&sc, a, b);
+        CHECK(fabs(au - ac) <= 1e-6 * au); /* the uniform soup's pinholes: ~1e-6 h^2 each */
+        int64_t n1, n2, nmore, open, lost;
+        manifold(&sc, a, b, 1e-6 * lc.lat.h, &n1, &n2, &nmore, &open, &lost);
+        CHECK_EQ_INT(nmore, 0);
+    }
+    free(ou);
+    free(oc);
+    free(gu);
+    free(gc);
+    md_soup_free(&su);
+    md_soup_free(&sc);
+    md_leaves_free(&lu);
+    md_leaves_free(&lc);
+    md_bvh_free(bvh);
+    md_elements_free(&el);
+}
+
+/* The solid turned about an oblique axis and moved: bisector planes off the lattice. */
+static void turned(tmesh *m)
+{
+    double ax[3] = {0.36, -0.48, 0.8}, c = cos(0.7), s = sin(0.7);
+    for (int64_t i = 0; i < m->nv; i++) {
+        double *p = m->xyz + 3 * i, q[3];
+        double d = ax[0] * p[0] + ax[1] * p[1] + ax[2] * p[2];
+        double x[3] = {ax[1] * p[2] - ax[2] * p[1], ax[2] * p[0] - ax[0] * p[2],
+                       ax[0] * p[1] - ax[1] * p[0]};
+        for (int k = 0; k < 3; k++)
+            q[k] = p[k] * c + x[k] * s + ax[k] * d * (1 - c);
+        p[0] = q[0] + 3.25;
+        p[1] = q[1] - 17.5;
+        p[2] = q[2] + 0.125;
+    }
+}
+
 /* ---- on the octree's leaves (medial/octree.c) -------------------------------------------- */
 
 /* The soup from the octree's leaves (with the BVH) equals, bit for bit, the soup from
@@ -883,6 +1046,26 @@ int main(int argc, char **argv)
         test_disc(1.0);
         test_t_section_closed();
         test_l_bracket_full_on_bisector();
+    }
+    if (all || !strcmp(argv[1], "coarse")) {
+        tmesh m;
+        box(&m, 100, 60, 20);
+        test_coarse_vs_uniform(&m, 2.5, 0, "cuboid coarse/uniform");
+        test_coarse_vs_uniform(&m, 1.0, 1, "cuboid full coarse/uniform");
+        /* turned: bisector planes off the lattice, passing near lattice points (a coarse
+         * leaf's corner cut off within rounding: the fan collapses as a root triangle) */
+        for (int r = 0; r < 4; r++) {
+            turned(&m);
+            test_coarse_vs_uniform(&m, 1.5 - 0.25 * r, 0, "turned cuboid coarse/uniform");
+        }
+        box(&m, 2, 1, 0.5);
+        test_coarse_vs_uniform(&m, 2.29e-3 * 2.5, 0, "box 2 x 1 x 0.5 at L/400 coarse/uniform");
+        ms_l_bracket(&m);
+        turned(&m);
+        test_coarse_vs_uniform(&m, 1.2, 0, "turned L-bracket coarse/uniform");
+        ms_l_bracket(&m);
+        test_coarse_vs_uniform(&m, 1.0, 0, "L-bracket coarse/uniform");
+        test_coarse_vs_uniform(&m, 2.0, 1, "L-bracket full coarse/uniform");
     }
     return mfg_test_report("medial_sheets");
 }
