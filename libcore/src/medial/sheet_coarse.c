@@ -131,6 +131,21 @@ static int64_t edge_record(coarse *c, const int64_t *p, int dir, double fp, doub
     return rec;
 }
 
+/* A boundary segment of the leaf's polygon (2 records).  0 on NOMEM. */
+static int push_segment(coarse *c, int64_t p, int64_t q)
+{
+    if (c->nseg == c->cseg) {
+        int64_t nc = c->cseg ? 2 * c->cseg : 256;
+        if (!mfg_resize((void **)&c->seg, nc, 2 * sizeof *c->seg))
+            return 0;
+        c->cseg = nc;
+    }
+    c->seg[2 * c->nseg] = p;
+    c->seg[2 * c->nseg + 1] = q;
+    c->nseg++;
+    return 1;
+}
+
 /* The segment of the fine triangle P[0..2] (lattice points of one face, f values fv)
  * where its corners' signs differ: between the roots on its two edges from the corner
  * whose sign is alone.  0 on NOMEM. */
@@ -158,77 +173,247 @@ static int cut_triangle(coarse *c, int64_t P[3][3], const double *fv)
         if (rec[s++] < 0)
             return 0;
     }
-    if (c->nseg == c->cseg) {
-        int64_t nc = c->cseg ? 2 * c->cseg : 256;
-        if (!mfg_resize((void **)&c->seg, nc, 2 * sizeof *c->seg))
-            return 0;
-        c->cseg = nc;
+    return push_segment(c, rec[0], rec[1]);
+}
+
+/* ---- the leaves by position ---------------------------------------------------------- */
+
+static uint64_t leaf_hash(const int32_t *ijk, int32_t level)
+{
+    uint64_t h = 1469598103934665603ull;
+    for (int i = 0; i < 3; i++)
+        h = (h ^ (uint64_t)(uint32_t)ijk[i]) * 1099511628211ull;
+    h = (h ^ (uint64_t)(uint32_t)level) * 1099511628211ull;
+    return h ^ (h >> 29);
+}
+
+int md_leaf_index_build(const md_leaves *lv, md_leaf_index *li)
+{
+    memset(li, 0, sizeof *li);
+    int64_t ncoarse = 0;
+    for (int64_t i = 0; i < lv->nleaves; i++) {
+        ncoarse += lv->leaf[i].level > 0;
+        if (lv->leaf[i].level > li->maxlevel)
+            li->maxlevel = lv->leaf[i].level;
     }
-    c->seg[2 * c->nseg] = rec[0];
-    c->seg[2 * c->nseg + 1] = rec[1];
-    c->nseg++;
+    if (ncoarse == 0)
+        return 1;
+    int64_t cap = 64;
+    while (cap < 2 * lv->nleaves)
+        cap *= 2;
+    li->slot = malloc((size_t)cap * sizeof *li->slot);
+    if (!li->slot)
+        return 0;
+    li->cap = cap;
+    for (int64_t s = 0; s < cap; s++)
+        li->slot[s] = -1;
+    for (int64_t i = 0; i < lv->nleaves; i++) {
+        uint64_t q = leaf_hash(lv->leaf[i].ijk, lv->leaf[i].level) & (uint64_t)(cap - 1);
+        while (li->slot[q] >= 0)
+            q = (q + 1) & (uint64_t)(cap - 1);
+        li->slot[q] = i;
+    }
     return 1;
 }
 
-/* The fine triangles of the cube face normal to axis d at lattice coordinate I whose
- * corners may differ in sign: per row of squares, the range where the linearised f at the
- * square's centre is within W of 0 (W: the band plus half the change across a square),
- * widened by one square.  0 on NOMEM. */
-static int cut_face(coarse *c, const int64_t *P0, int64_t M, int d, int64_t I, const double *g3,
-                    double E)
+void md_leaf_index_free(md_leaf_index *li)
 {
-    int u = d == 0 ? 1 : 0, v = d == 2 ? 1 : 2;
-    int64_t base[3] = {P0[0], P0[1], P0[2]};
-    base[d] = I;
-    double F0 = lattice_f(c, base), h = c->lat->h;
-    double gu = h * g3[u], gv = h * g3[v];
-    double W = E + 0.5 * (fabs(gu) + fabs(gv));
-    for (int64_t k = 0; k < M; k++) {
-        double B = F0 + gv * ((double)k + 0.5);
-        int64_t j0 = 0, j1 = M - 1;
-        if (gu != 0) {
-            double t0 = (-W - B) / gu - 0.5, t1 = (W - B) / gu - 0.5;
-            if (t0 > t1) {
-                double t = t0;
-                t0 = t1;
-                t1 = t;
-            }
-            if (!(t1 >= -1.0) || !(t0 <= (double)M))
-                continue;
-            j0 = t0 - 1.0 > 0 ? (int64_t)(t0 - 1.0) : 0;
-            j1 = t1 + 1.0 < (double)(M - 1) ? (int64_t)(t1 + 1.0) : M - 1;
-        } else if (!(fabs(B) <= W)) {
-            continue;
+    free(li->slot);
+    memset(li, 0, sizeof *li);
+}
+
+/* The level of the leaf that holds the cube of side h at lattice point q, or -1. */
+static int32_t level_at(const md_leaves *lv, const md_leaf_index *li, const int64_t *q)
+{
+    if (!li->slot || q[0] < 0 || q[1] < 0 || q[2] < 0)
+        return -1;
+    for (int32_t l = 0; l <= li->maxlevel; l++) {
+        int32_t k[3];
+        for (int d = 0; d < 3; d++)
+            k[d] = (int32_t)(q[d] >> l << l);
+        uint64_t s = leaf_hash(k, l) & (uint64_t)(li->cap - 1);
+        for (; li->slot[s] >= 0; s = (s + 1) & (uint64_t)(li->cap - 1)) {
+            const md_leaf *f = lv->leaf + li->slot[s];
+            if (f->level == l && f->ijk[0] == k[0] && f->ijk[1] == k[1] && f->ijk[2] == k[2])
+                return l;
         }
-        for (int64_t j = j0; j <= j1; j++) {
-            /* Corners: (j, k), (j+1, k), (j, k+1), (j+1, k+1) of the face. */
-            int64_t Q[4][3];
-            double fq[4];
-            for (int q = 0; q < 4; q++) {
-                memcpy(Q[q], base, sizeof Q[q]);
-                Q[q][u] += j + (q & 1);
-                Q[q][v] += k + (q >> 1);
-                fq[q] = lattice_f(c, Q[q]);
+    }
+    return -1;
+}
+
+/* ---- the faces ----------------------------------------------------------------------- */
+
+/* The fine triangles of the square of side 2^0 at lattice point Q0 (axes u, v of the face)
+ * whose corners differ in sign: cut as a leaf of side h cuts them.  0 on NOMEM. */
+static int cut_fine_square(coarse *c, const int64_t *Q0, int u, int v)
+{
+    int64_t Q[4][3];
+    double fq[4];
+    for (int q = 0; q < 4; q++) {
+        memcpy(Q[q], Q0, sizeof Q[q]);
+        Q[q][u] += q & 1;
+        Q[q][v] += q >> 1;
+        fq[q] = lattice_f(c, Q[q]);
+    }
+    /* The Kuhn diagonal from (0, 0) to (1, 1) splits the square in two. */
+    static const int TRI[2][3] = {{0, 1, 3}, {0, 2, 3}};
+    for (int t = 0; t < 2; t++) {
+        int64_t T[3][3];
+        double ft[3];
+        for (int i = 0; i < 3; i++) {
+            memcpy(T[i], Q[TRI[t][i]], sizeof T[i]);
+            ft[i] = fq[TRI[t][i]];
+        }
+        if (!cut_triangle(c, T, ft))
+            return 0;
+    }
+    return 1;
+}
+
+/* Appends the records of the fine edges along the lattice segment from P0 over n steps in
+ * direction w (bit w) whose ends differ in the sign of f, to rec (*nr, room 64; beyond
+ * that the square is cut finely instead: returns 2).  Only the points within the band of
+ * f's linear interpolation between the segment's ends are looked at: the segment alone
+ * fixes them, so every leaf that has the segment on its boundary finds the same ones.
+ * 1 done, 0 NOMEM. */
+static int side_crossings(coarse *c, const int64_t *P0, int w, int64_t n, double E,
+                          int64_t *rec, int *nr)
+{
+    int64_t P1[3] = {P0[0], P0[1], P0[2]};
+    P1[w] += n;
+    double f0 = lattice_f(c, P0), f1 = lattice_f(c, P1);
+    if ((f0 >= 0) == (f1 >= 0) && fmin(fabs(f0), fabs(f1)) > E)
+        return 1; /* f is affine: no point of the segment is within E of 0 */
+    double slope = (f1 - f0) / (double)n;
+    int64_t i0 = 0, i1 = n;
+    if (slope != 0) {
+        double W = E + fabs(slope), t0 = (-W - f0) / slope, t1 = (W - f0) / slope;
+        if (t0 > t1) {
+            double t = t0;
+            t0 = t1;
+            t1 = t;
+        }
+        i0 = t0 - 1.0 > 0 ? (int64_t)(t0 - 1.0) : 0;
+        i1 = t1 + 2.0 < (double)n ? (int64_t)(t1 + 2.0) : n;
+    }
+    int64_t p[3] = {P0[0], P0[1], P0[2]};
+    p[w] += i0;
+    double fp = lattice_f(c, p);
+    for (int64_t i = i0; i < i1; i++) {
+        int64_t q[3] = {p[0], p[1], p[2]};
+        q[w]++;
+        double fq = lattice_f(c, q);
+        if ((fp >= 0) != (fq >= 0)) {
+            if (*nr == 64)
+                return 2;
+            rec[*nr] = edge_record(c, p, 1 << w, fp, fq);
+            if (rec[(*nr)++] < 0)
+                return 0;
+        }
+        memcpy(p, q, sizeof p);
+        fp = fq;
+    }
+    return 1;
+}
+
+typedef struct along {
+    double t;
+    int64_t rec;
+} along;
+
+static int cmp_along(const void *pa, const void *pb)
+{
+    const along *x = pa, *y = pb;
+    if (x->t != y->t)
+        return x->t < y->t ? -1 : 1;
+    return (x->rec > y->rec) - (x->rec < y->rec);
+}
+
+/* The square of side 2^j at lattice point S0 on the face normal to axis d (axes u < v in
+ * it), across which the leaves lie at offset `across` along d.  Where one leaf across
+ * holds the whole square (its level >= j) and j > 0, the square is a patch that both
+ * sides cut alike: the crossings of f's sign on its four sides, joined in pairs in their
+ * order along the plane's trace (usually one segment).  Smaller leaves across, or none
+ * at the square's first lattice point: the four quarters, down to side h, where the fine
+ * triangles are cut as the leaves of side h cut them.  Squares that f keeps away from 0
+ * are skipped.  0 on NOMEM. */
+static int cut_square(coarse *c, const md_leaves *lv, const md_leaf_index *li, const int64_t *S0,
+                      int j, int d, int u, int v, int64_t across, const double *g3, double E)
+{
+    int64_t n = (int64_t)1 << j;
+    double fc[4];
+    int pos = 0;
+    for (int q = 0; q < 4; q++) {
+        int64_t Q[3] = {S0[0], S0[1], S0[2]};
+        Q[u] += (q & 1) * n;
+        Q[v] += (q >> 1) * n;
+        fc[q] = lattice_f(c, Q);
+        pos += fc[q] >= 0;
+    }
+    if ((pos == 0 || pos == 4) &&
+        fmin(fmin(fabs(fc[0]), fabs(fc[1])), fmin(fabs(fc[2]), fabs(fc[3]))) > E)
+        return 1; /* f is affine: the square holds no point within E of 0 */
+    if (j == 0)
+        return cut_fine_square(c, S0, u, v);
+    int64_t A[3] = {S0[0], S0[1], S0[2]};
+    A[d] += across;
+    int32_t lvl = level_at(lv, li, A);
+    if (lvl >= j) {
+        int64_t rec[64];
+        int nr = 0, r = 1;
+        for (int side = 0; side < 4 && r == 1; side++) {
+            int64_t P0[3] = {S0[0], S0[1], S0[2]};
+            int w = side < 2 ? u : v;
+            if (side == 1)
+                P0[v] += n; /* the side v = n, along u */
+            if (side == 3)
+                P0[u] += n; /* the side u = n, along v */
+            r = side_crossings(c, P0, w, n, E, rec, &nr);
+        }
+        if (r == 0)
+            return 0;
+        if (r == 1 && nr % 2 == 0) {
+            /* the trace's direction in the face: g3 x e_d, one for both sides of it */
+            double t3[3] = {0, 0, 0};
+            t3[(d + 1) % 3] = g3[(d + 2) % 3];
+            t3[(d + 2) % 3] = -g3[(d + 1) % 3];
+            along al[64];
+            for (int i = 0; i < nr; i++) {
+                const double *x = c->out->v[rec[i]].x;
+                al[i].t = t3[0] * x[0] + t3[1] * x[1] + t3[2] * x[2];
+                al[i].rec = rec[i];
             }
-            /* The Kuhn diagonal (j, k) - (j+1, k+1) splits the square in two. */
-            static const int TRI[2][3] = {{0, 1, 3}, {0, 2, 3}};
-            for (int t = 0; t < 2; t++) {
-                int64_t T[3][3];
-                double ft[3];
-                for (int i = 0; i < 3; i++) {
-                    memcpy(T[i], Q[TRI[t][i]], sizeof T[i]);
-                    ft[i] = fq[TRI[t][i]];
-                }
-                if (!cut_triangle(c, T, ft))
+            qsort(al, (size_t)nr, sizeof *al, cmp_along);
+            for (int i = 0; i + 1 < nr; i += 2)
+                if (!push_segment(c, al[i].rec, al[i + 1].rec))
+                    return 0;
+            return 1;
+        }
+        /* more than 64 crossings, or an odd count (a crossing outside the band): the
+         * leaf across finds the same on the same square and does the same - the fine
+         * triangles */
+        for (int64_t a = 0; a < n; a++)
+            for (int64_t b = 0; b < n; b++) {
+                int64_t Q[3] = {S0[0], S0[1], S0[2]};
+                Q[u] += a;
+                Q[v] += b;
+                if (!cut_square(c, lv, li, Q, 0, d, u, v, across, g3, E))
                     return 0;
             }
-        }
+        return 1;
+    }
+    for (int q = 0; q < 4; q++) {
+        int64_t Q[3] = {S0[0], S0[1], S0[2]};
+        Q[u] += (q & 1) * (n / 2);
+        Q[v] += (q >> 1) * (n / 2);
+        if (!cut_square(c, lv, li, Q, j - 1, d, u, v, across, g3, E))
+            return 0;
     }
     return 1;
 }
 
-mfg_status md_sheet_coarse_leaf(const md_elements *el, const md_leaves *lv, const md_leaf *L,
-                                unit_buf *ub)
+mfg_status md_sheet_coarse_leaf(const md_elements *el, const md_leaves *lv,
+                                const md_leaf_index *li, const md_leaf *L, unit_buf *ub)
 {
     coarse c;
     memset(&c, 0, sizeof c);
@@ -247,9 +432,13 @@ mfg_status md_sheet_coarse_leaf(const md_elements *el, const md_leaves *lv, cons
                                                             (double)(P0[d] + M))));
     double E = BAND_REL * (fabs(na[3]) + fabs(nb[3]) + 2 * X + el->diag);
     for (int d = 0; d < 3; d++)
-        for (int side = 0; side < 2; side++)
-            if (!cut_face(&c, P0, M, d, P0[d] + side * M, g3, E))
+        for (int side = 0; side < 2; side++) {
+            int u = d == 0 ? 1 : 0, v = d == 2 ? 1 : 2;
+            int64_t S0[3] = {P0[0], P0[1], P0[2]};
+            S0[d] += side * M;
+            if (!cut_square(&c, lv, li, S0, L->level, d, u, v, side ? 0 : -1, g3, E))
                 goto done;
+        }
     if (c.nseg > 0) {
         /* The fan's centre: the mean of the boundary points, moved onto the plane (f is
          * affine: one Newton step), keyed by the leaf (no other leaf has it). */

@@ -214,7 +214,7 @@ mfg_status md_sheet_leaf(const md_elements *el, const md_bvh *bvh, const md_leav
                           const md_leaf *L, unit_buf *ub, ctx *c)
 {
     if (L->level > 0)
-        return md_sheet_coarse_leaf(el, lv, L, ub);
+        return md_sheet_coarse_leaf(el, lv, c->li, L, ub);
     c->el = el;
     c->bvh = bvh;
     c->C = lv->C + L->C_off;

@@ -133,6 +133,7 @@ typedef struct job {
     const md_elements *el;
     const md_bvh *bvh;
     const md_leaves *lv;
+    md_leaf_index li;
     int64_t nunits;
     unit_buf *units;
     atomic_llong next;
@@ -148,6 +149,7 @@ static void *worker(void *arg)
     if (c) {
         c->cb = NULL;
         c->capC = 0;
+        c->li = &j->li;
     }
     int is_caller = pthread_equal(pthread_self(), j->caller) != 0;
     for (;;) {
@@ -411,8 +413,10 @@ mfg_status md_sheets_extract_p(const md_elements *el, const md_bvh *bvh, const m
     j.prog = prog;
     j.caller = pthread_self();
     j.units = calloc((size_t)(nunits ? nunits : 1), sizeof *j.units);
-    if (!j.units)
+    if (!j.units || !md_leaf_index_build(leaves, &j.li)) {
+        free(j.units);
         return mfg_fail(MFG_ERR_NOMEM, "md_sheets_extract: out of memory");
+    }
     atomic_init(&j.next, 0);
     atomic_init(&j.failed, 0);
     int nt = nthreads < 1 ? 1 : nthreads;
@@ -443,6 +447,7 @@ mfg_status md_sheets_extract_p(const md_elements *el, const md_bvh *bvh, const m
     for (int64_t u = 0; u < nunits; u++)
         unit_free(j.units + u);
     free(j.units);
+    md_leaf_index_free(&j.li);
     if (st != MFG_OK) {
         memset(out, 0, sizeof *out);
         if (cancelled)

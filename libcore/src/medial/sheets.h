@@ -89,6 +89,7 @@ typedef struct ctx {
     int bpu[MAX_BP], bpv[MAX_BP], bpi[MAX_BP]; /* boundary points by polygon edge */
     int nbp;
     unit_buf *out;
+    const struct md_leaf_index *li; /* the leaves by position (coarse leaves' neighbours) */
 } ctx;
 
 /* sheets.c: the order of vertex keys, and appending to a unit's buffers (-1 / 0 on NOMEM). */
@@ -105,9 +106,20 @@ int md_sheet_edge_vertex(ctx *c, int lo, int hi);
 int md_sheet_boundary_point(ctx *c, int iu, int iv);
 int md_sheet_corner_point(const ctx *c, const pvert *p, const pvert *q, double *x, double *Dout);
 
+/* sheet_coarse.c: the leaves by (level, smallest lattice point), to find the leaf across a
+ * coarse leaf's face (slot: leaf index or -1, cap a power of two; empty when no leaf is
+ * coarse); built once per extraction, read by every thread. */
+typedef struct md_leaf_index {
+    int64_t *slot;
+    int64_t cap;
+    int32_t maxlevel;
+} md_leaf_index;
+int md_leaf_index_build(const md_leaves *lv, md_leaf_index *li); /* 0 on NOMEM */
+void md_leaf_index_free(md_leaf_index *li);
+
 /* sheet_coarse.c: the sheet of a coarse plane leaf (L->level > 0, design 3.4), into ub. */
-mfg_status md_sheet_coarse_leaf(const md_elements *el, const md_leaves *lv, const md_leaf *L,
-                                unit_buf *ub);
+mfg_status md_sheet_coarse_leaf(const md_elements *el, const md_leaves *lv,
+                                const md_leaf_index *li, const md_leaf *L, unit_buf *ub);
 
 /* sheet_tet.c: the marching tets and trim of every pair of one leaf, into ub (a coarse
  * plane leaf goes to md_sheet_coarse_leaf). */
