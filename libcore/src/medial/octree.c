@@ -248,8 +248,9 @@ enum { CELL_PRUNED, CELL_SPLIT, CELL_LEAF, CELL_NOMEM };
  * carrier distances are affine and the bisector is a plane; each face's in-plane margin
  * at the centre's projection exceeds rho (a lower bound of it, inherited or exact), so
  * the foot of every point of the cell lies inside both polygons; and s_a = s_b > tau on
- * the plane's polygon in the cube (affine on a convex polygon whose vertices lie on the
- * cube's edges, so the smaller end value on each crossed edge bounds it): every point of
+ * the plane's polygon in the cube (affine on a convex polygon whose vertices are the
+ * plane's crossings of the cube's edges, checked there with 2 tau for their rounding,
+ * far above it): every point of
  * that polygon lies in both regions, inside the solid (its nearest boundary point is
  * interior to a face and on that face's inner side), at equal distance from a and b, and
  * no third element comes near.  The polygon is the whole medial surface in the cell:
@@ -273,11 +274,18 @@ static int coarse_plane(const job *J, const level *me, const int32_t ijk[3], int
     }
     if (npos == 0 || npos == 8)
         return -1;
+    /* s_a at the plane's crossing of each cube edge it crosses (s_a is affine along the
+     * edge; the corners themselves may lie outside the solid: a wall thinner than the
+     * cell) */
     for (int q = 0; q < 8; q++)
         for (int k = 0; k < 3; k++) {
             int r = q | 1 << k;
-            if (r != q && (sa[q] - sb[q] >= 0) != (sa[r] - sb[r] >= 0) &&
-                !(fmin(fmin(sa[q], sa[r]), fmin(sb[q], sb[r])) > J->tau))
+            double fq = sa[q] - sb[q], fr = sa[r] - sb[r];
+            if (r == q || (fq >= 0) == (fr >= 0))
+                continue;
+            double t = fq / (fq - fr); /* in [0, 1] */
+            double s = sa[q] + t * (sa[r] - sa[q]);
+            if (!(s > 2 * J->tau))
                 return 0;
         }
     return 1;
