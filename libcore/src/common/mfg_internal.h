@@ -178,6 +178,43 @@ static inline int64_t mfg_lower_bound_i64(const int64_t *a, int64_t n, int64_t v
     return lo;
 }
 
+/* The thinning of a polyline into chords (the medial seams, the medial sheets' boundary
+ * loops): the farthest j in (a, end] for which holds(ctx, a, j) - "the chord from point a
+ * to point j stands for every point between" - is true, given that it is for a + 1.
+ * Found by doubling the span from a, then halving between the last span that held and
+ * the first that did not, so a run of k points that all hold costs O(k log k) point
+ * checks (extending the chord one point at a time rechecks every point: O(k^2)).  Where
+ * holds is not monotone in j this may reach past a j that fails: every chord returned
+ * holds all the same. */
+static inline int64_t mfg_farthest_chord(int64_t a, int64_t end,
+                                         int (*holds)(const void *ctx, int64_t a, int64_t j),
+                                         const void *ctx)
+{
+    int64_t good = a + 1, bad = end + 1, span = 2;
+    while (a + span <= end) {
+        if (!holds(ctx, a, a + span)) {
+            bad = a + span;
+            break;
+        }
+        good = a + span;
+        span *= 2;
+    }
+    if (bad == end + 1 && good < end) {
+        if (holds(ctx, a, end))
+            good = end;
+        else
+            bad = end;
+    }
+    while (bad - good > 1) {
+        int64_t mid = good + (bad - good) / 2;
+        if (holds(ctx, a, mid))
+            good = mid;
+        else
+            bad = mid;
+    }
+    return good;
+}
+
 /* qsort comparator of int64_t in ascending order. */
 static inline int mfg_cmp_i64(const void *pa, const void *pb)
 {

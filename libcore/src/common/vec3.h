@@ -45,6 +45,20 @@ static inline double mfg_dist3(const double a[3], const double b[3])
     return mfg_norm3(d);
 }
 
+/* Squared distance from x to the segment ab (to the point a when a == b): the medial
+ * elements' distances, the thinning of seams and of sheet boundaries. */
+static inline double mfg_seg_dist2(const double x[3], const double a[3], const double b[3])
+{
+    double ab[3], ax[3], r[3];
+    mfg_sub3(b, a, ab);
+    mfg_sub3(x, a, ax);
+    double l2 = mfg_dot3(ab, ab), t = l2 > 0 ? mfg_dot3(ax, ab) / l2 : 0.0;
+    t = t < 0 ? 0 : (t > 1 ? 1 : t);
+    for (int k = 0; k < 3; k++)
+        r[k] = ax[k] - t * ab[k];
+    return mfg_dot3(r, r);
+}
+
 /* out = -a (out may be a). */
 static inline void mfg_neg3(const double a[3], double out[3])
 {

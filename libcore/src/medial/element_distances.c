@@ -44,15 +44,7 @@ double md_dist_car(const md_elements *el, int64_t e, const double x[3], double g
 /* Distance from x to segment ab (3-D). */
 static double seg_dist(const double *x, const double *a, const double *b)
 {
-    double ab[3], ax[3];
-    mfg_sub3(b, a, ab);
-    mfg_sub3(x, a, ax);
-    double l2 = mfg_dot3(ab, ab), t = l2 > 0 ? mfg_dot3(ax, ab) / l2 : 0.0;
-    t = t < 0 ? 0 : (t > 1 ? 1 : t);
-    double r[3];
-    for (int k = 0; k < 3; k++)
-        r[k] = ax[k] - t * ab[k];
-    return mfg_norm3(r);
+    return sqrt(mfg_seg_dist2(x, a, b));
 }
 
 /* Is the projection p of a point on face f's plane inside the face?  Winding number of

@@ -35,67 +35,41 @@ static int cmp_seg(const void *pa, const void *pb)
     return (a->v1 > b->v1) - (a->v1 < b->v1);
 }
 
+/* The points of a polyline and the thinning tolerance (chord_holds). */
+typedef struct chord_ctx {
+    const double *P;
+    double tol;
+} chord_ctx;
+
 /* Do the points strictly between a and j stay within tol of the chord a -> j? */
-static int chord_holds(const double *P, int64_t a, int64_t j, double tol)
+static int chord_holds(const void *ctx, int64_t a, int64_t j)
 {
-    const double *A = P + 3 * a, *B = P + 3 * j;
-    double ab[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
-    double l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
-    for (int64_t q = a + 1; q < j; q++) {
-        const double *Q = P + 3 * q;
-        double aq[3] = {Q[0] - A[0], Q[1] - A[1], Q[2] - A[2]};
-        double t = l2 > 0 ? (aq[0] * ab[0] + aq[1] * ab[1] + aq[2] * ab[2]) / l2 : 0;
-        t = t < 0 ? 0 : (t > 1 ? 1 : t);
-        double d[3] = {aq[0] - t * ab[0], aq[1] - t * ab[1], aq[2] - t * ab[2]};
-        if (!(sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) <= tol))
+    const chord_ctx *cc = ctx;
+    for (int64_t q = a + 1; q < j; q++)
+        if (!(sqrt(mfg_seg_dist2(cc->P + 3 * q, cc->P + 3 * a, cc->P + 3 * j)) <= cc->tol))
             return 0;
-    }
     return 1;
 }
 
 /* Thinning (design 4.2): drop interior points while every dropped point stays within
- * tol of the chord that replaces it.  Each chord from the last kept point a reaches a
- * point j whose chord holds and whose next does not: found by doubling the span, then
- * halving between the last span that held and the first that did not, so a straight seam
- * of n points costs O(n log n) checks (extending the chord one point at a time rechecked
- * every point each time: O(n^2), 38 % of the 12-triangle box at L / 10^4, whose seams
- * have a point per leaf). */
+ * tol of the chord that replaces it, each chord from the last kept point reaching as far
+ * as mfg_farthest_chord finds (O(n log n) on a straight seam; extending the chord one
+ * point at a time was O(n^2), 38 % of the 12-triangle box at L / 10^4, whose seams have
+ * a point per leaf). */
 static void thin(polyline *pl, double tol)
 {
     int64_t n = pl->rad.n;
     if (n <= 2)
         return;
     double *P = pl->pts.v, *R = pl->rad.v;
+    chord_ctx cc = {P, tol};
     int64_t w = 1, a = 0;
-    for (int64_t i = 1; i < n;) {
-        int64_t good = i, bad = n, span = 2; /* a -> good holds (no point between) */
-        while (a + span < n) {
-            if (!chord_holds(P, a, a + span, tol)) {
-                bad = a + span;
-                break;
-            }
-            good = a + span;
-            span *= 2;
-        }
-        if (bad == n && good < n - 1) {
-            if (chord_holds(P, a, n - 1, tol))
-                good = n - 1;
-            else
-                bad = n - 1;
-        }
-        while (bad - good > 1) {
-            int64_t mid = good + (bad - good) / 2;
-            if (chord_holds(P, a, mid, tol))
-                good = mid;
-            else
-                bad = mid;
-        }
-        int64_t keep = good; /* the farthest point the chord from a reaches */
+    while (a < n - 1) {
+        int64_t keep = mfg_farthest_chord(a, n - 1, chord_holds, &cc);
         memmove(P + 3 * w, P + 3 * keep, 3 * sizeof(double));
         R[w] = R[keep];
         w++;
         a = keep;
-        i = keep + 1;
     }
     pl->pts.n = 3 * w;
     pl->rad.n = w;

@@ -301,16 +301,6 @@ static int tri_ok(const sd_mesh *M, const double *p, const double *q, const doub
     return 1;
 }
 
-static double seg_dist2(const double *x, const double *s, const double *e)
-{
-    double d[3] = {e[0] - s[0], e[1] - s[1], e[2] - s[2]}, w[3] = {x[0] - s[0], x[1] - s[1], x[2] - s[2]};
-    double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], t = 0;
-    if (dd > 0)
-        t = fmin(1, fmax(0, (w[0] * d[0] + w[1] * d[1] + w[2] * d[2]) / dd));
-    double r[3] = {w[0] - t * d[0], w[1] - t * d[1], w[2] - t * d[2]};
-    return r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-}
-
 /* May boundary vertex w go with a chain whose seam label is *lab (-1: none seen yet)?
  * Corners (-2) stay; a vertex no seam segment ends at (-1: the extraction drops segments
  * shorter than rounding) goes with any seam. */
@@ -331,17 +321,17 @@ static int chain_ok(const sd_mesh *M, int64_t v, int64_t s, int64_t e)
 {
     const double *S = M->xyz + 3 * s, *E = M->xyz + 3 * e, lim = M->bdev * M->bdev;
     int64_t lab = -1;
-    if (!same_seam(M, v, &lab) || !(seg_dist2(M->xyz + 3 * v, S, E) <= lim))
+    if (!same_seam(M, v, &lab) || !(mfg_seg_dist2(M->xyz + 3 * v, S, E) <= lim))
         return 0;
     int64_t w = M->bprev[v], steps = 0;
     while (w != s) {
-        if (w < 0 || ++steps > M->nv || !same_seam(M, w, &lab) || !(seg_dist2(M->xyz + 3 * w, S, E) <= lim))
+        if (w < 0 || ++steps > M->nv || !same_seam(M, w, &lab) || !(mfg_seg_dist2(M->xyz + 3 * w, S, E) <= lim))
             return 0;
         w = M->bprev[w];
     }
     w = M->bnext[v];
     while (w != e) {
-        if (w < 0 || ++steps > M->nv || !same_seam(M, w, &lab) || !(seg_dist2(M->xyz + 3 * w, S, E) <= lim))
+        if (w < 0 || ++steps > M->nv || !same_seam(M, w, &lab) || !(mfg_seg_dist2(M->xyz + 3 * w, S, E) <= lim))
             return 0;
         w = M->bnext[w];
     }

@@ -19,6 +19,7 @@
 
 #include "common/hashmap.h"
 #include "common/mfg_internal.h"
+#include "common/vec3.h"
 #include "mesh/polygon_triangulate.h"
 #include "common/predicates.h"
 
@@ -245,35 +246,37 @@ static int thin_may_drop(const pm_ctx *P, int64_t stampv, int64_t x, int64_t *la
     return 1;
 }
 
-/* Loop points L[i], i taken modulo m: do the points strictly between a and j (a < j <=
- * a + m) all go with the chord from L[a] to L[j]? */
-static int thin_chord_holds(const pm_ctx *P, int64_t stampv, const int64_t *L, int64_t m,
-                            int64_t a, int64_t j)
+/* One loop being thinned: its points L[i], i taken modulo m. */
+typedef struct thin_loop {
+    const pm_ctx *P;
+    int64_t stampv;
+    const int64_t *L;
+    int64_t m;
+} thin_loop;
+
+/* Do the points strictly between a and j (a < j <= a + m) all go with the chord from
+ * L[a] to L[j]? */
+static int thin_chord_holds(const void *ctx, int64_t a, int64_t j)
 {
+    const thin_loop *tl = ctx;
+    const pm_ctx *P = tl->P;
+    const int64_t *L = tl->L, m = tl->m, stampv = tl->stampv;
     const double *A = P->xyz + 3 * L[a % m], *B = P->xyz + 3 * L[j % m];
-    double ab[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
-    double l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2], lim = P->thin_tol * P->thin_tol;
+    double lim = P->thin_tol * P->thin_tol;
     int64_t lab = -1;
     for (int64_t q = a + 1; q < j; q++) {
         int64_t x = L[q % m];
-        if (!thin_may_drop(P, stampv, x, &lab))
-            return 0;
-        const double *Q = P->xyz + 3 * x;
-        double aq[3] = {Q[0] - A[0], Q[1] - A[1], Q[2] - A[2]};
-        double t = l2 > 0 ? (aq[0] * ab[0] + aq[1] * ab[1] + aq[2] * ab[2]) / l2 : 0;
-        t = t < 0 ? 0 : (t > 1 ? 1 : t);
-        double d[3] = {aq[0] - t * ab[0], aq[1] - t * ab[1], aq[2] - t * ab[2]};
-        if (!(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= lim))
+        if (!thin_may_drop(P, stampv, x, &lab) || !(mfg_seg_dist2(P->xyz + 3 * x, A, B) <= lim))
             return 0;
     }
     return 1;
 }
 
-/* Thins the loops w->lstart / lvert / xy (nl loops, *np points) into tstart / tvert / txy:
+/* Thins the loops w->lstart / lvert / xy (nl loops, np points) into tstart / tvert / txy:
  * from a kept point (a vertex that must stay, else the loop's first), each chord reaches
- * the farthest point it holds for, found by doubling the span and then halving (O(n log n)
- * on a straight run, as seam_assembly.c's thinning of the seams).  Returns the points
- * dropped, or -1 when a loop would keep fewer than 3 (then nothing is thinned). */
+ * the farthest point it holds for (mfg_farthest_chord: O(n log n) on a straight run, as
+ * the seams' thinning).  Returns the points dropped, or -1 when a loop would keep fewer
+ * than 3 (then nothing is thinned). */
 static int64_t thin_loops(pm_ctx *P, int64_t stampv, int64_t nl, int64_t np)
 {
     pm_work *w = &P->w;
@@ -282,6 +285,7 @@ static int64_t thin_loops(pm_ctx *P, int64_t stampv, int64_t nl, int64_t np)
         const int64_t *L = w->lvert + w->lstart[l];
         const double *XY = w->xy + 2 * w->lstart[l];
         int64_t m = w->lstart[l + 1] - w->lstart[l], anchor = 0, lab;
+        thin_loop tl = {P, stampv, L, m};
         for (int64_t i = 0; i < m; i++) {
             lab = -1;
             if (!thin_may_drop(P, stampv, L[i], &lab) || P->label[L[i]] < -1) {
@@ -297,29 +301,7 @@ static int64_t thin_loops(pm_ctx *P, int64_t stampv, int64_t nl, int64_t np)
             w->txy[2 * out + 1] = XY[2 * (a % m) + 1];
             out++;
             kept++;
-            int64_t end = anchor + m, good = a + 1, bad = end + 1, span = 2;
-            while (a + span <= end) {
-                if (!thin_chord_holds(P, stampv, L, m, a, a + span)) {
-                    bad = a + span;
-                    break;
-                }
-                good = a + span;
-                span *= 2;
-            }
-            if (bad == end + 1 && good < end) {
-                if (thin_chord_holds(P, stampv, L, m, a, end))
-                    good = end;
-                else
-                    bad = end;
-            }
-            while (bad - good > 1) {
-                int64_t mid = good + (bad - good) / 2;
-                if (thin_chord_holds(P, stampv, L, m, a, mid))
-                    good = mid;
-                else
-                    bad = mid;
-            }
-            a = good;
+            a = mfg_farthest_chord(a, anchor + m, thin_chord_holds, &tl);
         }
         if (kept < 3)
             return -1;
