@@ -320,3 +320,106 @@ def test_straightened_drops_only_points_within_eps_of_the_kept_polygon():
     assert max(distance_to_polygon(p, kept) for p in ring) <= eps + 1e-12
     # a tighter eps keeps more points
     assert len(gm.straightened(ring, eps / 10)) > len(kept)
+
+
+def test_straightened_keeps_the_points_it_is_told_to():
+    side = np.linspace(0, 1, 11)[:-1]
+    square = np.vstack([np.column_stack([side, 0 * side]),
+                        np.column_stack([1 + 0 * side, side]),
+                        np.column_stack([1 - side, 1 + 0 * side]),
+                        np.column_stack([0 * side, 1 - side])])
+    square = np.column_stack([square, np.zeros(len(square))])
+    keep = np.zeros(len(square), dtype=bool)
+    keep[[3, 17]] = True   # (0.3, 0) and (1, 0.7): collinear, kept all the same
+    idx = gm.straightened_indices(square, 1e-9, keep=keep)
+    assert {3, 17} <= set(idx.tolist()) and len(idx) == 6
+    assert list(idx) == sorted(idx, key=lambda i: (i - idx[0]) % len(square))   # in order
+    np.testing.assert_array_equal(gm.straightened(square, 1e-9, keep=keep), square[idx])
+
+
+# --------------------------------------------------------------------------- conform
+def _edge_use(sheets):
+    """{undirected global edge: [sheet, ...]} of conformed sheets."""
+    use = {}
+    for k, s in enumerate(sheets):
+        for f in s.ids[s.triangles].tolist():
+            for i in range(3):
+                a, b = f[i], f[(i + 1) % 3]
+                use.setdefault((min(a, b), max(a, b)), []).append(k)
+    return use
+
+
+def _two_walls(cut=0.0, short=0.0):
+    """An L of two planar sheets meeting along the seam x = 0, z = 0 .. 10 (elements
+    (0, 1) and (0, 2); the seam holds 0, 1, 2): the floor y = 0 over x in [0, 5] and the
+    wall x = 0 over y in [0, 5]; the floor's corner at (0, 0, 10) cut by ``cut`` and the
+    wall's side ending ``short`` below the seam's end, as the library's simplification
+    leaves them.  Seams: the shared one, split at z = 4 by a junction (two polylines),
+    plus the floor's and wall's other sides (own elements)."""
+    floor = np.array([[0, 0, 0], [5, 0, 0], [5, 0, 10], [cut, 0, 10], [0, 0, 10 - cut]],
+                     dtype=float)
+    floor_t = [[0, 1, 2], [0, 2, 3], [0, 3, 4]]
+    wall = np.array([[0, 0, 0], [0, 0, 10 - short], [0, 5, 10], [0, 5, 0]], dtype=float)
+    wall_t = [[0, 2, 1], [0, 3, 2]]
+    seams = [(np.array([[0, 0, 0], [0, 0, 4.0]]), [0, 1, 2]),
+             (np.array([[0, 0, 4.0], [0, 0, 10.0]]), [0, 1, 2]),
+             (np.array([[0, 0, 0], [5, 0, 0], [5, 0, 10], [0, 0, 10]]), [0, 1, 7]),
+             (np.array([[0, 0, 0], [0, 5, 0], [0, 5, 10], [0, 0, 10]]), [0, 2, 8])]
+    return [(floor, floor_t, (0, 1)), (wall, wall_t, (0, 2))], seams
+
+
+def test_conforming_sheets_share_the_seam_points_and_restore_the_cut_corner():
+    from mfgeom.geometry.conform import conforming_sheets
+    sheets, seams = _two_walls(cut=0.3, short=0.2)
+    stats = {}
+    out = conforming_sheets(sheets, seams, tolerance=1.0, stats=stats)
+    assert stats["snapped"] == 9 and stats["unsnapped"] == 0
+    use = _edge_use(out)
+    shared = [e for e, who in use.items() if sorted(who) == [0, 1]]
+    # both run (0, 0, 0) -> (0, 0, 4) -> (0, 0, 9.7) -> (0, 0, 10) on the same points:
+    # the junction at 4, the floor's corner 9.7 (0.3 from the seam's end: more than
+    # tol/4), the wall's 9.8 went to the seam's end (0.2: within tol/4)
+    pts = {g: p for s in out for g, p in zip(s.ids.tolist(), s.points.tolist())}
+    assert sorted(sorted(pts[g][2] for g in e) for e in shared) == \
+        [[0, 4], [4, pytest.approx(9.7)], [pytest.approx(9.7), 10]]
+    assert all(len(who) <= 2 for who in use.values())
+    # the floor's cut corner is back: its area is the full 5 x 10
+    for s in out:
+        p, t = s.points, s.triangles
+        assert gm.mesh_area(p, t) == pytest.approx(50.0)
+    assert all(s.shared[s.ids.tolist().index(g)] for s in out for e in shared for g in e)
+
+
+def test_conforming_sheets_without_seams_weld_within_the_tolerance():
+    from mfgeom.geometry.conform import conforming_sheets
+    sheets, _seams = _two_walls(cut=0.0, short=0.2)
+    near = conforming_sheets(sheets, [], tolerance=0.5)   # the ends 0.2 apart: one point
+    pts = {g: p for s in near for g, p in zip(s.ids.tolist(), s.points.tolist())}
+    shared = [e for e, who in _edge_use(near).items() if sorted(who) == [0, 1]]
+    assert [sorted(pts[g][2] for g in e) for e in shared] == [[0, 10]]
+    # tolerance 0.1: the wall's end splits the floor's side, the last 0.2 stay open
+    far = conforming_sheets(sheets, [], tolerance=0.1)
+    pts = {g: p for s in far for g, p in zip(s.ids.tolist(), s.points.tolist())}
+    shared = [e for e, who in _edge_use(far).items() if sorted(who) == [0, 1]]
+    assert [sorted(pts[g][2] for g in e) for e in shared] == [[0, pytest.approx(9.8)]]
+
+
+def test_without_needles_keeps_the_mesh_closed_over_a_row_of_collinear_points():
+    from mfgeom.geometry.conform import without_needles
+    # a strip 0 <= x <= 4, 0 <= y <= 1: the lower half a fan through the row y = 0.5
+    # (x = 0 .. 4), the upper half two triangles on the row's ends, closed between them
+    # by three zero-area triangles on the row (as an unsimplified library sheet has)
+    p = np.array([[0, 0, 0], [4, 0, 0], [4, 1, 0], [0, 1, 0],
+                  [0, 0.5, 0], [1, 0.5, 0], [2, 0.5, 0], [3, 0.5, 0], [4, 0.5, 0]],
+                 dtype=float)
+    t = np.array([[0, 1, 8], [0, 8, 7], [0, 7, 6], [0, 6, 5], [0, 5, 4],   # lower fan
+                  [4, 8, 2], [4, 2, 3],                                    # upper half
+                  [4, 5, 8], [5, 6, 8], [6, 7, 8]])                        # flat
+    assert gm.boundary_loops(t) is not None
+    clean = without_needles(p, t, 1e-12)
+    area2 = np.linalg.norm(np.cross(p[clean[:, 1]] - p[clean[:, 0]],
+                                    p[clean[:, 2]] - p[clean[:, 0]]), axis=1)
+    assert area2.min() > 1e-9
+    assert gm.mesh_area(p, clean) == pytest.approx(4.0)
+    loops = gm.boundary_loops(clean)
+    assert loops is not None and len(loops) == 1 and sorted(loops[0]) == [0, 1, 2, 3, 4, 8]

@@ -17,6 +17,11 @@ What the feature holds (a ``Part::FeaturePython``, as the rotational sweep):
   ``SheetVertexOffsets`` / ``SheetTriangleOffsets`` (sheet s owns vertices
   [off[s], off[s+1]) and triangles likewise) and ``SheetElements`` (the two boundary
   element ids of every sheet); ``Mesh`` (a FreeCAD mesh of all sheets, for export);
+* the seams as data: ``SeamPoints`` (every seam's polyline, global, double precision)
+  split by ``SeamPointOffsets``, and ``SeamElements`` (the element ids equidistant
+  along each seam) split by ``SeamElementOffsets`` -- a sheet with elements (a, b) is
+  bounded by the seams whose elements hold a and b (the mid-surface joins its sheets
+  along them);
 * ``Shape``: a compound of the seams (curves where three or more elements are
   equidistant) as polyline wires and the junctions (centres of balls touching four or
   more elements) as vertices, usable by Part tools;
@@ -39,8 +44,10 @@ from mfgeom.app.feature_base import (VERSION_PROPERTY, add_mesh_property, add_pr
 from mfgeom import progress
 from mfgeom.errors import InputError, MfgeomError
 
-# 1: first release.  Bump when properties change and migrate in _upgrade().
-VERSION = 1
+# 1: first release; 2: the seams as data (SeamPoints, SeamPointOffsets, SeamElements,
+# SeamElementOffsets: the FEM mid-surface joins its sheets along them).  Bump when
+# properties change and migrate in _upgrade().
+VERSION = 2
 TYPE = "Mfgeom::MedialSurface"
 TOLERANCE_FRACTION = 0.005      # default tolerance: 0.5 % of the bounding-box diagonal
 DEFAULT_DEFLECTION = 0.1        # mm, curved faces only
@@ -192,6 +199,25 @@ def sheet_mesh_of(obj):
                      obj.SheetTriangleOffsets or [0], obj.SheetElements)
 
 
+def seam_lists(result):
+    """([points (k, 3) per seam], [element ids per seam]) of a core.medial_surface
+    result."""
+    return ([np.asarray(c.points, dtype=np.float64).reshape(-1, 3) for c in result.seams],
+            [np.asarray(c.elements, dtype=np.int64).reshape(-1) for c in result.seams])
+
+
+def seams_of(obj):
+    """The seams a MedialSurface feature holds: [(points (k, 3), element ids), ...];
+    empty for an object made before version 2 and not recomputed since."""
+    poff = list(getattr(obj, "SeamPointOffsets", []) or [])
+    eoff = list(getattr(obj, "SeamElementOffsets", []) or [])
+    if len(poff) < 2 or len(eoff) != len(poff):
+        return []
+    pts = np.array([(p.x, p.y, p.z) for p in obj.SeamPoints], dtype=np.float64).reshape(-1, 3)
+    els = np.asarray(obj.SeamElements, dtype=np.int64)
+    return [(pts[poff[c]:poff[c + 1]], els[eoff[c]:eoff[c + 1]]) for c in range(len(poff) - 1)]
+
+
 def shape_of_seams(result):
     """A compound of the seams (polyline wires) and the junctions (vertices)."""
     import Part
@@ -266,11 +292,20 @@ class MedialSurface(FeatureProxy):
              "Sheet s owns triangles off[s] .. off[s+1] of SheetFacets", True),
             ("App::PropertyIntegerList", "SheetElements", "Result",
              "The two boundary element ids of every sheet (pairs)", True),
+            ("App::PropertyVectorList", "SeamPoints", "Result",
+             "The points of every seam's polyline (global, mm)", True),
+            ("App::PropertyIntegerList", "SeamPointOffsets", "Result",
+             "Seam c owns SeamPoints[off[c] .. off[c+1]]", True),
+            ("App::PropertyIntegerList", "SeamElements", "Result",
+             "The element ids equidistant along every seam (see SeamElementOffsets)", True),
+            ("App::PropertyIntegerList", "SeamElementOffsets", "Result",
+             "Seam c's elements are SeamElements[off[c] .. off[c+1]]", True),
             VERSION_PROPERTY,
         ]
         add_properties(obj, spec)
         for name in ("SheetPoints", "SheetFacets", "SheetRadii", "SheetVertexOffsets",
-                     "SheetTriangleOffsets", "SheetElements"):
+                     "SheetTriangleOffsets", "SheetElements", "SeamPoints",
+                     "SeamPointOffsets", "SeamElements", "SeamElementOffsets"):
             obj.setEditorMode(name, 2)   # long lists: hidden in the property editor
         add_mesh_property(obj, "All sheets as one mesh (global), for export")
 
@@ -295,6 +330,11 @@ class MedialSurface(FeatureProxy):
         obj.SheetVertexOffsets = sheets.vertex_offsets.tolist()
         obj.SheetTriangleOffsets = sheets.triangle_offsets.tolist()
         obj.SheetElements = sheets.elements.reshape(-1).tolist()
+        seam_points, seam_elements = seam_lists(result)
+        obj.SeamPoints = [FreeCAD.Vector(*p) for pts in seam_points for p in pts.tolist()]
+        obj.SeamPointOffsets = np.cumsum([0] + [len(p) for p in seam_points]).tolist()
+        obj.SeamElements = [int(e) for els in seam_elements for e in els]
+        obj.SeamElementOffsets = np.cumsum([0] + [len(e) for e in seam_elements]).tolist()
         obj.SheetCount = len(sheets)
         obj.SeamCount = len(result.seams)
         obj.JunctionCount = len(np.asarray(result.junctions.radii).reshape(-1))

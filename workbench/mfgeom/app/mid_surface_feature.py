@@ -23,14 +23,17 @@ from typing import Optional
 import numpy as np
 
 import FreeCAD
+import Part
 
 from mfgeom.app.feature_base import (VERSION_PROPERTY, add_properties, FeatureProxy,
                                      Quantity, status_line)
 from mfgeom.app.medial_surface_feature import (MedialInputError, is_medial_surface,
-                                               sheet_mesh_of)
+                                               seams_of, sheet_mesh_of)
 from mfgeom.errors import MfgeomError
 # boundary_loops lives in mfgeom.geometry.mesh (FreeCAD-free); it stays importable here.
-from mfgeom.geometry.mesh import boundary_loops, mesh_area, straightened  # noqa: F401
+from mfgeom.geometry.mesh import (boundary_loops, mesh_area, straightened,  # noqa: F401
+                                  straightened_indices)
+from mfgeom.geometry.planar import label_components
 from mfgeom.palette import one_value
 
 # 1: first release.  Bump when properties change and migrate in _upgrade().
@@ -41,11 +44,10 @@ CSV_HEADER = ("sheet", "x", "y", "z", "radius", "thickness")
 # A sheet is planar (one face) when all its vertices lie within this fraction of the
 # tolerance of a plane: the library places them on the analytic bisector up to rounding.
 PLANAR_FRACTION = 1e-3
-# Non-planar sheets: coplanar triangles are merged (OCCT, slow) up to this many.
-MERGE_LIMIT = 2000
 # Sewing tolerance of the sheets' faces, relative to the medial surface's tolerance:
-# neighbouring sheets meet along a seam sampled within the tolerance.
-_SEWING_FRACTION = 1.0
+# sheet_faces gives neighbouring faces the same boundary points, so only rounding is
+# left to sew.
+_SEWING_FRACTION = 1e-6
 
 
 # ---------------------------------------------------------------------------- geometry
@@ -106,92 +108,217 @@ def write_csv(path, sheets):
     return len(sheet_of)
 
 
-def sheet_faces(sheets, tolerance):
+def sheet_faces(sheets, tolerance, seams=None, stats=None):
     """Part faces of every sheet; returns (faces, sheet index of each face).
+
+    The sheets are first made to share their boundaries
+    (:func:`mfgeom.geometry.conform.conforming_sheets`: boundary vertices onto the
+    sheet's own ``seams`` -- [(points, elements), ...] of the medial surface --, edges
+    along them through the junctions, zero-area triangles split away, what is left
+    welded within the tolerance).  The faces are then built on shared B-rep vertices and
+    edges (one per point and per pair of points), oriented alike across every edge two
+    faces share: neighbouring sheets meet on the same edge without sewing, and where
+    three sheets meet (a rib on a wall) the three faces share it too.  Issue 22: the
+    2 mm shell box's sheets, sewn as the library gives them, left 8 shells with free
+    edges at every junction, vertex tolerances overlapping their neighbours' and (a
+    strip the library left unsimplified) 240 zero-area faces.
 
     A planar sheet (every vertex within ``PLANAR_FRACTION * tolerance`` of its
     least-squares plane: the mid-plane of a wall, a bisector of two parallel faces)
-    becomes one planar face bounded by the mesh's boundary loops (outer loop and holes),
-    whose collinear runs are straightened: fast for any triangle count (the library
-    samples a 16 x 8 mm sheet with 1.6e5 triangles at 0.1 mm).  Any other sheet keeps its
-    triangles as faces (OCCT's makeShapeFromMesh, ~0.4 ms per triangle), coplanar
-    neighbours merged when there are at most MERGE_LIMIT of them."""
-    import Part
-    faces, owner = [], []
-    for s in range(len(sheets)):
-        pts, tri, _r = sheets.sheet(s)
-        if not len(tri):
+    becomes one planar face bounded by its boundary loops (outer loop and holes), whose
+    collinear runs of points no other sheet has are straightened: fast for any triangle
+    count (the library samples a 16 x 8 mm sheet with 1.6e5 triangles at 0.1 mm).  Any
+    other sheet becomes one planar face per triangle (~0.4 ms each).  ``stats`` (a
+    dict) receives the counts of the conforming pass."""
+    from mfgeom.geometry.conform import conforming_sheets
+    parts = [sheets.sheet(s) for s in range(len(sheets))]
+    conformed = conforming_sheets(
+        [(pts, tri, sheets.elements[s]) for s, (pts, tri, _r) in enumerate(parts)],
+        seams or [], tolerance, stats)
+    xyz = {}
+    patches = []   # (sheet, loops of point ids, planar normal or None)
+    for s, ((pts, _tri, _r), sheet) in enumerate(zip(parts, conformed)):
+        if not len(sheet.triangles):
             continue
-        face = _planar_face(pts, tri, tolerance)
+        for g, p in zip(sheet.ids.tolist(), sheet.points):
+            xyz[g] = p
+        loops, normal = _planar_loops(pts, sheet, tolerance)
+        if loops is not None:
+            patches.append((s, loops, normal))
+            continue
+        for f in sheet.ids[sheet.triangles].tolist():
+            patches.append((s, [f], None))
+    flips = _orientation([loops for _s, loops, _n in patches])
+    builder = _SharedEdges(xyz)
+    faces, owner = [], []
+    for (s, loops, normal), flip in zip(patches, flips):
+        if flip:
+            loops = [loop[::-1] for loop in loops]
+            normal = None if normal is None else -normal
+        face = builder.face(loops, normal)
         if face is not None:
             faces.append(face)
-            owner.append(s)
-            continue
-        shape = Part.Shape()
-        shape.makeShapeFromMesh(([FreeCAD.Vector(*p) for p in pts.tolist()],
-                                 [tuple(t) for t in tri.tolist()]), 1e-7)
-        merged = shape
-        if len(tri) <= MERGE_LIMIT:
-            try:
-                merged = shape.removeSplitter()
-            except Part.OCCError:
-                pass   # keep the triangles: still a valid mid-surface
-        for f in merged.Faces:
-            faces.append(f)
             owner.append(s)
     return faces, owner
 
 
-def _planar_face(pts, tri, tolerance):
-    """One planar Part face of a planar sheet, or None (not planar, or its boundary is
-    not a set of simple loops OCCT makes a valid face of with the mesh's area)."""
-    import Part
-    centre = pts.mean(axis=0)
-    _u, _s, vt = np.linalg.svd(pts - centre, full_matrices=False)
+def _planar_loops(original, sheet, tolerance):
+    """(loops of global point ids, unit normal) of the one planar face a planar sheet
+    becomes, or (None, None): not planar (``original``: its points as the library gave
+    them), a conformed point off the plane, or a boundary that is not a set of simple
+    loops of the mesh's area.  The loops run as the sheet's triangles do (outer
+    counter-clockwise about the normal, holes clockwise); the points no other sheet has
+    are left out along straight runs."""
+    centre = original.mean(axis=0)
+    _u, _s, vt = np.linalg.svd(original - centre, full_matrices=False)
     normal = vt[2]
     flat = PLANAR_FRACTION * tolerance
-    if np.abs((pts - centre) @ normal).max() > flat:
-        return None
+    if np.abs((original - centre) @ normal).max() > flat:
+        return None, None
+    pts, tri = sheet.points, sheet.triangles
+    # the points the conforming pass put on seams lie on the plane up to rounding; one
+    # welded off it would make the face's edges miss its neighbours': triangles then
+    if np.abs((pts - centre) @ normal).max() > 1e-9 * max(1.0, float(np.abs(pts).max())):
+        return None, None
     loops = boundary_loops(tri)
     if not loops:
-        return None
-    on_plane = pts - np.outer((pts - centre) @ normal, normal)
-    wires = []
+        return None, None
+    n = np.cross(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]]).sum(axis=0)
+    if n @ normal < 0:
+        normal = -normal
+    out, area = [], 0.0
     for loop in loops:
-        ring = straightened(on_plane[loop], flat)
+        local = np.asarray(loop, dtype=np.int64)
+        ring = local[straightened_indices(pts[local], flat, keep=sheet.shared[local])]
         if len(ring) < 3:
+            return None, None
+        q = pts[ring]
+        area += 0.5 * float(np.cross(q, np.roll(q, -1, axis=0)).sum(axis=0) @ normal)
+        out.append(sheet.ids[ring].tolist())
+    if abs(area - mesh_area(pts, tri)) > 1e-6 * mesh_area(pts, tri) + flat * \
+            sum(np.linalg.norm(np.diff(pts[lp + lp[:1]], axis=0), axis=1).sum() for lp in loops):
+        return None, None   # loops crossing or nested oddly: not this face's area
+    return out, normal
+
+
+def _orientation(patch_loops):
+    """Whether to reverse each patch (a face given by loops of point ids) so that every
+    edge two patches share runs opposite ways in them (breadth first; an edge of three
+    or more patches -- a rib on a wall -- sets nothing)."""
+    users = {}
+    for k, loops in enumerate(patch_loops):
+        for loop in loops:
+            for i, a in enumerate(loop):
+                b = loop[(i + 1) % len(loop)]
+                users.setdefault((min(a, b), max(a, b)), []).append((k, 1 if a < b else -1))
+    links = {}
+    for pair in users.values():
+        if len(pair) == 2 and pair[0][0] != pair[1][0]:
+            (p, dp), (q, dq) = pair
+            same = dp == dq   # both run the edge the same way: one of them turns
+            links.setdefault(p, []).append((q, same))
+            links.setdefault(q, []).append((p, same))
+    flip = [None] * len(patch_loops)
+    for seed in range(len(patch_loops)):
+        if flip[seed] is not None:
+            continue
+        flip[seed] = False
+        stack = [seed]
+        while stack:
+            p = stack.pop()
+            for q, same in links.get(p, ()):
+                if flip[q] is None:
+                    flip[q] = flip[p] != same
+                    stack.append(q)
+    return flip
+
+
+class _SharedEdges:
+    """Part faces on shared vertices and edges: one Part.Vertex per point id, one
+    Part.Edge per pair of ids, so faces built here that meet along an edge hold the same
+    edge (as mfgeom.app.mesh_shapes does for closed meshes)."""
+
+    def __init__(self, xyz):
+        self.xyz = xyz
+        self.vertices = {}
+        self.edges = {}
+
+    def _v(self, g):
+        v = self.vertices.get(g)
+        if v is None:
+            v = self.vertices[g] = Part.Vertex(FreeCAD.Vector(*self.xyz[g].tolist()))
+        return v
+
+    def _e(self, a, b):
+        key = (min(a, b), max(a, b))
+        e = self.edges.get(key)
+        if e is None:
+            e = self.edges[key] = Part.Edge(self._v(key[0]), self._v(key[1]))
+        return e
+
+    def face(self, loops, normal=None):
+        """A planar face bounded by ``loops`` (point ids; the first the outer one,
+        counter-clockwise about ``normal``; a triangle when ``normal`` is None), or
+        None when OCCT makes no valid face of them."""
+        first = np.array([self.xyz[g] for g in loops[0]])
+        if normal is None:
+            n = np.cross(first[1] - first[0], first[2] - first[0])
+            length = float(np.linalg.norm(n))
+            if length == 0.0:
+                return None
+            normal = n / length
+        try:
+            wires = []
+            for k, loop in enumerate(loops):
+                wire = Part.Wire([self._e(loop[i], loop[(i + 1) % len(loop)])
+                                  for i in range(len(loop))])
+                # the wire runs as its first edge is stored (lower id first): turn it to
+                # run as the loop does (outer counter-clockwise, holes clockwise)
+                q = np.array([tuple(v.Point) for v in wire.OrderedVertexes])
+                turn = np.cross(q - q.mean(axis=0), np.roll(q, -1, axis=0) - q.mean(axis=0))
+                if (turn.sum(axis=0) @ normal > 0) != (k == 0):
+                    wire.reverse()
+                wires.append(wire)
+            face = Part.Face(Part.Plane(FreeCAD.Vector(*first[0].tolist()),
+                                        FreeCAD.Vector(*np.asarray(normal).tolist())), wires)
+        except Part.OCCError:
             return None
-        vecs = [FreeCAD.Vector(*p) for p in ring.tolist()]
-        wires.append(Part.makePolygon(vecs + [vecs[0]]))
-    try:
-        face = Part.makeFace(wires, "Part::FaceMakerBullseye")
-    except Part.OCCError:
-        return None
-    if face.ShapeType != "Face":
-        face = face.Faces[0] if len(face.Faces) == 1 else None
-    area = mesh_area(pts, tri)
-    if face is None or not face.isValid() or abs(face.Area - area) > 1e-6 * area + \
-            flat * sum(w.Length for w in wires):
-        return None
-    return face
+        return face if face.isValid() and face.Area > 0.0 else None
 
 
 def shell_of(faces, tolerance):
-    """One shape of ``faces``: sewn into a shell (or a compound of shells when the sheets
-    do not all meet), so a FEM mesher sees shared edges where sheets join."""
-    import Part
+    """One shape of ``faces``.  Faces that share their edges (sheet_faces) are grouped
+    into shells, each a set of faces joined through edges exactly two of them have; a
+    single shell is returned as it is, several as a compound (they still share the edges
+    where three sheets meet, so a FEM mesher joins them there).  Faces that share no
+    edge are sewn (OCCT) with a tolerance of ``tolerance * _SEWING_FRACTION``: only
+    rounding (a sewing at the medial tolerance raises vertex tolerances above the size
+    of the small sheets at a junction, and OCCT's check finds them intersecting)."""
     if not faces:
         return Part.Shape()
-    compound = Part.makeCompound(faces)
-    try:
-        sewn = compound.copy()
-        sewn.sewShape(max(tolerance * _SEWING_FRACTION, 1e-7))
-    except Part.OCCError:
-        return Part.makeShell(faces) if len(faces) else compound
-    shells = sewn.Shells
-    if len(shells) == 1 and len(shells[0].Faces) == len(faces):
-        return shells[0]
-    return sewn
+    users = {}
+    for k, face in enumerate(faces):
+        for e in face.Edges:
+            users.setdefault(e.hashCode(), set()).add(k)
+    if len(faces) > 1 and all(len(u) < 2 for u in users.values()):
+        compound = Part.makeCompound(faces)
+        try:
+            sewn = compound.copy()
+            sewn.sewShape(max(tolerance * _SEWING_FRACTION, 1e-7))
+        except Part.OCCError:
+            return compound
+        shells = sewn.Shells
+        if len(shells) == 1 and len(shells[0].Faces) == len(faces):
+            return shells[0]
+        return sewn
+    pairs = [sorted(u) for u in users.values() if len(u) == 2]
+    label = label_components(len(faces), np.array([a for a, _b in pairs], dtype=np.int64),
+                             np.array([b for _a, b in pairs], dtype=np.int64))
+    groups = {}
+    for k in range(len(faces)):
+        groups.setdefault(int(label[k]), []).append(faces[k])
+    shells = [Part.Shell(group) for group in groups.values()]
+    return shells[0] if len(shells) == 1 else Part.makeCompound(shells)
 
 
 def face_thickness(shape, sheets, deflection):
@@ -278,7 +405,7 @@ class MidSurface(FeatureProxy):
             raise MfgeomError(f"'{source.Label}' has no sheets: the part has no wall "
                               "whose two sides face each other (not thin-walled?)")
         report = ThicknessReport(sheets, obj.Bins)
-        faces, _owner = sheet_faces(sheets, float(source.Tolerance.Value))
+        faces, _owner = sheet_faces(sheets, float(source.Tolerance.Value), seams_of(source))
         shape = shell_of(faces, float(source.Tolerance.Value))
         if obj.CsvFile:
             write_csv(os.path.expanduser(obj.CsvFile), sheets)

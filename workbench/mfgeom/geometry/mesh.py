@@ -186,14 +186,25 @@ def boundary_loops(tri: ArrayLike) -> Optional[List[List[int]]]:
     return loops
 
 
-def straightened(points: np.ndarray, eps: float) -> np.ndarray:
+def straightened(points: np.ndarray, eps: float,
+                 keep: Optional[np.ndarray] = None) -> np.ndarray:
     """The closed polygon ``points`` (k, 3) with the samples along straight runs left
     out: greedily from a surely kept corner (the farthest from the centroid), a run is
-    extended while every sample it skips lies within ``eps`` of its chord."""
+    extended while every sample it skips lies within ``eps`` of its chord.  ``keep``
+    (k,) bools: points that are never left out (the mid-surface keeps the points a
+    neighbouring face shares, or its edge would pass them by)."""
+    return points[straightened_indices(points, eps, keep)]
+
+
+def straightened_indices(points: np.ndarray, eps: float,
+                         keep: Optional[np.ndarray] = None) -> np.ndarray:
+    """The indices into ``points`` of the corners :func:`straightened` keeps, in order."""
     n = len(points)
     start = int(np.argmax(np.linalg.norm(points - points.mean(axis=0), axis=1)))
     ring = np.roll(points, -start, axis=0)
     ring = np.vstack([ring, ring[:1]])   # closed: the run may end back at the start
+    fixed = (np.zeros(n, dtype=bool) if keep is None
+             else np.roll(np.asarray(keep, dtype=bool).reshape(-1), -start))
     kept, anchor, j = [0], 0, 1
     while j < n:
         nxt = j + 1
@@ -204,8 +215,8 @@ def straightened(points: np.ndarray, eps: float) -> np.ndarray:
             off = np.linalg.norm(np.cross(inner - ring[anchor], chord), axis=1) / length
         else:
             off = np.linalg.norm(inner - ring[anchor], axis=1)
-        if off.max() > eps:   # ring[j] is a corner
+        if fixed[j] or off.max() > eps:   # ring[j] is a corner
             kept.append(j)
             anchor = j
         j = nxt
-    return ring[kept]
+    return (np.asarray(kept, dtype=np.int64) + start) % n
