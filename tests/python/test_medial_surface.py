@@ -299,6 +299,32 @@ def test_sheets_bounded_by_seams(name, full):
                               f"{mid[inner][bad[0]]} ({d[bad[0]]:.3g} away)")
 
 
+@pytest.mark.parametrize("name,full", SOUND_CASES)
+def test_no_zero_area_triangles(name, full):
+    """No sheet triangle is a needle (a corner within 1e-9 L of its opposite side): the
+    moved cup's sheets had 2 (major) and 5 (full) with heights of 1e-14 of their sides,
+    from the collapses and the pinhole fans -- no normal, a distance query divides by
+    zero on them, a FEM mesher refuses them.  Each sheet stays edge-manifold (no side of
+    three triangles) and consistently oriented (no directed side twice)."""
+    _v, _t, P = mesh(name)
+    res = result(name, full)
+    for i, s in enumerate(res.sheets):
+        V = np.asarray(s.vertices, float).reshape(-1, 3)
+        tri = np.asarray(s.triangles, np.int64).reshape(-1, 3)
+        assert len(tri), f"sheet {i} is empty"
+        side = np.stack([np.linalg.norm(V[tri[:, (k + 2) % 3]] - V[tri[:, (k + 1) % 3]], axis=1)
+                         for k in range(3)], axis=1)
+        twice = np.linalg.norm(np.cross(V[tri[:, 1]] - V[tri[:, 0]], V[tri[:, 2]] - V[tri[:, 0]]),
+                               axis=1)
+        height = twice / side.max(axis=1)
+        assert height.min() > 1e-9 * P.diag, (f"sheet {i}: a triangle of height "
+                                              f"{height.min():.3g} (L {P.diag:.3g})")
+        directed = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
+        assert len(np.unique(directed, axis=0)) == len(directed), f"sheet {i}: orientation"
+        _u, cnt = np.unique(np.sort(directed, axis=1), axis=0, return_counts=True)
+        assert cnt.max() <= 2, f"sheet {i}: a side of {cnt.max()} triangles"
+
+
 @pytest.mark.parametrize("name", ["cup64", "cup64_moved"])
 def test_one_sheet_per_pair(name):
     """A tessellated wall's sheets come out whole: one connected sheet per element pair

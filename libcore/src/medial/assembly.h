@@ -184,6 +184,11 @@ mfg_status md_build_sheets(const md_asm *ax, const md_soup *sp, mfg_medial *m, a
 /* Closes the holes of a sheet narrower than tol / 4. */
 mfg_status md_close_pinholes(mfg_medial *m, double tol);
 
+/* Removes the sheets' zero-area triangles (a corner within eps of its opposite side)
+ * without opening them: each is dropped and its neighbour across that side split at the
+ * corner. */
+mfg_status md_drop_needles(mfg_medial *m, double eps);
+
 /* ---- seam_assembly.c -------------------------------------------------------------------- */
 
 /* Elements of a seam set at most (more: the segment keeps its own 3). */

@@ -301,6 +301,7 @@ mfg_status mfg_medial_surface_p(const double *xyz, int64_t nvertices, const int6
         }
     MEDIAL_STEP(4, 5);
     if ((st = md_drop_narrow_sheets(&so, tolerance, m)) != MFG_OK || (st = md_close_pinholes(m, tolerance)) != MFG_OK ||
+        (st = md_drop_needles(m, MD_ROUND_REL * el.diag)) != MFG_OK ||
         (st = seams_to_public(&so, m)) != MFG_OK || (st = junctions_to_public(Jall, nall, m)) != MFG_OK)
         goto cleanup;
     MEDIAL_STAGE("medial: done", 1.0, 1.0, 1);

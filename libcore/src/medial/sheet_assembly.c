@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/hashmap.h"
 #include "medial/assembly.h"
 
 /* A component whose width (area / extent) is below this times the tolerance is a sliver,
@@ -481,6 +482,182 @@ done:
     free(loop);
     free(loop_off);
     free(fill.v);
+    return st;
+}
+
+/* ---- needles ---------------------------------------------------------------------------------- */
+
+/* The corner of triangle t (0 .. 2) within eps of its opposite side -- the longest --, or
+ * -1.  A triangle with a repeated vertex counts (corner 0). */
+static int needle_corner(const double *V, const int64_t *tv, double eps)
+{
+    if (tv[0] == tv[1] || tv[1] == tv[2] || tv[2] == tv[0])
+        return 0;
+    int j = 0;
+    double best = -1;
+    for (int c = 0; c < 3; c++) {
+        double d = mfg_dist3(V + 3 * tv[(c + 1) % 3], V + 3 * tv[(c + 2) % 3]);
+        if (d > best) {
+            best = d;
+            j = c;
+        }
+    }
+    if (!(best > 0))
+        return j;
+    double u[3], w[3], n[3];
+    mfg_sub3(V + 3 * tv[(j + 2) % 3], V + 3 * tv[(j + 1) % 3], u);
+    mfg_sub3(V + 3 * tv[j], V + 3 * tv[(j + 1) % 3], w);
+    mfg_cross3(u, w, n);
+    return mfg_norm3(n) / best <= eps ? j : -1;
+}
+
+/* Is directed side (u, v) one of triangle tv's? */
+static int has_side(const int64_t *tv, int64_t u, int64_t v)
+{
+    for (int c = 0; c < 3; c++)
+        if (tv[c] == u && tv[(c + 1) % 3] == v)
+            return 1;
+    return 0;
+}
+
+/* Why: a sheet's triangles come from the leaves' cuts, the collapses and the pinhole fans;
+ * where three of their vertices end on one straight seam run (full mode's collapses on the
+ * cup, the pinhole fans between two nearly collinear rows, the outward 2 mm shell box's
+ * strip), the triangle has no area: no normal, no thickness, a distance query divides by
+ * zero on it and a FEM mesher refuses the face.  Dropping it alone would open a slit;
+ * splitting the neighbour across its long side at the flat corner keeps the sheet closed
+ * and its area (within eps times the side).  A needle on the sheet's boundary just goes:
+ * the boundary then runs through the flat corner, the same line.  In place per sheet
+ * (a split reuses both slots); sheets that lost triangles are compacted at the end. */
+mfg_status md_drop_needles(mfg_medial *m, double eps)
+{
+    int64_t maxt = 0, tot = m->sheet_triangle_offsets[m->nsheets];
+    for (int64_t r = 0; r < m->nsheets; r++)
+        if (m->sheet_triangle_offsets[r + 1] - m->sheet_triangle_offsets[r] > maxt)
+            maxt = m->sheet_triangle_offsets[r + 1] - m->sheet_triangle_offsets[r];
+    char *dead = calloc((size_t)(tot + 1), 1);
+    int64_t qcap = 5 * maxt + 32;
+    int64_t *todo = malloc((size_t)qcap * sizeof *todo);
+    hmap side = {0};
+    mfg_status st = MFG_OK;
+    int64_t ndead = 0;
+    if (!dead || !todo) {
+        st = MFG_ERR_NOMEM;
+        goto done;
+    }
+    for (int64_t r = 0; r < m->nsheets && st == MFG_OK; r++) {
+        int64_t t0 = m->sheet_triangle_offsets[r], t1 = m->sheet_triangle_offsets[r + 1];
+        const double *V = m->sheet_vertices + 3 * m->sheet_vertex_offsets[r];
+        int64_t *T = m->sheet_triangles;
+        int64_t nq = 0;
+        for (int64_t t = t0; t < t1; t++)
+            if (needle_corner(V, T + 3 * t, eps) >= 0)
+                todo[nq++] = t;
+        if (nq == 0)
+            continue;
+        /* directed side -> triangle; a stale entry is caught by has_side */
+        hmap_free(&side);
+        if (!hmap_init(&side, 3 * (t1 - t0))) {
+            st = MFG_ERR_NOMEM;
+            break;
+        }
+        for (int64_t t = t0; t < t1 && st == MFG_OK; t++)
+            for (int c = 0; c < 3; c++) {
+                hkey k = mkkey(T[3 * t + c], T[3 * t + (c + 1) % 3], 0, 0);
+                if (!hmap_put(&side, &k, t))
+                    st = MFG_ERR_NOMEM;
+            }
+        /* each split leaves two triangles to look at again; the guard stops a cycle
+         * among coincident points (the queue, 5 times the triangles, outlasts it) */
+        for (int64_t guard = 0; nq > 0 && st == MFG_OK && guard < 4 * (t1 - t0) + 16; guard++) {
+            int64_t t = todo[--nq];
+            if (dead[t])
+                continue;
+            int64_t *tv = T + 3 * t;
+            int j = needle_corner(V, tv, eps);
+            if (j < 0)
+                continue;
+            /* flat corner b on the side c -> a; the neighbour across runs a -> c */
+            int64_t b = tv[j], c = tv[(j + 1) % 3], a = tv[(j + 2) % 3];
+            hkey k = mkkey(a, c, 0, 0);
+            int64_t n = hmap_get(&side, &k);
+            if (b == c || c == a || a == b || n < t0 || n >= t1 || n == t || dead[n] ||
+                !has_side(T + 3 * n, a, c)) {
+                dead[t] = 1; /* a repeated vertex, or on the boundary: it just goes */
+                ndead++;
+                continue;
+            }
+            int64_t *g = T + 3 * n, o = -1;
+            for (int q = 0; q < 3; q++)
+                if (g[q] == a)
+                    o = g[(q + 2) % 3];
+            /* (a, b, o) in t's slot, (b, c, o) in n's: g's orientation, b on its side */
+            int64_t nt[2][3] = {{a, b, o}, {b, c, o}}, slot[2] = {t, n};
+            for (int s2 = 0; s2 < 2 && st == MFG_OK; s2++) {
+                memcpy(T + 3 * slot[s2], nt[s2], sizeof nt[s2]);
+                for (int q = 0; q < 3; q++) {
+                    hkey e = mkkey(nt[s2][q], nt[s2][(q + 1) % 3], 0, 0);
+                    if (!hmap_put(&side, &e, slot[s2]))
+                        st = MFG_ERR_NOMEM;
+                }
+                if (nq < qcap)
+                    todo[nq++] = slot[s2];
+            }
+        }
+    }
+    if (st != MFG_OK || ndead == 0)
+        goto done;
+    /* compact: the triangles, the vertices no triangle uses any more, and a sheet left
+     * without triangles (one needle on its own) */
+    {
+        int64_t w = 0, wv = 0, ws = 0;
+        for (int64_t r = 0; r < m->nsheets; r++) {
+            int64_t t0 = m->sheet_triangle_offsets[r], t1 = m->sheet_triangle_offsets[r + 1];
+            int64_t v0 = m->sheet_vertex_offsets[r], v1 = m->sheet_vertex_offsets[r + 1];
+            int64_t w0 = w;
+            for (int64_t t = t0; t < t1; t++)
+                if (!dead[t])
+                    memmove(m->sheet_triangles + 3 * w++, m->sheet_triangles + 3 * t, 3 * sizeof(int64_t));
+            if (w == w0)
+                continue;
+            /* the sheet's vertices that are still used, kept in order, renumbered */
+            int64_t nvr = v1 - v0;
+            int64_t *map = malloc((size_t)(nvr + 1) * sizeof *map);
+            if (!map) { /* nothing is inconsistent yet for the caller: it frees m */
+                st = MFG_ERR_NOMEM;
+                goto done;
+            }
+            for (int64_t i = 0; i < nvr; i++)
+                map[i] = -1;
+            for (int64_t i = 3 * w0; i < 3 * w; i++)
+                map[m->sheet_triangles[i]] = 0;
+            int64_t kv = 0;
+            for (int64_t i = 0; i < nvr; i++)
+                if (map[i] == 0) {
+                    map[i] = kv;
+                    memmove(m->sheet_vertices + 3 * (wv + kv), m->sheet_vertices + 3 * (v0 + i), 3 * sizeof(double));
+                    m->sheet_radii[wv + kv] = m->sheet_radii[v0 + i];
+                    kv++;
+                }
+            for (int64_t i = 3 * w0; i < 3 * w; i++)
+                m->sheet_triangles[i] = map[m->sheet_triangles[i]];
+            free(map);
+            m->sheet_elements[2 * ws] = m->sheet_elements[2 * r];
+            m->sheet_elements[2 * ws + 1] = m->sheet_elements[2 * r + 1];
+            m->sheet_forms[ws] = m->sheet_forms[r];
+            m->sheet_vertex_offsets[ws] = wv;
+            m->sheet_triangle_offsets[ws] = w0;
+            wv += kv;
+            ws++;
+        }
+        m->sheet_triangle_offsets[ws] = w;
+        m->sheet_vertex_offsets[ws] = wv;
+        m->nsheets = ws;
+    }
+done:
+    hmap_free(&side);
+    free(dead);
+    free(todo);
     return st;
 }
 
