@@ -187,6 +187,9 @@ void md_elements_free(md_elements *el)
     free(el->face_tris);
     free(el->face_side_offsets);
     free(el->face_sides);
+    free(el->side_tree_offsets);
+    free(el->side_nodes);
+    free(el->side_tree_perm);
     free(el->edge_seg);
     free(el->edge_dir);
     free(el->edge_len);
@@ -1021,6 +1024,8 @@ mfg_status md_elements_build(const double *xyz, int64_t nv, const int64_t *trian
     for (size_t i = 0; i < sizeof phase / sizeof *phase && st == MFG_OK; i++)
         st = phase[i](&mb);
     elements_build_scratch_free(&mb);
+    if (st == MFG_OK && !md_side_trees_build(&mb.e))
+        st = mfg_fail(MFG_ERR_NOMEM, "md_elements_build: out of memory (side trees)");
     if (st != MFG_OK) {
         md_elements_free(&mb.e);
         return st;

@@ -793,6 +793,83 @@ static void test_refusals(void)
     expect_refused(&m, 0.5, MFG_ERR_INVALID, "inconsistent orientation");
 }
 
+/* The region margin of a face with many sides (a side tree, element_distances.c) against
+ * a plain computation here: a non-convex 121-gon (the origin and 120 points on an arc of
+ * alternating radii 10 and 7), extruded 4; its bottom face (z = 0, s_F = z).  Reference:
+ * the foot's 2-D distance to the polygon's sides, inside by crossing parity, margin =
+ * min(s_F, +-distance).  Random points, the corners and side midpoints (margin 0 there). */
+static double seg2_dist(const double *p, const double *a, const double *b)
+{
+    double ux = b[0] - a[0], uy = b[1] - a[1], wx = p[0] - a[0], wy = p[1] - a[1];
+    double t = (ux * wx + uy * wy) / (ux * ux + uy * uy);
+    t = t < 0 ? 0 : (t > 1 ? 1 : t);
+    return hypot(wx - t * ux, wy - t * uy);
+}
+
+static void test_side_tree_margin(void)
+{
+    static tmesh m;
+    static double P[121][2];
+    int n = 121;
+    P[0][0] = P[0][1] = 0;
+    for (int i = 1; i < n; i++) {
+        double a = 0.5 * M_PI * (i - 1) / (n - 2), r = i % 2 ? 10.0 : 7.0;
+        P[i][0] = r * cos(a);
+        P[i][1] = r * sin(a);
+    }
+    ms_prism(&m, (const double(*)[2])P, n, 4.0);
+    md_elements el;
+    if (md_elements_build(m.xyz, m.nv, m.tri, m.nt, 0.05, &el) != MFG_OK) {
+        CHECK(0);
+        return;
+    }
+    int64_t bottom = -1;
+    for (int64_t f = 0; f < el.nfaces; f++)
+        if (el.face_plane[4 * f + 2] < -0.999)
+            bottom = f;
+    CHECK(bottom >= 0);
+    CHECK(el.face_side_offsets[bottom + 1] - el.face_side_offsets[bottom] == n);
+    CHECK(el.side_tree_offsets[bottom + 1] > el.side_tree_offsets[bottom]); /* has a tree */
+    int bad = 0, bad_which = 0, npts = 0;
+    for (int it = 0; it < 20000 + 2 * n; it++) {
+        double x[3];
+        if (it < 20000) {
+            x[0] = rng_uniform(-3, 12);
+            x[1] = rng_uniform(-3, 12);
+            x[2] = rng_uniform(-1, 5);
+        } else { /* corners and side midpoints, on the plane and above it */
+            int i = (it - 20000) / 2, j = (i + 1) % n;
+            double w = (it % 2) ? 0.5 : 0.0;
+            x[0] = P[i][0] + w * (P[j][0] - P[i][0]);
+            x[1] = P[i][1] + w * (P[j][1] - P[i][1]);
+            x[2] = 1.0;
+        }
+        double d = INFINITY;
+        int cross = 0;
+        for (int i = 0; i < n; i++) {
+            const double *a = P[i], *b = P[(i + 1) % n];
+            d = fmin(d, seg2_dist(x, a, b));
+            if ((a[1] > x[1]) != (b[1] > x[1]) &&
+                x[0] < a[0] + (x[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]))
+                cross ^= 1;
+        }
+        double ref = fmin(x[2], d == 0 || cross ? d : -d);
+        int64_t which = -2;
+        double mg = md_region_margin(&el, bottom, x, &which);
+        bad += !(fabs(mg - ref) <= 1e-12 * 12);
+        if (mg < x[2]) { /* a side won: which is an edge at that distance */
+            npts++;
+            bad_which += !(md_kind(&el, which) == MD_EDGE &&
+                           fabs(md_dist_closed(&el, which, (double[3]){x[0], x[1], 0}) - fabs(mg)) <=
+                               1e-12 * 12);
+        }
+    }
+    CHECK_EQ_INT(bad, 0);
+    CHECK_EQ_INT(bad_which, 0);
+    CHECK(npts > 1000);
+    md_elements_free(&el);
+}
+
 int main(void)
 {
     test_orient3d();
@@ -809,5 +886,6 @@ int main(void)
     test_dist_closed();
     test_random_roots();
     test_refusals();
+    test_side_tree_margin();
     return mfg_test_report("medial_elements");
 }
