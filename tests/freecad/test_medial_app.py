@@ -170,6 +170,15 @@ class MedialAxisOfFace(unittest.TestCase):
             self.assertLessEqual(rho.max(), 10.0 + 1e-9)
             self.assertLess(len(pts), 20 * 2 * obj.BranchCount)
             self.assert_radii_are_clearances(obj, face, tol)
+            # arcs as arcs: the loop's edges are arcs of the circle r 7.5 about the axis
+            loop = [e for e in obj.Shape.Edges
+                    if all(abs(np.hypot(v.Point.x, v.Point.y) - 7.5) <= tol for v in e.Vertexes)]
+            self.assertGreater(len(loop), 0)
+            for e in loop:
+                self.assertEqual(type(e.Curve).__name__, "Circle", (tol, e.Curve))
+                self.assertAlmostEqual(e.Curve.Radius, 7.5, delta=tol)
+                self.assertLess(e.Curve.Center.distanceToPoint(App.Vector(0, 0, 5)), tol)
+            self.assertAlmostEqual(sum(e.Length for e in loop), 2 * math.pi * 7.5, delta=2 * math.pi * tol)
             self.doc.removeObject(obj.Name)
 
     def test_wrong_inputs_create_nothing(self):

@@ -175,6 +175,13 @@ class FaceDomain:
         d = xyz - self._origin
         return np.column_stack((d @ self._eu, d @ self._ev))
 
+    def plane_xy(self, xyz):
+        """The 2-D coordinates (k, 2) of 3-D points (global) in a planar face's domain:
+        their projection onto its plane (the inverse of plane_points on the plane)."""
+        if self.method != "plane":
+            raise ValueError("plane_xy: the face is not planar")
+        return self._plane_xy(np.asarray(xyz, dtype=np.float64).reshape(-1, 3))
+
     def plane_points(self, xy):
         """The 3-D points (global) of 2-D coordinates ``xy`` (k, 2) of a planar face's
         domain: the inverse of the projection (2-D lengths are mm)."""

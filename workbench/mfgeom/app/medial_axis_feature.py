@@ -4,8 +4,10 @@ pure geometry function and the make function.
 
 The medial axis (locus of centres of maximal inscribed discs) of a planar face, computed
 by libmfgeom (:func:`mfgeom.core.medial_axis`) in the face's plane and placed back in 3-D
-on the face: the feature's Shape is a compound of one wire per branch (a polyline through
-the branch's samples) and one vertex per junction.  The clearance radius (distance to the
+on the face: the feature's Shape is a compound of one wire per branch (through the
+branch's samples: straight edges, arcs where the samples lie on a circle within a tenth
+of the tolerance -- the axis between concentric circles is a circle, and comes out as
+one) and one vertex per junction.  The clearance radius (distance to the
 face's boundary) along every branch is data: ``Radii`` (flat, in the order of the wires'
 points) with ``BranchOffsets`` (branch b's radii are Radii[BranchOffsets[b] ..
 BranchOffsets[b+1]]; :func:`branch_radii` gives the lists), ``MinRadius`` / ``MaxRadius``
@@ -28,11 +30,17 @@ import FreeCAD
 from mfgeom.app.feature_base import VERSION_PROPERTY, add_properties, FeatureProxy, Quantity
 from mfgeom import progress
 from mfgeom.errors import InputError
+from mfgeom.geometry.circular_runs import arcs_of_branches
 
 # 1: first release.  Bump when properties change and migrate in _upgrade().
 VERSION = 1
 TYPE = "Mfgeom::MedialAxis"
 DEFAULT_TOLERANCE = 0.01   # mm
+# A branch's samples that lie within this fraction of the tolerance of one circle are
+# joined by arcs of it (issue 22: "arcs as arcs"): the samples are within the tolerance of
+# the axis already; a tenth of it keeps a curve that is not circular (a parabola between
+# a line and a circle) from being taken for one except where the two agree anyway.
+ARC_FRACTION = 0.1
 
 
 class MedialAxisInputError(InputError):
@@ -43,12 +51,16 @@ class MedialAxisInputError(InputError):
 class FaceAxis:
     """The medial axis of a face in 3-D (plain data): ``branches`` (list of (k, 3)
     arrays), ``radii`` (list of (k,) arrays), ``junctions`` ((j, 3)), ``junction_radii``
-    ((j,)), ``seconds`` (library time)."""
+    ((j,)), ``seconds`` (library time), ``circles`` (list of (k - 1, 4) arrays: the
+    circle -- centre, radius -- each edge is an arc of, NaN for a straight edge; None:
+    all straight) and ``normal`` (the face plane's, the circles' axis)."""
 
-    def __init__(self, branches, radii, junctions, junction_radii, seconds):
+    def __init__(self, branches, radii, junctions, junction_radii, seconds, circles=None,
+                 normal=None):
         self.branches, self.radii = branches, radii
         self.junctions, self.junction_radii = junctions, junction_radii
         self.seconds = seconds
+        self.circles, self.normal = circles, normal
 
 
 def check_planar_face(face, label="the face"):
@@ -76,42 +88,100 @@ def face_medial_axis(face, tolerance):
         t0 = time.perf_counter()
         axis = core.medial_axis(rings, tolerance, progress=progress.current())
         seconds = time.perf_counter() - t0
-        branches, radii = [], []
+        # the centres of the boundary's circles: the axis between concentric ones is a
+        # circle about them (arcs as arcs, mfgeom.geometry.circular_runs)
+        centres = [tuple(e.Curve.Center) for e in face.Edges
+                   if type(e.Curve).__name__ == "Circle"]
+        centres = (domain.plane_xy(np.array(centres)) if centres else np.zeros((0, 2)))
+        flat, radii = [], []
         for b in axis.branches:
-            pts, rad = _distinct_samples(domain.plane_points(b.points), b.radii)
-            if len(pts) >= 2:   # a branch shorter than rounding has no wire
-                branches.append(pts)
-                radii.append(rad)
-        junctions = domain.plane_points(axis.junctions.points)
+            xy = np.asarray(b.points, dtype=np.float64).reshape(-1, 2)
+            keep = _distinct_samples(domain.plane_points(xy))
+            if keep.sum() >= 2:   # a branch shorter than rounding has no wire
+                flat.append(xy[keep])
+                radii.append(np.asarray(b.radii, dtype=np.float64)[keep])
+        flat, flat_circles, moved = arcs_of_branches(flat, ARC_FRACTION * tolerance, centres)
+        branches, circles = [], []
+        for xy, c in zip(flat, flat_circles):
+            branches.append(domain.plane_points(xy))
+            lifted = np.full((len(c), 4), np.nan)
+            arc = ~np.isnan(c[:, 0])
+            if arc.any():
+                lifted[arc, :3] = domain.plane_points(c[arc, :2])
+                lifted[arc, 3] = c[arc, 2]
+            circles.append(lifted)
+        o, u1 = domain.plane_points(np.array([[0.0, 0.0], [1.0, 0.0]]))
+        _o, v1 = domain.plane_points(np.array([[0.0, 0.0], [0.0, 1.0]]))
+        normal = np.cross(u1 - o, v1 - o)
+        jxy = np.asarray(axis.junctions.points, dtype=np.float64).reshape(-1, 2)
+        jxy = np.array([moved.get((q[0], q[1]), q) for q in jxy.tolist()],
+                       dtype=np.float64).reshape(-1, 2)
+        junctions = domain.plane_points(jxy)
         junction_radii = np.asarray(axis.junctions.radii, dtype=np.float64)
     finally:
         domain.close()
-    return FaceAxis(branches, radii, junctions, junction_radii, seconds)
+    return FaceAxis(branches, radii, junctions, junction_radii, seconds, circles, normal)
 
 
-def _distinct_samples(points, radii):
-    """``points`` and ``radii`` without samples equal to the previous one (OCCT refuses a
-    zero-length edge), the last sample kept (it is the branch's end)."""
+def _distinct_samples(points):
+    """Which of the samples ``points`` (k, 3) to keep: not those equal to the previous
+    one (OCCT refuses a zero-length edge); the last sample is kept (it is the branch's
+    end, and replaces the kept sample it coincides with)."""
     points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    radii = np.asarray(radii, dtype=np.float64)
     if len(points) < 2:
-        return points, radii
+        return np.ones(len(points), dtype=bool)
     step = np.linalg.norm(np.diff(points, axis=0), axis=1)
     keep = np.concatenate([[True], step > 1e-12 * max(1.0, float(np.abs(points).max()))])
     if not keep[-1]:   # the end replaces the kept sample it coincides with
         last = np.flatnonzero(keep)[-1]
         keep[last], keep[-1] = False, True
-    return points[keep], radii[keep]
+    return keep
 
 
 def shape_of_axis(axis):
-    """A compound of one polyline wire per branch and one vertex per junction."""
+    """A compound of one wire per branch and one vertex per junction.  A branch's wire
+    has a vertex at every sample (its radius is Radii's); its edges are straight, or arcs
+    of the circle the branch runs along there (``axis.circles``, see
+    mfgeom.geometry.circular_runs)."""
     import Part
     parts = []
-    for pts in axis.branches:
-        parts.append(Part.makePolygon([FreeCAD.Vector(*p) for p in pts.tolist()]))
+    circles = getattr(axis, "circles", None) or [None] * len(axis.branches)
+    for pts, circ in zip(axis.branches, circles):
+        vecs = [FreeCAD.Vector(*p) for p in pts.tolist()]
+        if circ is None or np.isnan(circ[:, 0]).all():
+            parts.append(Part.makePolygon(vecs))
+            continue
+        edges = []
+        for i in range(len(vecs) - 1):
+            edge = None
+            if not np.isnan(circ[i, 0]):
+                edge = _arc_edge(circ[i], axis.normal, vecs[i], vecs[i + 1])
+            edges.append(edge if edge is not None else Part.makeLine(vecs[i], vecs[i + 1]))
+        parts.append(Part.Wire(edges))
     parts.extend(Part.Vertex(FreeCAD.Vector(*p)) for p in axis.junctions.tolist())
     return Part.makeCompound(parts)
+
+
+def _arc_edge(circle, normal, a, b):
+    """The shorter arc from ``a`` to ``b`` (both on it) of the circle (centre x, y, z,
+    radius) about ``normal``, or None when OCCT makes none.  Built on the circle itself,
+    not through three points: a short edge's three points are too nearly collinear to
+    give back the centre."""
+    import Part
+    try:
+        geom = Part.Circle(FreeCAD.Vector(*circle[:3].tolist()),
+                           FreeCAD.Vector(*np.asarray(normal).tolist()), float(circle[3]))
+        t0, t1 = geom.parameter(a), geom.parameter(b)
+        turn = math.remainder(t1 - t0, 2 * math.pi)   # (-pi, pi]: the shorter way
+        if turn == 0.0:
+            return None
+        lo = t0 if turn > 0 else t0 + turn
+        arc = Part.ArcOfCircle(geom, lo, lo + abs(turn)).toShape()
+        # its ends as the wire's samples (rounding apart): the wire joins them
+        off = max(min(v.Point.distanceToPoint(p) for p in (a, b)) for v in arc.Vertexes)
+        return arc if off <= 1e-7 * max(1.0, float(circle[3])) else None
+    except Part.OCCError:
+        return None
 
 
 def branch_radii(obj):
