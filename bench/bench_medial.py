@@ -46,7 +46,8 @@ TIMEOUT = 600.0                   # s per case
 MEMORY_FRACTION = 0.5             # of physical memory, as each child's address-space limit
 TARGETS = {"disc48": 1.0, "tray": 10.0, "cup": 60.0}   # s (issue: 50 faces, 250 faces, 5k)
 # issue 22: (case, tolerance as a fraction of L) -> s
-TARGETS_22 = {("cup", TOL_FRAC): 5.0, ("tray", TOL_FRAC): 2.0, ("box", 0.0001): 1.0}
+TARGETS_22 = {("cup", TOL_FRAC): 5.0, ("tray", TOL_FRAC): 2.0, ("box", 0.0001): 1.0,
+              ("cup6250", TOL_FRAC): 60.0}
 
 # name: (what, builder)
 CASES = {
@@ -60,6 +61,9 @@ CASES = {
     "cup": ("cup R 20, h 30, wall 3 (examples/parts/cup.py), 625 segments", lambda: solids.cup(625)),
     "cup32": ("cup, 32 segments", lambda: solids.cup(32)),
     "cup125": ("cup, 125 segments", lambda: solids.cup(125)),
+    "cup2500": ("cup, 2500 segments (20k triangles)", lambda: solids.cup(2500)),
+    "cup6250": ("cup, 6250 segments (50k triangles)", lambda: solids.cup(6250)),
+    "cup25000": ("cup, 25000 segments (200k triangles)", lambda: solids.cup(25000)),
     "disc12": ("12-gon disc R 50, thickness 4", lambda: solids.ngon_disc(12)),
     "disc192": ("192-gon disc R 50, thickness 4", lambda: solids.ngon_disc(192)),
     "box": ("box 2 x 1 x 0.5 (12 triangles)", lambda: solids.cuboid(2.0, 1.0, 0.5)),
@@ -71,6 +75,8 @@ TOL_GROWTH = [("l_bracket", f) for f in (0.01, 0.005, 0.0025)] + \
              [("box", f) for f in (0.001, 0.0003, 0.0001)]   # issue 22: L/1000 .. L/10^4
 FACET_GROWTH = ["disc12", "disc48", "disc192"]
 CUP_GROWTH = ["cup32", "cup125", "cup"]
+LARGE_CUP = ["cup2500", "cup6250", "cup25000"]   # --large: issue 22's real-part sizes
+LARGE_MEMORY_MB = 2048.0                          # issue 22: 200k triangles in < 2 GB
 
 # (peer, what, published time, seconds low, seconds high, our case to compare with)
 PEERS = [
@@ -253,6 +259,8 @@ def main():
     ap.add_argument("--threads", type=int, default=None,
                     help="threads for the library (default: its own, all online CPUs)")
     ap.add_argument("--cases", default=None, help="comma-separated subset of the main cases")
+    ap.add_argument("--large", action="store_true",
+                    help="also the cup at 20k, 50k and 200k triangles (issue 22; ~15 min)")
     ap.add_argument("--no-check", action="store_true",
                     help="skip the oracle's quality check of the main cases (not timed)")
     args = ap.parse_args()
@@ -271,6 +279,8 @@ def main():
             if not args.cases:  # --cases: those cases (and their tolerance growth) only
                 todo += [(n, TOL_FRAC, False) for n in FACET_GROWTH]
                 todo += [(n, TOL_FRAC, False) for n in CUP_GROWTH]
+        if args.large:
+            todo += [(n, TOL_FRAC, False) for n in CUP_GROWTH + LARGE_CUP]
         for key in todo:
             if key in rows:
                 continue
@@ -386,7 +396,7 @@ def _print(rows, elems, main_cases, args):
               "exponent vs triangles |")
         print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
         prev = None
-        for n in CUP_GROWTH:
+        for n in CUP_GROWTH + LARGE_CUP:
             r = rows.get((n, TOL_FRAC, False))
             if r is None:
                 continue
@@ -428,6 +438,12 @@ def _print(rows, elems, main_cases, args):
         print(f"- {CASES[name][0]} at tolerance {frac * 100:g} % L in {_fmt_s(s)} s, "
               f"{r.get('peak_mb', float('nan')):.0f} MB (target < {target:g} s): "
               f"{'MET' if ok else 'MISSED'}")
+    r = rows.get((LARGE_CUP[-1], TOL_FRAC, False))
+    if r is not None:
+        mb = float("nan") if r.get("error") else r.get("peak_mb", float("nan"))
+        print(f"- {CASES[LARGE_CUP[-1]][0]} completes in {_fmt_s(r.get('s'))} s with "
+              f"{mb:.0f} MB (target: completes, < {LARGE_MEMORY_MB:g} MB): "
+              f"{'MET' if mb < LARGE_MEMORY_MB else 'MISSED'}")
 
 
 if os.environ.get("MFGEOM_BENCH_MEDIAL_CHILD"):
