@@ -45,6 +45,18 @@ static inline double mfg_dist3(const double a[3], const double b[3])
     return mfg_norm3(d);
 }
 
+/* Squared distance from p to the box [lo, hi] (0 inside): the bounding-volume trees'
+ * pruning bound (medial bvh, side trees, wall-thickness feet). */
+static inline double mfg_box_dist2(const double lo[3], const double hi[3], const double p[3])
+{
+    double s = 0;
+    for (int k = 0; k < 3; k++) {
+        double d = p[k] < lo[k] ? lo[k] - p[k] : (p[k] > hi[k] ? p[k] - hi[k] : 0.0);
+        s += d * d;
+    }
+    return s;
+}
+
 /* Squared distance from x to the segment ab (to the point a when a == b): the medial
  * elements' distances, the thinning of seams and of sheet boundaries. */
 static inline double mfg_seg_dist2(const double x[3], const double a[3], const double b[3])

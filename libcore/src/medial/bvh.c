@@ -185,12 +185,7 @@ static int64_t feature_elem(const md_elements *el, int64_t t, int feat)
 /* Squared distance from p to the box (0 inside). */
 static double box_dist2(const bvh_node *n, const double *p)
 {
-    double s = 0;
-    for (int k = 0; k < 3; k++) {
-        double d = p[k] < n->lo[k] ? n->lo[k] - p[k] : (p[k] > n->hi[k] ? p[k] - n->hi[k] : 0.0);
-        s += d * d;
-    }
-    return s;
+    return mfg_box_dist2(n->lo, n->hi, p);
 }
 
 /* ---- build ------------------------------------------------------------------------- */

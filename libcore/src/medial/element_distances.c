@@ -165,12 +165,7 @@ int md_side_trees_build(md_elements *el)
 /* Squared distance from p to the box of node n. */
 static double box_dist2(const md_side_node *n, const double *p)
 {
-    double d2 = 0;
-    for (int k = 0; k < 3; k++) {
-        double d = p[k] < n->lo[k] ? n->lo[k] - p[k] : (p[k] > n->hi[k] ? p[k] - n->hi[k] : 0.0);
-        d2 += d * d;
-    }
-    return d2;
+    return mfg_box_dist2(n->lo, n->hi, p);
 }
 
 /* The nearest boundary side of face f to p: its distance, and in *q its position in

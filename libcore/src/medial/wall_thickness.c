@@ -335,12 +335,7 @@ static int build_tree(foot_tree *t)
 
 static double box_dist2(const foot_node *n, const double *p)
 {
-    double s = 0;
-    for (int k = 0; k < 3; k++) {
-        double d = p[k] < n->lo[k] ? n->lo[k] - p[k] : p[k] > n->hi[k] ? p[k] - n->hi[k] : 0;
-        s += d * d;
-    }
-    return s;
+    return mfg_box_dist2(n->lo, n->hi, p);
 }
 
 /* Closest point of primitive f to x: its distance, the interpolated radius and centre. */
