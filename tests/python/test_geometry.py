@@ -291,13 +291,19 @@ def test_boundary_loops_of_a_closed_mesh_and_of_nothing():
 
 
 # --------------------------------------------------------------------------- straightened
-def test_straightened_square_keeps_the_four_corners():
+def _unit_square_ring():
+    """The unit square's outline in z = 0, 10 samples a side (40, 3), counter-clockwise
+    from the origin."""
     side = np.linspace(0, 1, 11)[:-1]
     square = np.vstack([np.column_stack([side, 0 * side]),
                         np.column_stack([1 + 0 * side, side]),
                         np.column_stack([1 - side, 1 + 0 * side]),
                         np.column_stack([0 * side, 1 - side])])
-    square = np.column_stack([square, np.zeros(len(square))])
+    return np.column_stack([square, np.zeros(len(square))])
+
+
+def test_straightened_square_keeps_the_four_corners():
+    square = _unit_square_ring()
     kept = gm.straightened(square, 1e-9)
     corners = {(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)}
     assert {tuple(p[:2]) for p in kept.tolist()} == corners and len(kept) == 4
@@ -323,12 +329,7 @@ def test_straightened_drops_only_points_within_eps_of_the_kept_polygon():
 
 
 def test_straightened_keeps_the_points_it_is_told_to():
-    side = np.linspace(0, 1, 11)[:-1]
-    square = np.vstack([np.column_stack([side, 0 * side]),
-                        np.column_stack([1 + 0 * side, side]),
-                        np.column_stack([1 - side, 1 + 0 * side]),
-                        np.column_stack([0 * side, 1 - side])])
-    square = np.column_stack([square, np.zeros(len(square))])
+    square = _unit_square_ring()
     keep = np.zeros(len(square), dtype=bool)
     keep[[3, 17]] = True   # (0.3, 0) and (1, 0.7): collinear, kept all the same
     idx = gm.straightened_indices(square, 1e-9, keep=keep)

@@ -26,6 +26,36 @@ from mfgeom.geometry import planar
 OCCT_CONFUSION = 1e-7
 
 
+class SharedEdges:
+    """One Part.Vertex per point id and one Part.Edge per pair of ids, each made once:
+    faces built on them that meet along an edge hold the same edge (no sewing).
+    ``points[i]``: the coordinates of point id i (a list, or a dict of arrays)."""
+
+    def __init__(self, points):
+        self._points = points
+        self._vertex = {}
+        self._edge = {}
+
+    def vertex(self, i):
+        vertex = self._vertex.get(i)
+        if vertex is None:
+            vertex = self._vertex[i] = Part.Vertex(
+                FreeCAD.Vector(*(float(c) for c in self._points[i])))
+        return vertex
+
+    def edge(self, i, j):
+        key = (i, j) if i < j else (j, i)
+        edge = self._edge.get(key)
+        if edge is None:
+            edge = self._edge[key] = Part.Edge(self.vertex(key[0]), self.vertex(key[1]))
+        return edge
+
+    def wire(self, loop):
+        """The closed wire of the point ids ``loop``, on the shared edges."""
+        return Part.Wire([self.edge(loop[k], loop[(k + 1) % len(loop)])
+                          for k in range(len(loop))])
+
+
 class MeshFaces:
     """Builds faces of the triangles of (``vertices``, ``triangles``) that share their
     B-rep vertices and edges: every call of :meth:`faces` reuses the ones made before,
@@ -40,25 +70,8 @@ class MeshFaces:
         # index of each given triangle among the merged ones, -1 when it collapsed
         self.merged_index = np.where(kept, np.cumsum(kept) - 1, -1)
         self._points = self.vertices.tolist()
-        self._vertex = {}
-        self._edge = {}
-
-    def _v(self, i):
-        vertex = self._vertex.get(i)
-        if vertex is None:
-            vertex = self._vertex[i] = Part.Vertex(FreeCAD.Vector(*self._points[i]))
-        return vertex
-
-    def _e(self, i, j):
-        key = (i, j) if i < j else (j, i)
-        edge = self._edge.get(key)
-        if edge is None:
-            edge = self._edge[key] = Part.Edge(self._v(key[0]), self._v(key[1]))
-        return edge
-
-    def _wire(self, loop):
-        return Part.Wire([self._e(loop[k], loop[(k + 1) % len(loop)])
-                          for k in range(len(loop))])
+        self._shared = SharedEdges(self._points)
+        self._wire = self._shared.wire
 
     def _plane(self, loop, normal):
         return Part.Plane(FreeCAD.Vector(*self._points[loop[0]]), FreeCAD.Vector(*normal))

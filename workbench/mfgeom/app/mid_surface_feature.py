@@ -29,6 +29,7 @@ from mfgeom.app.feature_base import (VERSION_PROPERTY, add_properties, FeaturePr
                                      Quantity, status_line)
 from mfgeom.app.medial_surface_feature import (MedialInputError, is_medial_surface,
                                                seams_of, sheet_mesh_of)
+from mfgeom.app.mesh_shapes import SharedEdges
 from mfgeom.errors import MfgeomError
 # boundary_loops lives in mfgeom.geometry.mesh (FreeCAD-free); it stays importable here.
 from mfgeom.geometry.mesh import (boundary_loops, mesh_area, straightened,  # noqa: F401
@@ -233,34 +234,16 @@ def _orientation(patch_loops):
     return flip
 
 
-class _SharedEdges:
-    """Part faces on shared vertices and edges: one Part.Vertex per point id, one
-    Part.Edge per pair of ids, so faces built here that meet along an edge hold the same
-    edge (as mfgeom.app.mesh_shapes does for closed meshes)."""
-
-    def __init__(self, xyz):
-        self.xyz = xyz
-        self.vertices = {}
-        self.edges = {}
-
-    def _v(self, g):
-        v = self.vertices.get(g)
-        if v is None:
-            v = self.vertices[g] = Part.Vertex(FreeCAD.Vector(*self.xyz[g].tolist()))
-        return v
-
-    def _e(self, a, b):
-        key = (min(a, b), max(a, b))
-        e = self.edges.get(key)
-        if e is None:
-            e = self.edges[key] = Part.Edge(self._v(key[0]), self._v(key[1]))
-        return e
+class _SharedEdges(SharedEdges):
+    """Planar faces on shared vertices and edges (mfgeom.app.mesh_shapes.SharedEdges,
+    point ids global to all sheets): faces built here that meet along an edge hold the
+    same edge."""
 
     def face(self, loops, normal=None):
         """A planar face bounded by ``loops`` (point ids; the first the outer one,
         counter-clockwise about ``normal``; a triangle when ``normal`` is None), or
         None when OCCT makes no valid face of them."""
-        first = np.array([self.xyz[g] for g in loops[0]])
+        first = np.array([self._points[g] for g in loops[0]])
         if normal is None:
             n = np.cross(first[1] - first[0], first[2] - first[0])
             length = float(np.linalg.norm(n))
@@ -270,8 +253,7 @@ class _SharedEdges:
         try:
             wires = []
             for k, loop in enumerate(loops):
-                wire = Part.Wire([self._e(loop[i], loop[(i + 1) % len(loop)])
-                                  for i in range(len(loop))])
+                wire = self.wire(loop)
                 # the wire runs as its first edge is stored (lower id first): turn it to
                 # run as the loop does (outer counter-clockwise, holes clockwise)
                 q = np.array([tuple(v.Point) for v in wire.OrderedVertexes])

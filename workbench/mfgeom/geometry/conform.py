@@ -86,6 +86,20 @@ class _Points:
         return len(self.xyz) - 1
 
 
+def _cell(p, size):
+    """The grid cell (3 ints) of point ``p`` in a grid of spacing ``size``."""
+    return tuple(np.floor(p / size).astype(np.int64).tolist())
+
+
+def _near(grid, key):
+    """The ids ``grid`` holds in cell ``key`` and its 26 neighbours: every point within
+    the spacing of a point of that cell."""
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            for dz in (-1, 0, 1):
+                yield from grid.get((key[0] + dx, key[1] + dy, key[2] + dz), ())
+
+
 def _nodes_of_seams(seams, points, eps):
     """Gives every seam end a node id (ends within ``eps`` are one node: the library puts
     the ends of the seams of one junction on the junction's bits), and marks the seams'
@@ -95,13 +109,10 @@ def _nodes_of_seams(seams, points, eps):
     cell = max(eps, 1e-300) * 4.0
 
     def node(p):
-        key = tuple(np.floor(p / cell).astype(np.int64).tolist())
-        for dx in (-1, 0, 1):
-            for dy in (-1, 0, 1):
-                for dz in (-1, 0, 1):
-                    for n in keys.get((key[0] + dx, key[1] + dy, key[2] + dz), ()):
-                        if np.linalg.norm(points.xyz[n] - p) <= eps:
-                            return n
+        key = _cell(p, cell)
+        for n in _near(keys, key):
+            if np.linalg.norm(points.xyz[n] - p) <= eps:
+                return n
         n = points.add(p)
         keys.setdefault(key, []).append(n)
         nodes.append(n)
@@ -587,15 +598,12 @@ def _weld_open(sheets, points, anchored, delta, counts):
     remap = {}
     for g in order:
         p = points.xyz[g]
-        key = tuple(np.floor(p / cell).astype(np.int64).tolist())
+        key = _cell(p, cell)
         best, best_d = None, delta
-        for dx in (-1, 0, 1):
-            for dy in (-1, 0, 1):
-                for dz in (-1, 0, 1):
-                    for h in grid.get((key[0] + dx, key[1] + dy, key[2] + dz), ()):
-                        d = float(np.linalg.norm(points.xyz[h] - p))
-                        if d <= best_d and not (members[h] & where[g]):
-                            best, best_d = h, d
+        for h in _near(grid, key):
+            d = float(np.linalg.norm(points.xyz[h] - p))
+            if d <= best_d and not (members[h] & where[g]):
+                best, best_d = h, d
         if best is None:
             grid.setdefault(key, []).append(g)
             members[g] = set(where[g])
